@@ -1,0 +1,75 @@
+/**
+ * @file frame.h
+ * @brief Sensor frame (HAL input) and navigation output (HAL output).
+ *
+ * Conventions (../shared/DESIGN.md): SI units; the accelerometers read
+ * specific force f = a - G in platform axes; on the space-stabilized
+ * platform of Welker, Pachter & Huffman the platform axes are the inertial
+ * axes (_i). Axis index 0 = x, 1 = y, 2 = z. In the 2-D case (vertical plane
+ * x, z) axis 1 is unused and published as zero.
+ * Time stamps are int64 microseconds (utime), seq is the step index.
+ */
+#ifndef GGINS_FRAME_H
+#define GGINS_FRAME_H
+
+#include <stdint.h>
+
+/** Largest number of distributed tri-axis accelerometers (3-D: six). */
+#define GG_MAX_ACC 6
+
+/** Per-sensor status codes carried in frames (0 = good sample). */
+#define GG_SENSOR_OK 0
+#define GG_SENSOR_BAD 1
+#define GG_SENSOR_ABSENT 2
+
+/** One fixed-step sample of every sensor, as the HAL delivers it. */
+typedef struct {
+    int64_t utime;                  /**< sample time, microseconds */
+    int64_t seq;                    /**< step index, +1 per step */
+    int32_t n_acc;                  /**< accelerometers present (4 in 2-D, 6 in 3-D) */
+    double f[GG_MAX_ACC][3];        /**< specific force per accelerometer, platform axes, m/s^2 */
+    int32_t acc_status[GG_MAX_ACC]; /**< GG_SENSOR_* per accelerometer */
+    double omega_b[3];              /**< gyro angular rate, body axes, rad/s (3-D strapdown) */
+    int32_t gyro_status;            /**< GG_SENSOR_* */
+    double baro_alt_m;              /**< barometric (pressure) altitude, m */
+    int64_t baro_utime;             /**< time of the barometer sample, microseconds */
+    int32_t baro_status;            /**< GG_SENSOR_*; ABSENT when no new sample this step */
+} gg_frame_t;
+
+/** Health bits of the navigation output (a bit set = condition present this step). */
+#define GG_HEALTH_NOT_INIT        (1u << 0)  /**< no valid navigation state yet */
+#define GG_HEALTH_ACC_NONFINITE   (1u << 1)  /**< an accelerometer reading was NaN/Inf */
+#define GG_HEALTH_ACC_RANGE       (1u << 2)  /**< an accelerometer reading was out of range */
+#define GG_HEALTH_ACC_SENSOR      (1u << 3)  /**< an accelerometer flagged its sample bad/absent */
+#define GG_HEALTH_SEQ_GAP         (1u << 4)  /**< seq skipped forward */
+#define GG_HEALTH_SEQ_REPEAT      (1u << 5)  /**< seq repeated or went backwards */
+#define GG_HEALTH_TIME_JUMP       (1u << 6)  /**< utime step differs from the configured step */
+#define GG_HEALTH_GAMMA_ASYM      (1u << 7)  /**< gradient symmetry residual above threshold */
+#define GG_HEALTH_FRAME_REJECTED  (1u << 8)  /**< frame not used; state propagated no further */
+#define GG_HEALTH_DEADLINE        (1u << 9)  /**< step took longer than the step period */
+
+/** Timed firmware modules (index into gg_nav_output_t.cycles). */
+enum {
+    GG_MOD_DIFF = 0,    /**< accelerometer differencing */
+    GG_MOD_GRAVDR = 1,  /**< gravity dead reckoning */
+    GG_MOD_MECH = 2,    /**< mechanization */
+    GG_MOD_TOTAL = 3,   /**< whole navigation step */
+    GG_MOD_COUNT = 4
+};
+
+/** Navigation output of one step. */
+typedef struct {
+    int64_t utime;              /**< time of the frame this output answers, microseconds */
+    int64_t seq;                /**< seq of that frame */
+    int32_t status;             /**< gg_status_t of the step */
+    uint32_t health;            /**< GG_HEALTH_* bits */
+    double r_i[3];              /**< position of the platform centre, inertial, m */
+    double v_i[3];              /**< velocity, inertial, m/s */
+    double g_i[3];              /**< gravitation G at the estimated position, inertial, m/s^2 */
+    double gamma_i[3][3];       /**< gradient Gamma[j][k] = dG_j/dx_k, s^-2 */
+    double f_i[3];              /**< specific force at the platform centre, m/s^2 */
+    double gamma_asym;          /**< symmetry residual Gamma_xz - Gamma_zx, s^-2 */
+    uint32_t cycles[GG_MOD_COUNT]; /**< HAL cycle-counter ticks per module this step */
+} gg_nav_output_t;
+
+#endif /* GGINS_FRAME_H */

@@ -1,0 +1,31 @@
+/**
+ * @file hal.h
+ * @brief Hardware abstraction the navigation task runs on.
+ *
+ * The firmware holds no implementation of it: hal_sim/ implements it over
+ * LCM for host-in-the-loop runs; a target board implements it over its
+ * drivers; unit tests implement it with mocks. It is an operations table
+ * (no link-time globals), passed to the task by the caller.
+ */
+#ifndef GGINS_HAL_H
+#define GGINS_HAL_H
+
+#include <stdint.h>
+#include "ggins/frame.h"
+#include "ggins/status.h"
+
+typedef struct {
+    void *ctx; /**< implementation's own state */
+    /** Deliver the next sensor frame. GG_OK with *frame filled, or
+     *  GG_ERR_NO_DATA when none is ready. */
+    gg_status_t (*read_frame)(void *ctx, gg_frame_t *frame);
+    /** Publish one navigation output. */
+    gg_status_t (*write_output)(void *ctx, const gg_nav_output_t *out);
+    /** Free-running 32-bit cycle counter (target: DWT CYCCNT; host: a
+     *  monotonic clock in ns). Differences are taken modulo 2^32. May be NULL. */
+    uint32_t (*cycle_count)(void *ctx);
+    /** Counter ticks per second (for deadline checks). */
+    uint32_t cycles_per_second;
+} gg_hal_t;
+
+#endif /* GGINS_HAL_H */

@@ -1,0 +1,70 @@
+/**
+ * @file nav2d.h
+ * @brief Navigation task of the 2-D gravity-gradiometer INS (Welker,
+ *        Pachter & Huffman): wires differencing, gravity dead reckoning and
+ *        the space-stabilized mechanization together, one fixed step per
+ *        sensor frame.
+ *
+ * The first accepted frame (time t0) initialises the state at the configured
+ * r0, v0 and G0 (the paper assumes G(0) known) and the measured Gamma(t0),
+ * f(t0); every later frame advances the state by exactly one step.
+ * Frames are validated before any module runs: a frame with NaN/Inf or
+ * out-of-range readings, a sensor flagged bad, or a seq/utime that is not
+ * exactly one step on, is rejected and flagged in the health word, and the
+ * navigation state is left untouched.
+ * Accelerometer mapping: frame.f[i][0] (x) and frame.f[i][2] (z) of
+ * accelerometers i = 0..3 are the paper's sensors 1..4.
+ */
+#ifndef GGINS_NAV2D_H
+#define GGINS_NAV2D_H
+
+#include <stdint.h>
+#include "ggins/diff2d.h"
+#include "ggins/frame.h"
+#include "ggins/gravdr.h"
+#include "ggins/hal.h"
+#include "ggins/mech.h"
+#include "ggins/real.h"
+#include "ggins/status.h"
+
+typedef struct {
+    gg_diff2d_config_t geometry; /**< half-baselines a (x) and b (z), m */
+    int64_t dt_us;               /**< fixed step, microseconds (> 0) */
+    int64_t dt_tol_us;           /**< tolerated |utime step - dt_us|, microseconds (>= 0) */
+    gg_real_t r0[3];             /**< initial position, inertial, m (y ignored) */
+    gg_real_t v0[3];             /**< initial velocity, inertial, m/s (y ignored) */
+    gg_real_t g0[3];             /**< initial gravitation G(0), inertial, m/s^2 (y ignored) */
+    double f_max;                /**< accelerometer range: |f| above it is out of range, m/s^2 (> 0) */
+    double asym_max;             /**< symmetry residual flag threshold, s^-2 (> 0) */
+} gg_nav2d_config_t;
+
+typedef struct {
+    gg_nav2d_config_t cfg;
+    gg_diff2d_t diff;
+    gg_gravdr_t gravdr;
+    gg_mech_t mech;
+    gg_real_t gamma[3][3];       /**< last accepted gradient */
+    gg_real_t f_c[3];            /**< last accepted centre specific force */
+    gg_real_t asym;
+    int64_t last_seq;
+    int64_t last_utime;
+    int configured;              /**< init succeeded */
+    int started;                 /**< first frame accepted */
+} gg_nav2d_t;
+
+/** Validate and store the configuration. GG_ERR_CONFIG on zero baseline,
+ *  zero/negative step, non-finite initial state or thresholds. */
+gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg);
+
+/** Process one frame. Always fills *out (state, health); returns GG_OK when
+ *  the frame was used, an error code when it was rejected.
+ *  hal may be NULL; when given, its cycle counter times each module. */
+gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame,
+                          const gg_hal_t *hal, gg_nav_output_t *out);
+
+/** One cycle of the navigation task: read a frame through the HAL, step,
+ *  publish the output. GG_ERR_NO_DATA when the HAL had no frame. Sets
+ *  GG_HEALTH_DEADLINE when the step took longer than dt. */
+gg_status_t gg_nav2d_task_cycle(gg_nav2d_t *nav, const gg_hal_t *hal);
+
+#endif /* GGINS_NAV2D_H */

@@ -1,0 +1,56 @@
+// ggins: one command for the host tools, git-style. `ggins <command> args`
+// runs the program `ggins-<command>` that sits beside this one.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+static const struct {
+  const char* name;
+  const char* what;
+} kCommands[] = {
+    {"run", "host-in-the-loop run of a scenario over LCM; writes summary.json, CSV, plots"},
+    {"covariance", "covariance propagation of the linear error model (Table I of Welker et al.)"},
+    {"montecarlo", "Monte Carlo host-in-the-loop runs against the covariance prediction"},
+    {"profile", "per-module firmware step timing for a scenario"},
+    {"replay", "replay a recorded LCM log through the firmware, bit for bit"},
+};
+
+static void usage(FILE* out) {
+  std::fprintf(out,
+               "usage: ggins <command> [options]   (ggins <command> --help for its options)\n\n"
+               "ggins - gravity-gradiometer integrated INS: host tools.\n\ncommands:\n");
+  for (const auto& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.what);
+  std::fprintf(out, "\nWith no command, `ggins` prints this help. A command not built yet is reported.\n");
+}
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+      !std::strcmp(argv[1], "help")) {
+    usage(stdout);
+    return argc < 2 ? 0 : 0;
+  }
+  const std::string cmd = argv[1];
+  std::error_code ec;
+  fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) self = fs::absolute(argv[0]);
+  const fs::path prog = self.parent_path() / ("ggins-" + cmd);
+  if (!fs::exists(prog)) {
+    std::fprintf(stderr, "ggins: unknown command '%s' (no %s)\n\n", cmd.c_str(), prog.c_str());
+    usage(stderr);
+    return 2;
+  }
+  std::vector<char*> args;
+  std::string p = prog.string();
+  args.push_back(p.data());
+  for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+  args.push_back(nullptr);
+  execv(p.c_str(), args.data());
+  std::perror("ggins: exec");
+  return 127;
+}

@@ -1,0 +1,55 @@
+// Gravitation field models for the host tools (truth generator, error
+// analysis). One interface; every model gives the potential, the
+// gravitation vector and the full gradient tensor at any point.
+//
+// Conventions (../shared/DESIGN.md):
+//   - positions in an Earth-fixed frame (_e) centred on the Earth's centre of
+//     mass, metres; in the 2-D non-rotating case of Welker et al. this frame
+//     is also the inertial frame (x equatorial, z polar);
+//   - potential V > 0 (V = GM/r for a point mass), G = grad V (points toward
+//     the mass), Gamma_jk = dG_j/dx_k (s^-2), symmetric, trace 0 outside masses;
+//   - gravitation only: no centrifugal term (the rotating-Earth mechanization
+//     adds it where it needs it).
+// Evaluated in long double: the truth generator differences accelerometers
+// 1 m apart at the 1e-12 m/s^2 level.
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+
+namespace ggins::gravity {
+
+using Real = long double;
+using Vec3 = Eigen::Matrix<Real, 3, 1>;
+using Mat3 = Eigen::Matrix<Real, 3, 3>;
+
+struct FieldSample {
+  Real potential = 0;          // m^2/s^2
+  Vec3 g = Vec3::Zero();       // gravitation, m/s^2
+  Mat3 gamma = Mat3::Zero();   // gradient dG_j/dx_k, s^-2
+};
+
+class Field {
+ public:
+  virtual ~Field() = default;
+  // Field at r_e (m). Implementations must be thread-safe for concurrent const calls.
+  virtual FieldSample eval(const Vec3& r_e) const = 0;
+  virtual std::string name() const = 0;
+};
+
+// Spherical point-mass Earth: V = GM/r, G = -GM r/r^3,
+// Gamma = (GM/r^3)(3 r^ r^T - I).
+class PointMassField final : public Field {
+ public:
+  explicit PointMassField(Real gm = kGmWgs84) : gm_(gm) {}
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override { return "point-mass"; }
+  Real gm() const { return gm_; }
+
+  static constexpr Real kGmWgs84 = 3.986004418e14L;  // m^3/s^2 (WGS-84, NIMA TR8350.2)
+ private:
+  Real gm_;
+};
+
+}  // namespace ggins::gravity
