@@ -31,6 +31,7 @@ typedef struct {
     gg_acc_t v[3];         /**< velocity, m/s */
     gg_real_t a[3];        /**< acceleration at the current step, m/s^2 */
     gg_real_t dr[3];       /**< displacement of the pending step, m */
+    gg_acc_t r_prev[3];    /**< position before the pending step (for roll-back) */
     int pending;           /**< 1 between position and velocity half-steps */
     int initialized;
 } gg_mech_t;
@@ -40,10 +41,11 @@ gg_status_t gg_mech_init(gg_mech_t *st, const gg_mech_config_t *cfg);
 /** First half of a step: advance position, return the displacement dr (m). */
 gg_status_t gg_mech_step_position(gg_mech_t *st, gg_real_t dr[3]);
 
-/** Second half: specific force f_next (m/s^2) and gravitation g_next (m/s^2)
- *  at the end of the step. On error the pending step is rolled back. */
+/** Second half: specific force f_next (m/s^2) and gravitation g_next (m/s^2,
+ *  as compensated values so no precision is lost in f + G) at the end of the
+ *  step. On error the pending step is rolled back (state as before the step). */
 gg_status_t gg_mech_step_velocity(gg_mech_t *st, const gg_real_t f_next[3],
-                                  const gg_real_t g_next[3]);
+                                  const gg_acc_t g_next[3]);
 
 gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3]);
 

@@ -36,6 +36,7 @@ typedef struct {
     gg_real_t g0[3];             /**< initial gravitation G(0), inertial, m/s^2 (y ignored) */
     double f_max;                /**< accelerometer range: |f| above it is out of range, m/s^2 (> 0) */
     double asym_max;             /**< symmetry residual flag threshold, s^-2 (> 0) */
+    int gravdr_trapezoid_only;   /**< 0 (default): corrected 4th-order gravity DR; 1: plain trapezoid */
 } gg_nav2d_config_t;
 
 typedef struct {
@@ -56,8 +57,9 @@ typedef struct {
  *  zero/negative step, non-finite initial state or thresholds. */
 gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg);
 
-/** Process one frame. Always fills *out (state, health); returns GG_OK when
- *  the frame was used, an error code when it was rejected.
+/** Process one frame. Fills *out (state, health) whenever nav, frame and out
+ *  are non-NULL; returns GG_OK when the frame was used, an error code when it
+ *  was rejected (state untouched).
  *  hal may be NULL; when given, its cycle counter times each module. */
 gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame,
                           const gg_hal_t *hal, gg_nav_output_t *out);

@@ -1,0 +1,120 @@
+/* Space-stabilized platform mechanization (Welker, Pachter & Huffman,
+ * section V) with r'' = f + G (DESIGN.md), velocity-Verlet fixed step. */
+#include "ggins/mech.h"
+
+#include <stddef.h>
+
+static int finite3(const gg_real_t v[3])
+{
+    return (GG_ISFINITE(v[0]) && GG_ISFINITE(v[1]) && GG_ISFINITE(v[2])) ? 1 : 0;
+}
+
+static int finite_acc3(const gg_acc_t v[3])
+{
+    size_t j;
+    int ok = 1;
+    for (j = 0U; j < 3U; ++j) {
+        if (!GG_ISFINITE(v[j].hi) || !GG_ISFINITE(v[j].lo)) {
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+gg_status_t gg_mech_init(gg_mech_t *st, const gg_mech_config_t *cfg)
+{
+    size_t j;
+    if ((st == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!GG_ISFINITE(cfg->dt_s) || !(cfg->dt_s > 0.0L) || (finite3(cfg->r0) == 0) ||
+        (finite3(cfg->v0) == 0) || (finite3(cfg->a0) == 0)) {
+        return GG_ERR_CONFIG;
+    }
+    st->dt_s = cfg->dt_s;
+    for (j = 0U; j < 3U; ++j) {
+        gg_acc_set(&st->r[j], cfg->r0[j]);
+        gg_acc_set(&st->v[j], cfg->v0[j]);
+        st->a[j] = cfg->a0[j];
+        st->dr[j] = 0.0L;
+    }
+    st->pending = 0;
+    st->initialized = 1;
+    return GG_OK;
+}
+
+gg_status_t gg_mech_step_position(gg_mech_t *st, gg_real_t dr[3])
+{
+    size_t j;
+    if ((st == NULL) || (dr == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if ((st->initialized == 0) || (st->pending != 0)) {
+        return GG_ERR_NOT_INIT;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        const gg_real_t dt = st->dt_s;
+        /* dr = v dt + a dt^2 / 2, with the velocity's low part kept */
+        st->dr[j] = (st->v[j].hi * dt) + ((st->v[j].lo * dt) + (0.5L * st->a[j] * dt * dt));
+        dr[j] = st->dr[j];
+    }
+    for (j = 0U; j < 3U; ++j) {
+        st->r_prev[j] = st->r[j];
+        gg_acc_add(&st->r[j], st->dr[j]);
+    }
+    st->pending = 1;
+    return GG_OK;
+}
+
+static void undo_position(gg_mech_t *st)
+{
+    size_t j;
+    for (j = 0U; j < 3U; ++j) {
+        st->r[j] = st->r_prev[j];
+    }
+    st->pending = 0;
+}
+
+gg_status_t gg_mech_step_velocity(gg_mech_t *st, const gg_real_t f_next[3],
+                                  const gg_acc_t g_next[3])
+{
+    size_t j;
+    gg_real_t a_next[3];
+    if ((st == NULL) || (f_next == NULL) || (g_next == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if ((st->initialized == 0) || (st->pending == 0)) {
+        return GG_ERR_NOT_INIT;
+    }
+    if ((finite3(f_next) == 0) || (finite_acc3(g_next) == 0)) {
+        undo_position(st);
+        return GG_ERR_NONFINITE;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        /* f ~ -G ~ 10 m/s^2: f + G.hi cancels exactly (Sterbenz lemma, |f|
+         * within a factor 2 of |G|); G.lo is then added to the small result. */
+        a_next[j] = (f_next[j] + g_next[j].hi) + g_next[j].lo;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        gg_acc_add(&st->v[j], 0.5L * (st->a[j] + a_next[j]) * st->dt_s);
+        st->a[j] = a_next[j];
+    }
+    st->pending = 0;
+    return GG_OK;
+}
+
+gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3])
+{
+    size_t j;
+    if ((st == NULL) || (r == NULL) || (v == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        r[j] = gg_acc_value(&st->r[j]);
+        v[j] = gg_acc_value(&st->v[j]);
+    }
+    return GG_OK;
+}

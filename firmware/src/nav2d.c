@@ -1,0 +1,302 @@
+/* Navigation task of the 2-D gravity-gradiometer INS (Welker, Pachter &
+ * Huffman, sections III-V): validate the frame, difference, dead-reckon
+ * gravity, mechanize; one fixed step per frame. */
+#include "ggins/nav2d.h"
+
+#include <stddef.h>
+
+/* frame axis indices of the paper's (x, z) plane */
+#define AX_X 0U
+#define AX_Z 2U
+#define N_ACC_2D 4
+
+static uint32_t cycles_now(const gg_hal_t *hal)
+{
+    uint32_t c = 0U;
+    if ((hal != NULL) && (hal->cycle_count != NULL)) {
+        c = hal->cycle_count(hal->ctx);
+    }
+    return c;
+}
+
+static int finite3(const gg_real_t v[3])
+{
+    return (GG_ISFINITE(v[0]) && GG_ISFINITE(v[1]) && GG_ISFINITE(v[2])) ? 1 : 0;
+}
+
+gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
+{
+    gg_diff2d_t diff;
+    gg_status_t st;
+    if ((nav == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    nav->configured = 0;
+    nav->started = 0;
+    st = gg_diff2d_init(&diff, &cfg->geometry);
+    if (st != GG_OK) {
+        return st;
+    }
+    if ((cfg->dt_us <= 0) || (cfg->dt_tol_us < 0) || (cfg->dt_tol_us >= cfg->dt_us) ||
+        (finite3(cfg->r0) == 0) || (finite3(cfg->v0) == 0) || (finite3(cfg->g0) == 0) ||
+        !GG_ISFINITE(cfg->f_max) || !(cfg->f_max > 0.0) || !GG_ISFINITE(cfg->asym_max) ||
+        !(cfg->asym_max > 0.0) || (cfg->gravdr_trapezoid_only < 0) ||
+        (cfg->gravdr_trapezoid_only > 1)) {
+        return GG_ERR_CONFIG;
+    }
+    nav->cfg = *cfg;
+    nav->diff = diff;
+    nav->gravdr.initialized = 0;
+    nav->mech.initialized = 0;
+    nav->last_seq = 0;
+    nav->last_utime = 0;
+    nav->asym = 0.0L;
+    {
+        size_t j;
+        size_t k;
+        for (j = 0U; j < 3U; ++j) {
+            nav->f_c[j] = 0.0L;
+            for (k = 0U; k < 3U; ++k) {
+                nav->gamma[j][k] = 0.0L;
+            }
+        }
+    }
+    nav->started = 0;
+    nav->configured = 1;
+    return GG_OK;
+}
+
+/* Health bits of a frame's contents and sequencing; 0 when usable. */
+static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr)
+{
+    uint32_t h = 0U;
+    int32_t i;
+    if ((fr->n_acc < N_ACC_2D) || (fr->n_acc > GG_MAX_ACC)) {
+        h |= GG_HEALTH_ACC_SENSOR;
+    }
+    for (i = 0; i < N_ACC_2D; ++i) {
+        const double fx = fr->f[i][AX_X];
+        const double fz = fr->f[i][AX_Z];
+        if (fr->acc_status[i] != GG_SENSOR_OK) {
+            h |= GG_HEALTH_ACC_SENSOR;
+        }
+        if (!GG_ISFINITE(fx) || !GG_ISFINITE(fz)) {
+            h |= GG_HEALTH_ACC_NONFINITE;
+        } else if ((fx > nav->cfg.f_max) || (fx < -nav->cfg.f_max) || (fz > nav->cfg.f_max) ||
+                   (fz < -nav->cfg.f_max)) {
+            h |= GG_HEALTH_ACC_RANGE;
+        } else {
+            /* reading usable */
+        }
+    }
+    if (nav->started != 0) {
+        if (fr->seq > (nav->last_seq + 1)) {
+            h |= GG_HEALTH_SEQ_GAP;
+        } else if (fr->seq <= nav->last_seq) {
+            h |= GG_HEALTH_SEQ_REPEAT;
+        } else {
+            const int64_t dt = fr->utime - nav->last_utime;
+            const int64_t err = dt - nav->cfg.dt_us;
+            if ((err > nav->cfg.dt_tol_us) || (err < -nav->cfg.dt_tol_us)) {
+                h |= GG_HEALTH_TIME_JUMP;
+            }
+        }
+    }
+    return h;
+}
+
+static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t status,
+                        uint32_t health, gg_nav_output_t *out)
+{
+    size_t j;
+    size_t k;
+    gg_real_t r[3];
+    gg_real_t v[3];
+    gg_real_t g[3];
+    out->utime = (fr != NULL) ? fr->utime : 0;
+    out->seq = (fr != NULL) ? fr->seq : 0;
+    out->status = (int32_t)status;
+    out->health = health;
+    if ((nav->started == 0) || (gg_mech_get(&nav->mech, r, v) != GG_OK) ||
+        (gg_gravdr_get(&nav->gravdr, g) != GG_OK)) {
+        for (j = 0U; j < 3U; ++j) {
+            r[j] = nav->cfg.r0[j];
+            v[j] = nav->cfg.v0[j];
+            g[j] = nav->cfg.g0[j];
+        }
+        out->health |= GG_HEALTH_NOT_INIT;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        out->r_i[j] = (double)r[j];
+        out->v_i[j] = (double)v[j];
+        out->g_i[j] = (double)g[j];
+        out->f_i[j] = (double)nav->f_c[j];
+        for (k = 0U; k < 3U; ++k) {
+            out->gamma_i[j][k] = (double)nav->gamma[j][k];
+        }
+    }
+    out->gamma_asym = (double)nav->asym;
+}
+
+/* Advance the modules by one step (or start them on the first frame).
+ * The caller restores the module states when this fails. */
+static gg_status_t advance(gg_nav2d_t *nav, const gg_diff2d_output_t *d, const gg_hal_t *hal,
+                           uint32_t cyc[GG_MOD_COUNT])
+{
+    gg_status_t st;
+    size_t j;
+    size_t k;
+    if (nav->started == 0) {
+        gg_gravdr_config_t gc;
+        gg_mech_config_t mc;
+        for (j = 0U; j < 3U; ++j) {
+            gc.g0[j] = nav->cfg.g0[j];
+            for (k = 0U; k < 3U; ++k) {
+                gc.gamma0[j][k] = d->gamma[j][k];
+            }
+            mc.r0[j] = nav->cfg.r0[j];
+            mc.v0[j] = nav->cfg.v0[j];
+            mc.a0[j] = d->f_c[j] + nav->cfg.g0[j];
+        }
+        gc.trapezoid_only = nav->cfg.gravdr_trapezoid_only;
+        gc.g0[1] = 0.0L;
+        mc.r0[1] = 0.0L;
+        mc.v0[1] = 0.0L;
+        mc.a0[1] = 0.0L;
+        mc.dt_s = (gg_real_t)nav->cfg.dt_us * 1.0e-6L;
+        st = gg_gravdr_init(&nav->gravdr, &gc);
+        if (st == GG_OK) {
+            st = gg_mech_init(&nav->mech, &mc);
+        }
+    } else {
+        gg_real_t dr[3];
+        gg_acc_t g[3];
+        uint32_t t0 = cycles_now(hal);
+        uint32_t t1;
+        st = gg_mech_step_position(&nav->mech, dr);
+        t1 = cycles_now(hal);
+        cyc[GG_MOD_MECH] = t1 - t0;
+        if (st == GG_OK) {
+            st = gg_gravdr_step(&nav->gravdr, d->gamma, dr);
+        }
+        if (st == GG_OK) {
+            st = gg_gravdr_get_acc(&nav->gravdr, g);
+        }
+        t0 = cycles_now(hal);
+        cyc[GG_MOD_GRAVDR] = t0 - t1;
+        if (st == GG_OK) {
+            st = gg_mech_step_velocity(&nav->mech, d->f_c, g);
+        }
+        cyc[GG_MOD_MECH] += cycles_now(hal) - t0;
+    }
+    return st;
+}
+
+gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
+                          gg_nav_output_t *out)
+{
+    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U};
+    const uint32_t t_start = cycles_now(hal);
+    uint32_t health;
+    gg_status_t st = GG_OK;
+    gg_diff2d_output_t d;
+    if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (nav->configured == 0) {
+        const gg_nav_output_t empty = {0};
+        *out = empty;
+        out->utime = frame->utime;
+        out->seq = frame->seq;
+        out->status = (int32_t)GG_ERR_NOT_INIT;
+        out->health = GG_HEALTH_NOT_INIT | GG_HEALTH_FRAME_REJECTED;
+        return GG_ERR_NOT_INIT;
+    }
+    health = check_frame(nav, frame);
+    if ((health & (GG_HEALTH_ACC_NONFINITE)) != 0U) {
+        st = GG_ERR_NONFINITE;
+    } else if ((health & GG_HEALTH_ACC_RANGE) != 0U) {
+        st = GG_ERR_RANGE;
+    } else if ((health & GG_HEALTH_ACC_SENSOR) != 0U) {
+        st = GG_ERR_SENSOR;
+    } else if ((health & (GG_HEALTH_SEQ_GAP | GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
+        st = GG_ERR_SEQUENCE;
+    } else {
+        gg_diff2d_input_t in;
+        uint32_t t0;
+        size_t i;
+        for (i = 0U; i < 4U; ++i) {
+            in.f[i][0] = frame->f[i][AX_X];
+            in.f[i][1] = frame->f[i][AX_Z];
+        }
+        t0 = cycles_now(hal);
+        st = gg_diff2d_step(&nav->diff, &in, &d);
+        cyc[GG_MOD_DIFF] = cycles_now(hal) - t0;
+    }
+    if (st == GG_OK) {
+        const gg_gravdr_t gravdr_saved = nav->gravdr;
+        const gg_mech_t mech_saved = nav->mech;
+        st = advance(nav, &d, hal, cyc);
+        if (st != GG_OK) {
+            nav->gravdr = gravdr_saved;
+            nav->mech = mech_saved;
+        }
+    }
+    if (st == GG_OK) {
+        size_t j;
+        size_t k;
+        for (j = 0U; j < 3U; ++j) {
+            nav->f_c[j] = d.f_c[j];
+            for (k = 0U; k < 3U; ++k) {
+                nav->gamma[j][k] = d.gamma[j][k];
+            }
+        }
+        nav->asym = d.asym;
+        if ((d.asym > (gg_real_t)nav->cfg.asym_max) || (d.asym < -(gg_real_t)nav->cfg.asym_max)) {
+            health |= GG_HEALTH_GAMMA_ASYM;
+        }
+        nav->started = 1;
+        nav->last_seq = frame->seq;
+        nav->last_utime = frame->utime;
+    } else {
+        health |= GG_HEALTH_FRAME_REJECTED;
+    }
+    fill_output(nav, frame, st, health, out);
+    cyc[GG_MOD_TOTAL] = cycles_now(hal) - t_start;
+    if ((hal != NULL) && (hal->cycle_count != NULL) && (hal->cycles_per_second > 0U)) {
+        const uint64_t budget =
+            ((uint64_t)nav->cfg.dt_us * (uint64_t)hal->cycles_per_second) / 1000000U;
+        if ((uint64_t)cyc[GG_MOD_TOTAL] > budget) {
+            out->health |= GG_HEALTH_DEADLINE;
+        }
+    }
+    {
+        size_t m;
+        for (m = 0U; m < (size_t)GG_MOD_COUNT; ++m) {
+            out->cycles[m] = cyc[m];
+        }
+    }
+    return st;
+}
+
+gg_status_t gg_nav2d_task_cycle(gg_nav2d_t *nav, const gg_hal_t *hal)
+{
+    gg_frame_t frame;
+    gg_nav_output_t out;
+    gg_status_t st;
+    gg_status_t st_step;
+    if ((nav == NULL) || (hal == NULL) || (hal->read_frame == NULL) ||
+        (hal->write_output == NULL)) {
+        return GG_ERR_NULL;
+    }
+    st = hal->read_frame(hal->ctx, &frame);
+    if (st != GG_OK) {
+        return st;
+    }
+    st_step = gg_nav2d_step(nav, &frame, hal, &out);
+    st = hal->write_output(hal->ctx, &out);
+    if (st != GG_OK) {
+        return GG_ERR_IO;
+    }
+    return st_step;
+}

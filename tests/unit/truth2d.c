@@ -1,0 +1,43 @@
+#include "truth2d.h"
+
+#include <math.h>
+
+void t_point_mass_g(const long double r[3], long double g[3])
+{
+    const long double n = sqrtl(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    const long double k = T_GM / (n * n * n);
+    for (int j = 0; j < 3; ++j) g[j] = -k * r[j];
+}
+
+void t_point_mass_gamma(const long double r[3], long double gamma[3][3])
+{
+    const long double n = sqrtl(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    const long double k = T_GM / (n * n * n);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+            gamma[j][i] = k * (3.0L * r[j] * r[i] / (n * n) - (i == j ? 1.0L : 0.0L));
+}
+
+void t_flight(const t_flight_t *fl, long double t, long double r[3], long double v[3],
+              long double a[3])
+{
+    const long double rho = T_RE + fl->h;
+    const long double lat = fl->lat0 + fl->v * t / rho;
+    const long double c = cosl(lat), s = sinl(lat);
+    r[0] = rho * c; r[1] = 0.0L; r[2] = rho * s;
+    v[0] = -fl->v * s; v[1] = 0.0L; v[2] = fl->v * c;
+    const long double w2 = fl->v * fl->v / rho;
+    a[0] = -w2 * c; a[1] = 0.0L; a[2] = -w2 * s;
+}
+
+void t_sensor_forces(const long double r[3], const long double acc[3], long double a_m,
+                     long double b_m, long double f[4][3])
+{
+    const long double off[4][3] = {{a_m, 0, 0}, {0, 0, b_m}, {-a_m, 0, 0}, {0, 0, -b_m}};
+    for (int i = 0; i < 4; ++i) {
+        long double p[3], g[3];
+        for (int j = 0; j < 3; ++j) p[j] = r[j] + off[i][j];
+        t_point_mass_g(p, g);
+        for (int j = 0; j < 3; ++j) f[i][j] = acc[j] - g[j];
+    }
+}
