@@ -31,7 +31,7 @@ gg_status_t gg_diff2d_step(const gg_diff2d_t *st, const gg_diff2d_input_t *in,
     }
     for (i = 0U; i < 4U; ++i) {
         for (ax = 0U; ax < 2U; ++ax) {
-            if (!GG_ISFINITE(in->f[i][ax])) {
+            if (!GG_ISFINITE(in->f[i][ax]) || !GG_ISFINITE(in->f_lo[i][ax])) {
                 return GG_ERR_NONFINITE;
             }
         }
@@ -52,13 +52,17 @@ gg_status_t gg_diff2d_step(const gg_diff2d_t *st, const gg_diff2d_input_t *in,
         }
         for (ax = 0U; ax < 2U; ++ax) {
             const size_t row = (ax == 0U) ? 0U : 2U;
-            const gg_real_t f1 = (gg_real_t)in->f[0][ax];
-            const gg_real_t f2 = (gg_real_t)in->f[1][ax];
-            const gg_real_t f3 = (gg_real_t)in->f[2][ax];
-            const gg_real_t f4 = (gg_real_t)in->f[3][ax];
-            o.gamma[row][0] = (f3 - f1) * inv2a; /* dG/dx */
-            o.gamma[row][2] = (f4 - f2) * inv2b; /* dG/dz */
-            o.f_c[row] = 0.25L * ((f1 + f3) + (f2 + f4));
+            const gg_real_t h1 = (gg_real_t)in->f[0][ax];
+            const gg_real_t h2 = (gg_real_t)in->f[1][ax];
+            const gg_real_t h3 = (gg_real_t)in->f[2][ax];
+            const gg_real_t h4 = (gg_real_t)in->f[3][ax];
+            const gg_real_t l1 = (gg_real_t)in->f_lo[0][ax];
+            const gg_real_t l2 = (gg_real_t)in->f_lo[1][ax];
+            const gg_real_t l3 = (gg_real_t)in->f_lo[2][ax];
+            const gg_real_t l4 = (gg_real_t)in->f_lo[3][ax];
+            o.gamma[row][0] = ((h3 - h1) + (l3 - l1)) * inv2a; /* dG/dx */
+            o.gamma[row][2] = ((h4 - h2) + (l4 - l2)) * inv2b; /* dG/dz */
+            o.f_c[row] = 0.25L * (((h1 + h3) + (h2 + h4)) + ((l1 + l3) + (l2 + l4)));
         }
         o.asym = o.gamma[0][2] - o.gamma[2][0];
         *out = o;

@@ -9,6 +9,9 @@
 #define AX_X 0U
 #define AX_Z 2U
 #define N_ACC_2D 4
+/* a residual below double resolution can never exceed ulp(f_max)/2; anything
+ * larger is a malformed reading: 1e-9 m/s^2 is far above that, far below use */
+#define F_LO_MAX 1e-9
 
 static uint32_t cycles_now(const gg_hal_t *hal)
 {
@@ -77,13 +80,16 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr)
     for (i = 0; i < N_ACC_2D; ++i) {
         const double fx = fr->f[i][AX_X];
         const double fz = fr->f[i][AX_Z];
+        const double lx = fr->f_lo[i][AX_X];
+        const double lz = fr->f_lo[i][AX_Z];
         if (fr->acc_status[i] != GG_SENSOR_OK) {
             h |= GG_HEALTH_ACC_SENSOR;
         }
-        if (!GG_ISFINITE(fx) || !GG_ISFINITE(fz)) {
+        if (!GG_ISFINITE(fx) || !GG_ISFINITE(fz) || !GG_ISFINITE(lx) || !GG_ISFINITE(lz)) {
             h |= GG_HEALTH_ACC_NONFINITE;
         } else if ((fx > nav->cfg.f_max) || (fx < -nav->cfg.f_max) || (fz > nav->cfg.f_max) ||
-                   (fz < -nav->cfg.f_max)) {
+                   (fz < -nav->cfg.f_max) || (lx > F_LO_MAX) || (lx < -F_LO_MAX) ||
+                   (lz > F_LO_MAX) || (lz < -F_LO_MAX)) {
             h |= GG_HEALTH_ACC_RANGE;
         } else {
             /* reading usable */
@@ -228,6 +234,8 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         for (i = 0U; i < 4U; ++i) {
             in.f[i][0] = frame->f[i][AX_X];
             in.f[i][1] = frame->f[i][AX_Z];
+            in.f_lo[i][0] = frame->f_lo[i][AX_X];
+            in.f_lo[i][1] = frame->f_lo[i][AX_Z];
         }
         t0 = cycles_now(hal);
         st = gg_diff2d_step(&nav->diff, &in, &d);

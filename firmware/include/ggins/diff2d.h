@@ -10,7 +10,10 @@
  *   Gzx = (f3z - f1z)/2a   Gzz = (f4z - f2z)/2b
  * and the centre specific force is the mean of the four readings.
  * Outputs are 3-D shaped (axis 0 = x, 1 = y unused = 0, 2 = z).
- * Differences are formed in long double.
+ * Each reading is f + f_lo (hi/lo pair). Differences are formed as
+ * (hi - hi) + (lo - lo): the hi parts of neighbouring sensors agree to a
+ * few ppm, so their difference is exact (Sterbenz) even where long double
+ * is only a double, and the lo parts keep the sub-ulp resolution.
  */
 #ifndef GGINS_DIFF2D_H
 #define GGINS_DIFF2D_H
@@ -30,6 +33,7 @@ typedef struct {
 
 typedef struct {
     double f[4][2];      /**< sensors 1..4 at index 0..3; [.][0] = x, [.][1] = z; m/s^2 */
+    double f_lo[4][2];   /**< residual of each reading below double resolution, m/s^2 */
 } gg_diff2d_input_t;
 
 typedef struct {

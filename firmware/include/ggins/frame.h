@@ -28,6 +28,12 @@ typedef struct {
     int64_t seq;                    /**< step index, +1 per step */
     int32_t n_acc;                  /**< accelerometers present (4 in 2-D, 6 in 3-D) */
     double f[GG_MAX_ACC][3];        /**< specific force per accelerometer, platform axes, m/s^2 */
+    double f_lo[GG_MAX_ACC][3];     /**< residual of f below double resolution, m/s^2 (reading =
+                                         f + f_lo; 0 when the sensor resolves less). A double at
+                                         9.8 m/s^2 resolves only 1.8e-15 m/s^2: that rounding,
+                                         differenced over 1 m, is 7e-16 s^-2 of white gradient
+                                         noise, enough to push a perfect-sensor 1 h flight's
+                                         gravity error to ~1e-10 m/s^2 through the vertical mode */
     int32_t acc_status[GG_MAX_ACC]; /**< GG_SENSOR_* per accelerometer */
     double omega_b[3];              /**< gyro angular rate, body axes, rad/s (3-D strapdown) */
     int32_t gyro_status;            /**< GG_SENSOR_* */

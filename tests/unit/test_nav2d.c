@@ -1,0 +1,273 @@
+/* Navigation task: the whole 2-D loop fed frames built from the analytic
+ * flight and the exact point-mass field at each accelerometer, compared with
+ * the truth; frame validation; the HAL cycle through a mock HAL. */
+#include "test_common.h"
+#include "truth2d.h"
+#include "ggins/nav2d.h"
+
+static const t_flight_t kFlight = {300.0L, 0.0L, 0.0L};
+#define DT_US 10000
+
+static void make_config(gg_nav2d_config_t *cfg)
+{
+    long double r[3], v[3], a[3], g[3];
+    memset(cfg, 0, sizeof *cfg);
+    t_flight(&kFlight, 0.0L, r, v, a);
+    t_point_mass_g(r, g);
+    cfg->geometry.a_m = 0.5L;
+    cfg->geometry.b_m = 0.5L;
+    cfg->dt_us = DT_US;
+    cfg->dt_tol_us = 100;
+    for (int j = 0; j < 3; ++j) {
+        cfg->r0[j] = r[j];
+        cfg->v0[j] = v[j];
+        cfg->g0[j] = g[j];
+    }
+    cfg->f_max = 100.0;
+    cfg->asym_max = 1e-9;
+    cfg->gravdr_trapezoid_only = 0;
+}
+
+static void make_frame(int64_t k, gg_frame_t *fr)
+{
+    long double r[3], v[3], a[3], f[4][3];
+    const long double t = (long double)k * (long double)DT_US * 1e-6L;
+    memset(fr, 0, sizeof *fr);
+    t_flight(&kFlight, t, r, v, a);
+    t_sensor_forces(r, a, 0.5L, 0.5L, f);
+    fr->utime = 1000000 + k * DT_US;
+    fr->seq = k;
+    fr->n_acc = 4;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            fr->f[i][j] = (double)f[i][j];
+            fr->f_lo[i][j] = (double)(f[i][j] - (long double)fr->f[i][j]);
+        }
+        fr->acc_status[i] = GG_SENSOR_OK;
+    }
+    for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
+    fr->baro_status = GG_SENSOR_ABSENT;
+    fr->gyro_status = GG_SENSOR_ABSENT;
+}
+
+/* Perfect sensors, 1 h at 100 Hz: the in-process equivalent of the
+ * welker-perfect host-in-the-loop run. */
+static void test_perfect_flight_1h(void **state)
+{
+    (void)state;
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    make_config(&cfg);
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    const int64_t n = 360000;
+    for (int64_t k = 0; k <= n; ++k) {
+        make_frame(k, &fr);
+        assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+        assert_int_equal(out.health, 0);
+    }
+    long double r[3], v[3], a[3], g[3];
+    t_flight(&kFlight, 3600.0L, r, v, a);
+    t_point_mass_g(r, g);
+    long double rn[3], vn[3], gn[3];
+    for (int j = 0; j < 3; ++j) {
+        rn[j] = out.r_i[j];
+        vn[j] = out.v_i[j];
+        gn[j] = out.g_i[j];
+    }
+    const long double er = norm3l(rn, r), ev = norm3l(vn, v), eg = norm3l(gn, g);
+    printf("perfect 1 h, 100 Hz: |dr| = %.3Lg m, |dv| = %.3Lg m/s, |dG| = %.3Lg m/s^2\n", er, ev,
+           eg);
+    assert_int_equal(out.seq, n);
+    assert_true(er < 1e-4L);
+    assert_true(eg < 5e-11L);
+}
+
+static void test_config_rejected(void **state)
+{
+    (void)state;
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    make_config(&cfg);
+    cfg.geometry.a_m = 0.0L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_CONFIG);
+    make_config(&cfg);
+    cfg.geometry.b_m = 0.0L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_CONFIG);
+    make_config(&cfg);
+    cfg.dt_us = 0;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_CONFIG);
+    make_config(&cfg);
+    cfg.g0[2] = NAN;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_CONFIG);
+    make_config(&cfg);
+    cfg.f_max = 0.0;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_CONFIG);
+    /* a failed init leaves the task refusing frames */
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    make_frame(0, &fr);
+    assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_ERR_NOT_INIT);
+    assert_true((out.health & GG_HEALTH_NOT_INIT) != 0U);
+    assert_int_equal(gg_nav2d_init(NULL, &cfg), GG_ERR_NULL);
+}
+
+/* Run 10 good steps, then offer a bad frame: it must be rejected with the
+ * right status and health bit, the state must not change, and the next good
+ * frame must continue exactly as if the bad one had never come. */
+static void check_rejected(void (*spoil)(gg_frame_t *), gg_status_t want_status,
+                           uint32_t want_bit)
+{
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav, ref;
+    gg_frame_t fr;
+    gg_nav_output_t out, out_ref;
+    make_config(&cfg);
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    assert_int_equal(gg_nav2d_init(&ref, &cfg), GG_OK);
+    for (int64_t k = 0; k < 10; ++k) {
+        make_frame(k, &fr);
+        assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+        assert_int_equal(gg_nav2d_step(&ref, &fr, NULL, &out_ref), GG_OK);
+    }
+    make_frame(10, &fr);
+    spoil(&fr);
+    assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), want_status);
+    assert_true((out.health & want_bit) != 0U);
+    assert_true((out.health & GG_HEALTH_FRAME_REJECTED) != 0U);
+    for (int j = 0; j < 3; ++j) {
+        assert_true(GG_ISFINITE(out.r_i[j]) && GG_ISFINITE(out.v_i[j]) && GG_ISFINITE(out.g_i[j]));
+        assert_true(out.r_i[j] == out_ref.r_i[j] && out.g_i[j] == out_ref.g_i[j]);
+    }
+    for (int64_t k = 10; k < 20; ++k) {
+        make_frame(k, &fr);
+        assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+        assert_int_equal(gg_nav2d_step(&ref, &fr, NULL, &out_ref), GG_OK);
+        assert_memory_equal(out.r_i, out_ref.r_i, sizeof out.r_i);
+        assert_memory_equal(out.v_i, out_ref.v_i, sizeof out.v_i);
+        assert_memory_equal(out.g_i, out_ref.g_i, sizeof out.g_i);
+    }
+}
+
+static void spoil_nan(gg_frame_t *f) { f->f[2][2] = NAN; }
+static void spoil_inf(gg_frame_t *f) { f->f[0][0] = -INFINITY; }
+static void spoil_range(gg_frame_t *f) { f->f[1][0] = 1e3; }
+static void spoil_sensor(gg_frame_t *f) { f->acc_status[3] = GG_SENSOR_BAD; }
+static void spoil_count(gg_frame_t *f) { f->n_acc = 3; }
+static void spoil_gap(gg_frame_t *f) { f->seq += 1; }
+static void spoil_repeat(gg_frame_t *f) { f->seq -= 1; }
+static void spoil_time(gg_frame_t *f) { f->utime += 5000; }
+static void spoil_time_back(gg_frame_t *f) { f->utime -= 20000; }
+
+static void test_bad_frames_rejected_state_untouched(void **state)
+{
+    (void)state;
+    check_rejected(spoil_nan, GG_ERR_NONFINITE, GG_HEALTH_ACC_NONFINITE);
+    check_rejected(spoil_inf, GG_ERR_NONFINITE, GG_HEALTH_ACC_NONFINITE);
+    check_rejected(spoil_range, GG_ERR_RANGE, GG_HEALTH_ACC_RANGE);
+    check_rejected(spoil_sensor, GG_ERR_SENSOR, GG_HEALTH_ACC_SENSOR);
+    check_rejected(spoil_count, GG_ERR_SENSOR, GG_HEALTH_ACC_SENSOR);
+    check_rejected(spoil_gap, GG_ERR_SEQUENCE, GG_HEALTH_SEQ_GAP);
+    check_rejected(spoil_repeat, GG_ERR_SEQUENCE, GG_HEALTH_SEQ_REPEAT);
+    check_rejected(spoil_time, GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP);
+    check_rejected(spoil_time_back, GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP);
+}
+
+/* An asymmetric gradient (a faulty accelerometer) is flagged. */
+static void test_asymmetry_flagged(void **state)
+{
+    (void)state;
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    make_config(&cfg);
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    make_frame(0, &fr);
+    assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+    assert_int_equal(out.health & GG_HEALTH_GAMMA_ASYM, 0);
+    make_frame(1, &fr);
+    fr.f[1][0] += 1e-8; /* sensor 2 x steps by 1e-8 m/s^2: Gxz off by 1e-8 s^-2 */
+    assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+    assert_true((out.health & GG_HEALTH_GAMMA_ASYM) != 0U);
+    assert_near(out.gamma_asym, -1e-8L, 1e-12L); /* Gxz = (f4x - f2x)/2b falls */
+}
+
+/* ---- mock HAL ---- */
+typedef struct {
+    int64_t next_k;
+    int64_t n_frames;
+    gg_nav_output_t last;
+    int writes;
+    uint32_t clock;
+    uint32_t tick;
+} mock_t;
+
+static gg_status_t mock_read(void *ctx, gg_frame_t *frame)
+{
+    mock_t *m = ctx;
+    if (m->next_k >= m->n_frames) return GG_ERR_NO_DATA;
+    make_frame(m->next_k++, frame);
+    return GG_OK;
+}
+static gg_status_t mock_write(void *ctx, const gg_nav_output_t *out)
+{
+    mock_t *m = ctx;
+    m->last = *out;
+    m->writes++;
+    return (gg_status_t)mock();
+}
+static uint32_t mock_cycles(void *ctx)
+{
+    mock_t *m = ctx;
+    m->clock += m->tick; /* every read of the counter advances it */
+    return m->clock;
+}
+
+static void test_task_cycle_through_hal(void **state)
+{
+    (void)state;
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    make_config(&cfg);
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    mock_t m = {0};
+    m.n_frames = 3;
+    m.clock = 0xFFFFFF00u; /* wraps during the run: differences must survive it */
+    m.tick = 100;
+    const gg_hal_t hal = {&m, mock_read, mock_write, mock_cycles, 1000000000u};
+    will_return_count(mock_write, GG_OK, 3);
+    for (int i = 0; i < 3; ++i) assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_OK);
+    assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_ERR_NO_DATA);
+    assert_int_equal(m.writes, 3);
+    assert_int_equal(m.last.seq, 2);
+    assert_true(m.last.cycles[GG_MOD_TOTAL] > 0U && m.last.cycles[GG_MOD_TOTAL] < 10000U);
+    assert_true(m.last.cycles[GG_MOD_DIFF] == 100U);
+    assert_int_equal(m.last.health & GG_HEALTH_DEADLINE, 0);
+
+    /* a slow step (counter runs 5e6 ticks per read at 1 GHz: > 10 ms a step) */
+    m.n_frames = 4;
+    m.tick = 5000000;
+    will_return(mock_write, GG_OK);
+    assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_OK);
+    assert_true((m.last.health & GG_HEALTH_DEADLINE) != 0U);
+
+    /* an output that cannot be written is reported */
+    m.n_frames = 5;
+    m.tick = 1;
+    will_return(mock_write, GG_ERR_IO);
+    assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_ERR_IO);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_perfect_flight_1h),
+        cmocka_unit_test(test_config_rejected),
+        cmocka_unit_test(test_bad_frames_rejected_state_untouched),
+        cmocka_unit_test(test_asymmetry_flagged),
+        cmocka_unit_test(test_task_cycle_through_hal),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
