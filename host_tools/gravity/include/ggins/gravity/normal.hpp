@@ -1,0 +1,54 @@
+// WGS-84 normal GRAVITATION field (the level ellipsoid's attraction, NO
+// centrifugal term), in closed form in ellipsoidal harmonics.
+//
+// The normal gravity potential of a level ellipsoid (Heiskanen & Moritz 1967,
+// "Physical Geodesy", sec. 2-7, eq. (2-61); the same expression is the basis
+// of NIMA TR8350.2 ch. 4 and of Moritz, "Geodetic Reference System 1980",
+// Bull. Geod. 62(3) 1988, sec. 2) is
+//   U(u, beta) = (GM/E) atan(E/u) + (1/2) w^2 a^2 (q/q0)(sin^2 beta - 1/3)
+//                + (1/2) w^2 (u^2 + E^2) cos^2 beta,
+// with ellipsoidal coordinates (u, beta, lambda):
+//   x = sqrt(u^2+E^2) cos(beta) cos(lambda), y = ... sin(lambda), z = u sin(beta),
+//   u^2 = (r^2 - E^2)/2 [1 + sqrt(1 + 4 E^2 z^2 / (r^2 - E^2)^2)]   (H&M eq. (6-?) / TR8350.2 ch.4),
+//   q(u) = (1/2)[(1 + 3u^2/E^2) atan(E/u) - 3u/E]  (H&M eq. (2-58)), q0 = q(b).
+// The last term of U is the centrifugal potential (1/2) w^2 (x^2 + y^2); this
+// class returns V = U - that term, i.e. GRAVITATION ONLY, as the Field
+// interface requires. g = grad V and Gamma = grad grad V are exact derivatives
+// of the closed form, obtained by second-order forward automatic
+// differentiation in long double (no finite differences, no series in r).
+// q(u) is evaluated by its power series in t = E/u (derived from the series of
+// atan), which avoids the 6-digit cancellation of the closed expression:
+//   q = sum_{k>=1} (-1)^(k+1) 2k t^(2k+1) / ((2k+1)(2k+3)).
+// Valid for u > 2E (about 1040 km from the centre); throws inside that.
+#pragma once
+
+#include "ggins/gravity/field.hpp"
+#include "ggins/gravity/wgs84.hpp"
+
+namespace ggins::gravity {
+
+struct EllipsoidParams {
+  Real a = wgs84::kA;        // semi-major axis, m
+  Real f = wgs84::kF;        // flattening
+  Real gm = wgs84::kGm;      // m^3/s^2
+  Real omega = wgs84::kOmega;  // rad/s (enters the flattening part of V)
+};
+
+class NormalField final : public Field {
+ public:
+  explicit NormalField(const EllipsoidParams& p = EllipsoidParams{});
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override { return "wgs84-normal"; }
+  const EllipsoidParams& params() const { return p_; }
+  // Centrifugal potential and acceleration of the rotating frame, for callers
+  // (and tests) that want normal GRAVITY = gravitation + centrifugal.
+  Real centrifugal_potential(const Vec3& r_e) const;
+  Vec3 centrifugal_acceleration(const Vec3& r_e) const;
+  Real linear_eccentricity() const { return e_lin_; }
+
+ private:
+  EllipsoidParams p_;
+  Real b_, e_lin_, q0_;
+};
+
+}  // namespace ggins::gravity

@@ -1,0 +1,99 @@
+// Spherical-harmonic gravitation models (EGM96 and the like).
+//
+// V = (GM/a) sum_n sum_m Re[(Cnm - i Snm) Phi_nm],  Phi_nm = (a/r)^(n+1) Pnm(sin phi) e^(i m lambda)
+// (Montenbruck & Gill 2000, "Satellite Orbits", eq. (3.27)-(3.28) with the
+// solid harmonics Vnm + i Wnm = Phi_nm, fully-normalised coefficients,
+// no Condon-Shortley phase: the NASA/NGA and ICGEM convention).
+//
+// Evaluation: Cunningham's Cartesian recursion for the solid harmonics
+// (M&G eqs. (3.29)-(3.31)), fully normalised, in long double:
+//   Phi_00 = a/r,  Phi_mm = s_m (X + iY) Phi_{m-1,m-1},
+//   Phi_nm = a_nm Z Phi_{n-1,m} - b_nm Q Phi_{n-2,m},
+//   X,Y,Z = (x,y,z) a/r^2, Q = a^2/r^2,
+//   s_1 = sqrt(3), s_m = sqrt((2m+1)/(2m)),
+//   a_nm = sqrt((2n-1)(2n+1)/((n-m)(n+m))),
+//   b_nm = sqrt((2n+1)(n+m-1)(n-m-1)/((2n-3)(n+m)(n-m))).
+// The recursion works on Cartesian quantities only: no division by cos(phi),
+// hence no singularity at the poles; the column recursion in n is the stable
+// forward-column one (Holmes & Featherstone 2002, J. Geod. 76, eq. (11)-(12),
+// there written for Pnm), and long double's exponent range (1e-4951) removes
+// the underflow of the sectorial terms that limits double to degree ~1900.
+//
+// Derivatives of any order by the ladder identities of the unnormalised solid
+// harmonics (the operator form of M&G eq. (3.33); Cunningham 1970):
+//   d/dz Phi_nm = -(n-m+1)/a Phi_{n+1,m},
+//   (d/dx + i d/dy) Phi_nm = -1/a Phi_{n+1,m+1},
+//   (d/dx - i d/dy) Phi_nm = (n-m+1)(n-m+2)/a Phi_{n+1,m-1},
+// with Phi_{n,-k} = (-1)^k (n-k)!/(n+k)! conj(Phi_nk). The three operators
+// commute, so d+^a d-^b dz^c Phi_nm = (-1)^(a+c) (l+2b+c)!/l! a^-j Phi_{n+j,m+a-b},
+// l = n-m, j = a+b+c; Cartesian partials follow from dx = (d+ + d-)/2,
+// dy = (d+ - d-)/(2i). (Derivation in docs/gravity.md.)
+#pragma once
+
+#include "ggins/gravity/field.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ggins::gravity {
+
+struct ShCoefficients {
+  Real gm = 0;   // m^3/s^2
+  Real a = 0;    // reference radius, m
+  int nmax = -1;
+  std::string source;
+  // Fully-normalised coefficients, index n(n+1)/2 + m.
+  std::vector<Real> c, s, sigma_c, sigma_s;
+  static std::size_t idx(int n, int m) { return static_cast<std::size_t>(n) * (n + 1) / 2 + m; }
+  Real C(int n, int m) const { return c[idx(n, m)]; }
+  Real S(int n, int m) const { return s[idx(n, m)]; }
+  void resize(int n);
+  // Truncated copy (degrees 0..n).
+  ShCoefficients truncated(int n) const;
+};
+
+// EGM96 constants (Lemoine et al. 1998, NASA/TP-1998-206861, sec. 11).
+constexpr Real kEgm96Gm = 3.986004415e14L;
+constexpr Real kEgm96A = 6378136.3L;
+
+// NASA/NGA ASCII: lines "n m C S sigmaC sigmaS" (Fortran D or E exponents).
+// GM and a are not in the file; nmax < 0 reads everything. C00 = 1 when absent.
+ShCoefficients read_nasa_ascii(const std::string& path, Real gm = kEgm96Gm, Real a = kEgm96A, int nmax = -1);
+// ICGEM .gfc (static models, "gfc n m C S [sigmaC sigmaS]" after end_of_head;
+// earth_gravity_constant, radius, max_degree, norm, errors from the header).
+// Time-variable models (gfct/trnd/acos/asin) are rejected.
+ShCoefficients read_icgem_gfc(const std::string& path, int nmax = -1);
+
+// Derivatives of order j as the components of a symmetric tensor, indexed by
+// the multi-index (ax, ay, az) with ax+ay+az = j: value d^j V / dx^ax dy^ay dz^az.
+struct ShDerivatives {
+  int order = 0;
+  std::vector<std::array<int, 3>> index;
+  std::vector<Real> value;
+  Real at(int ax, int ay, int az) const;
+};
+
+class SphericalHarmonicField final : public Field {
+ public:
+  // nmax < 0: all degrees of the coefficient set. max_order: highest derivative
+  // order precomputed (>= 2; 3 gives third derivatives via derivatives()).
+  explicit SphericalHarmonicField(ShCoefficients coeffs, int nmax = -1, int max_order = 2);
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override;
+  // All partial derivatives of V of orders 0..order (order <= max_order).
+  std::vector<ShDerivatives> derivatives(const Vec3& r_e, int order) const;
+  int nmax() const { return nmax_; }
+  const ShCoefficients& coefficients() const { return k_; }
+
+ private:
+  ShCoefficients k_;
+  int nmax_, jmax_;
+  // ratio_[j][idx(n,m)*(2j+1) + (s+j)] = N_nm * G(n+j, m+s) (see .cpp).
+  std::vector<std::vector<Real>> ratio_;
+  std::vector<Real> fact_;   // (l+t)!/l! at [l*(2*jmax+1) + t]
+  std::vector<Real> sec_, anm_, bnm_;
+  void solid_harmonics(const Vec3& r, std::vector<Real>& re, std::vector<Real>& im) const;
+};
+
+}  // namespace ggins::gravity

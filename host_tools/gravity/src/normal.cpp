@@ -1,0 +1,99 @@
+#include "ggins/gravity/normal.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace ggins::gravity {
+namespace {
+
+// Value, gradient and Hessian of a scalar function of r_e (forward-mode AD, order 2).
+struct Hd {
+  Real v = 0;
+  Vec3 d = Vec3::Zero();
+  Mat3 h = Mat3::Zero();
+};
+
+Hd operator+(const Hd& a, const Hd& b) { Hd r; r.v = a.v + b.v; r.d = a.d + b.d; r.h = a.h + b.h; return r; }
+Hd operator*(Real s, const Hd& a) { Hd r; r.v = s * a.v; r.d = s * a.d; r.h = s * a.h; return r; }
+Hd operator+(const Hd& a, Real s) { Hd r = a; r.v += s; return r; }
+Hd operator*(const Hd& a, const Hd& b) {
+  Hd r;
+  r.v = a.v * b.v;
+  r.d = a.v * b.d + b.v * a.d;
+  r.h = a.v * b.h + b.v * a.h + a.d * b.d.transpose() + b.d * a.d.transpose();
+  return r;
+}
+// f(a) with f' = f1, f'' = f2 evaluated at a.v (chain rule to second order).
+Hd chain(const Hd& a, Real f, Real f1, Real f2) {
+  Hd r;
+  r.v = f;
+  r.d = f1 * a.d;
+  r.h = f1 * a.h + f2 * (a.d * a.d.transpose());
+  return r;
+}
+Hd inv(const Hd& a) { const Real i = 1.0L / a.v; return chain(a, i, -i * i, 2.0L * i * i * i); }
+Hd sqrt(const Hd& a) { const Real s = std::sqrt(a.v); return chain(a, s, 0.5L / s, -0.25L / (s * a.v)); }
+Hd atan(const Hd& a) {
+  const Real d = 1.0L / (1.0L + a.v * a.v);
+  return chain(a, std::atan(a.v), d, -2.0L * a.v * d * d);
+}
+
+Real value(Real x) { return x; }
+Real value(const Hd& x) { return x.v; }
+
+template <class T, class Mul>
+T q_series(const T& t, Mul mul) {
+  // q(t) = sum_{k>=1} (-1)^(k+1) 2k t^(2k+1) / ((2k+1)(2k+3)), t = E/u < 0.5.
+  const T t2 = mul(t, t);
+  T p = mul(t2, t);  // t^3
+  T q = (2.0L / 15.0L) * p;
+  for (int k = 2; k < 80; ++k) {
+    p = mul(p, t2);
+    const Real c = ((k % 2) ? 2.0L : -2.0L) * k / ((2.0L * k + 1) * (2.0L * k + 3));
+    q = q + c * p;
+    if (std::fabs(c * value(p)) < 1e-24L * std::fabs(value(q))) break;
+  }
+  return q;
+}
+
+}  // namespace
+
+NormalField::NormalField(const EllipsoidParams& p) : p_(p) {
+  b_ = p_.a * (1.0L - p_.f);
+  e_lin_ = std::sqrt(p_.a * p_.a - b_ * b_);
+  q0_ = q_series(e_lin_ / b_, [](Real x, Real y) { return x * y; });
+}
+
+FieldSample NormalField::eval(const Vec3& r_e) const {
+  Hd x[3];
+  for (int i = 0; i < 3; ++i) { x[i].v = r_e[i]; x[i].d[i] = 1.0L; }
+  const Real e2 = e_lin_ * e_lin_;
+  const Hd r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+  const Hd w = r2 + (-e2);
+  if (!(w.v > 3.0L * e2) || !std::isfinite(w.v))
+    throw std::domain_error("NormalField: point too close to the centre (u < 2E) or not finite");
+  // u^2 = w/2 [1 + sqrt(1 + 4 E^2 z^2 / w^2)]
+  const Hd iw = inv(w);
+  const Hd ratio = (4.0L * e2) * (x[2] * x[2] * iw * iw);
+  const Hd u2 = 0.5L * (w * (sqrt(ratio + 1.0L) + 1.0L));
+  const Hd iu = inv(sqrt(u2));
+  const Hd t = e_lin_ * iu;                       // E/u
+  const Hd sin2b = x[2] * x[2] * inv(u2);         // sin^2(beta) = z^2/u^2
+  const Hd q = q_series(t, [](const Hd& a, const Hd& b) { return a * b; });
+  const Real k = 0.5L * p_.omega * p_.omega * p_.a * p_.a / q0_;
+  const Hd v = (p_.gm / e_lin_) * atan(t) + k * (q * (sin2b + (-1.0L / 3.0L)));
+  FieldSample s;
+  s.potential = v.v;
+  s.g = v.d;
+  s.gamma = 0.5L * (v.h + v.h.transpose());
+  return s;
+}
+
+Real NormalField::centrifugal_potential(const Vec3& r) const {
+  return 0.5L * p_.omega * p_.omega * (r.x() * r.x() + r.y() * r.y());
+}
+Vec3 NormalField::centrifugal_acceleration(const Vec3& r) const {
+  return Vec3(p_.omega * p_.omega * r.x(), p_.omega * p_.omega * r.y(), 0.0L);
+}
+
+}  // namespace ggins::gravity

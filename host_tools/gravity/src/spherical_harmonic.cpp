@@ -1,0 +1,301 @@
+#include "ggins/gravity/spherical_harmonic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace ggins::gravity {
+namespace {
+
+Real parse_real(std::string t) {
+  std::replace(t.begin(), t.end(), 'D', 'E');
+  std::replace(t.begin(), t.end(), 'd', 'e');
+  std::size_t pos = 0;
+  const Real v = std::stold(t, &pos);
+  if (pos != t.size()) throw std::runtime_error("bad number '" + t + "'");
+  return v;
+}
+
+// p!/q! for nearby p, q.
+Real fact_ratio(int p, int q) {
+  Real r = 1;
+  if (p >= q) for (int i = q + 1; i <= p; ++i) r *= i;
+  else for (int i = p + 1; i <= q; ++i) r /= i;
+  return r;
+}
+
+// N_nm * G(np, mp), N_nm^2 = (2-delta_m0)(2n+1)(n-m)!/(n+m)! (the full
+// normalisation, Heiskanen & Moritz 1967 eq. (1-73)); G(np, mp) = 1/N_{np,mp}
+// for mp >= 0, and for mp = -k < 0 the factor of Phi_{np,-k} =
+// (-1)^k (np-k)!/(np+k)! conj(Phi_{np,k}) divided by N_{np,k}.
+Real norm_ratio(int n, int m, int np, int mp) {
+  if (mp > np || -mp > np) return 0;
+  const Real dm = (m == 0) ? 1 : 2;
+  if (mp >= 0) {
+    const Real dk = (mp == 0) ? 1 : 2;
+    const Real r2 = dm * (2 * n + 1) / (dk * (2 * np + 1)) * fact_ratio(n - m, np - mp) * fact_ratio(np + mp, n + m);
+    return std::sqrt(r2);
+  }
+  const int k = -mp;
+  const Real r2 = dm * (2 * n + 1) / (2.0L * (2 * np + 1)) * fact_ratio(n - m, np + k) * fact_ratio(np - k, n + m);
+  return ((k % 2) ? -1.0L : 1.0L) * std::sqrt(r2);
+}
+
+Real binom(int n, int k) {
+  Real r = 1;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+
+}  // namespace
+
+void ShCoefficients::resize(int n) {
+  nmax = n;
+  const std::size_t sz = idx(n, n) + 1;
+  c.assign(sz, 0); s.assign(sz, 0); sigma_c.assign(sz, 0); sigma_s.assign(sz, 0);
+}
+
+ShCoefficients ShCoefficients::truncated(int n) const {
+  if (n > nmax) throw std::invalid_argument("ShCoefficients::truncated: degree above nmax");
+  ShCoefficients t = *this;
+  const std::size_t sz = idx(n, n) + 1;
+  t.nmax = n;
+  t.c.resize(sz); t.s.resize(sz); t.sigma_c.resize(sz); t.sigma_s.resize(sz);
+  return t;
+}
+
+ShCoefficients read_nasa_ascii(const std::string& path, Real gm, Real a, int nmax) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("read_nasa_ascii: cannot open " + path);
+  struct Row { int n, m; Real c, s, sc, ss; };
+  std::vector<Row> rows;
+  int nfound = 0;
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    std::istringstream ls(line);
+    std::vector<std::string> tok;
+    for (std::string t; ls >> t;) tok.push_back(t);
+    if (tok.empty()) continue;
+    if (tok.size() < 4) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": expected n m C S [sigmaC sigmaS]");
+    Row r{};
+    r.n = std::stoi(tok[0]); r.m = std::stoi(tok[1]);
+    if (r.n < 0 || r.m < 0 || r.m > r.n) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": bad degree/order");
+    r.c = parse_real(tok[2]); r.s = parse_real(tok[3]);
+    r.sc = tok.size() > 4 ? parse_real(tok[4]) : 0; r.ss = tok.size() > 5 ? parse_real(tok[5]) : 0;
+    if (nmax >= 0 && r.n > nmax) continue;
+    nfound = std::max(nfound, r.n);
+    rows.push_back(r);
+  }
+  if (rows.empty()) throw std::runtime_error("read_nasa_ascii: no coefficients in " + path);
+  if (nmax >= 0 && nfound < nmax) throw std::runtime_error("read_nasa_ascii: file has degree " + std::to_string(nfound) + " < requested " + std::to_string(nmax));
+  ShCoefficients k;
+  k.gm = gm; k.a = a; k.source = path;
+  k.resize(nmax >= 0 ? nmax : nfound);
+  k.c[0] = 1;  // C00 = 1 unless the file says otherwise
+  for (const Row& r : rows) {
+    const auto i = ShCoefficients::idx(r.n, r.m);
+    k.c[i] = r.c; k.s[i] = r.s; k.sigma_c[i] = r.sc; k.sigma_s[i] = r.ss;
+  }
+  return k;
+}
+
+ShCoefficients read_icgem_gfc(const std::string& path, int nmax) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("read_icgem_gfc: cannot open " + path);
+  ShCoefficients k;
+  k.source = path;
+  int file_nmax = -1;
+  bool have_gm = false, have_a = false, head_done = false, errors = true;
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    std::istringstream ls(line);
+    std::string key;
+    if (!(ls >> key)) continue;
+    if (!head_done) {
+      if (key == "end_of_head") {
+        head_done = true;
+        if (!have_gm || !have_a || file_nmax < 0) throw std::runtime_error("read_icgem_gfc: header lacks earth_gravity_constant, radius or max_degree");
+        if (nmax > file_nmax) throw std::runtime_error("read_icgem_gfc: requested degree above max_degree");
+        k.resize(nmax >= 0 ? nmax : file_nmax);
+        k.c[0] = 1;
+        continue;
+      }
+      std::string val;
+      ls >> val;
+      if (key == "earth_gravity_constant") { k.gm = parse_real(val); have_gm = true; }
+      else if (key == "radius") { k.a = parse_real(val); have_a = true; }
+      else if (key == "max_degree") file_nmax = std::stoi(val);
+      else if (key == "norm" && val != "fully_normalized") throw std::runtime_error("read_icgem_gfc: only fully_normalized models are supported");
+      else if (key == "errors") errors = (val != "no");
+      continue;
+    }
+    if (key == "gfct" || key == "trnd" || key == "acos" || key == "asin" || key == "dot")
+      throw std::runtime_error("read_icgem_gfc: time-variable models (" + key + ") are not supported");
+    if (key != "gfc") throw std::runtime_error(path + ":" + std::to_string(lineno) + ": unknown record '" + key + "'");
+    std::vector<std::string> tok;
+    for (std::string t; ls >> t;) tok.push_back(t);
+    if (tok.size() < 4 || (errors && tok.size() < 6)) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": short gfc record");
+    const int n = std::stoi(tok[0]), m = std::stoi(tok[1]);
+    if (n < 0 || m < 0 || m > n) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": bad degree/order");
+    if (n > k.nmax) continue;
+    const auto i = ShCoefficients::idx(n, m);
+    k.c[i] = parse_real(tok[2]); k.s[i] = parse_real(tok[3]);
+    if (tok.size() >= 6) { k.sigma_c[i] = parse_real(tok[4]); k.sigma_s[i] = parse_real(tok[5]); }
+  }
+  if (!head_done) throw std::runtime_error("read_icgem_gfc: no end_of_head in " + path);
+  return k;
+}
+
+Real ShDerivatives::at(int ax, int ay, int az) const {
+  for (std::size_t i = 0; i < index.size(); ++i)
+    if (index[i][0] == ax && index[i][1] == ay && index[i][2] == az) return value[i];
+  throw std::out_of_range("ShDerivatives::at");
+}
+
+SphericalHarmonicField::SphericalHarmonicField(ShCoefficients coeffs, int nmax, int max_order)
+    : k_(std::move(coeffs)), nmax_(nmax < 0 ? k_.nmax : nmax), jmax_(std::max(2, max_order)) {
+  if (nmax_ > k_.nmax) throw std::invalid_argument("SphericalHarmonicField: nmax above the coefficients' degree");
+  if (!(k_.gm > 0) || !(k_.a > 0)) throw std::invalid_argument("SphericalHarmonicField: GM and a must be positive");
+  const int L = nmax_ + jmax_;
+  const std::size_t nl = ShCoefficients::idx(L, L) + 1;
+  sec_.assign(L + 1, 0); anm_.assign(nl, 0); bnm_.assign(nl, 0);
+  for (int m = 1; m <= L; ++m) sec_[m] = (m == 1) ? std::sqrt(3.0L) : std::sqrt((2.0L * m + 1) / (2.0L * m));
+  for (int m = 0; m <= L; ++m)
+    for (int n = m + 1; n <= L; ++n) {
+      const auto i = ShCoefficients::idx(n, m);
+      const Real nn = n, mm = m;
+      anm_[i] = std::sqrt((2 * nn - 1) * (2 * nn + 1) / ((nn - mm) * (nn + mm)));
+      bnm_[i] = (n >= m + 2) ? std::sqrt((2 * nn + 1) * (nn + mm - 1) * (nn - mm - 1) / ((2 * nn - 3) * (nn + mm) * (nn - mm))) : 0;
+    }
+  const std::size_t nk = ShCoefficients::idx(nmax_, nmax_) + 1;
+  ratio_.resize(jmax_ + 1);
+  for (int j = 0; j <= jmax_; ++j) {
+    ratio_[j].assign(nk * (2 * j + 1), 0);
+    for (int n = 0; n <= nmax_; ++n)
+      for (int m = 0; m <= n; ++m)
+        for (int s = -j; s <= j; ++s)
+          ratio_[j][ShCoefficients::idx(n, m) * (2 * j + 1) + (s + j)] = norm_ratio(n, m, n + j, m + s);
+  }
+  const int tw = 2 * jmax_ + 1;
+  fact_.assign(static_cast<std::size_t>(nmax_ + 1) * tw, 0);
+  for (int l = 0; l <= nmax_; ++l)
+    for (int t = 0; t < tw; ++t) fact_[l * tw + t] = fact_ratio(l + t, l);
+}
+
+std::string SphericalHarmonicField::name() const {
+  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + ")";
+}
+
+void SphericalHarmonicField::solid_harmonics(const Vec3& r, std::vector<Real>& re, std::vector<Real>& im) const {
+  const int L = nmax_ + jmax_;
+  const std::size_t nl = ShCoefficients::idx(L, L) + 1;
+  re.assign(nl, 0); im.assign(nl, 0);
+  const Real r2 = r.squaredNorm();
+  if (!(r2 > 0) || !std::isfinite(r2)) throw std::domain_error("SphericalHarmonicField: position at the centre or not finite");
+  const Real a = k_.a, rr = std::sqrt(r2);
+  const Real X = r.x() * a / r2, Y = r.y() * a / r2, Z = r.z() * a / r2, Q = a * a / r2;
+  re[0] = a / rr;
+  for (int m = 0; m <= L; ++m) {
+    const auto imm = ShCoefficients::idx(m, m);
+    if (m > 0) {  // M&G eq. (3.30), normalised
+      const auto ip = ShCoefficients::idx(m - 1, m - 1);
+      re[imm] = sec_[m] * (X * re[ip] - Y * im[ip]);
+      im[imm] = sec_[m] * (X * im[ip] + Y * re[ip]);
+    }
+    if (m + 1 <= L) {  // M&G eq. (3.31) with n = m+1
+      const auto i1 = ShCoefficients::idx(m + 1, m);
+      re[i1] = anm_[i1] * Z * re[imm];
+      im[i1] = anm_[i1] * Z * im[imm];
+    }
+    for (int n = m + 2; n <= L; ++n) {  // M&G eq. (3.31)
+      const auto i = ShCoefficients::idx(n, m), i1 = ShCoefficients::idx(n - 1, m), i2 = ShCoefficients::idx(n - 2, m);
+      re[i] = anm_[i] * Z * re[i1] - bnm_[i] * Q * re[i2];
+      im[i] = anm_[i] * Z * im[i1] - bnm_[i] * Q * im[i2];
+    }
+  }
+}
+
+std::vector<ShDerivatives> SphericalHarmonicField::derivatives(const Vec3& r, int order) const {
+  if (order < 0 || order > jmax_) throw std::invalid_argument("SphericalHarmonicField::derivatives: order above max_order");
+  thread_local std::vector<Real> re, im;
+  solid_harmonics(r, re, im);
+  const int J = order, tw = 2 * jmax_ + 1;
+  // Ladder sums S_j[a][b] (complex), a+b <= j; flat index a*(j+1)+b.
+  std::vector<std::vector<Real>> sr(J + 1), si(J + 1);
+  for (int j = 0; j <= J; ++j) { sr[j].assign((j + 1) * (j + 1), 0); si[j].assign((j + 1) * (j + 1), 0); }
+  for (int n = nmax_; n >= 0; --n) {  // high degrees first: small terms summed before large ones
+    for (int m = n; m >= 0; --m) {
+      const auto inm = ShCoefficients::idx(n, m);
+      const Real C = k_.c[inm], S = k_.s[inm];
+      if (C == 0 && S == 0) continue;
+      const int l = n - m;
+      for (int j = 0; j <= J; ++j) {
+        const Real* rat = &ratio_[j][inm * (2 * j + 1)];
+        for (int s = -j; s <= j; ++s) {
+          const Real R = rat[s + j];
+          if (R == 0) continue;
+          const int mp = m + s;
+          const auto ip = ShCoefficients::idx(n + j, mp < 0 ? -mp : mp);
+          const Real fr = re[ip], fi = (mp < 0) ? -im[ip] : im[ip];
+          // P = R (C - iS)(fr + i fi)
+          const Real pr = R * (C * fr + S * fi), pi = R * (C * fi - S * fr);
+          for (int b = std::max(0, -s); 2 * b + s <= j; ++b) {
+            const int a = b + s, c = j - a - b;
+            const Real f = (((a + c) % 2) ? -1.0L : 1.0L) * fact_[l * tw + 2 * b + c];
+            sr[j][a * (j + 1) + b] += f * pr;
+            si[j][a * (j + 1) + b] += f * pi;
+          }
+        }
+      }
+    }
+  }
+  std::vector<ShDerivatives> out(J + 1);
+  Real scale = k_.gm / k_.a;
+  for (int j = 0; j <= J; ++j, scale /= k_.a) {
+    ShDerivatives& d = out[j];
+    d.order = j;
+    for (int ax = j; ax >= 0; --ax)
+      for (int ay = j - ax; ay >= 0; --ay) {
+        const int az = j - ax - ay;
+        Real accr = 0, acci = 0;
+        for (int p = 0; p <= ax; ++p)
+          for (int q = 0; q <= ay; ++q) {
+            const int a = p + q, b = (ax - p) + (ay - q);
+            const Real w = binom(ax, p) * binom(ay, q) * (((ay - q) % 2) ? -1.0L : 1.0L);
+            accr += w * sr[j][a * (j + 1) + b];
+            acci += w * si[j][a * (j + 1) + b];
+          }
+        // multiply by (-i)^ay / 2^(ax+ay) and take the real part
+        Real v = 0;
+        switch (ay % 4) {
+          case 0: v = accr; break;
+          case 1: v = acci; break;
+          case 2: v = -accr; break;
+          default: v = -acci; break;
+        }
+        v = std::ldexp(v, -(ax + ay));
+        d.index.push_back({ax, ay, az});
+        d.value.push_back(scale * v);
+      }
+  }
+  return out;
+}
+
+FieldSample SphericalHarmonicField::eval(const Vec3& r) const {
+  const auto d = derivatives(r, 2);
+  FieldSample s;
+  s.potential = d[0].value[0];
+  s.g = Vec3(d[1].at(1, 0, 0), d[1].at(0, 1, 0), d[1].at(0, 0, 1));
+  const Real xx = d[2].at(2, 0, 0), yy = d[2].at(0, 2, 0), zz = d[2].at(0, 0, 2);
+  const Real xy = d[2].at(1, 1, 0), xz = d[2].at(1, 0, 1), yz = d[2].at(0, 1, 1);
+  s.gamma << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  return s;
+}
+
+}  // namespace ggins::gravity
