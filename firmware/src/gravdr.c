@@ -123,3 +123,21 @@ gg_status_t gg_gravdr_get_acc(const gg_gravdr_t *st, gg_acc_t g[3])
     }
     return GG_OK;
 }
+
+gg_status_t gg_gravdr_correct(gg_gravdr_t *st, const gg_real_t dg[3])
+{
+    size_t j;
+    if ((st == NULL) || (dg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    if (all_finite_3(dg) == 0) {
+        return GG_ERR_NONFINITE;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        gg_acc_add(&st->g[j], dg[j]);
+    }
+    return GG_OK;
+}

@@ -103,6 +103,27 @@ gg_status_t gg_mech_step_velocity(gg_mech_t *st, const gg_real_t f_next[3],
     return GG_OK;
 }
 
+gg_status_t gg_mech_correct(gg_mech_t *st, const gg_real_t dr[3], const gg_real_t dv[3],
+                            const gg_real_t da[3])
+{
+    size_t j;
+    if ((st == NULL) || (dr == NULL) || (dv == NULL) || (da == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if ((st->initialized == 0) || (st->pending != 0)) {
+        return GG_ERR_NOT_INIT;
+    }
+    if ((finite3(dr) == 0) || (finite3(dv) == 0) || (finite3(da) == 0)) {
+        return GG_ERR_NONFINITE;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        gg_acc_add(&st->r[j], dr[j]);
+        gg_acc_add(&st->v[j], dv[j]);
+        st->a[j] += da[j];
+    }
+    return GG_OK;
+}
+
 gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3])
 {
     size_t j;

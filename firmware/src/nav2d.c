@@ -1,6 +1,7 @@
 /* Navigation task of the 2-D gravity-gradiometer INS (Welker, Pachter &
- * Huffman, sections III-V): validate the frame, difference, dead-reckon
- * gravity, mechanize; one fixed step per frame. */
+ * Huffman, sections III-V): validate the frame, difference, obtain G (dead
+ * reckoning or onboard model), mechanize, damp the vertical channel with the
+ * barometer; one fixed step per frame. */
 #include "ggins/nav2d.h"
 
 #include <stddef.h>
@@ -31,6 +32,8 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
 {
     gg_diff2d_t diff;
     gg_status_t st;
+    size_t j;
+    size_t k;
     if ((nav == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
     }
@@ -44,32 +47,50 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
         (finite3(cfg->r0) == 0) || (finite3(cfg->v0) == 0) || (finite3(cfg->g0) == 0) ||
         !GG_ISFINITE(cfg->f_max) || !(cfg->f_max > 0.0) || !GG_ISFINITE(cfg->asym_max) ||
         !(cfg->asym_max > 0.0) || (cfg->gravdr_trapezoid_only < 0) ||
-        (cfg->gravdr_trapezoid_only > 1)) {
+        (cfg->gravdr_trapezoid_only > 1) || (cfg->baro_enable < 0) || (cfg->baro_enable > 1) ||
+        ((cfg->gravity_mode != GG_GRAVITY_GRADIOMETER) &&
+         (cfg->gravity_mode != GG_GRAVITY_MODEL)) ||
+        !GG_ISFINITE(cfg->r_ref_m) || (cfg->r_ref_m < 0.0L)) {
         return GG_ERR_CONFIG;
     }
+    nav->gmodel.initialized = 0;
+    if (cfg->gravity_mode == GG_GRAVITY_MODEL) {
+        st = gg_gmodel_init(&nav->gmodel, &cfg->model);
+        if (st != GG_OK) {
+            return st;
+        }
+    }
+    nav->vchan.initialized = 0;
+    if (cfg->baro_enable != 0) {
+        st = gg_vchan_init(&nav->vchan, &cfg->baro);
+        if (st != GG_OK) {
+            return st;
+        }
+    }
     nav->cfg = *cfg;
+    if (nav->cfg.r_ref_m == 0.0L) {
+        nav->cfg.r_ref_m = GG_R_REF_DEFAULT_M;
+    }
     nav->diff = diff;
     nav->gravdr.initialized = 0;
     nav->mech.initialized = 0;
     nav->last_seq = 0;
     nav->last_utime = 0;
     nav->asym = 0.0L;
-    {
-        size_t j;
-        size_t k;
-        for (j = 0U; j < 3U; ++j) {
-            nav->f_c[j] = 0.0L;
-            for (k = 0U; k < 3U; ++k) {
-                nav->gamma[j][k] = 0.0L;
-            }
+    nav->a_c = 0.0L;
+    nav->h_ins = 0.0L;
+    nav->baro_innov = 0.0L;
+    for (j = 0U; j < 3U; ++j) {
+        nav->f_c[j] = 0.0L;
+        for (k = 0U; k < 3U; ++k) {
+            nav->gamma[j][k] = 0.0L;
         }
     }
-    nav->started = 0;
     nav->configured = 1;
     return GG_OK;
 }
 
-/* Health bits of a frame's contents and sequencing; 0 when usable. */
+/* Health bits of a frame's accelerometers and sequencing; 0 when usable. */
 static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr)
 {
     uint32_t h = 0U;
@@ -119,12 +140,19 @@ static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t
     gg_real_t r[3];
     gg_real_t v[3];
     gg_real_t g[3];
-    out->utime = (fr != NULL) ? fr->utime : 0;
-    out->seq = (fr != NULL) ? fr->seq : 0;
+    gg_status_t st = GG_ERR_NOT_INIT;
+    out->utime = fr->utime;
+    out->seq = fr->seq;
     out->status = (int32_t)status;
     out->health = health;
-    if ((nav->started == 0) || (gg_mech_get(&nav->mech, r, v) != GG_OK) ||
-        (gg_gravdr_get(&nav->gravdr, g) != GG_OK)) {
+    if (nav->started != 0) {
+        st = gg_mech_get(&nav->mech, r, v);
+        if (st == GG_OK) {
+            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g)
+                                                              : gg_gravdr_get(&nav->gravdr, g);
+        }
+    }
+    if (st != GG_OK) {
         for (j = 0U; j < 3U; ++j) {
             r[j] = nav->cfg.r0[j];
             v[j] = nav->cfg.v0[j];
@@ -142,66 +170,215 @@ static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t
         }
     }
     out->gamma_asym = (double)nav->asym;
+    out->h_ins_m = (double)nav->h_ins;
+    out->baro_innov_m = (double)nav->baro_innov;
+    out->g_up_corr = (double)nav->a_c;
+}
+
+/* Unit up vector u = r/|r| and |r|. */
+static gg_status_t up_vector(const gg_real_t r[3], gg_real_t u[3], gg_real_t *rn)
+{
+    const gg_real_t rr = (r[0] * r[0]) + (r[1] * r[1]) + (r[2] * r[2]);
+    size_t j;
+    if (!GG_ISFINITE(rr) || !(rr > 0.0L)) {
+        return GG_ERR_RANGE;
+    }
+    *rn = sqrtl(rr);
+    for (j = 0U; j < 3U; ++j) {
+        u[j] = r[j] / *rn;
+    }
+    return GG_OK;
+}
+
+/* G at the mechanization's current position, as compensated values. */
+static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3])
+{
+    gg_status_t st;
+    size_t j;
+    if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
+        gg_real_t r[3];
+        gg_real_t v[3];
+        gg_real_t gm[3];
+        st = gg_mech_get(&nav->mech, r, v);
+        if (st == GG_OK) {
+            st = gg_gmodel_eval(&nav->gmodel, r, gm);
+        }
+        if (st == GG_OK) {
+            for (j = 0U; j < 3U; ++j) {
+                gg_acc_set(&g[j], gm[j]);
+            }
+        }
+    } else {
+        st = gg_gravdr_get_acc(&nav->gravdr, g);
+    }
+    return st;
+}
+
+/* First accepted frame: start the modules at the configured state. */
+static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
+{
+    gg_gravdr_config_t gc;
+    gg_mech_config_t mc;
+    gg_real_t g0[3];
+    gg_status_t st = GG_OK;
+    size_t j;
+    size_t k;
+    for (j = 0U; j < 3U; ++j) {
+        g0[j] = nav->cfg.g0[j];
+    }
+    if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
+        st = gg_gmodel_eval(&nav->gmodel, nav->cfg.r0, g0);
+    }
+    for (j = 0U; j < 3U; ++j) {
+        gc.g0[j] = g0[j];
+        for (k = 0U; k < 3U; ++k) {
+            gc.gamma0[j][k] = d->gamma[j][k];
+        }
+        mc.r0[j] = nav->cfg.r0[j];
+        mc.v0[j] = nav->cfg.v0[j];
+        mc.a0[j] = d->f_c[j] + g0[j];
+    }
+    gc.trapezoid_only = nav->cfg.gravdr_trapezoid_only;
+    gc.g0[1] = 0.0L;
+    mc.r0[1] = 0.0L;
+    mc.v0[1] = 0.0L;
+    mc.a0[1] = 0.0L;
+    mc.dt_s = (gg_real_t)nav->cfg.dt_us * 1.0e-6L;
+    if (st == GG_OK) {
+        st = gg_gravdr_init(&nav->gravdr, &gc);
+    }
+    if (st == GG_OK) {
+        st = gg_mech_init(&nav->mech, &mc);
+    }
+    return st;
+}
+
+/* One step of the barometric loop after the mechanization step; applies
+ * its corrections along up. Returns the loop's health bits in *health. */
+static gg_status_t baro_step(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_real_t gamma[3][3],
+                             uint32_t *health)
+{
+    gg_real_t r[3];
+    gg_real_t v[3];
+    gg_real_t u[3];
+    gg_real_t rn = 0.0L;
+    gg_vchan_output_t vo;
+    gg_status_t st = gg_mech_get(&nav->mech, r, v);
+    if (st == GG_OK) {
+        st = up_vector(r, u, &rn);
+    }
+    if (st == GG_OK) {
+        nav->h_ins = rn - nav->cfg.r_ref_m;
+        if (nav->cfg.baro_enable != 0) {
+            gg_vchan_sample_t smp;
+            smp.alt_m = fr->baro_alt_m;
+            smp.utime = fr->baro_utime;
+            smp.status = fr->baro_status;
+            st = gg_vchan_step(&nav->vchan, fr->utime, nav->h_ins, &smp, &vo);
+            if (st == GG_OK) {
+                gg_real_t dr[3];
+                gg_real_t dv[3];
+                gg_real_t dg[3];
+                size_t j;
+                size_t k;
+                for (j = 0U; j < 3U; ++j) {
+                    dr[j] = vo.dh_m * u[j];
+                    dv[j] = vo.dv_mps * u[j];
+                }
+                for (j = 0U; j < 3U; ++j) {
+                    dg[j] = 0.0L;
+                    for (k = 0U; k < 3U; ++k) {
+                        dg[j] += gamma[j][k] * dr[k];
+                    }
+                }
+                /* the stored acceleration follows the G correction and the
+                 * change of the loop's integral state */
+                {
+                    gg_real_t da[3];
+                    for (j = 0U; j < 3U; ++j) {
+                        da[j] = dg[j] - ((vo.a_c - nav->a_c) * u[j]);
+                    }
+                    st = gg_mech_correct(&nav->mech, dr, dv, da);
+                }
+                if ((st == GG_OK) && (nav->cfg.gravity_mode == GG_GRAVITY_GRADIOMETER)) {
+                    st = gg_gravdr_correct(&nav->gravdr, dg);
+                }
+                if (st == GG_OK) {
+                    nav->a_c = vo.a_c;
+                    if (vo.accepted != 0) {
+                        nav->baro_innov = vo.innov_m;
+                    }
+                    *health |= (((vo.health & GG_VCHAN_INVALID) != 0U) ? GG_HEALTH_BARO_INVALID : 0U) |
+                               (((vo.health & GG_VCHAN_STALE) != 0U) ? GG_HEALTH_BARO_STALE : 0U) |
+                               (((vo.health & GG_VCHAN_OUTLIER) != 0U) ? GG_HEALTH_BARO_OUTLIER : 0U) |
+                               (((vo.health & GG_VCHAN_RECAPTURE) != 0U) ? GG_HEALTH_BARO_RECAPTURE
+                                                                          : 0U) |
+                               (((vo.health & GG_VCHAN_COAST) != 0U) ? GG_HEALTH_BARO_COAST : 0U);
+                }
+            }
+        }
+    }
+    return st;
 }
 
 /* Advance the modules by one step (or start them on the first frame).
  * The caller restores the module states when this fails. */
-static gg_status_t advance(gg_nav2d_t *nav, const gg_diff2d_output_t *d, const gg_hal_t *hal,
-                           uint32_t cyc[GG_MOD_COUNT])
+static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2d_output_t *d,
+                           const gg_hal_t *hal, uint32_t cyc[GG_MOD_COUNT], uint32_t *health)
 {
     gg_status_t st;
-    size_t j;
-    size_t k;
+    uint32_t t0;
+    uint32_t t1;
     if (nav->started == 0) {
-        gg_gravdr_config_t gc;
-        gg_mech_config_t mc;
-        for (j = 0U; j < 3U; ++j) {
-            gc.g0[j] = nav->cfg.g0[j];
-            for (k = 0U; k < 3U; ++k) {
-                gc.gamma0[j][k] = d->gamma[j][k];
-            }
-            mc.r0[j] = nav->cfg.r0[j];
-            mc.v0[j] = nav->cfg.v0[j];
-            mc.a0[j] = d->f_c[j] + nav->cfg.g0[j];
-        }
-        gc.trapezoid_only = nav->cfg.gravdr_trapezoid_only;
-        gc.g0[1] = 0.0L;
-        mc.r0[1] = 0.0L;
-        mc.v0[1] = 0.0L;
-        mc.a0[1] = 0.0L;
-        mc.dt_s = (gg_real_t)nav->cfg.dt_us * 1.0e-6L;
-        st = gg_gravdr_init(&nav->gravdr, &gc);
-        if (st == GG_OK) {
-            st = gg_mech_init(&nav->mech, &mc);
-        }
+        st = start(nav, d);
     } else {
         gg_real_t dr[3];
         gg_acc_t g[3];
-        uint32_t t0 = cycles_now(hal);
-        uint32_t t1;
+        gg_real_t f_next[3];
+        gg_real_t r[3];
+        gg_real_t v[3];
+        gg_real_t u[3];
+        gg_real_t rn = 0.0L;
+        size_t j;
+        t0 = cycles_now(hal);
         st = gg_mech_step_position(&nav->mech, dr);
         t1 = cycles_now(hal);
         cyc[GG_MOD_MECH] = t1 - t0;
-        if (st == GG_OK) {
+        if ((st == GG_OK) && (nav->cfg.gravity_mode == GG_GRAVITY_GRADIOMETER)) {
             st = gg_gravdr_step(&nav->gravdr, d->gamma, dr);
         }
         if (st == GG_OK) {
-            st = gg_gravdr_get_acc(&nav->gravdr, g);
+            st = current_g(nav, g);
         }
         t0 = cycles_now(hal);
         cyc[GG_MOD_GRAVDR] = t0 - t1;
+        /* specific force less the vertical loop's integral state along up */
         if (st == GG_OK) {
-            st = gg_mech_step_velocity(&nav->mech, d->f_c, g);
+            st = gg_mech_get(&nav->mech, r, v);
+        }
+        if (st == GG_OK) {
+            st = up_vector(r, u, &rn);
+        }
+        if (st == GG_OK) {
+            for (j = 0U; j < 3U; ++j) {
+                f_next[j] = d->f_c[j] - (nav->a_c * u[j]);
+            }
+            st = gg_mech_step_velocity(&nav->mech, f_next, g);
         }
         cyc[GG_MOD_MECH] += cycles_now(hal) - t0;
     }
+    t0 = cycles_now(hal);
+    if (st == GG_OK) {
+        st = baro_step(nav, fr, d->gamma, health);
+    }
+    cyc[GG_MOD_VCHAN] = cycles_now(hal) - t0;
     return st;
 }
 
 gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav_output_t *out)
 {
-    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U};
+    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U};
     const uint32_t t_start = cycles_now(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
@@ -242,12 +419,24 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         cyc[GG_MOD_DIFF] = cycles_now(hal) - t0;
     }
     if (st == GG_OK) {
+        /* module states saved so a failure part-way leaves nothing changed */
         const gg_gravdr_t gravdr_saved = nav->gravdr;
         const gg_mech_t mech_saved = nav->mech;
-        st = advance(nav, &d, hal, cyc);
+        const gg_vchan_t vchan_saved = nav->vchan;
+        const gg_real_t a_c_saved = nav->a_c;
+        const gg_real_t h_saved = nav->h_ins;
+        const gg_real_t innov_saved = nav->baro_innov;
+        uint32_t step_health = 0U;
+        st = advance(nav, frame, &d, hal, cyc, &step_health);
         if (st != GG_OK) {
             nav->gravdr = gravdr_saved;
             nav->mech = mech_saved;
+            nav->vchan = vchan_saved;
+            nav->a_c = a_c_saved;
+            nav->h_ins = h_saved;
+            nav->baro_innov = innov_saved;
+        } else {
+            health |= step_health;
         }
     }
     if (st == GG_OK) {

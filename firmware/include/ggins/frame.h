@@ -53,14 +53,20 @@ typedef struct {
 #define GG_HEALTH_GAMMA_ASYM      (1u << 7)  /**< gradient symmetry residual above threshold */
 #define GG_HEALTH_FRAME_REJECTED  (1u << 8)  /**< frame not used; state propagated no further */
 #define GG_HEALTH_DEADLINE        (1u << 9)  /**< step took longer than the step period */
+#define GG_HEALTH_BARO_INVALID    (1u << 10) /**< barometer sample NaN/Inf, out of range or bad */
+#define GG_HEALTH_BARO_STALE      (1u << 11) /**< barometer sample too old */
+#define GG_HEALTH_BARO_OUTLIER    (1u << 12) /**< barometer sample rejected by the innovation gate */
+#define GG_HEALTH_BARO_RECAPTURE  (1u << 13) /**< gate overridden after repeated rejections */
+#define GG_HEALTH_BARO_COAST      (1u << 14) /**< vertical channel coasting: no barometer accepted lately */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {
     GG_MOD_DIFF = 0,    /**< accelerometer differencing */
     GG_MOD_GRAVDR = 1,  /**< gravity dead reckoning */
-    GG_MOD_MECH = 2,    /**< mechanization */
-    GG_MOD_TOTAL = 3,   /**< whole navigation step */
-    GG_MOD_COUNT = 4
+    GG_MOD_MECH = 2,    /**< mechanization (and the onboard gravity model in model mode) */
+    GG_MOD_VCHAN = 3,   /**< barometric vertical channel */
+    GG_MOD_TOTAL = 4,   /**< whole navigation step */
+    GG_MOD_COUNT = 5
 };
 
 /** Navigation output of one step. */
@@ -75,6 +81,12 @@ typedef struct {
     double gamma_i[3][3];       /**< gradient Gamma[j][k] = dG_j/dx_k, s^-2 */
     double f_i[3];              /**< specific force at the platform centre, m/s^2 */
     double gamma_asym;          /**< symmetry residual Gamma_xz - Gamma_zx, s^-2 */
+    double h_ins_m;             /**< inertial altitude |r| - R_ref, m */
+    double baro_innov_m;        /**< last barometer innovation h_ins - h_baro, m (0 if none) */
+    double g_up_corr;           /**< vertical loop's integral state a_c, m/s^2: the up
+                                     acceleration the loop removes. In gravity-model mode
+                                     -a_c estimates the vertical gravity disturbance
+                                     (true minus model, along up; airborne gravimeter) */
     uint32_t cycles[GG_MOD_COUNT]; /**< HAL cycle-counter ticks per module this step */
 } gg_nav_output_t;
 

@@ -51,6 +51,10 @@ gg_status_t gg_gravdr_init(gg_gravdr_t *st, const gg_gravdr_config_t *cfg);
 gg_status_t gg_gravdr_step(gg_gravdr_t *st, const gg_real_t gamma_new[3][3],
                            const gg_real_t dr[3]);
 
+/** Add dg (m/s^2) to G: keeps G consistent with a position correction dr
+ *  applied elsewhere (dg = Gamma dr). GG_ERR_NONFINITE leaves the state untouched. */
+gg_status_t gg_gravdr_correct(gg_gravdr_t *st, const gg_real_t dg[3]);
+
 /** Current G (m/s^2), rounded to working precision. */
 gg_status_t gg_gravdr_get(const gg_gravdr_t *st, gg_real_t g[3]);
 

@@ -47,6 +47,12 @@ gg_status_t gg_mech_step_position(gg_mech_t *st, gg_real_t dr[3]);
 gg_status_t gg_mech_step_velocity(gg_mech_t *st, const gg_real_t f_next[3],
                                   const gg_acc_t g_next[3]);
 
+/** Apply an external correction (e.g. the barometric loop) between steps:
+ *  dr (m) to the position, dv (m/s) to the velocity, da (m/s^2) to the
+ *  stored current acceleration. GG_ERR_NONFINITE leaves the state untouched. */
+gg_status_t gg_mech_correct(gg_mech_t *st, const gg_real_t dr[3], const gg_real_t dv[3],
+                            const gg_real_t da[3]);
+
 gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3]);
 
 #endif /* GGINS_MECH_H */

@@ -12,6 +12,12 @@
  * out-of-range readings, a sensor flagged bad, or a seq/utime that is not
  * exactly one step on, is rejected and flagged in the health word, and the
  * navigation state is left untouched.
+ * Gravity comes from the dead reckoning (gradiometer mode) or from the
+ * onboard model (model mode); optionally a barometric vertical channel
+ * (vchan.h) damps the vertical mode: the up acceleration is reduced by its
+ * integral state, and each accepted barometer sample corrects position and
+ * velocity along the local up u = r/|r| (and G by Gamma dr, so that G stays
+ * consistent with the corrected position).
  * Accelerometer mapping: frame.f[i][0] (x) and frame.f[i][2] (z) of
  * accelerometers i = 0..3 are the paper's sensors 1..4.
  */
@@ -21,11 +27,20 @@
 #include <stdint.h>
 #include "ggins/diff2d.h"
 #include "ggins/frame.h"
+#include "ggins/gmodel.h"
 #include "ggins/gravdr.h"
 #include "ggins/hal.h"
 #include "ggins/mech.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
+#include "ggins/vchan.h"
+
+/** Where the navigation takes G from. */
+#define GG_GRAVITY_GRADIOMETER 0 /**< dead-reckoned from the differenced accelerometers */
+#define GG_GRAVITY_MODEL 1       /**< onboard model (conventional INS) */
+
+/** Default altitude reference radius: WGS-84 semi-major axis, m. */
+#define GG_R_REF_DEFAULT_M 6378137.0L
 
 typedef struct {
     gg_diff2d_config_t geometry; /**< half-baselines a (x) and b (z), m */
@@ -36,7 +51,13 @@ typedef struct {
     gg_real_t g0[3];             /**< initial gravitation G(0), inertial, m/s^2 (y ignored) */
     double f_max;                /**< accelerometer range: |f| above it is out of range, m/s^2 (> 0) */
     double asym_max;             /**< symmetry residual flag threshold, s^-2 (> 0) */
-    int gravdr_trapezoid_only;   /**< 0 (default): corrected 4th-order gravity DR; 1: plain trapezoid */
+    int gravdr_trapezoid_only;   /**< 0 (default): corrected gravity DR; 1: plain trapezoid */
+    int gravity_mode;            /**< GG_GRAVITY_GRADIOMETER or GG_GRAVITY_MODEL */
+    gg_gmodel_config_t model;    /**< onboard gravity model (model mode only) */
+    int baro_enable;             /**< 1: barometric vertical channel on */
+    gg_vchan_config_t baro;      /**< vertical loop (baro_enable only) */
+    gg_real_t r_ref_m;           /**< altitude reference: h = |r| - r_ref_m, m (>= 0; 0 selects
+                                      GG_R_REF_DEFAULT_M) */
 } gg_nav2d_config_t;
 
 typedef struct {
@@ -44,6 +65,11 @@ typedef struct {
     gg_diff2d_t diff;
     gg_gravdr_t gravdr;
     gg_mech_t mech;
+    gg_gmodel_t gmodel;
+    gg_vchan_t vchan;
+    gg_real_t a_c;               /**< vertical loop's integral state in use, m/s^2 */
+    gg_real_t h_ins;
+    gg_real_t baro_innov;
     gg_real_t gamma[3][3];       /**< last accepted gradient */
     gg_real_t f_c[3];            /**< last accepted centre specific force */
     gg_real_t asym;
