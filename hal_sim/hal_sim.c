@@ -1,0 +1,505 @@
+/*
+ * hal_sim: the firmware's HAL (gg_hal_t, firmware/include/ggins/hal.h)
+ * implemented over LCM for host-in-the-loop runs.
+ *
+ * It receives the navigation configuration (GGINS_CONFIG) and sensor frames
+ * (GGINS_FRAME) from the run tool, steps the firmware with
+ * gg_nav2d_task_cycle once per frame, in seq order, and publishes each
+ * navigation output (GGINS_NAV). Its own state and transport counters go out
+ * on GGINS_HAL. It is a thin adapter: validation and fault handling of the
+ * sensor data belong to the firmware.
+ *
+ * Transport: frames are put back in seq order through a reorder window.
+ * A frame that arrives again after it was used is a duplicate: the cached
+ * output is published again (the sender may have lost it) and the firmware
+ * is not stepped twice. A gap (a later frame arrived first) is answered with
+ * RESEND requests on GGINS_REQUEST every --gap-timeout-ms; after
+ * --max-resend requests for the same frame it is declared lost and skipped
+ * (the firmware then sees the seq gap and flags it). Frames that reach the
+ * firmware as retransmissions are counted as recovered.
+ *
+ * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
+ * takes differences modulo 2^32), cycles_per_second = 1e9.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <getopt.h>
+#include <lcm/lcm.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "ggins/hal.h"
+#include "ggins/nav2d.h"
+#include "ggins_hal_status_t.h"
+#include "ggins_nav2d_config_t.h"
+#include "ggins_nav_output_t.h"
+#include "ggins_run_control_t.h"
+#include "ggins_sensor_frame_t.h"
+
+_Static_assert(GG_MOD_COUNT <= 8, "ggins_nav_output_t.cycles holds 8 modules");
+
+#define WINDOW 4096 /* reorder window, frames (power of two) */
+#define MAX_MSG 4096
+
+typedef struct {
+    int valid;
+    int resent;    /* the copy held is a retransmission */
+    int requested; /* hal_sim asked for it */
+    gg_frame_t frame;
+} slot_t;
+
+typedef struct {
+    /* options */
+    const char *url;
+    char ch_frame[96], ch_nav[96], ch_config[96], ch_control[96], ch_request[96], ch_hal[96];
+    int64_t run_id;
+    int gap_timeout_ms;
+    int max_resend;
+    double idle_timeout_s;
+    int quiet;
+
+    lcm_t *lcm;
+    gg_nav2d_t nav;
+    gg_hal_t hal;
+
+    int32_t state;
+    int32_t init_status;
+    int64_t config_seq;
+    int stop;
+
+    /* reorder window */
+    slot_t slots[WINDOW];
+    int64_t next;      /* next seq for the firmware */
+    int64_t highest;   /* highest seq seen */
+    int64_t gap_seq;   /* seq currently missing (-1 none) */
+    int gap_requests;  /* requests sent for gap_seq */
+    double gap_last_request;
+
+    /* last output, for duplicates */
+    ggins_nav_output_t last_out;
+    int have_last_out;
+
+    ggins_hal_status_t st;
+    int64_t status_seq, request_seq;
+    double last_rx_wall;
+    double last_status_wall;
+    uint8_t buf[MAX_MSG];
+} hal_sim_t;
+
+static volatile sig_atomic_t g_signal = 0;
+static void on_signal(int sig) { g_signal = sig; }
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int64_t wall_us(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
+/* ---- HAL operations ---------------------------------------------------- */
+
+static gg_status_t hal_read_frame(void *ctx, gg_frame_t *frame)
+{
+    hal_sim_t *h = ctx;
+    slot_t *s = &h->slots[h->next & (WINDOW - 1)];
+    if (!s->valid || s->frame.seq != h->next) return GG_ERR_NO_DATA;
+    *frame = s->frame;
+    if (s->resent || s->requested) h->st.frames_recovered++;
+    s->valid = 0;
+    if (h->gap_seq == h->next) h->gap_seq = -1;
+    h->next++;
+    return GG_OK;
+}
+
+static gg_status_t hal_write_output(void *ctx, const gg_nav_output_t *o)
+{
+    hal_sim_t *h = ctx;
+    ggins_nav_output_t *m = &h->last_out;
+    m->utime = o->utime;
+    m->seq = o->seq;
+    m->run_id = h->run_id;
+    m->status = o->status;
+    m->health = (int64_t)o->health;
+    for (int j = 0; j < 3; ++j) {
+        m->r_i[j] = o->r_i[j];
+        m->v_i[j] = o->v_i[j];
+        m->g_i[j] = o->g_i[j];
+        m->f_i[j] = o->f_i[j];
+        for (int k = 0; k < 3; ++k) m->gamma_i[j][k] = o->gamma_i[j][k];
+    }
+    m->gamma_asym = o->gamma_asym;
+    m->h_ins_m = o->h_ins_m;
+    m->baro_innov_m = o->baro_innov_m;
+    m->g_up_corr = o->g_up_corr;
+    m->n_cycles = GG_MOD_COUNT;
+    for (int j = 0; j < GG_MOD_COUNT; ++j) m->cycles[j] = (int64_t)o->cycles[j];
+    m->republished = 0;
+    h->have_last_out = 1;
+    h->st.steps++;
+    if (o->status != GG_OK) h->st.steps_rejected++;
+    if (o->health & GG_HEALTH_DEADLINE) h->st.deadline_overruns++;
+    int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m);
+    if (n < 0 || lcm_publish(h->lcm, h->ch_nav, h->buf, (unsigned)n) != 0) return GG_ERR_IO;
+    return GG_OK;
+}
+
+static uint32_t hal_cycle_count(void *ctx)
+{
+    (void)ctx;
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint32_t)((uint64_t)ts.tv_sec * 1000000000ull + (uint64_t)ts.tv_nsec);
+}
+
+/* ---- messages out -------------------------------------------------------- */
+
+static void publish_status(hal_sim_t *h)
+{
+    h->st.utime = wall_us();
+    h->st.seq = h->status_seq++;
+    h->st.run_id = h->run_id;
+    h->st.state = h->state;
+    h->st.init_status = h->init_status;
+    h->st.config_seq = h->config_seq;
+    h->st.next_seq = h->next;
+    int n = ggins_hal_status_t_encode(h->buf, 0, MAX_MSG, &h->st);
+    if (n > 0) lcm_publish(h->lcm, h->ch_hal, h->buf, (unsigned)n);
+    h->last_status_wall = now_s();
+}
+
+static void request_resend(hal_sim_t *h, int64_t seq)
+{
+    ggins_run_control_t c;
+    memset(&c, 0, sizeof c);
+    c.utime = wall_us();
+    c.seq = h->request_seq++;
+    c.run_id = h->run_id;
+    c.command = GGINS_RUN_CONTROL_T_RESEND;
+    c.resend_seq = seq;
+    int n = ggins_run_control_t_encode(h->buf, 0, MAX_MSG, &c);
+    if (n > 0) lcm_publish(h->lcm, h->ch_request, h->buf, (unsigned)n);
+    h->st.resend_requests++;
+}
+
+/* ---- messages in --------------------------------------------------------- */
+
+static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    hal_sim_t *h = user;
+    ggins_sensor_frame_t m;
+    h->last_rx_wall = now_s();
+    if (ggins_sensor_frame_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+        h->st.decode_errors++;
+        return;
+    }
+    if (m.run_id != h->run_id) {
+        h->st.foreign_messages++;
+        return;
+    }
+    h->st.frames_received++;
+    if (h->state != GGINS_HAL_STATUS_T_CONFIGURED && h->state != GGINS_HAL_STATUS_T_RUNNING)
+        return; /* not configured yet: the sender resends on timeout */
+    const int64_t s = m.seq;
+    if (s < h->next) {
+        h->st.frames_duplicate++;
+        if (h->have_last_out && s == h->last_out.seq) { /* the sender probably lost our answer */
+            h->last_out.republished = 1;
+            int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &h->last_out);
+            if (n > 0) lcm_publish(h->lcm, h->ch_nav, h->buf, (unsigned)n);
+            h->st.outputs_republished++;
+        }
+        return;
+    }
+    if (s >= h->next + WINDOW) { /* too far ahead to hold; the sender will resend */
+        h->st.frames_out_of_order++;
+        return;
+    }
+    slot_t *sl = &h->slots[s & (WINDOW - 1)];
+    if (sl->valid && sl->frame.seq == s) {
+        h->st.frames_duplicate++;
+        return;
+    }
+    if (s > h->next) h->st.frames_out_of_order++;
+    const int requested = (sl->frame.seq == s && sl->requested);
+    memset(sl, 0, sizeof *sl);
+    gg_frame_t *f = &sl->frame;
+    f->utime = m.utime;
+    f->seq = m.seq;
+    f->n_acc = m.n_acc;
+    for (int i = 0; i < GG_MAX_ACC; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            f->f[i][j] = m.f[i][j];
+            f->f_lo[i][j] = m.f_lo[i][j];
+        }
+        f->acc_status[i] = m.acc_status[i];
+    }
+    for (int j = 0; j < 3; ++j) f->omega_b[j] = m.omega_b[j];
+    f->gyro_status = m.gyro_status;
+    f->baro_alt_m = m.baro_alt_m;
+    f->baro_utime = m.baro_utime;
+    f->baro_status = m.baro_status;
+    sl->valid = 1;
+    sl->resent = m.resent > 0;
+    sl->requested = requested || (h->gap_seq == s && h->gap_requests > 0);
+    if (s > h->highest) h->highest = s;
+}
+
+static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    hal_sim_t *h = user;
+    ggins_nav2d_config_t m;
+    h->last_rx_wall = now_s();
+    if (ggins_nav2d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+        h->st.decode_errors++;
+        return;
+    }
+    if (m.run_id != h->run_id) {
+        h->st.foreign_messages++;
+        return;
+    }
+    if (h->state != GGINS_HAL_STATUS_T_IDLE) {
+        /* Already configured: a repeat of the same configuration (our status was lost)
+         * is answered with the status again; a new one is refused. */
+        publish_status(h);
+        return;
+    }
+    gg_nav2d_config_t c;
+    memset(&c, 0, sizeof c);
+    c.geometry.a_m = (gg_real_t)m.a_m;
+    c.geometry.b_m = (gg_real_t)m.b_m;
+    c.dt_us = m.dt_us;
+    c.dt_tol_us = m.dt_tol_us;
+    for (int j = 0; j < 3; ++j) {
+        c.r0[j] = (gg_real_t)m.r0_hi[j] + (gg_real_t)m.r0_lo[j];
+        c.v0[j] = (gg_real_t)m.v0_hi[j] + (gg_real_t)m.v0_lo[j];
+        c.g0[j] = (gg_real_t)m.g0_hi[j] + (gg_real_t)m.g0_lo[j];
+    }
+    c.f_max = m.f_max;
+    c.asym_max = m.asym_max;
+    c.gravdr_trapezoid_only = m.gravdr_trapezoid_only;
+    gg_status_t rc = gg_nav2d_init(&h->nav, &c);
+    h->init_status = (int32_t)rc;
+    h->config_seq = m.seq;
+    if (rc == GG_OK) {
+        h->state = GGINS_HAL_STATUS_T_CONFIGURED;
+    } else if (!h->quiet) {
+        fprintf(stderr, "hal_sim: gg_nav2d_init refused the configuration (status %d)\n", (int)rc);
+    }
+    publish_status(h);
+}
+
+static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    hal_sim_t *h = user;
+    ggins_run_control_t m;
+    h->last_rx_wall = now_s();
+    if (ggins_run_control_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+        h->st.decode_errors++;
+        return;
+    }
+    if (m.run_id != h->run_id) {
+        h->st.foreign_messages++;
+        return;
+    }
+    if (m.command == GGINS_RUN_CONTROL_T_START) {
+        if (h->state == GGINS_HAL_STATUS_T_CONFIGURED) h->state = GGINS_HAL_STATUS_T_RUNNING;
+        publish_status(h);
+    } else if (m.command == GGINS_RUN_CONTROL_T_STOP) {
+        h->state = GGINS_HAL_STATUS_T_STOPPED;
+        h->stop = 1;
+        publish_status(h);
+    }
+}
+
+/* ---- gap handling -------------------------------------------------------- */
+
+static void handle_gaps(hal_sim_t *h)
+{
+    if (h->highest < h->next) { /* nothing ahead: no gap */
+        h->gap_seq = -1;
+        return;
+    }
+    const double t = now_s();
+    if (h->gap_seq != h->next) { /* new gap at next */
+        h->gap_seq = h->next;
+        h->gap_requests = 0;
+        h->gap_last_request = 0.0;
+    }
+    if (t - h->gap_last_request < 1e-3 * h->gap_timeout_ms) return;
+    if (h->gap_requests >= h->max_resend) { /* give up on it */
+        h->st.frames_lost++;
+        if (!h->quiet) fprintf(stderr, "hal_sim: frame %lld lost after %d resend requests\n",
+                               (long long)h->next, h->gap_requests);
+        h->slots[h->next & (WINDOW - 1)].valid = 0;
+        h->next++;
+        h->gap_seq = -1;
+        return;
+    }
+    /* request every missing frame between next and highest (bounded burst) */
+    int burst = 0;
+    for (int64_t s = h->next; s < h->highest && burst < 64; ++s) {
+        slot_t *sl = &h->slots[s & (WINDOW - 1)];
+        if (sl->valid && sl->frame.seq == s) continue;
+        sl->frame.seq = s; /* remember the request in the empty slot */
+        sl->requested = 1;
+        request_resend(h, s);
+        ++burst;
+    }
+    h->gap_requests++;
+    h->gap_last_request = t;
+}
+
+/* ---- main ------------------------------------------------------------------ */
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: hal_sim --run-id N [options]\n\n"
+            "The ggins firmware's HAL over LCM: receives the configuration and sensor\n"
+            "frames of one run, steps the firmware (gg_nav2d_task_cycle) once per frame in\n"
+            "seq order, publishes every navigation output. Normally started by `ggins run`.\n\n"
+            "options:\n"
+            "  --lcm-url URL          LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)\n"
+            "  --prefix P             channel prefix (default GGINS_): P+FRAME, P+NAV, P+CONFIG,\n"
+            "                         P+CONTROL, P+REQUEST, P+HAL\n"
+            "  --run-id N             run nonce; messages with another run_id are ignored (required)\n"
+            "  --gap-timeout-ms MS    re-request a missing frame every MS ms (default 20)\n"
+            "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"
+            "  --idle-timeout-s S     exit (status 3) after S s without a message (default 60)\n"
+            "  --quiet                no diagnostics on stderr\n"
+            "  --help                 this text\n\n"
+            "exit status: 0 after STOP, 1 bad usage or LCM failure, 3 idle timeout, 4 signal\n");
+}
+
+int main(int argc, char **argv)
+{
+    static hal_sim_t h; /* large (reorder window): static storage */
+    const char *prefix = "GGINS_";
+    h.url = NULL;
+    h.run_id = -1;
+    h.gap_timeout_ms = 20;
+    h.max_resend = 50;
+    h.idle_timeout_s = 60.0;
+    static const struct option opts[] = {
+        {"lcm-url", required_argument, 0, 'u'}, {"prefix", required_argument, 0, 'p'},
+        {"run-id", required_argument, 0, 'r'}, {"gap-timeout-ms", required_argument, 0, 'g'},
+        {"max-resend", required_argument, 0, 'm'}, {"idle-timeout-s", required_argument, 0, 'i'},
+        {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    int c;
+    while ((c = getopt_long(argc, argv, "u:p:r:g:m:i:qh", opts, NULL)) != -1) {
+        char *end = NULL;
+        switch (c) {
+        case 'u': h.url = optarg; break;
+        case 'p': prefix = optarg; break;
+        case 'r': h.run_id = strtoll(optarg, &end, 0); if (*end) goto bad; break;
+        case 'g': h.gap_timeout_ms = (int)strtol(optarg, &end, 0); if (*end || h.gap_timeout_ms <= 0) goto bad; break;
+        case 'm': h.max_resend = (int)strtol(optarg, &end, 0); if (*end || h.max_resend < 0) goto bad; break;
+        case 'i': h.idle_timeout_s = strtod(optarg, &end); if (*end || !(h.idle_timeout_s > 0)) goto bad; break;
+        case 'q': h.quiet = 1; break;
+        case 'h': usage(stdout); return 0;
+        default: usage(stderr); return 1;
+        }
+        continue;
+    bad:
+        fprintf(stderr, "hal_sim: bad value '%s' for option -%c\n", optarg, c);
+        return 1;
+    }
+    if (optind != argc || h.run_id < 0) {
+        fprintf(stderr, "hal_sim: --run-id N (N >= 0) is required and no positional arguments are taken\n");
+        usage(stderr);
+        return 1;
+    }
+    if (strlen(prefix) > 80) {
+        fprintf(stderr, "hal_sim: prefix too long\n");
+        return 1;
+    }
+    snprintf(h.ch_frame, sizeof h.ch_frame, "%sFRAME", prefix);
+    snprintf(h.ch_nav, sizeof h.ch_nav, "%sNAV", prefix);
+    snprintf(h.ch_config, sizeof h.ch_config, "%sCONFIG", prefix);
+    snprintf(h.ch_control, sizeof h.ch_control, "%sCONTROL", prefix);
+    snprintf(h.ch_request, sizeof h.ch_request, "%sREQUEST", prefix);
+    snprintf(h.ch_hal, sizeof h.ch_hal, "%sHAL", prefix);
+
+    prctl(PR_SET_PDEATHSIG, SIGTERM); /* do not outlive the run tool */
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+
+    h.lcm = lcm_create(h.url);
+    if (!h.lcm) {
+        fprintf(stderr, "hal_sim: cannot create LCM (url %s); is multicast on loopback enabled?\n"
+                        "  fix (as root): ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo\n",
+                h.url ? h.url : "(default)");
+        return 1;
+    }
+    lcm_subscription_t *sf = lcm_subscribe(h.lcm, h.ch_frame, on_frame, &h);
+    lcm_subscribe(h.lcm, h.ch_config, on_config, &h);
+    lcm_subscribe(h.lcm, h.ch_control, on_control, &h);
+    lcm_subscription_set_queue_capacity(sf, 100000);
+
+    h.hal.ctx = &h;
+    h.hal.read_frame = hal_read_frame;
+    h.hal.write_output = hal_write_output;
+    h.hal.cycle_count = hal_cycle_count;
+    h.hal.cycles_per_second = 1000000000u;
+    h.state = GGINS_HAL_STATUS_T_IDLE;
+    h.init_status = -1;
+    h.config_seq = -1;
+    h.next = 0;
+    h.highest = -1;
+    h.gap_seq = -1;
+    h.last_rx_wall = now_s();
+    publish_status(&h);
+
+    int rc = 0;
+    while (!h.stop) {
+        if (g_signal) { rc = 4; break; }
+        const int wait_ms = (h.state == GGINS_HAL_STATUS_T_IDLE) ? 50 : h.gap_timeout_ms;
+        int r = lcm_handle_timeout(h.lcm, wait_ms);
+        if (r < 0) {
+            if (errno == EINTR) continue;
+            fprintf(stderr, "hal_sim: lcm_handle_timeout failed\n");
+            rc = 1;
+            break;
+        }
+        /* step the firmware for every frame that is ready, in seq order */
+        if (h.state == GGINS_HAL_STATUS_T_CONFIGURED || h.state == GGINS_HAL_STATUS_T_RUNNING) {
+            for (;;) {
+                const slot_t *s = &h.slots[h.next & (WINDOW - 1)];
+                if (!s->valid || s->frame.seq != h.next) break;
+                gg_nav2d_task_cycle(&h.nav, &h.hal);
+            }
+            handle_gaps(&h);
+        }
+        const double t = now_s();
+        if (h.state == GGINS_HAL_STATUS_T_IDLE ? t - h.last_status_wall > 0.05 : t - h.last_status_wall > 1.0)
+            publish_status(&h);
+        if (t - h.last_rx_wall > h.idle_timeout_s) {
+            if (!h.quiet) fprintf(stderr, "hal_sim: no message for %.0f s, exiting\n", h.idle_timeout_s);
+            rc = 3;
+            break;
+        }
+    }
+    if (h.stop) {
+        /* linger briefly: answer a repeated STOP (our status may have been lost) */
+        const double t_end = now_s() + 0.2;
+        while (now_s() < t_end && !g_signal) lcm_handle_timeout(h.lcm, 50);
+    }
+    lcm_destroy(h.lcm);
+    return rc;
+}

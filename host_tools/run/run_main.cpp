@@ -1,0 +1,1139 @@
+// ggins run: one host-in-the-loop flight over LCM.
+//
+//   truth generator (this process) --GGINS_FRAME--> hal_sim (firmware) --GGINS_NAV--> this process
+//
+// This process generates the sensor frames of a scenario (host_tools/truth),
+// starts hal_sim and lcm-logger on a private LCM URL, sends frame k and (in
+// lockstep mode) waits for the navigation output of step k, compares every
+// output with the truth, and writes summary.json, timeseries.csv and plots.
+// See `ggins run --help`.
+#include <fcntl.h>
+#include <lcm/eventlog.h>
+#include <lcm/lcm.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ggins/hal_status_t.hpp"
+#include "ggins/nav2d_config_t.hpp"
+#include "ggins/nav_output_t.hpp"
+#include "ggins/run_control_t.hpp"
+#include "ggins/sensor_frame_t.hpp"
+#include "ggins/truth/generator.hpp"
+#include "ggins/truth_t.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+using ggins::truth::Real;
+using ggins::truth::Vec3;
+using json = nlohmann::json;
+
+namespace {
+
+volatile sig_atomic_t g_interrupted = 0;
+extern "C" void on_sigint(int) { g_interrupted = 1; }
+
+double mono_s() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+int64_t wall_us() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000000 + ts.tv_nsec / 1000;
+}
+
+struct Fail : std::runtime_error {
+  int code;
+  Fail(const std::string& m, int c = 1) : std::runtime_error(m), code(c) {}
+};
+
+void hilo(Real x, double& hi, double& lo) {
+  hi = static_cast<double>(x);
+  lo = static_cast<double>(x - static_cast<Real>(hi));
+}
+
+uint64_t fnv1a(const std::string& s) {
+  uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+// A free UDP port right now (the kernel's choice); LCM's multicast sockets on
+// that port are then private to this run, so parallel runs do not cross-talk.
+int free_udp_port() {
+  int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd < 0) return -1;
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_ANY);
+  a.sin_port = 0;
+  int port = -1;
+  if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+    socklen_t len = sizeof a;
+    if (getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0) port = ntohs(a.sin_port);
+  }
+  close(fd);
+  return port;
+}
+
+const char* kMulticastFix =
+    "  UDP multicast on the loopback interface is needed for LCM. Fix (as root):\n"
+    "    ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo\n"
+    "  (scripts/setup does this when it runs as root.)";
+
+pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  std::vector<char*> av;
+  for (const auto& a : argv) av.push_back(const_cast<char*>(a.c_str()));
+  av.push_back(nullptr);
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, av[0], &fa, nullptr, av.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw Fail("cannot start " + argv[0] + ": " + std::strerror(rc));
+  return pid;
+}
+
+// Wait up to timeout_s for a child; returns its status or -1 if still running.
+int wait_child(pid_t pid, double timeout_s) {
+  const double end = mono_s() + timeout_s;
+  for (;;) {
+    int st = 0;
+    pid_t r = waitpid(pid, &st, WNOHANG);
+    if (r == pid) return st;
+    if (r < 0) return 0;
+    if (mono_s() > end) return -1;
+    usleep(5000);
+  }
+}
+
+void stop_child(pid_t& pid, int sig, double grace_s) {
+  if (pid <= 0) return;
+  kill(pid, sig);
+  if (wait_child(pid, grace_s) == -1) {
+    kill(pid, SIGKILL);
+    wait_child(pid, 2.0);
+  }
+  pid = -1;
+}
+
+struct Stats {  // running max / final of one error quantity
+  double max = 0, final = 0;
+  void add(double x) {
+    final = x;
+    if (!(x <= max)) max = x;  // NaN propagates into max
+  }
+};
+
+struct Percentiles {
+  double median = 0, p99 = 0, max = 0;
+};
+Percentiles percentiles(std::vector<uint32_t>& v) {
+  Percentiles p;
+  if (v.empty()) return p;
+  std::sort(v.begin(), v.end());
+  auto at = [&](double q) { return static_cast<double>(v[static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5)]); };
+  p.median = at(0.5);
+  p.p99 = at(0.99);
+  p.max = static_cast<double>(v.back());
+  return p;
+}
+
+// LCM log written by this process: every message it publishes and every
+// message it receives on the run's channels, in the LCM event-log format
+// (lcm-logplayer plays it). Nothing can be dropped between the wire and the
+// file, unlike a separate lcm-logger that must keep up with ~10^4 messages/s.
+class Recorder {
+ public:
+  explicit Recorder(const fs::path& p) {
+    log_ = lcm_eventlog_create(p.c_str(), "w");
+    if (!log_) throw Fail("cannot create LCM log " + p.string());
+    setvbuf(log_->f, nullptr, _IOFBF, 1 << 20);
+  }
+  ~Recorder() { close(); }
+  void write(const std::string& ch, const void* data, int len, int64_t utime) {
+    if (!log_) return;
+    lcm_eventlog_event_t e{};
+    e.eventnum = n_++;
+    e.timestamp = utime;
+    e.channellen = static_cast<int32_t>(ch.size());
+    e.datalen = len;
+    e.channel = const_cast<char*>(ch.c_str());
+    e.data = const_cast<void*>(data);
+    if (lcm_eventlog_write_event(log_, &e) != 0) throw Fail("writing the LCM log failed (disk full?)");
+  }
+  void close() {
+    if (log_) lcm_eventlog_destroy(log_);
+    log_ = nullptr;
+  }
+
+ private:
+  lcm_eventlog_t* log_ = nullptr;
+  int64_t n_ = 0;
+};
+
+std::string module_name(int j) {
+  switch (j) {
+    case GG_MOD_DIFF: return "diff";
+    case GG_MOD_GRAVDR: return "gravdr";
+    case GG_MOD_MECH: return "mech";
+    case GG_MOD_TOTAL: return "total";
+    default: return "module" + std::to_string(j);
+  }
+}
+
+// ------------------------------------------------------------------------------------
+struct Options {
+  std::string scenario = "welker-perfect";
+  std::string out;
+  bool realtime = false;
+  std::optional<double> duration_s;
+  std::optional<uint64_t> seed;
+  std::optional<double> csv_rate, truth_rate;
+  std::optional<double> drop, dup, reorder;
+  std::string lcm_url;
+  std::string prefix = "GGINS_";
+  int resend_timeout_ms = 50;
+  int max_resend = 100;
+  bool no_log = false, no_plots = false, quiet = false;
+  std::string log_mode = "internal";
+  std::string progress = "auto";
+  std::string hal_sim, python = GGINS_PLOT_PYTHON, logger = GGINS_LCM_LOGGER;
+};
+
+class Runner {
+ public:
+  Runner(const Options& o, const ggins::truth::Scenario& sc, fs::path out)
+      : opt_(o), sc_(sc), gen_(sc), out_(std::move(out)) {}
+  ~Runner() { cleanup(); }
+  json run();
+
+ private:
+  // LCM plumbing
+  static void on_nav_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner*>(u)->on_nav(rb); }
+  static void on_hal_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner*>(u)->on_hal(rb); }
+  static void on_req_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner*>(u)->on_req(rb); }
+  static void on_ping_cb(const lcm_recv_buf_t*, const char*, void* u) { static_cast<Runner*>(u)->pings_++; }
+  void on_nav(const lcm_recv_buf_t* rb);
+  void on_hal(const lcm_recv_buf_t* rb);
+  void on_req(const lcm_recv_buf_t* rb);
+  template <class M>
+  void publish(const std::string& ch, const M& m) {
+    const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+    if (n < 0 || lcm_publish(lcm_, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
+      throw Fail("LCM publish on " + ch + " failed");
+    if (rec_ && ch != ch_ping_) rec_->write(ch, buf_.data(), n, wall_us());
+  }
+  void send_frame(int64_t k, bool resend);
+  void send_control(int32_t cmd);
+  void handle(double timeout_s);
+  void check_children();
+  void check_multicast();
+  void start_logger();
+  void start_hal_sim();
+  void configure_hal();
+  void loop_lockstep();
+  void loop_realtime();
+  void finish_hal();
+  void cleanup();
+  json verify_log();
+  void progress(bool final);
+
+  const Options& opt_;
+  ggins::truth::Scenario sc_;
+  ggins::truth::Generator gen_;
+  fs::path out_;
+  std::string url_;
+  int64_t run_id_ = 0;
+  lcm_t* lcm_ = nullptr;
+  pid_t hal_pid_ = -1, logger_pid_ = -1;
+  std::unique_ptr<Recorder> rec_;
+  void record(const lcm_recv_buf_t* rb, const std::string& ch) {
+    if (rec_) rec_->write(ch, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
+  }
+  std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_, ch_ping_;
+  std::vector<uint8_t> buf_ = std::vector<uint8_t>(8192);
+
+  int64_t n_ = 0;
+  int64_t truth_every_ = 1, csv_every_ = 1;
+  std::vector<uint8_t> got_;       // output received per seq
+  std::vector<uint8_t> attempts_;  // transmissions per seq (saturating)
+  std::vector<uint8_t> sent_ahead_;
+  int64_t outputs_ = 0, outputs_dup_ = 0, outputs_foreign_ = 0, decode_errors_ = 0;
+  int64_t frames_published_ = 0, truth_published_ = 0, control_published_ = 0;
+  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0;
+  int64_t resend_timeouts_ = 0, resend_on_request_ = 0, outputs_recovered_ = 0;
+  int64_t steps_rejected_ = 0, pings_ = 0;
+  uint32_t health_or_ = 0;
+  std::vector<uint32_t> cyc_[GG_MOD_COUNT];
+  Stats pos_, vel_, grav_, gam_;
+  std::array<double, 3> fpos_{}, fvel_{}, fgrav_{};
+  std::optional<ggins::nav_output_t> last_out_;
+  std::optional<ggins::hal_status_t> hal_;
+  std::ofstream csv_;
+  double t_start_ = 0, t_last_progress_ = 0, wall_loop_ = 0;
+  int64_t last_seq_done_ = -1;
+  bool tty_ = false;
+  int last_pct_reported_ = -1;
+};
+
+// ---- LCM handlers ---------------------------------------------------------------
+void Runner::on_nav(const lcm_recv_buf_t* rb) {
+  record(rb, ch_nav_);
+  ggins::nav_output_t m{};
+  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
+    ++decode_errors_;
+    return;
+  }
+  if (m.run_id != run_id_) {
+    ++outputs_foreign_;
+    return;
+  }
+  if (m.seq < 0 || m.seq >= n_ || got_[static_cast<size_t>(m.seq)]) {
+    ++outputs_dup_;
+    return;
+  }
+  const auto k = static_cast<size_t>(m.seq);
+  got_[k] = 1;
+  ++outputs_;
+  if (attempts_[k] > 1) ++outputs_recovered_;
+  if (m.status != 0) ++steps_rejected_;
+  health_or_ |= static_cast<uint32_t>(m.health);
+  for (int j = 0; j < GG_MOD_COUNT; ++j)
+    cyc_[j].push_back(j < m.n_cycles ? static_cast<uint32_t>(m.cycles[j]) : 0u);
+
+  // errors against the truth at the true position (long double)
+  const ggins::truth::TruthState t = gen_.truth(m.seq);
+  Vec3 dr, dv, dg;
+  for (int j = 0; j < 3; ++j) {
+    dr(j) = static_cast<Real>(m.r_i[j]) - t.kin.r(j);
+    dv(j) = static_cast<Real>(m.v_i[j]) - t.kin.v(j);
+    dg(j) = static_cast<Real>(m.g_i[j]) - t.g(j);
+  }
+  Real dgam = 0;
+  for (int j : {0, 2})  // the 2-D firmware measures the x/z block only
+    for (int i : {0, 2}) dgam = std::max(dgam, std::fabs(static_cast<Real>(m.gamma_i[j][i]) - t.gamma(j, i)));
+  pos_.add(static_cast<double>(dr.norm()));
+  vel_.add(static_cast<double>(dv.norm()));
+  grav_.add(static_cast<double>(dg.norm()));
+  gam_.add(static_cast<double>(dgam));
+  if (m.seq == n_ - 1 || !last_out_ || m.seq > last_out_->seq) {
+    for (int j = 0; j < 3; ++j) {
+      fpos_[j] = static_cast<double>(dr(j));
+      fvel_[j] = static_cast<double>(dv(j));
+      fgrav_[j] = static_cast<double>(dg(j));
+    }
+    last_out_ = m;
+  }
+  if (csv_ && (m.seq % csv_every_ == 0 || m.seq == n_ - 1)) {
+    char line[2048];
+    int p = std::snprintf(line, sizeof line, "%.6Lf,%lld", t.t_s, static_cast<long long>(m.seq));
+    auto put3 = [&](const double* v) {
+      for (int j = 0; j < 3; ++j) p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), ",%.17g", v[j]);
+    };
+    auto put3L = [&](const Vec3& v) {
+      for (int j = 0; j < 3; ++j) p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), ",%.21Lg", v(j));
+    };
+    put3L(t.kin.r);
+    put3L(t.kin.v);
+    put3L(t.g);
+    put3(m.r_i);
+    put3(m.v_i);
+    put3(m.g_i);
+    put3L(dr);
+    put3L(dv);
+    put3L(dg);
+    p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), ",%.6Lg,%.6Lg,%.6Lg,%.6Lg,%d,%lld\n", dr.norm(),
+                       dv.norm(), dg.norm(), dgam, m.status, static_cast<long long>(m.health));
+    csv_.write(line, p);
+  }
+}
+
+void Runner::on_hal(const lcm_recv_buf_t* rb) {
+  record(rb, ch_hal_);
+  ggins::hal_status_t m{};
+  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
+    ++decode_errors_;
+    return;
+  }
+  if (m.run_id != run_id_) return;
+  if (!hal_ || m.seq >= hal_->seq) hal_ = m;
+}
+
+void Runner::on_req(const lcm_recv_buf_t* rb) {
+  record(rb, ch_request_);
+  ggins::run_control_t m{};
+  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
+    ++decode_errors_;
+    return;
+  }
+  if (m.run_id != run_id_ || m.command != ggins::run_control_t::RESEND) return;
+  if (m.resend_seq < 0 || m.resend_seq >= n_) return;
+  ++resend_on_request_;
+  send_frame(m.resend_seq, true);
+}
+
+// ---- sending ------------------------------------------------------------------------
+void Runner::send_frame(int64_t k, bool resend) {
+  gg_frame_t f;
+  ggins::truth::TruthState t;
+  gen_.frame(k, f, &t);
+  ggins::sensor_frame_t m{};
+  m.utime = f.utime;
+  m.seq = f.seq;
+  m.run_id = run_id_;
+  m.n_acc = f.n_acc;
+  std::memcpy(m.f, f.f, sizeof m.f);
+  std::memcpy(m.f_lo, f.f_lo, sizeof m.f_lo);
+  std::copy(std::begin(f.acc_status), std::end(f.acc_status), m.acc_status);
+  std::copy(std::begin(f.omega_b), std::end(f.omega_b), m.omega_b);
+  m.gyro_status = f.gyro_status;
+  m.baro_alt_m = f.baro_alt_m;
+  m.baro_utime = f.baro_utime;
+  m.baro_status = f.baro_status;
+  auto& att = attempts_[static_cast<size_t>(k)];
+  m.resent = static_cast<int8_t>(std::min<int>(att, 127));
+  if (att < 255) ++att;
+  (void)resend;
+  // transport fault injection (seeded, a pure function of seq and attempt)
+  const auto& tp = sc_.transport;
+  const uint64_t uk = static_cast<uint64_t>(k), ua = att;
+  if (tp.drop_prob > 0 && ggins::truth::counter_uniform(tp.seed, 10, uk, ua, 0) < tp.drop_prob) {
+    ++frames_dropped_inj_;
+  } else {
+    publish(ch_frame_, m);
+    ++frames_published_;
+    if (tp.duplicate_prob > 0 && ggins::truth::counter_uniform(tp.seed, 11, uk, ua, 0) < tp.duplicate_prob) {
+      publish(ch_frame_, m);
+      ++frames_published_;
+      ++frames_dup_inj_;
+    }
+  }
+  if (att == 1 && (k % truth_every_ == 0 || k == n_ - 1)) {
+    ggins::truth_t tm{};
+    tm.utime = t.utime;
+    tm.seq = k;
+    tm.run_id = run_id_;
+    tm.t_s = static_cast<double>(t.t_s);
+    for (int j = 0; j < 3; ++j) {
+      hilo(t.kin.r(j), tm.r_hi[j], tm.r_lo[j]);
+      hilo(t.kin.v(j), tm.v_hi[j], tm.v_lo[j]);
+      hilo(t.g(j), tm.g_hi[j], tm.g_lo[j]);
+      tm.a[j] = static_cast<double>(t.kin.a(j));
+      tm.f_c[j] = static_cast<double>(t.f_c(j));
+      for (int i = 0; i < 3; ++i) tm.gamma[j][i] = static_cast<double>(t.gamma(j, i));
+    }
+    publish(ch_truth_, tm);
+    ++truth_published_;
+  }
+}
+
+void Runner::send_control(int32_t cmd) {
+  ggins::run_control_t c{};
+  c.utime = wall_us();
+  c.seq = control_published_++;
+  c.run_id = run_id_;
+  c.command = cmd;
+  c.scenario_id = static_cast<int64_t>(fnv1a(sc_.name));
+  c.resend_seq = -1;
+  c.n_steps = n_;
+  c.realtime = opt_.realtime ? 1 : 0;
+  publish(ch_control_, c);
+}
+
+void Runner::handle(double timeout_s) {
+  const int ms = std::max(0, static_cast<int>(std::ceil(timeout_s * 1000.0)));
+  if (lcm_handle_timeout(lcm_, ms) < 0 && errno != EINTR) throw Fail("lcm_handle_timeout failed");
+}
+
+void Runner::check_children() {
+  if (hal_pid_ > 0) {
+    int st = 0;
+    if (waitpid(hal_pid_, &st, WNOHANG) == hal_pid_) {
+      hal_pid_ = -1;
+      throw Fail("hal_sim exited unexpectedly (status " + std::to_string(WIFEXITED(st) ? WEXITSTATUS(st) : -WTERMSIG(st)) +
+                 "); see " + (out_ / "hal_sim.log").string());
+    }
+  }
+  if (g_interrupted) throw Fail("interrupted", 130);
+}
+
+// ---- setup -------------------------------------------------------------------------
+void Runner::check_multicast() {
+  lcm_ = lcm_create(url_.c_str());
+  if (!lcm_)
+    throw Fail("cannot open LCM at " + url_ + " (lcm_create failed).\n" + kMulticastFix, 3);
+  lcm_subscribe(lcm_, ch_ping_.c_str(), on_ping_cb, this);
+  const double end = mono_s() + 1.5;
+  while (pings_ == 0 && mono_s() < end) {
+    ggins::run_control_t c{};
+    c.utime = wall_us();
+    c.run_id = run_id_;
+    c.resend_seq = -1;
+    publish(ch_ping_, c);
+    handle(0.1);
+  }
+  if (pings_ == 0)
+    throw Fail("an LCM message sent to " + url_ + " did not come back within 1.5 s.\n" + kMulticastFix, 3);
+}
+
+void Runner::start_logger() {
+  const fs::path log = out_ / "run.lcmlog";
+  logger_pid_ = spawn({opt_.logger, "-q", "-f", "--lcm-url=" + url_, log.string()}, out_ / "lcm-logger.log");
+  // lcm-logger subscribes before it creates the file; the file grows once our
+  // pings reach it (it flushes every 100 ms). Wait for that.
+  const double end = mono_s() + 10.0;
+  std::error_code ec;
+  for (;;) {
+    ggins::run_control_t c{};
+    c.utime = wall_us();
+    c.run_id = run_id_;
+    c.resend_seq = -1;
+    publish(ch_ping_, c);
+    handle(0.02);
+    if (fs::exists(log, ec) && fs::file_size(log, ec) > 0) break;
+    int st = 0;
+    if (waitpid(logger_pid_, &st, WNOHANG) == logger_pid_) {
+      logger_pid_ = -1;
+      throw Fail("lcm-logger exited at start; see " + (out_ / "lcm-logger.log").string());
+    }
+    if (mono_s() > end) throw Fail("lcm-logger did not record anything within 10 s");
+  }
+}
+
+void Runner::start_hal_sim() {
+  hal_pid_ = spawn({opt_.hal_sim, "--lcm-url", url_, "--prefix", opt_.prefix, "--run-id", std::to_string(run_id_),
+                    "--gap-timeout-ms", std::to_string(std::max(2, opt_.resend_timeout_ms / 2)), "--idle-timeout-s", "30"},
+                   out_ / "hal_sim.log");
+  const double end = mono_s() + 10.0;
+  while (!hal_) {
+    handle(0.05);
+    check_children();
+    if (mono_s() > end) throw Fail("hal_sim did not report within 10 s; see " + (out_ / "hal_sim.log").string());
+  }
+}
+
+void Runner::configure_hal() {
+  const ggins::truth::TruthState t0 = gen_.truth(0);
+  ggins::nav2d_config_t c{};
+  c.utime = wall_us();
+  c.seq = 0;
+  c.run_id = run_id_;
+  std::memset(c.scenario, 0, sizeof c.scenario);
+  std::memcpy(c.scenario, sc_.name.data(), std::min<size_t>(sc_.name.size(), 63));
+  c.a_m = sc_.a_m;
+  c.b_m = sc_.b_m;
+  c.dt_us = sc_.dt_us();
+  c.dt_tol_us = sc_.firmware.dt_tol_us;
+  for (int j = 0; j < 3; ++j) {
+    hilo(t0.kin.r(j), c.r0_hi[j], c.r0_lo[j]);
+    hilo(t0.kin.v(j), c.v0_hi[j], c.v0_lo[j]);
+    hilo(t0.g(j), c.g0_hi[j], c.g0_lo[j]);
+  }
+  c.f_max = sc_.firmware.f_max_mps2;
+  c.asym_max = sc_.firmware.asym_max_ps2;
+  c.gravdr_trapezoid_only = sc_.firmware.gravdr_trapezoid_only ? 1 : 0;
+  const double end = mono_s() + 10.0;
+  double next_send = 0;
+  while (!(hal_ && hal_->config_seq == 0 && hal_->state != ggins::hal_status_t::IDLE)) {
+    if (hal_ && hal_->init_status > 0)
+      throw Fail("the firmware refused the configuration (gg_nav2d_init status " + std::to_string(hal_->init_status) + ")");
+    if (mono_s() >= next_send) {
+      publish(ch_config_, c);
+      next_send = mono_s() + 0.1;
+    }
+    handle(0.02);
+    check_children();
+    if (mono_s() > end) throw Fail("hal_sim did not accept the configuration within 10 s");
+  }
+  if (hal_->init_status != 0)
+    throw Fail("the firmware refused the configuration (gg_nav2d_init status " + std::to_string(hal_->init_status) + ")");
+  send_control(ggins::run_control_t::START);
+}
+
+// ---- the flight ----------------------------------------------------------------------
+void Runner::progress(bool final) {
+  if (opt_.quiet) return;
+  const double now = mono_s();
+  const bool show_tty = tty_ && opt_.progress != "off";
+  const double frac = n_ > 0 ? static_cast<double>(outputs_) / static_cast<double>(n_) : 1.0;
+  const double sim_t = static_cast<double>(std::max<int64_t>(last_seq_done_, 0)) * static_cast<double>(sc_.dt_us()) * 1e-6;
+  const double el = now - t_start_;
+  char msg[256];
+  std::snprintf(msg, sizeof msg, "t = %7.1f / %.0f s  %5.1f%%  wall %6.1f s  x%.0f real time  |dr| %.3g m  |dG| %.3g m/s^2",
+                sim_t, sc_.duration_s, 100.0 * frac, el, el > 0 ? sim_t / el : 0.0, pos_.final, grav_.final);
+  if (show_tty) {
+    if (!final && now - t_last_progress_ < 0.25) return;
+    t_last_progress_ = now;
+    std::fprintf(stderr, "\r%s", msg);
+    if (final) std::fprintf(stderr, "\n");
+  } else if (opt_.progress == "on" || (opt_.progress == "auto")) {
+    const int pct = static_cast<int>(frac * 10.0) * 10;
+    if (pct != last_pct_reported_ && (pct > last_pct_reported_ || final)) {
+      last_pct_reported_ = pct;
+      if (!final || pct < 100 || true) std::fprintf(stderr, "ggins run: %s\n", msg);
+    }
+  }
+}
+
+void Runner::loop_lockstep() {
+  const double timeout = 1e-3 * opt_.resend_timeout_ms;
+  const auto& tp = sc_.transport;
+  for (int64_t k = 0; k < n_; ++k) {
+    const auto uk = static_cast<size_t>(k);
+    if (!sent_ahead_[uk]) {
+      // reorder injection: frame k+1 goes out before frame k
+      if (tp.reorder_prob > 0 && k + 1 < n_ &&
+          ggins::truth::counter_uniform(tp.seed, 12, static_cast<uint64_t>(k), 0, 0) < tp.reorder_prob) {
+        send_frame(k + 1, false);
+        sent_ahead_[uk + 1] = 1;
+        ++frames_reordered_inj_;
+      }
+      send_frame(k, false);
+    }
+    double deadline = mono_s() + timeout;
+    int tries = 0;
+    while (!got_[uk]) {
+      const double now = mono_s();
+      if (now >= deadline) {
+        check_children();
+        if (++tries > opt_.max_resend)
+          throw Fail("no navigation output for step " + std::to_string(k) + " after " + std::to_string(opt_.max_resend) +
+                     " resends; see " + (out_ / "hal_sim.log").string());
+        ++resend_timeouts_;
+        send_frame(k, true);
+        deadline = mono_s() + timeout;
+        continue;
+      }
+      handle(deadline - now);
+    }
+    last_seq_done_ = k;
+    if ((k & 255) == 0) {
+      check_children();
+      progress(false);
+    }
+  }
+}
+
+void Runner::loop_realtime() {
+  const double dt = static_cast<double>(sc_.dt_us()) * 1e-6;
+  const auto& tp = sc_.transport;
+  int64_t held = -1;  // frame held back by reorder injection
+  for (int64_t k = 0; k < n_; ++k) {
+    const double t_send = t_start_ + static_cast<double>(k) * dt;
+    for (double now = mono_s(); now < t_send; now = mono_s()) handle(t_send - now);
+    if (tp.reorder_prob > 0 && held < 0 && k + 1 < n_ &&
+        ggins::truth::counter_uniform(tp.seed, 12, static_cast<uint64_t>(k), 0, 0) < tp.reorder_prob) {
+      held = k;
+      ++frames_reordered_inj_;
+    } else {
+      send_frame(k, false);
+      if (held >= 0) {
+        send_frame(held, false);
+        held = -1;
+      }
+    }
+    while (last_seq_done_ + 1 < n_ && got_[static_cast<size_t>(last_seq_done_ + 1)]) ++last_seq_done_;
+    if ((k & 63) == 0) {
+      check_children();
+      progress(false);
+    }
+  }
+  if (held >= 0) send_frame(held, false);
+  // drain: wait for the outstanding outputs, resending what is missing
+  const double timeout = 1e-3 * opt_.resend_timeout_ms;
+  int rounds = 0;
+  while (outputs_ < n_ && rounds <= opt_.max_resend) {
+    const double end = mono_s() + timeout;
+    for (double now = mono_s(); now < end && outputs_ < n_; now = mono_s()) handle(end - now);
+    if (outputs_ >= n_) break;
+    check_children();
+    ++rounds;
+    int burst = 0;
+    for (int64_t k = 0; k < n_ && burst < 256; ++k)
+      if (!got_[static_cast<size_t>(k)] && (hal_ ? k >= hal_->next_seq - 1 : true)) {
+        ++resend_timeouts_;
+        send_frame(k, true);
+        ++burst;
+      }
+    if (burst == 0) handle(timeout);  // lost for good at hal_sim: only its final status tells
+  }
+  while (last_seq_done_ + 1 < n_ && got_[static_cast<size_t>(last_seq_done_ + 1)]) ++last_seq_done_;
+}
+
+void Runner::finish_hal() {
+  const int64_t status_before = hal_ ? hal_->seq : -1;
+  for (int i = 0; i < 20; ++i) {
+    send_control(ggins::run_control_t::STOP);
+    const double end = mono_s() + 0.1;
+    while (mono_s() < end) {
+      handle(0.02);
+      if (hal_ && hal_->seq > status_before && hal_->state == ggins::hal_status_t::STOPPED) break;
+    }
+    if (hal_ && hal_->state == ggins::hal_status_t::STOPPED) break;
+  }
+  if (hal_pid_ > 0) {
+    if (wait_child(hal_pid_, 3.0) == -1) stop_child(hal_pid_, SIGTERM, 1.0);
+    hal_pid_ = -1;
+  }
+}
+
+void Runner::cleanup() {
+  if (hal_pid_ > 0) stop_child(hal_pid_, SIGTERM, 1.0);
+  if (logger_pid_ > 0) stop_child(logger_pid_, SIGINT, 10.0);
+  if (lcm_) {
+    lcm_destroy(lcm_);
+    lcm_ = nullptr;
+  }
+}
+
+json Runner::verify_log() {
+  json j;
+  const fs::path p = out_ / "run.lcmlog";
+  j["path"] = p.string();
+  lcm_eventlog_t* log = lcm_eventlog_create(p.c_str(), "r");
+  if (!log) {
+    j["error"] = "cannot open";
+    j["complete"] = false;
+    return j;
+  }
+  std::map<std::string, int64_t> per;
+  int64_t n = 0;
+  std::vector<uint8_t> nav_seen(static_cast<size_t>(n_), 0);
+  for (lcm_eventlog_event_t* e; (e = lcm_eventlog_read_next_event(log)) != nullptr; lcm_eventlog_free_event(e)) {
+    ++n;
+    const std::string ch(e->channel, static_cast<size_t>(e->channellen));
+    ++per[ch];
+    if (ch == ch_nav_) {
+      ggins::nav_output_t m{};
+      if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0 && m.run_id == run_id_ && m.seq >= 0 && m.seq < n_)
+        nav_seen[static_cast<size_t>(m.seq)] = 1;
+    }
+  }
+  lcm_eventlog_destroy(log);
+  j["events"] = n;
+  j["per_channel"] = per;
+  const int64_t nav_unique = std::count(nav_seen.begin(), nav_seen.end(), 1);
+  j["frames_expected"] = frames_published_;
+  j["nav_outputs_unique"] = nav_unique;
+  j["complete"] = per[ch_frame_] == frames_published_ && per[ch_truth_] == truth_published_ && nav_unique == outputs_;
+  return j;
+}
+
+json Runner::run() {
+  n_ = gen_.n_steps();
+  got_.assign(static_cast<size_t>(n_), 0);
+  attempts_.assign(static_cast<size_t>(n_), 0);
+  sent_ahead_.assign(static_cast<size_t>(n_) + 1, 0);
+  for (auto& c : cyc_) c.reserve(static_cast<size_t>(n_));
+  const double rate = sc_.rate_hz;
+  truth_every_ = sc_.output.truth_rate_hz > 0 ? std::max<int64_t>(1, std::llround(rate / sc_.output.truth_rate_hz)) : 1;
+  csv_every_ = std::max<int64_t>(1, std::llround(rate / sc_.output.csv_rate_hz));
+  tty_ = isatty(2);
+
+  std::random_device rd;
+  run_id_ = static_cast<int64_t>((static_cast<uint64_t>(rd()) << 31 ^ rd() ^ static_cast<uint64_t>(getpid())) & 0x7fffffffffffffffULL);
+  if (!opt_.lcm_url.empty()) {
+    url_ = opt_.lcm_url;
+  } else {
+    const int port = free_udp_port();
+    if (port <= 0) throw Fail("cannot find a free UDP port for LCM");
+    // a large socket receive buffer (up to net.core.rmem_max) lets lcm-logger
+    // ride out scheduling hiccups without dropping packets
+    long rmem = 4 << 20;
+    if (std::FILE* f = std::fopen("/proc/sys/net/core/rmem_max", "r")) {
+      long v = 0;
+      if (std::fscanf(f, "%ld", &v) == 1 && v > 0) rmem = std::min<long>(v, 16 << 20);
+      std::fclose(f);
+    }
+    url_ = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=" + std::to_string(rmem);
+  }
+  const std::string& p = opt_.prefix;
+  ch_frame_ = p + "FRAME";
+  ch_nav_ = p + "NAV";
+  ch_truth_ = p + "TRUTH";
+  ch_config_ = p + "CONFIG";
+  ch_control_ = p + "CONTROL";
+  ch_request_ = p + "REQUEST";
+  ch_hal_ = p + "HAL";
+  ch_ping_ = p + "PING";
+
+  csv_.open(out_ / "timeseries.csv");
+  if (!csv_) throw Fail("cannot write " + (out_ / "timeseries.csv").string());
+  csv_ << "t_s,seq";
+  for (const char* q : {"true_r", "true_v", "true_g", "nav_r", "nav_v", "nav_g", "err_r", "err_v", "err_g"})
+    for (const char* a : {"x", "y", "z"}) csv_ << "," << q << "_" << a;
+  csv_ << ",err_r_norm_m,err_v_norm_mps,err_g_norm_mps2,err_gamma_max_ps2,status,health\n";
+
+  const double t_setup = mono_s();
+  check_multicast();
+  if (opt_.log_mode == "lcm-logger") start_logger();
+  if (opt_.log_mode == "internal") rec_ = std::make_unique<Recorder>(out_ / "run.lcmlog");
+  lcm_subscription_t* s_nav = lcm_subscribe(lcm_, ch_nav_.c_str(), on_nav_cb, this);
+  lcm_subscription_t* s_hal = lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
+  lcm_subscription_t* s_req = lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
+  lcm_subscription_set_queue_capacity(s_nav, 100000);
+  lcm_subscription_set_queue_capacity(s_hal, 1000);
+  lcm_subscription_set_queue_capacity(s_req, 100000);
+  start_hal_sim();
+  configure_hal();
+  if (!opt_.quiet)
+    std::fprintf(stderr, "ggins run: %s, %lld steps at %g Hz (%s), LCM %s, output %s\n", sc_.name.c_str(),
+                 static_cast<long long>(n_), rate, opt_.realtime ? "realtime" : "lockstep", url_.c_str(), out_.c_str());
+
+  t_start_ = mono_s();
+  const double setup_s = t_start_ - t_setup;
+  std::string error;
+  int error_code = 0;
+  try {
+    if (opt_.realtime)
+      loop_realtime();
+    else
+      loop_lockstep();
+  } catch (const Fail& e) {
+    error = e.what();
+    error_code = e.code;
+  }
+  wall_loop_ = mono_s() - t_start_;
+  progress(true);
+  if (error_code != 130) finish_hal();
+  csv_.close();
+  if (logger_pid_ > 0) stop_child(logger_pid_, SIGINT, 30.0);  // flushes and closes the log
+  if (rec_) rec_->close();
+
+  // ---- summary
+  json s;
+  s["scenario"] = sc_.name;
+  s["scenario_source"] = sc_.source;
+  s["description"] = sc_.description;
+  s["completed"] = error.empty() && outputs_ == n_;
+  if (!error.empty()) s["error"] = error;
+  s["mode"] = opt_.realtime ? "realtime" : "lockstep";
+  s["duration_s"] = static_cast<double>(n_ - 1) * static_cast<double>(sc_.dt_us()) * 1e-6;
+  s["rate_hz"] = rate;
+  s["steps"] = outputs_;
+  s["steps_expected"] = n_;
+  s["steps_rejected"] = steps_rejected_;
+  s["health_bits_seen"] = health_or_;
+  auto axes = [](const std::array<double, 3>& v) { return json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}}; };
+  s["final"] = {{"position_error_m", pos_.final},
+                {"velocity_error_mps", vel_.final},
+                {"gravity_error_mps2", grav_.final},
+                {"gradient_error_max_abs_ps2", gam_.final},
+                {"position_error_axes_m", axes(fpos_)},
+                {"velocity_error_axes_mps", axes(fvel_)},
+                {"gravity_error_axes_mps2", axes(fgrav_)}};
+  s["max"] = {{"position_error_m", pos_.max},
+              {"velocity_error_mps", vel_.max},
+              {"gravity_error_mps2", grav_.max},
+              {"gradient_error_max_abs_ps2", gam_.max}};
+  s["gravity_error_definition"] = "|G estimated by the firmware - true gravitation at the TRUE position|";
+  if (last_out_) {
+    const auto& m = *last_out_;
+    const Vec3 rn(m.r_i[0], m.r_i[1], m.r_i[2]);
+    const Vec3 g_at_nav = gen_.field().eval(rn).g;
+    Vec3 d;
+    for (int j = 0; j < 3; ++j) d(j) = static_cast<Real>(m.g_i[j]) - g_at_nav(j);
+    s["final"]["gravity_error_vs_field_at_estimated_position_mps2"] = static_cast<double>(d.norm());
+  }
+  // transport
+  const int64_t hal_recovered = hal_ ? hal_->frames_recovered : 0;
+  s["frames_lost"] = hal_ ? hal_->frames_lost + (n_ - outputs_) : n_ - outputs_;
+  s["frames_recovered"] = hal_recovered;
+  json tr;
+  tr["frames_published"] = frames_published_;
+  tr["truth_published"] = truth_published_;
+  tr["outputs_received"] = outputs_;
+  tr["outputs_duplicate"] = outputs_dup_;
+  tr["outputs_recovered"] = outputs_recovered_;
+  tr["outputs_foreign"] = outputs_foreign_;
+  tr["decode_errors"] = decode_errors_;
+  tr["resend_timeouts"] = resend_timeouts_;
+  tr["resends_on_request"] = resend_on_request_;
+  tr["injected"] = {{"dropped", frames_dropped_inj_}, {"duplicated", frames_dup_inj_}, {"reordered", frames_reordered_inj_}};
+  if (hal_) {
+    const auto& h = *hal_;
+    tr["hal_sim"] = {{"state", h.state},
+                     {"steps", h.steps},
+                     {"steps_rejected", h.steps_rejected},
+                     {"frames_received", h.frames_received},
+                     {"frames_duplicate", h.frames_duplicate},
+                     {"frames_out_of_order", h.frames_out_of_order},
+                     {"frames_recovered", h.frames_recovered},
+                     {"frames_lost", h.frames_lost},
+                     {"resend_requests", h.resend_requests},
+                     {"outputs_republished", h.outputs_republished},
+                     {"decode_errors", h.decode_errors},
+                     {"foreign_messages", h.foreign_messages},
+                     {"deadline_overruns", h.deadline_overruns}};
+  }
+  s["transport"] = tr;
+  s["wall_s"] = wall_loop_;
+  s["setup_s"] = setup_s;
+  s["realtime_factor"] = wall_loop_ > 0 ? s["duration_s"].get<double>() / wall_loop_ : 0.0;
+  s["steps_per_s"] = wall_loop_ > 0 ? static_cast<double>(outputs_) / wall_loop_ : 0.0;
+  json ft;
+  for (int j = 0; j < GG_MOD_COUNT; ++j) {
+    const Percentiles pc = percentiles(cyc_[j]);
+    json e = {{"median", pc.median}, {"p99", pc.p99}, {"max", pc.max}};
+    if (j == GG_MOD_TOTAL) {
+      ft["median"] = pc.median;
+      ft["p99"] = pc.p99;
+      ft["max"] = pc.max;
+    }
+    ft["modules"][module_name(j)] = e;
+  }
+  ft["source"] = "gg_nav_output_t.cycles (HAL cycle counter: CLOCK_MONOTONIC ns truncated to uint32)";
+  s["firmware_step_ns"] = ft;
+  s["lcm_url"] = url_;
+  s["channel_prefix"] = opt_.prefix;
+  s["run_id"] = run_id_;
+  if (opt_.log_mode != "none") {
+    s["log"] = verify_log();
+    s["log"]["writer"] = opt_.log_mode;
+  }
+  s["files"] = {{"summary", "summary.json"}, {"timeseries", "timeseries.csv"}, {"scenario", "scenario.toml"},
+                {"hal_sim_log", "hal_sim.log"}};
+  if (opt_.log_mode != "none") s["files"]["lcm_log"] = "run.lcmlog";
+  if (!error.empty()) throw std::make_pair(s, Fail(error, error_code));
+  return s;
+}
+
+std::string utc_stamp() {
+  char b[32];
+  std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
+  return b;
+}
+
+fs::path self_dir() {
+  std::error_code ec;
+  fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::current_path() : p.parent_path();
+}
+
+void write_json(const fs::path& p, const json& j) {
+  std::ofstream o(p);
+  o << j.dump(2) << "\n";
+  if (!o) throw Fail("cannot write " + p.string());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{
+      "ggins run: fly one scenario host-in-the-loop over LCM.\n\n"
+      "The truth generator (this process) computes each accelerometer's specific force\n"
+      "f = a - G(r + d_i) from the scenario's analytic trajectory and gravitation field\n"
+      "(long double, G evaluated at every sensor), adds the scenario's sensor errors and\n"
+      "publishes sensor frames; hal_sim (a separate process) implements the firmware's\n"
+      "HAL over LCM and steps the firmware once per frame; lcm-logger records every\n"
+      "channel. In lockstep mode (default) frame k+1 is sent only after the output of\n"
+      "step k arrived, so the run goes as fast as the machine allows and never drops a\n"
+      "step: a frame or output that does not arrive within --resend-timeout-ms is sent\n"
+      "again; gaps seen by hal_sim are re-requested; all of it is counted.\n\n"
+      "Output folder (--out, default out/<scenario>-<UTC time>):\n"
+      "  summary.json     final and max position/velocity/gravity error norms, per-axis\n"
+      "                   final errors, steps, frames_lost, frames_recovered, wall_s,\n"
+      "                   realtime_factor, firmware step time (median/p99/max ns from\n"
+      "                   the HAL cycle counter), transport counters, log check\n"
+      "  timeseries.csv   truth, navigation and error at --csv-rate (default 1 Hz)\n"
+      "  errors.png       position, velocity and gravity error against time\n"
+      "  run.lcmlog       every LCM channel (play with: lcm-logplayer run.lcmlog)\n"
+      "  scenario.toml    the scenario as flown; hal_sim.log, lcm-logger.log\n"
+      "Gravity error = |G estimated - true gravitation at the TRUE position|.\n\n"
+      "Scenarios are TOML files: --scenario takes a path, or a name looked up in\n"
+      "" GGINS_SCENARIO_DIR " and then among the built-ins.\n"
+      "Each run uses its own LCM port (udpm://239.255.76.67:<free port>?ttl=0) and run\n"
+      "id, so runs in parallel do not interfere. Needs UDP multicast on loopback:\n"
+      "  ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo   (as root)\n\n"
+      "Exit status: 0 run completed, 1 run failed, 2 bad arguments or scenario,\n"
+      "3 multicast on loopback unavailable, 130 interrupted.",
+      "ggins run"};
+  app.get_formatter()->column_width(34);
+  bool list = false, print_scenario = false;
+  app.add_option("-s,--scenario", o.scenario, "scenario name or .toml path")->capture_default_str();
+  app.add_option("-o,--out", o.out, "output folder (default out/<scenario>-<UTC time>)");
+  app.add_flag("--realtime", o.realtime, "pace frames at the sensor rate instead of lockstep");
+  app.add_option("--duration", o.duration_s, "override the scenario's duration, s")->check(CLI::PositiveNumber);
+  app.add_option("--seed", o.seed, "override the accelerometer error seed ([accel] seed)");
+  app.add_option("--csv-rate", o.csv_rate, "CSV rows per second of flight (default scenario's, 1 Hz)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--truth-rate", o.truth_rate, "truth messages per second on LCM, 0 = every step")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--drop-prob", o.drop, "inject: drop each frame transmission with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--dup-prob", o.dup, "inject: send a frame twice with this probability")->check(CLI::Range(0.0, 0.99));
+  app.add_option("--reorder-prob", o.reorder, "inject: send frame k+1 before frame k with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--resend-timeout-ms", o.resend_timeout_ms, "resend a frame whose output is this late, ms")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 60000));
+  app.add_option("--max-resend", o.max_resend, "give up on a step after this many resends")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  app.add_option("--lcm-url", o.lcm_url, "LCM URL (default: udpm on a free port, ttl=0)");
+  app.add_option("--prefix", o.prefix, "LCM channel prefix")->capture_default_str();
+  app.add_flag("--no-log", o.no_log, "do not record an LCM log (same as --log none; Monte Carlo)");
+  app.add_option("--log", o.log_mode,
+                 "LCM log writer: internal (this process records every message it sends and receives;\n"
+                 "lossless), lcm-logger (separate process; may drop under load, checked in summary.json\n"
+                 "log.complete), none")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"internal", "lcm-logger", "none"}));
+  app.add_flag("--no-plots", o.no_plots, "do not make PNG plots");
+  app.add_flag("-q,--quiet", o.quiet, "no progress, only errors and the output folder");
+  app.add_option("--progress", o.progress, "progress display: auto (line on a terminal, every 10% otherwise), on, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  app.add_option("--hal-sim", o.hal_sim, "hal_sim executable (default: beside ggins-run)");
+  app.add_option("--python", o.python, "Python with matplotlib for the plots")->capture_default_str();
+  app.add_option("--logger", o.logger, "lcm-logger executable")->capture_default_str();
+  app.add_flag("--list-scenarios", list, "list the built-in scenarios and exit");
+  app.add_flag("--print-scenario", print_scenario, "print the resolved scenario and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+  if (list) {
+    for (const auto& n : ggins::truth::builtin_scenario_names()) {
+      auto s = ggins::truth::load_scenario(n, {GGINS_SCENARIO_DIR});
+      std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
+    }
+    return 0;
+  }
+  ggins::truth::Scenario sc;
+  try {
+    sc = ggins::truth::load_scenario(o.scenario, {GGINS_SCENARIO_DIR});
+    if (o.duration_s) sc.duration_s = *o.duration_s;
+    if (o.seed) sc.accel.seed = *o.seed;
+    if (o.csv_rate) sc.output.csv_rate_hz = *o.csv_rate;
+    if (o.truth_rate) sc.output.truth_rate_hz = *o.truth_rate;
+    if (o.drop) sc.transport.drop_prob = *o.drop;
+    if (o.dup) sc.transport.duplicate_prob = *o.dup;
+    if (o.reorder) sc.transport.reorder_prob = *o.reorder;
+    if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins run: %s\n", e.what());
+    return 2;
+  }
+  if (o.no_log) o.log_mode = "none";
+  if (print_scenario) {
+    std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
+    return 0;
+  }
+  if (o.hal_sim.empty()) o.hal_sim = (self_dir() / "hal_sim").string();
+  if (access(o.hal_sim.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "ggins run: hal_sim not found at %s (build it, or give --hal-sim)\n", o.hal_sim.c_str());
+    return 2;
+  }
+  fs::path out = o.out.empty() ? fs::path("out") / (sc.name + "-" + utc_stamp()) : fs::path(o.out);
+  if (o.out.empty()) {
+    std::error_code ec;
+    for (int i = 2; fs::exists(out, ec); ++i) out = fs::path("out") / (sc.name + "-" + utc_stamp() + "-" + std::to_string(i));
+  }
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) {
+    std::fprintf(stderr, "ggins run: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
+    return 2;
+  }
+  out = fs::absolute(out);
+  {
+    std::ofstream f(out / "scenario.toml");
+    f << "# scenario " << sc.name << " from " << sc.source << "\n";
+    f << "# effective after command-line overrides: duration_s = " << sc.duration_s << ", accel.seed = " << sc.accel.seed
+      << ", csv_rate_hz = " << sc.output.csv_rate_hz << ", truth_rate_hz = " << sc.output.truth_rate_hz
+      << ", drop/dup/reorder = " << sc.transport.drop_prob << "/" << sc.transport.duplicate_prob << "/"
+      << sc.transport.reorder_prob << "\n"
+      << sc.text;
+  }
+  struct sigaction sa {};
+  sa.sa_handler = on_sigint;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  json summary;
+  int rc = 0;
+  try {
+    Runner r(o, sc, out);
+    summary = r.run();
+  } catch (std::pair<json, Fail>& e) {
+    summary = e.first;
+    std::fprintf(stderr, "ggins run: %s\n", e.second.what());
+    rc = e.second.code == 3 ? 3 : (e.second.code == 130 ? 130 : 1);
+  } catch (const Fail& e) {
+    std::fprintf(stderr, "ggins run: %s\n", e.what());
+    rc = e.code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins run: %s\n", e.what());
+    rc = 1;
+  }
+  if (summary.is_null()) return rc ? rc : 1;
+  summary["output_dir"] = out.string();
+  write_json(out / "summary.json", summary);
+
+  if (!o.no_plots) {
+    const std::string script = GGINS_PLOT_SCRIPT;
+    if (o.python.empty()) {
+      std::fprintf(stderr, "ggins run: no Python with matplotlib was found at build time; plots skipped (--python)\n");
+    } else {
+      std::string cmd = "'" + o.python + "' '" + script + "' '" + out.string() + "' > '" + (out / "plot.log").string() + "' 2>&1";
+      if (std::system(cmd.c_str()) != 0)
+        std::fprintf(stderr, "ggins run: plotting failed; see %s\n", (out / "plot.log").c_str());
+    }
+  }
+  if (!o.quiet) {
+    const auto& f = summary["final"];
+    std::printf("ggins run: %s %s: %lld steps, final |dr| = %.3e m, |dv| = %.3e m/s, |dG| = %.3e m/s^2\n",
+                summary["scenario"].get<std::string>().c_str(), summary["completed"].get<bool>() ? "completed" : "FAILED",
+                static_cast<long long>(summary["steps"].get<int64_t>()), f["position_error_m"].get<double>(),
+                f["velocity_error_mps"].get<double>(), f["gravity_error_mps2"].get<double>());
+    std::printf("  frames lost %lld, recovered %lld; wall %.2f s, real-time factor %.1f; step %.0f ns median, %.0f p99, %.0f max\n",
+                static_cast<long long>(summary["frames_lost"].get<int64_t>()),
+                static_cast<long long>(summary["frames_recovered"].get<int64_t>()), summary["wall_s"].get<double>(),
+                summary["realtime_factor"].get<double>(), summary["firmware_step_ns"]["median"].get<double>(),
+                summary["firmware_step_ns"]["p99"].get<double>(), summary["firmware_step_ns"]["max"].get<double>());
+  }
+  std::printf("report: %s\n", out.c_str());
+  if (rc == 0 && !summary["completed"].get<bool>()) rc = 1;
+  return rc;
+}

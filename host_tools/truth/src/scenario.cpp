@@ -1,0 +1,261 @@
+#include "ggins/truth/scenario.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <toml++/toml.h>
+
+namespace ggins::truth {
+
+// Generated at configure time from scenarios/*.toml (builtin_scenarios.cpp).
+struct BuiltinScenario {
+  const char* name;
+  const char* text;
+};
+extern const BuiltinScenario kBuiltinScenarios[];
+extern const int kBuiltinScenarioCount;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw std::runtime_error("scenario " + source + ": " + what);
+}
+
+void check_keys(const toml::table& t, const std::string& where, const std::set<std::string>& allowed,
+                const std::string& source) {
+  for (const auto& [k, v] : t) {
+    (void)v;
+    const std::string key(k.str());
+    if (!allowed.count(key)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(source, "unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
+    }
+  }
+}
+
+const toml::table* sub(const toml::table& root, const char* name, const std::string& source) {
+  const toml::node* n = root.get(name);
+  if (!n) return nullptr;
+  if (!n->is_table()) fail(source, std::string("'") + name + "' must be a table ([" + name + "])");
+  return n->as_table();
+}
+
+double get_num(const toml::table& t, const std::string& where, const char* key, double dflt,
+               const std::string& source) {
+  const toml::node* n = t.get(key);
+  if (!n) return dflt;
+  if (auto d = n->value<double>()) {
+    if (!std::isfinite(*d)) fail(source, where + "." + key + " must be finite");
+    return *d;
+  }
+  fail(source, where + "." + key + " must be a number");
+}
+
+int64_t get_int(const toml::table& t, const std::string& where, const char* key, int64_t dflt,
+                const std::string& source) {
+  const toml::node* n = t.get(key);
+  if (!n) return dflt;
+  if (n->is_integer()) return n->as_integer()->get();
+  fail(source, where + "." + key + " must be an integer");
+}
+
+bool get_bool(const toml::table& t, const std::string& where, const char* key, bool dflt,
+              const std::string& source) {
+  const toml::node* n = t.get(key);
+  if (!n) return dflt;
+  if (n->is_boolean()) return n->as_boolean()->get();
+  fail(source, where + "." + key + " must be true or false");
+}
+
+std::string get_str(const toml::table& t, const std::string& where, const char* key,
+                    const std::string& dflt, const std::string& source) {
+  const toml::node* n = t.get(key);
+  if (!n) return dflt;
+  if (n->is_string()) return n->as_string()->get();
+  fail(source, where + "." + key + " must be a string");
+}
+
+void get_per_axis(const toml::table& t, const std::string& where, const char* key,
+                  std::array<std::array<double, 3>, kMaxAcc>& out, const std::string& source) {
+  const toml::node* n = t.get(key);
+  if (!n) return;
+  const toml::array* rows = n->as_array();
+  const std::string k = where + "." + key;
+  if (!rows || rows->size() > static_cast<size_t>(kMaxAcc))
+    fail(source, k + " must be an array of up to 6 [x, y, z] arrays (one per accelerometer)");
+  for (size_t i = 0; i < rows->size(); ++i) {
+    const toml::array* row = (*rows)[i].as_array();
+    if (!row || row->size() != 3) fail(source, k + "[" + std::to_string(i) + "] must be [x, y, z]");
+    for (size_t j = 0; j < 3; ++j) {
+      auto d = (*row)[j].value<double>();
+      if (!d || !std::isfinite(*d)) fail(source, k + " entries must be finite numbers");
+      out[i][j] = *d;
+    }
+  }
+}
+
+uint64_t get_seed(const toml::table& t, const std::string& where, const std::string& source) {
+  const int64_t s = get_int(t, where, "seed", 1, source);
+  if (s < 0) fail(source, where + ".seed must be >= 0");
+  return static_cast<uint64_t>(s);
+}
+
+void check_prob(double p, const std::string& key, const std::string& source) {
+  if (!(p >= 0.0 && p < 1.0)) fail(source, key + " must be in [0, 1)");
+}
+
+}  // namespace
+
+int64_t Scenario::dt_us() const { return static_cast<int64_t>(std::llround(1e6 / rate_hz)); }
+
+int64_t Scenario::n_steps() const {
+  return static_cast<int64_t>(std::llround(duration_s * 1e6 / static_cast<double>(dt_us()))) + 1;
+}
+
+Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << e.description() << " (line " << e.source().begin.line << ", column " << e.source().begin.column << ")";
+    fail(source, os.str());
+  }
+  Scenario s;
+  s.source = source;
+  s.text = text;
+  check_keys(root, "",
+             {"name", "description", "trajectory", "gravity", "platform", "time", "accel", "firmware",
+              "transport", "output"},
+             source);
+  s.name = get_str(root, "", "name", fallback_name, source);
+  s.description = get_str(root, "", "description", "", source);
+  if (s.name.empty() || s.name.size() > 63) fail(source, "name must have 1..63 characters");
+
+  if (const auto* t = sub(root, "trajectory", source)) {
+    check_keys(*t, "trajectory", {"type", "speed_mps", "height_m", "lat0_deg", "radius_m"}, source);
+    auto& p = s.trajectory;
+    p.type = get_str(*t, "trajectory", "type", p.type, source);
+    p.speed_mps = get_num(*t, "trajectory", "speed_mps", p.speed_mps, source);
+    p.height_m = get_num(*t, "trajectory", "height_m", p.height_m, source);
+    p.lat0_deg = get_num(*t, "trajectory", "lat0_deg", p.lat0_deg, source);
+    p.radius_m = get_num(*t, "trajectory", "radius_m", p.radius_m, source);
+  }
+  if (s.trajectory.type != "north-flight")
+    fail(source, "trajectory.type '" + s.trajectory.type + "' unknown (known: north-flight)");
+  if (!(s.trajectory.radius_m + s.trajectory.height_m > 1.0))
+    fail(source, "trajectory.radius_m + height_m must be > 1 m");
+  if (std::fabs(s.trajectory.lat0_deg) > 90.0) fail(source, "trajectory.lat0_deg must be within [-90, 90]");
+
+  if (const auto* t = sub(root, "gravity", source)) {
+    check_keys(*t, "gravity", {"model", "gm_m3ps2"}, source);
+    s.gravity.model = get_str(*t, "gravity", "model", s.gravity.model, source);
+    s.gravity.gm_m3ps2 = get_num(*t, "gravity", "gm_m3ps2", s.gravity.gm_m3ps2, source);
+  }
+  if (s.gravity.model != "point-mass")
+    fail(source, "gravity.model '" + s.gravity.model + "' unknown (known: point-mass)");
+  if (!(s.gravity.gm_m3ps2 > 0)) fail(source, "gravity.gm_m3ps2 must be > 0");
+
+  if (const auto* t = sub(root, "platform", source)) {
+    check_keys(*t, "platform", {"a_m", "b_m"}, source);
+    s.a_m = get_num(*t, "platform", "a_m", s.a_m, source);
+    s.b_m = get_num(*t, "platform", "b_m", s.b_m, source);
+  }
+  if (!(s.a_m > 0) || !(s.b_m > 0)) fail(source, "platform.a_m and platform.b_m must be > 0");
+
+  if (const auto* t = sub(root, "time", source)) {
+    check_keys(*t, "time", {"duration_s", "rate_hz"}, source);
+    s.duration_s = get_num(*t, "time", "duration_s", s.duration_s, source);
+    s.rate_hz = get_num(*t, "time", "rate_hz", s.rate_hz, source);
+  }
+  if (!(s.rate_hz > 0) || s.rate_hz > 1e6) fail(source, "time.rate_hz must be in (0, 1e6]");
+  {
+    const double dt = 1e6 / s.rate_hz;
+    if (std::fabs(dt - std::round(dt)) > 1e-9 * dt)
+      fail(source, "time.rate_hz must make 1e6/rate_hz an integer number of microseconds");
+  }
+  if (!(s.duration_s > 0) || s.duration_s > 1e7) fail(source, "time.duration_s must be in (0, 1e7]");
+
+  if (const auto* t = sub(root, "accel", source)) {
+    check_keys(*t, "accel",
+               {"seed", "bias_sigma_mps2", "noise_sigma_mps2", "scale_sigma", "bias_mps2", "scale"}, source);
+    auto& a = s.accel;
+    a.seed = get_seed(*t, "accel", source);
+    a.bias_sigma_mps2 = get_num(*t, "accel", "bias_sigma_mps2", 0.0, source);
+    a.noise_sigma_mps2 = get_num(*t, "accel", "noise_sigma_mps2", 0.0, source);
+    a.scale_sigma = get_num(*t, "accel", "scale_sigma", 0.0, source);
+    if (a.bias_sigma_mps2 < 0 || a.noise_sigma_mps2 < 0 || a.scale_sigma < 0)
+      fail(source, "accel sigmas must be >= 0");
+    get_per_axis(*t, "accel", "bias_mps2", a.bias_mps2, source);
+    get_per_axis(*t, "accel", "scale", a.scale, source);
+  }
+  if (const auto* t = sub(root, "firmware", source)) {
+    check_keys(*t, "firmware", {"f_max_mps2", "asym_max_ps2", "dt_tol_us", "gravdr_trapezoid_only"}, source);
+    auto& f = s.firmware;
+    f.f_max_mps2 = get_num(*t, "firmware", "f_max_mps2", f.f_max_mps2, source);
+    f.asym_max_ps2 = get_num(*t, "firmware", "asym_max_ps2", f.asym_max_ps2, source);
+    f.dt_tol_us = get_int(*t, "firmware", "dt_tol_us", f.dt_tol_us, source);
+    f.gravdr_trapezoid_only = get_bool(*t, "firmware", "gravdr_trapezoid_only", f.gravdr_trapezoid_only, source);
+    if (!(f.f_max_mps2 > 0) || !(f.asym_max_ps2 > 0) || f.dt_tol_us < 0)
+      fail(source, "firmware.f_max_mps2 and asym_max_ps2 must be > 0, dt_tol_us >= 0");
+  }
+  if (const auto* t = sub(root, "transport", source)) {
+    check_keys(*t, "transport", {"seed", "drop_prob", "duplicate_prob", "reorder_prob"}, source);
+    auto& p = s.transport;
+    p.seed = get_seed(*t, "transport", source);
+    p.drop_prob = get_num(*t, "transport", "drop_prob", 0.0, source);
+    p.duplicate_prob = get_num(*t, "transport", "duplicate_prob", 0.0, source);
+    p.reorder_prob = get_num(*t, "transport", "reorder_prob", 0.0, source);
+    check_prob(p.drop_prob, "transport.drop_prob", source);
+    check_prob(p.duplicate_prob, "transport.duplicate_prob", source);
+    check_prob(p.reorder_prob, "transport.reorder_prob", source);
+  }
+  if (const auto* t = sub(root, "output", source)) {
+    check_keys(*t, "output", {"csv_rate_hz", "truth_rate_hz"}, source);
+    s.output.csv_rate_hz = get_num(*t, "output", "csv_rate_hz", s.output.csv_rate_hz, source);
+    s.output.truth_rate_hz = get_num(*t, "output", "truth_rate_hz", s.output.truth_rate_hz, source);
+    if (!(s.output.csv_rate_hz > 0) || s.output.truth_rate_hz < 0)
+      fail(source, "output.csv_rate_hz must be > 0 and truth_rate_hz >= 0");
+  }
+  return s;
+}
+
+std::vector<std::string> builtin_scenario_names() {
+  std::vector<std::string> v;
+  for (int i = 0; i < kBuiltinScenarioCount; ++i) v.emplace_back(kBuiltinScenarios[i].name);
+  return v;
+}
+
+Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {
+  namespace fs = std::filesystem;
+  auto read_file = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read scenario file " + p.string());
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  std::error_code ec;
+  const fs::path p(name_or_path);
+  if (fs::is_regular_file(p, ec)) return parse_scenario(read_file(p), p.stem().string(), p.string());
+  const bool looks_like_path =
+      name_or_path.find('/') != std::string::npos || p.extension() == ".toml";
+  if (looks_like_path) throw std::runtime_error("scenario file not found: " + name_or_path);
+  for (const auto& d : search_dirs) {
+    const fs::path f = fs::path(d) / (name_or_path + ".toml");
+    if (fs::is_regular_file(f, ec)) return parse_scenario(read_file(f), name_or_path, f.string());
+  }
+  for (int i = 0; i < kBuiltinScenarioCount; ++i)
+    if (name_or_path == kBuiltinScenarios[i].name)
+      return parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path);
+  std::string known;
+  for (const auto& n : builtin_scenario_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::runtime_error("unknown scenario '" + name_or_path + "' (built-in: " + known +
+                           "; or give a path to a .toml file)");
+}
+
+}  // namespace ggins::truth
