@@ -1,0 +1,85 @@
+// Fast path for long high-rate flights.
+//
+// LatticeField: a smooth source field (normally an ANOMALY: total minus
+// normal) sampled lazily on a regular 3-D lattice in Earth-fixed axes, nodes
+// at origin + h (i, j, k), and interpolated by tensor-product Lagrange
+// polynomials through the p x p x p nodes around the query point (p even;
+// the query lies in the central cell). Potential, the three components of G
+// and the six of Gamma are interpolated independently (each from its own node
+// values, so Gamma is not a derivative of the G interpolant). Nodes are
+// computed on first use and kept (thread-safe cache), so a flight only pays
+// for the tube of nodes around its path; consecutive queries in one cell
+// reuse the gathered stencil (per thread).
+// Error of degree p-1 interpolation: |f - P| <= max|f^(p)| / p! * prod |t - t_i| h^p
+// per axis (e.g. Davis 1975, "Interpolation and Approximation", thm 3.1.1);
+// tests/gravity/test_fast.cpp measures it against the exact field.
+//
+// FastField: the WGS-84 normal field evaluated exactly at every call plus a
+// LatticeField of the anomaly.
+#pragma once
+
+#include "ggins/gravity/field.hpp"
+#include "ggins/gravity/normal.hpp"
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+
+namespace ggins::gravity {
+
+struct LatticeOptions {
+  Real spacing = 2000.0L;        // node spacing h, m
+  int points = 8;                // p nodes per axis (even, 2..16)
+  Vec3 origin = Vec3::Zero();    // lattice origin, Earth-fixed, m
+};
+
+class LatticeField final : public Field {
+ public:
+  LatticeField(std::shared_ptr<const Field> source, LatticeOptions opt);
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override;
+  std::size_t nodes_computed() const;
+  const LatticeOptions& options() const { return opt_; }
+  using Node = std::array<double, 10>;  // V, gx, gy, gz, xx, xy, xz, yy, yz, zz
+
+ private:
+  struct Key {
+    std::int64_t i, j, k;
+    bool operator==(const Key& o) const { return i == o.i && j == o.j && k == o.k; }
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = static_cast<std::uint64_t>(k.i) * 0x9E3779B97F4A7C15ull;
+      h ^= static_cast<std::uint64_t>(k.j) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+      h ^= static_cast<std::uint64_t>(k.k) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+      return static_cast<std::size_t>(h);
+    }
+  };
+  Node node(const Key& k) const;
+
+  std::shared_ptr<const Field> src_;
+  LatticeOptions opt_;
+  std::uint64_t id_;
+  std::vector<double> denom_;
+  mutable std::mutex mu_;
+  mutable std::unordered_map<Key, Node, KeyHash> cache_;
+  static std::atomic<std::uint64_t> next_id_;
+};
+
+class FastField final : public Field {
+ public:
+  // anomaly: the field to add to the normal one (e.g. SumField{+total, -normal}).
+  FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> anomaly, LatticeOptions opt);
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override;
+  const LatticeField& lattice() const { return lattice_; }
+
+ private:
+  std::shared_ptr<const NormalField> normal_;
+  LatticeField lattice_;
+};
+
+}  // namespace ggins::gravity
