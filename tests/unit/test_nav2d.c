@@ -5,6 +5,8 @@
 #include "truth2d.h"
 #include "ggins/nav2d.h"
 
+#include <complex.h>
+
 static const t_flight_t kFlight = {300.0L, 0.0L, 0.0L};
 #define DT_US 10000
 
@@ -260,6 +262,254 @@ static void test_task_cycle_through_hal(void **state)
     assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_ERR_IO);
 }
 
+/* ---- barometric vertical channel through the whole navigation step ---- */
+
+#define BARO_EVERY 100 /* 1 Hz barometer at 100 Hz steps */
+static const long double kPoles[3] = {0.005L, 0.01L, 0.015L};
+
+static void baro_config(gg_nav2d_config_t *cfg, int model_mode)
+{
+    make_config(cfg);
+    cfg->baro_enable = 1;
+    for (int i = 0; i < 3; ++i) cfg->baro.poles[i] = kPoles[i];
+    cfg->baro.omega_s2 = T_GM / (T_RE * T_RE * T_RE);
+    cfg->baro.period_us = BARO_EVERY * DT_US;
+    cfg->baro.max_age_us = 500000;
+    cfg->baro.coast_us = 10000000;
+    cfg->baro.alt_min_m = -1000.0;
+    cfg->baro.alt_max_m = 30000.0;
+    cfg->baro.gate_m = 100.0;
+    cfg->baro.max_rejects = 5;
+    cfg->r_ref_m = T_RE;
+    if (model_mode) {
+        cfg->gravity_mode = GG_GRAVITY_MODEL;
+        cfg->model.gm = T_GM;
+        cfg->model.a_m = T_RE;
+    }
+}
+
+/* Frame k of flight fl with perfect sensors plus an accelerometer bias (all
+ * four sensors, both axes), and a perfect barometer every BARO_EVERY steps. */
+static void make_frame_fl(const t_flight_t *fl, int64_t k, const long double bias[3],
+                          gg_frame_t *fr)
+{
+    long double r[3], v[3], a[3], f[4][3];
+    const long double t = (long double)k * (long double)DT_US * 1e-6L;
+    memset(fr, 0, sizeof *fr);
+    t_flight(fl, t, r, v, a);
+    t_sensor_forces(r, a, 0.5L, 0.5L, f);
+    fr->utime = 1000000 + k * DT_US;
+    fr->seq = k;
+    fr->n_acc = 4;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const long double x = f[i][j] + bias[j];
+            fr->f[i][j] = (double)x;
+            fr->f_lo[i][j] = (double)(x - (long double)fr->f[i][j]);
+        }
+    }
+    for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
+    fr->gyro_status = GG_SENSOR_ABSENT;
+    if (k % BARO_EVERY == 0) {
+        fr->baro_alt_m = (double)(sqrtl(r[0] * r[0] + r[2] * r[2]) - T_RE);
+        fr->baro_utime = fr->utime;
+        fr->baro_status = GG_SENSOR_OK;
+    } else {
+        fr->baro_status = GG_SENSOR_ABSENT;
+    }
+}
+
+/* Vertical error state of a navigation state: h, v_up, a_c, G_up. */
+static void vstate(const gg_nav2d_t *nav, const long double u[3], long double x[4])
+{
+    gg_real_t r[3], v[3], g[3];
+    assert_int_equal(gg_mech_get(&nav->mech, r, v), GG_OK);
+    x[0] = sqrtl(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    x[1] = v[0] * u[0] + v[1] * u[1] + v[2] * u[2];
+    x[2] = nav->a_c;
+    if (nav->cfg.gravity_mode == GG_GRAVITY_GRADIOMETER) {
+        assert_int_equal(gg_gravdr_get(&nav->gravdr, g), GG_OK);
+        x[3] = g[0] * u[0] + g[1] * u[1] + g[2] * u[2];
+    } else {
+        x[3] = 0.0L;
+    }
+}
+
+/* Roots of the monic polynomial z^n + c[n-1] z^(n-1) + ... + c[0] (Durand-Kerner). */
+static void poly_roots(int n, const long double c[], long double complex z[])
+{
+    for (int i = 0; i < n; ++i) z[i] = cpowl(0.4L + 0.9L * I, i);
+    for (int it = 0; it < 2000; ++it) {
+        for (int i = 0; i < n; ++i) {
+            long double complex p = 1.0L, d = 1.0L;
+            for (int k = n - 1; k >= 0; --k) p = p * z[i] + c[k];
+            for (int j = 0; j < n; ++j)
+                if (j != i) d *= (z[i] - z[j]);
+            z[i] -= p / d;
+        }
+    }
+}
+
+/* Characteristic polynomial of an n x n matrix (Faddeev-LeVerrier). */
+static void char_poly(int n, long double A[4][4], long double c[4])
+{
+    long double M[4][4] = {{0}}, AM[4][4];
+    long double ck = 1.0L;
+    for (int k = 1; k <= n; ++k) {
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) M[i][j] += (i == j) ? ck : 0.0L;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                AM[i][j] = 0;
+                for (int l = 0; l < n; ++l) AM[i][j] += A[i][l] * M[l][j];
+            }
+        long double tr = 0;
+        for (int i = 0; i < n; ++i) tr += AM[i][i];
+        ck = -tr / k;
+        c[n - k] = ck;
+        memcpy(M, AM, sizeof M);
+    }
+}
+
+/* The implemented discrete loop's poles: linearise the whole navigation step
+ * by finite differences over one barometer period (perturb h, v_up, a_c and,
+ * in gradiometer mode, G_up), take the eigenvalues z of the transition
+ * matrix and s = ln(z)/T. They must match the configured poles within 1 %. In
+ * gradiometer mode the fourth eigenvalue is 1 (G_up - Gamma_uu h is carried
+ * unchanged: the corrections keep G consistent with the position). */
+static void check_loop_poles(int model_mode)
+{
+    const t_flight_t still = {0.0L, 0.0L, 0.3L};
+    const long double zero[3] = {0, 0, 0};
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    baro_config(&cfg, model_mode);
+    long double r0[3], v0[3], a0[3], g0[3];
+    t_flight(&still, 0.0L, r0, v0, a0);
+    t_point_mass_g(r0, g0);
+    for (int j = 0; j < 3; ++j) {
+        cfg.r0[j] = r0[j];
+        cfg.v0[j] = v0[j];
+        cfg.g0[j] = g0[j];
+    }
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    int64_t k = 0;
+    for (; k <= 10 * BARO_EVERY; ++k) {
+        make_frame_fl(&still, k, zero, &fr);
+        assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+    }
+    const int n = model_mode ? 3 : 4;
+    const long double u[3] = {r0[0] / sqrtl(r0[0] * r0[0] + r0[2] * r0[2]), 0,
+                              r0[2] / sqrtl(r0[0] * r0[0] + r0[2] * r0[2])};
+    const long double eps[4] = {1.0L, 1e-2L, 1e-6L, 1e-6L};
+    gg_nav2d_t runs[5];
+    for (int p = 0; p <= n; ++p) runs[p] = nav;
+    for (int p = 1; p <= n; ++p) {
+        gg_real_t dr[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, da[3] = {0, 0, 0};
+        const long double e = eps[p - 1];
+        for (int j = 0; j < 3; ++j) {
+            if (p == 1) dr[j] = e * u[j];
+            if (p == 2) dv[j] = e * u[j];
+            if (p == 3) da[j] = -e * u[j];
+            if (p == 4) da[j] = e * u[j];
+        }
+        if (p == 3) {
+            runs[p].a_c += e;
+            runs[p].vchan.a_c += e;
+        }
+        if (p == 4) {
+            const gg_real_t dg[3] = {e * u[0], e * u[1], e * u[2]};
+            assert_int_equal(gg_gravdr_correct(&runs[p].gravdr, dg), GG_OK);
+        }
+        assert_int_equal(gg_mech_correct(&runs[p].mech, dr, dv, da), GG_OK);
+    }
+    for (int64_t kk = k; kk < k + BARO_EVERY; ++kk) {
+        make_frame_fl(&still, kk, zero, &fr);
+        for (int p = 0; p <= n; ++p)
+            assert_int_equal(gg_nav2d_step(&runs[p], &fr, NULL, &out), GG_OK);
+    }
+    long double x0[4], xp[4], A[4][4];
+    vstate(&runs[0], u, x0);
+    for (int p = 1; p <= n; ++p) {
+        vstate(&runs[p], u, xp);
+        for (int i = 0; i < n; ++i) A[i][p - 1] = (xp[i] - x0[i]) / eps[p - 1];
+    }
+    long double c[4];
+    long double complex z[4];
+    char_poly(n, A, c);
+    poly_roots(n, c, z);
+    const long double T = BARO_EVERY * DT_US * 1e-6L;
+    int matched[3] = {0, 0, 0}, unit = 0;
+    for (int i = 0; i < n; ++i) {
+        const long double complex s = clogl(z[i]) / T;
+        printf("%s mode: z = %.9Lf%+.2Le i  ->  s = %.6Le%+.2Le i\n",
+               model_mode ? "model" : "gradiometer", creall(z[i]), cimagl(z[i]), creall(s),
+               cimagl(s));
+        if (cabsl(z[i] - 1.0L) < 1e-9L) {
+            unit++;
+            continue;
+        }
+        for (int q = 0; q < 3; ++q)
+            if (!matched[q] && cabsl(s + kPoles[q]) < 0.01L * kPoles[q]) {
+                matched[q] = 1;
+                break;
+            }
+    }
+    assert_true(matched[0] && matched[1] && matched[2]);
+    assert_int_equal(unit, model_mode ? 0 : 1);
+}
+
+static void test_baro_loop_poles_model_mode(void **state)
+{
+    (void)state;
+    check_loop_poles(1);
+}
+
+static void test_baro_loop_poles_gradiometer_mode(void **state)
+{
+    (void)state;
+    check_loop_poles(0);
+}
+
+/* A constant accelerometer bias along up leaves no steady-state altitude
+ * error: the loop's integral state takes it up. Stationary platform, so the
+ * bias stays along up. A second-order loop would keep b/(k2 - 2 w^2) = 36 mm;
+ * the free channel would be ~1e3 m off after 3 h. */
+static void test_bias_no_steady_state_altitude_error(void **state)
+{
+    (void)state;
+    const t_flight_t still = {0.0L, 0.0L, 0.0L}; /* at the equator: up = +x */
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    baro_config(&cfg, 0);
+    long double r0[3], v0[3], a0[3], g0[3];
+    t_flight(&still, 0.0L, r0, v0, a0);
+    t_point_mass_g(r0, g0);
+    for (int j = 0; j < 3; ++j) {
+        cfg.r0[j] = r0[j];
+        cfg.v0[j] = v0[j];
+        cfg.g0[j] = g0[j];
+    }
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    const long double b = 1e-5L;
+    const long double bias[3] = {b, 0.0L, 0.0L};
+    const int64_t n = 3 * 3600 * 100;
+    for (int64_t k = 0; k <= n; ++k) {
+        make_frame_fl(&still, k, bias, &fr);
+        assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+    }
+    const long double dh = out.h_ins_m - 0.0L;
+    printf("bias %.1Le m/s^2 up, 3 h: altitude error %.3Le m, a_c = %.6Le m/s^2\n", b, dh,
+           (long double)out.g_up_corr);
+    assert_true(fabsl(dh) < 1e-6L);
+    assert_near(out.g_up_corr, b, 1e-3L * b);
+    assert_int_equal(out.health, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -268,6 +518,9 @@ int main(void)
         cmocka_unit_test(test_bad_frames_rejected_state_untouched),
         cmocka_unit_test(test_asymmetry_flagged),
         cmocka_unit_test(test_task_cycle_through_hal),
+        cmocka_unit_test(test_baro_loop_poles_model_mode),
+        cmocka_unit_test(test_baro_loop_poles_gradiometer_mode),
+        cmocka_unit_test(test_bias_no_steady_state_altitude_error),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

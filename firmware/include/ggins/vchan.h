@@ -18,10 +18,19 @@
  * eq. 10); in gradiometer mode on the vertical accelerometer-bias and
  * dead-reckoned-gravity error.
  *
- * Corrections are applied per accepted sample as increments over the time
- * since the previous accepted sample (Euler): exact to O((p T)^2) for a
- * sample period T; init requires p_max T_nominal <= 0.02 so that the
- * discrete poles sit within 1% of the configured ones.
+ * Discrete design: the loop is corrected once per barometer sample (period
+ * T). Between samples the error state x = (dh, dv, a_c) evolves as
+ * x' = A x with A = [[0,1,0],[2 w_s^2,0,-1],[0,0,0]], so x_{n+1}^- = Phi x_n,
+ * Phi = exp(A T); each sample applies x^+ = x^- + K e with e = C x^-,
+ * C = [1 0 0]. The gain K places the eigenvalues of (I + K C) Phi at
+ * z_i = exp(-p_i T) exactly (Ackermann's formula for the pair (Phi, C Phi):
+ * K = -alpha(Phi) O^-1 [0 0 1]^T, O = [C Phi; C Phi^2; C Phi^3], alpha the
+ * desired characteristic polynomial), so the implemented discrete loop has
+ * the configured poles, not an Euler approximation of them (an Euler
+ * version, K = T (-k1, -k2, k3), missed clustered poles by 5 %). For small
+ * T, K -> T (-k1, -k2, k3) with the continuous gains above. A sample that
+ * arrives after a span other than T scales K by span/T (first order).
+ * exp() is a bounded Taylor series (no libm); init requires p_i T <= 1.
  *
  * Sample validation: status, NaN/Inf, altitude range, age (utime of the
  * sample against the frame's), repeat (no new sample = nothing to do), and
@@ -57,9 +66,10 @@ typedef struct {
 
 typedef struct {
     gg_vchan_config_t cfg;
-    gg_real_t k1;            /**< s^-1 */
+    gg_real_t k1;            /**< continuous-equivalent gain, s^-1 (documentation, tests) */
     gg_real_t k2;            /**< s^-2 */
     gg_real_t k3;            /**< s^-3 */
+    gg_real_t kd[3];         /**< discrete gain K per sample: dh = K0 e, dv = K1 e, a_c += K2 e */
     gg_real_t a_c;           /**< integral acceleration-error state, m/s^2 (along up) */
     int64_t last_accept_utime;
     int64_t last_sample_utime;
@@ -86,7 +96,8 @@ typedef struct {
 } gg_vchan_output_t;
 
 /** Compute the gains. GG_ERR_CONFIG on non-positive poles or w_s^2,
- *  non-positive period, p_max * period > 0.02, or an inconsistent range/gate. */
+ *  non-positive period, p_max * period > 1, an inconsistent range/gate, or a
+ *  singular design (unobservable pair). */
 gg_status_t gg_vchan_init(gg_vchan_t *st, const gg_vchan_config_t *cfg);
 
 /** One navigation step at time now_us with inertial altitude h_ins_m (m);
