@@ -49,9 +49,22 @@ static gg_nav2d_t g_nav;
 int main(void);
 int main(void)
 {
-    gg_nav2d_config_t cfg = {
-        {0.5L, 0.5L}, 10000, 100, {6378137.0L, 0.0L, 0.0L}, {0.0L, 0.0L, 300.0L},
-        {-9.798L, 0.0L, 0.0L}, 100.0, 1e-9, 0};
+    static const gg_nav2d_config_t cfg = {
+        .geometry = {0.5L, 0.5L},
+        .dt_us = 10000,
+        .dt_tol_us = 100,
+        .r0 = {6378137.0L, 0.0L, 0.0L},
+        .v0 = {0.0L, 0.0L, 300.0L},
+        .g0 = {-9.798L, 0.0L, 0.0L},
+        .f_max = 100.0,
+        .asym_max = 1e-9,
+        .gravdr_trapezoid_only = 0,
+        .gravity_mode = GG_GRAVITY_GRADIOMETER,
+        .model = {3.986004418e14L, 6378137.0L, {0.0L}},
+        .baro_enable = 1,
+        .baro = {{0.005L, 0.01L, 0.015L}, 1.54e-6L, 1000000, 500000, 10000000, -500.0,
+                 20000.0, 50.0, 5},
+        .r_ref_m = 6378137.0L};
     const gg_hal_t hal = {&g_io, board_read, board_write, board_cycles, 480000000u};
     DEMCR |= (1u << 24);   /* TRCENA */
     DWT_CYCCNT = 0u;
