@@ -16,7 +16,7 @@
  * RESEND requests on GGINS_REQUEST every --gap-timeout-ms; after
  * --max-resend requests for the same frame it is declared lost and skipped
  * (the firmware then sees the seq gap and flags it). Frames that reach the
- * firmware as retransmissions are counted as recovered.
+ * firmware as retransmissions (resent > 0) are counted as recovered.
  *
  * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
  * takes differences modulo 2^32), cycles_per_second = 1e9.
@@ -117,7 +117,7 @@ static gg_status_t hal_read_frame(void *ctx, gg_frame_t *frame)
     slot_t *s = &h->slots[h->next & (WINDOW - 1)];
     if (!s->valid || s->frame.seq != h->next) return GG_ERR_NO_DATA;
     *frame = s->frame;
-    if (s->resent || s->requested) h->st.frames_recovered++;
+    if (s->resent) h->st.frames_recovered++; /* the copy that got through was a retransmission */
     s->valid = 0;
     if (h->gap_seq == h->next) h->gap_seq = -1;
     h->next++;
@@ -336,10 +336,10 @@ static void handle_gaps(hal_sim_t *h)
         return;
     }
     const double t = now_s();
-    if (h->gap_seq != h->next) { /* new gap at next */
+    if (h->gap_seq != h->next) { /* new gap at next: give it one gap timeout to arrive */
         h->gap_seq = h->next;
         h->gap_requests = 0;
-        h->gap_last_request = 0.0;
+        h->gap_last_request = t;
     }
     if (t - h->gap_last_request < 1e-3 * h->gap_timeout_ms) return;
     if (h->gap_requests >= h->max_resend) { /* give up on it */

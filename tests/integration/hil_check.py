@@ -1,0 +1,350 @@
+#!/usr/bin/env python3
+"""Host-in-the-loop integration tests: run `ggins-run` (truth generator, hal_sim
+and the firmware as separate processes over real LCM) on short scenarios and
+check its outputs against an independent truth.
+
+The truth here is computed from the closed-form north flight and point-mass
+field with Python's decimal module (40 digits), not taken from the run's own
+truth columns; those columns are checked against it as well. The LCM log is
+parsed with an independent reader of the LCM event-log format.
+
+usage: hil_check.py TEST --ggins-run PATH --workdir DIR
+tests: perfect, bias, faults, realtime, shared-url, cli
+Only the Python standard library is used.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import time
+from decimal import Decimal, getcontext
+
+getcontext().prec = 40
+GM = Decimal("3.986004418e14")
+R_E = Decimal("6378137")
+PI = Decimal("3.141592653589793238462643383279502884197")
+
+FAILURES = []
+
+
+def check(cond, what):
+    status = "ok  " if cond else "FAIL"
+    print("%s %s" % (status, what))
+    if not cond:
+        FAILURES.append(what)
+
+
+def dsin(x):
+    x = Decimal(x)
+    term, s, n = x, x, 1
+    while abs(term) > Decimal("1e-45"):
+        term = -term * x * x / ((2 * n) * (2 * n + 1))
+        s += term
+        n += 1
+    return s
+
+
+def dcos(x):
+    x = Decimal(x)
+    term, s, n = Decimal(1), Decimal(1), 1
+    while abs(term) > Decimal("1e-45"):
+        term = -term * x * x / ((2 * n - 1) * (2 * n))
+        s += term
+        n += 1
+    return s
+
+
+def dsqrt(x):
+    return Decimal(x).sqrt()
+
+
+def truth(t, speed=Decimal(300), h=Decimal(0), lat0_deg=Decimal(0)):
+    """Independent truth of the north flight: r, v, G at the centre (x, z)."""
+    rho = R_E + h
+    lat = lat0_deg * PI / 180 + speed * Decimal(t) / rho
+    c, s = dcos(lat), dsin(lat)
+    r = (rho * c, rho * s)
+    v = (-speed * s, speed * c)
+    rn = dsqrt(r[0] * r[0] + r[1] * r[1])
+    k = -GM / (rn * rn * rn)
+    g = (k * r[0], k * r[1])
+    return r, v, g
+
+
+def run(ggins_run, out, *args, check_rc=True, timeout=600):
+    if os.path.exists(out):
+        shutil.rmtree(out)
+    cmd = [ggins_run, "--out", out, "--progress", "off"] + list(args)
+    print("$ " + " ".join(cmd))
+    t0 = time.time()
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+    print(p.stdout.rstrip())
+    print("(%.1f s)" % (time.time() - t0))
+    if check_rc:
+        check(p.returncode == 0, "ggins-run exit status 0 (got %d)" % p.returncode)
+    return p
+
+
+def load(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        s = json.load(f)
+    with open(os.path.join(out, "timeseries.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return s, rows
+
+
+def read_lcm_log(path):
+    """Independent reader of the LCM event log format: [sync 0xEDA1DA01,
+    eventnum i64, utime i64, channel len u32, data len u32, channel, data]."""
+    events = []
+    with open(path, "rb") as f:
+        data = f.read()
+    pos = 0
+    while pos < len(data):
+        sync, num, utime, clen, dlen = struct.unpack_from(">IqqII", data, pos)
+        if sync != 0xEDA1DA01:
+            raise ValueError("bad sync word at %d" % pos)
+        pos += 28
+        ch = data[pos:pos + clen].decode()
+        pos += clen
+        events.append((ch, data[pos:pos + dlen]))
+        pos += dlen
+    return events
+
+
+def nav_errors(row):
+    """Errors of the navigation columns against the independent truth."""
+    t = Decimal(row["t_s"])
+    r, v, g = truth(t)
+
+    def D(k):  # the exact value of the double the CSV printed with 17 digits
+        return Decimal(float(row[k]))
+
+    er = [D("nav_r_x") - r[0], D("nav_r_z") - r[1]]
+    ev = [D("nav_v_x") - v[0], D("nav_v_z") - v[1]]
+    eg = [D("nav_g_x") - g[0], D("nav_g_z") - g[1]]
+    tr = [Decimal(row["true_r_x"]) - r[0], Decimal(row["true_r_z"]) - r[1]]
+    tg = [Decimal(row["true_g_x"]) - g[0], Decimal(row["true_g_z"]) - g[1]]
+    return er, ev, eg, tr, tg
+
+
+def norm(v):
+    return math.sqrt(sum(float(x) ** 2 for x in v))
+
+
+# ---------------------------------------------------------------------------------
+def test_perfect(a):
+    """Perfect sensors, 120 s: the whole chain at its numerical floor."""
+    out = os.path.join(a.workdir, "perfect")
+    run(a.ggins_run, out, "--scenario", "welker-perfect", "--duration", "120", "--csv-rate", "1")
+    s, rows = load(out)
+    n = 12001
+    check(s["completed"] is True, "run completed")
+    check(s["steps"] == n, "steps == %d (got %s)" % (n, s["steps"]))
+    check(s["frames_lost"] == 0, "frames_lost == 0")
+    check(s["steps_rejected"] == 0, "no step rejected by the firmware")
+    check(len(rows) == 121, "121 CSV rows at 1 Hz (got %d)" % len(rows))
+    worst_truth_r = max(norm(nav_errors(r)[3]) for r in rows)
+    worst_truth_g = max(norm(nav_errors(r)[4]) for r in rows)
+    check(worst_truth_r < 1e-8, "truth generator position = closed form (max %.2e m)" % worst_truth_r)
+    check(worst_truth_g < 1e-16, "truth generator gravitation = GM r/r^3 (max %.2e m/s^2)" % worst_truth_g)
+    er, ev, eg, _, _ = nav_errors(rows[-1])
+    check(norm(er) < 1e-7, "final position error < 1e-7 m against the closed form (%.2e m)" % norm(er))
+    check(norm(ev) < 1e-9, "final velocity error < 1e-9 m/s (%.2e m/s)" % norm(ev))
+    check(norm(eg) < 1e-13, "final gravity error < 1e-13 m/s^2 (%.2e m/s^2)" % norm(eg))
+    # the summary's own numbers agree with the independent ones
+    fs = s["final"]
+    check(abs(fs["position_error_m"] - norm(er)) <= 1e-3 * norm(er) + 1e-12,
+          "summary final position error matches (%.3e vs %.3e)" % (fs["position_error_m"], norm(er)))
+    check(abs(fs["gravity_error_mps2"] - norm(eg)) <= 1e-2 * norm(eg) + 2e-16,
+          "summary final gravity error matches (%.3e vs %.3e)" % (fs["gravity_error_mps2"], norm(eg)))
+    for k in ("position_error_m", "velocity_error_mps", "gravity_error_mps2"):
+        check(k in s["max"] and s["max"][k] >= fs[k], "summary max.%s present and >= final" % k)
+    for k in ("wall_s", "realtime_factor", "frames_recovered"):
+        check(k in s, "summary has %s" % k)
+    st = s["firmware_step_ns"]
+    check(0 < st["median"] <= st["p99"] <= st["max"], "step time median <= p99 <= max, > 0 (%s)" % st)
+    check(st["median"] < 1e6, "median firmware step below 1 ms (%.0f ns)" % st["median"])
+    # LCM log: every frame and every output, readable by an independent parser
+    ev_ = read_lcm_log(os.path.join(out, "run.lcmlog"))
+    chans = {}
+    for ch, _ in ev_:
+        chans[ch] = chans.get(ch, 0) + 1
+    check(chans.get("GGINS_FRAME") == n, "log holds %d frames (got %s)" % (n, chans.get("GGINS_FRAME")))
+    check(chans.get("GGINS_NAV") == n, "log holds %d navigation outputs (got %s)" % (n, chans.get("GGINS_NAV")))
+    check(chans.get("GGINS_TRUTH") == n, "log holds %d truth messages" % n)
+    check(chans.get("GGINS_CONFIG", 0) >= 1, "log holds the configuration")
+    seqs = sorted(struct.unpack_from(">q", d, 16)[0] for ch, d in ev_ if ch == "GGINS_FRAME")
+    check(seqs == list(range(n)), "frame seqs in the log are 0..%d" % (n - 1))
+    check(s["log"]["complete"] is True, "summary says the log is complete")
+    for f in ("errors.png", "errors_log.png"):
+        p = os.path.join(out, f)
+        check(os.path.exists(p) and os.path.getsize(p) > 1000, "plot %s written" % f)
+
+
+def test_bias(a):
+    """A known bias on one accelerometer axis: the error it causes, end to end,
+    against the closed-form first-order prediction. Sensor 2 (frame index 1) sits at
+    (0, +b); a bias d on its x axis shifts the centre specific force by d/4 and the
+    gradient Gamma_xz = (f4x - f2x)/2b by -d/2b, so along the flight (z ~ V t)
+    dG_x = -d V t / (2b), and dx = d t^2/8 - d V t^3 / (12 b)."""
+    out = os.path.join(a.workdir, "bias")
+    scen = os.path.join(a.workdir, "bias.toml")
+    d, b, V, T = 1e-9, 0.5, 300.0, 60.0
+    with open(scen, "w") as f:
+        f.write('name = "test-bias-s2x"\n[platform]\na_m = 0.5\nb_m = %r\n[time]\nduration_s = %r\n'
+                '[accel]\nbias_mps2 = [[0, 0, 0], [%r, 0, 0]]\n' % (b, T, d))
+    run(a.ggins_run, out, "--scenario", scen, "--no-plots")
+    s, rows = load(out)
+    check(s["completed"] is True and s["frames_lost"] == 0, "run completed, no frame lost")
+    er, ev, eg, _, _ = nav_errors(rows[-1])
+    t = float(rows[-1]["t_s"])
+    dx = d * t * t / 8 - d * V * t ** 3 / (12 * b)
+    dgx = -d * V * t / (2 * b)
+    check(abs(float(er[0]) - dx) < 0.02 * abs(dx), "x error %.5e m vs predicted %.5e m (2%%)" % (float(er[0]), dx))
+    check(abs(float(eg[0]) - dgx) < 0.02 * abs(dgx), "G_x error %.5e vs predicted %.5e m/s^2 (2%%)" % (float(eg[0]), dgx))
+    check(abs(float(er[1])) < 0.05 * abs(dx), "z error small (%.2e m)" % float(er[1]))
+    fs = s["final"]["position_error_axes_m"]
+    check(abs(fs["x"] - float(er[0])) < 1e-6 * abs(dx), "summary per-axis x error agrees")
+
+
+def test_faults(a):
+    """Injected transport faults in lockstep: drops, duplicates and reordering are
+    detected, recovered and counted, and the navigation is bit for bit the same as
+    a clean run's."""
+    clean = os.path.join(a.workdir, "clean")
+    faulty = os.path.join(a.workdir, "faulty")
+    common = ["--scenario", "welker-table1", "--duration", "30", "--csv-rate", "10", "--no-plots"]
+    run(a.ggins_run, clean, *common)
+    run(a.ggins_run, faulty, *common, "--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
+        "--resend-timeout-ms", "5")
+    sc, rc = load(clean)
+    sf, rf = load(faulty)
+    tr = sf["transport"]
+    inj = tr["injected"]
+    print(json.dumps(tr, indent=1))
+    check(sf["completed"] is True and sf["steps"] == 3001, "faulty run completed all 3001 steps")
+    check(sf["frames_lost"] == 0, "no frame lost")
+    check(inj["dropped"] > 50 and inj["duplicated"] > 50 and inj["reordered"] > 50,
+          "faults were injected (%s)" % inj)
+    # a frame is recovered when the copy that reached the firmware was a retransmission:
+    # one per dropped first transmission (a retransmission may be dropped again)
+    check(0.85 * inj["dropped"] <= sf["frames_recovered"] <= inj["dropped"],
+          "frames_recovered matches the drops (%d recovered, %d drops)" % (sf["frames_recovered"], inj["dropped"]))
+    check(tr["hal_sim"]["frames_duplicate"] >= inj["duplicated"], "hal_sim counted the duplicates")
+    check(tr["hal_sim"]["frames_out_of_order"] >= 0.8 * inj["reordered"],
+          "hal_sim counted the out-of-order frames (%d, %d reordered)" % (tr["hal_sim"]["frames_out_of_order"],
+                                                                       inj["reordered"]))
+    check(sf["steps_rejected"] == 0, "the firmware saw every frame once, in order")
+    cols = [c for c in rc[0] if c.startswith("nav_")]
+    same = len(rc) == len(rf) and all(x[c] == y[c] for x, y in zip(rc, rf) for c in cols)
+    check(same, "navigation outputs identical to the clean run (%d rows x %d columns)" % (len(rc), len(cols)))
+    check(sf["final"]["position_error_m"] == sc["final"]["position_error_m"], "final error identical")
+
+
+def test_realtime(a):
+    """--realtime paces the frames at the sensor rate; frames dropped or reordered
+    on the way are noticed by hal_sim from the seq gap, re-requested and recovered."""
+    out = os.path.join(a.workdir, "realtime")
+    run(a.ggins_run, out, "--scenario", "welker-perfect", "--duration", "3", "--realtime", "--no-plots",
+        "--drop-prob", "0.03", "--reorder-prob", "0.03")
+    s, rows = load(out)
+    check(s["completed"] is True and s["steps"] == 301 and s["frames_lost"] == 0, "301 steps, none lost")
+    hs = s["transport"]["hal_sim"]
+    check(hs["resend_requests"] >= 1 and s["frames_recovered"] >= 1,
+          "gaps re-requested by hal_sim and recovered (%d requests, %d recovered, %d drops)"
+          % (hs["resend_requests"], s["frames_recovered"], s["transport"]["injected"]["dropped"]))
+    check(s["steps_rejected"] == 0, "the firmware saw every frame in order")
+    check(s["mode"] == "realtime", "mode realtime")
+    check(0.8 < s["realtime_factor"] < 1.05, "real-time factor near 1 (%.3f)" % s["realtime_factor"])
+    er, _, eg, _, _ = nav_errors(rows[-1])
+    check(norm(er) < 1e-8 and norm(eg) < 1e-13, "errors at the floor (%.2e m, %.2e m/s^2)" % (norm(er), norm(eg)))
+
+
+def test_shared_url(a):
+    """Two runs in parallel forced onto the SAME LCM URL and channels: the run id
+    keeps them apart (each ignores the other's messages) and both are right."""
+    port = 20000 + os.getpid() % 30000
+    url = "udpm://239.255.76.67:%d?ttl=0" % port
+    outs = [os.path.join(a.workdir, "shared%d" % i) for i in range(2)]
+    procs = []
+    for i, out in enumerate(outs):
+        if os.path.exists(out):
+            shutil.rmtree(out)
+        cmd = [a.ggins_run, "--out", out, "--progress", "off", "--lcm-url", url, "--scenario", "welker-table1",
+               "--seed", str(10 + i), "--duration", "20", "--no-plots", "--no-log"]
+        print("$ " + " ".join(cmd))
+        procs.append(subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True))
+    for p in procs:
+        o, _ = p.communicate(timeout=300)
+        print(o.rstrip())
+        check(p.returncode == 0, "parallel run exit status 0")
+    ss = [load(o)[0] for o in outs]
+    for i, s in enumerate(ss):
+        check(s["completed"] is True and s["steps"] == 2001 and s["frames_lost"] == 0, "run %d complete" % i)
+    foreign = sum(s["transport"]["outputs_foreign"] + s["transport"]["hal_sim"]["foreign_messages"] for s in ss)
+    check(foreign > 0, "the runs did see each other's messages (%d) and ignored them" % foreign)
+    # each equals the same seed flown alone
+    alone = os.path.join(a.workdir, "alone")
+    run(a.ggins_run, alone, "--scenario", "welker-table1", "--seed", "10", "--duration", "20", "--no-plots", "--no-log")
+    s_alone = load(alone)[0]
+    check(s_alone["final"] == ss[0]["final"], "shared-URL run 0 identical to the same seed flown alone")
+
+
+def test_cli(a):
+    """Clear errors on bad input, --help, the built-in list."""
+    p = subprocess.run([a.ggins_run, "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    check(p.returncode == 0 and "summary.json" in p.stdout and "--realtime" in p.stdout, "--help explains the run")
+    p = subprocess.run([a.ggins_run, "--list-scenarios"], stdout=subprocess.PIPE, text=True)
+    check(p.returncode == 0 and "welker-perfect" in p.stdout and "welker-table1" in p.stdout, "built-ins listed")
+    p = subprocess.run([a.ggins_run, "--scenario", "no-such-scenario"], stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    check(p.returncode == 2 and "unknown scenario" in p.stdout, "unknown scenario: exit 2 with message")
+    bad = os.path.join(a.workdir, "bad.toml")
+    with open(bad, "w") as f:
+        f.write("[time]\nduration_s = 10\nrate_hz = 100\nspeed = 3\n")
+    p = subprocess.run([a.ggins_run, "--scenario", bad], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    check(p.returncode == 2 and "unknown key 'time.speed'" in p.stdout, "unknown key: exit 2 naming the key")
+    with open(bad, "w") as f:
+        f.write("[time]\nrate_hz = 300\n")
+    p = subprocess.run([a.ggins_run, "--scenario", bad], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    check(p.returncode == 2 and "integer number of microseconds" in p.stdout, "non-integer step refused")
+    with open(bad, "w") as f:
+        f.write("[time\n")
+    p = subprocess.run([a.ggins_run, "--scenario", bad], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    check(p.returncode == 2 and "line 1" in p.stdout, "TOML syntax error reported with its line")
+    out = os.path.join(a.workdir, "badurl")
+    p = subprocess.run([a.ggins_run, "--out", out, "--lcm-url", "nosuchprovider://x", "--duration", "1"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+    check(p.returncode == 3 and "ip route add 224.0.0.0/4 dev lo" in p.stdout,
+          "LCM unavailable: exit 3 with the multicast fix")
+
+
+TESTS = {"perfect": test_perfect, "bias": test_bias, "faults": test_faults, "realtime": test_realtime,
+         "shared-url": test_shared_url, "cli": test_cli}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("test", choices=sorted(TESTS))
+    ap.add_argument("--ggins-run", required=True)
+    ap.add_argument("--workdir", required=True)
+    a = ap.parse_args()
+    os.makedirs(a.workdir, exist_ok=True)
+    TESTS[a.test](a)
+    if FAILURES:
+        print("\n%d check(s) failed:" % len(FAILURES))
+        for f in FAILURES:
+            print("  " + f)
+        return 1
+    print("\nall checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
