@@ -15,6 +15,10 @@ extern "C" {
 }
 
 #include "ggins/gravity/field.hpp"
+#include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/wgs84.hpp"
+
+#include <vector>
 
 namespace gt {
 
@@ -59,6 +63,38 @@ inline FdErrors fd_check(const Field& f, const Vec3& r, Real hv, Real hg) {
   e.trace = std::fabs(s.gamma.trace());
   e.asym = (s.gamma - s.gamma.transpose()).cwiseAbs().maxCoeff();
   return e;
+}
+
+// Normalised C20 of the WGS-84 normal field, extracted by Gauss-Legendre
+// quadrature of V on the sphere r = a: C_n0 = (r/GM)(r/a)^n 1/2 int V Pbar_n dt.
+inline void gauss_legendre(int n, std::vector<Real>& x, std::vector<Real>& w) {
+  x.resize(n); w.resize(n);
+  for (int i = 0; i < n; ++i) {
+    Real z = std::cos(static_cast<Real>(M_PI) * (i + 0.75L) / (n + 0.5L)), dp = 0;
+    for (int it = 0; it < 100; ++it) {
+      Real p0 = 1, p1 = z;
+      for (int k = 2; k <= n; ++k) { const Real p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k; p0 = p1; p1 = p2; }
+      dp = n * (z * p1 - p0) / (z * z - 1);
+      const Real dz = p1 / dp;
+      z -= dz;
+      if (std::fabs(dz) < 1e-19L) break;
+    }
+    x[i] = z; w[i] = 2 / ((1 - z * z) * dp * dp);
+  }
+}
+
+inline Real normal_c20() {
+  const ggins::gravity::NormalField f;
+  std::vector<Real> x, w;
+  gauss_legendre(48, x, w);
+  const Real a = ggins::gravity::wgs84::kA;
+  Real acc = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Real t = x[i];
+    const Vec3 r(a * std::sqrt(1 - t * t), 0, a * t);
+    acc += w[i] * f.eval(r).potential * std::sqrt(5.0L) * (3 * t * t - 1) / 2;
+  }
+  return 0.5L * acc * a / ggins::gravity::wgs84::kGm;
 }
 
 }  // namespace gt
