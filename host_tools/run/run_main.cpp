@@ -962,8 +962,8 @@ int main(int argc, char** argv) {
       "f = a - G(r + d_i) from the scenario's analytic trajectory and gravitation field\n"
       "(long double, G evaluated at every sensor), adds the scenario's sensor errors and\n"
       "publishes sensor frames; hal_sim (a separate process) implements the firmware's\n"
-      "HAL over LCM and steps the firmware once per frame; lcm-logger records every\n"
-      "channel. In lockstep mode (default) frame k+1 is sent only after the output of\n"
+      "HAL over LCM and steps the firmware once per frame; every message of the run is\n"
+      "recorded to an LCM log (--log). In lockstep mode (default) frame k+1 is sent only after the output of\n"
       "step k arrived, so the run goes as fast as the machine allows and never drops a\n"
       "step: a frame or output that does not arrive within --resend-timeout-ms is sent\n"
       "again; gaps seen by hal_sim are re-requested; all of it is counted.\n\n"
@@ -994,7 +994,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.seed, "override the accelerometer error seed ([accel] seed)");
   app.add_option("--csv-rate", o.csv_rate, "CSV rows per second of flight (default scenario's, 1 Hz)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--truth-rate", o.truth_rate, "truth messages per second on LCM, 0 = every step")
+  app.add_option("--truth-rate", o.truth_rate, "truth messages per second on LCM (default scenario's, 10), 0 = every step")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--drop-prob", o.drop, "inject: drop each frame transmission with this probability")
       ->check(CLI::Range(0.0, 0.99));

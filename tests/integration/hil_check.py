@@ -141,7 +141,8 @@ def norm(v):
 def test_perfect(a):
     """Perfect sensors, 120 s: the whole chain at its numerical floor."""
     out = os.path.join(a.workdir, "perfect")
-    run(a.ggins_run, out, "--scenario", "welker-perfect", "--duration", "120", "--csv-rate", "1")
+    run(a.ggins_run, out, "--scenario", "welker-perfect", "--duration", "120", "--csv-rate", "1",
+        "--truth-rate", "0")
     s, rows = load(out)
     n = 12001
     check(s["completed"] is True, "run completed")
@@ -182,6 +183,12 @@ def test_perfect(a):
     seqs = sorted(struct.unpack_from(">q", d, 16)[0] for ch, d in ev_ if ch == "GGINS_FRAME")
     check(seqs == list(range(n)), "frame seqs in the log are 0..%d" % (n - 1))
     check(s["log"]["complete"] is True, "summary says the log is complete")
+    player = shutil.which("lcm-logplayer")
+    if player:
+        url = "udpm://239.255.76.67:%d?ttl=0" % (20000 + os.getpid() % 30000)
+        p = subprocess.run([player, "-s", "1000", "-l", url, os.path.join(out, "run.lcmlog")],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+        check(p.returncode == 0, "lcm-logplayer plays the log (exit %d)" % p.returncode)
     for f in ("errors.png", "errors_log.png"):
         p = os.path.join(out, f)
         check(os.path.exists(p) and os.path.getsize(p) > 1000, "plot %s written" % f)

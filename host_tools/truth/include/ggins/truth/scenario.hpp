@@ -17,7 +17,7 @@
 //   [firmware]    f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0],
 //                 gravdr_trapezoid_only [false]
 //   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0]
-//   [output]      csv_rate_hz [1], truth_rate_hz [0 = every step]
+//   [output]      csv_rate_hz [1], truth_rate_hz [10; 0 = every step]
 #pragma once
 
 #include <array>
@@ -67,7 +67,7 @@ struct TransportParams {
 
 struct OutputParams {
   double csv_rate_hz = 1.0;
-  double truth_rate_hz = 0.0;  // 0: publish truth every step
+  double truth_rate_hz = 10.0;  // truth messages on LCM per second; 0: every step
 };
 
 struct Scenario {
