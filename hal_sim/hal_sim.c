@@ -10,8 +10,8 @@
  * sensor data belong to the firmware.
  *
  * Transport: frames are put back in seq order through a reorder window.
- * A frame that arrives again after it was used is a duplicate: the cached
- * output is published again (the sender may have lost it) and the firmware
+ * A frame that arrives again after it was used is a duplicate: its cached
+ * output (the last WINDOW are kept) is published again (the sender may have lost it) and the firmware
  * is not stepped twice. A gap (a later frame arrived first) is answered with
  * RESEND requests on GGINS_REQUEST every --gap-timeout-ms; after
  * --max-resend requests for the same frame it is declared lost and skipped
@@ -63,6 +63,8 @@ typedef struct {
     int max_resend;
     double idle_timeout_s;
     int quiet;
+    double drop_output_prob; /* fault injection */
+    uint64_t inject_seed;
 
     lcm_t *lcm;
     gg_nav2d_t nav;
@@ -81,9 +83,11 @@ typedef struct {
     int gap_requests;  /* requests sent for gap_seq */
     double gap_last_request;
 
-    /* last output, for duplicates */
+    /* recent outputs, for duplicates (the sender may have lost our answer) */
     ggins_nav_output_t last_out;
     int have_last_out;
+    ggins_nav_output_t out_ring[WINDOW];
+    uint8_t out_valid[WINDOW];
 
     ggins_hal_status_t st;
     int64_t status_seq, request_seq;
@@ -93,6 +97,28 @@ typedef struct {
 } hal_sim_t;
 
 static volatile sig_atomic_t g_signal = 0;
+
+/* Fault injection: a uniform deviate in [0, 1) that is a pure function of its inputs. */
+static uint64_t mix64(uint64_t x)
+{
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt);
+
+static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t attempt)
+{
+    if (inject_drop(h, m->seq, attempt)) {
+        h->st.outputs_dropped_injected++;
+        return 0;
+    }
+    int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m);
+    if (n < 0 || lcm_publish(h->lcm, h->ch_nav, h->buf, (unsigned)n) != 0) return -1;
+    return 0;
+}
 static void on_signal(int sig) { g_signal = sig; }
 
 static double now_s(void)
@@ -107,6 +133,13 @@ static int64_t wall_us(void)
     struct timespec ts;
     clock_gettime(CLOCK_REALTIME, &ts);
     return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
+static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt)
+{
+    if (!(h->drop_output_prob > 0.0)) return 0;
+    const uint64_t x = mix64(mix64(h->inject_seed ^ 0x6f7574ull) ^ (uint64_t)seq) ^ mix64(attempt + 1);
+    return (double)(mix64(x) >> 11) * 0x1.0p-53 < h->drop_output_prob;
 }
 
 /* ---- HAL operations ---------------------------------------------------- */
@@ -148,12 +181,12 @@ static gg_status_t hal_write_output(void *ctx, const gg_nav_output_t *o)
     for (int j = 0; j < GG_MOD_COUNT; ++j) m->cycles[j] = (int64_t)o->cycles[j];
     m->republished = 0;
     h->have_last_out = 1;
+    h->out_ring[o->seq & (WINDOW - 1)] = *m;
+    h->out_valid[o->seq & (WINDOW - 1)] = 1;
     h->st.steps++;
     if (o->status != GG_OK) h->st.steps_rejected++;
     if (o->health & GG_HEALTH_DEADLINE) h->st.deadline_overruns++;
-    int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m);
-    if (n < 0 || lcm_publish(h->lcm, h->ch_nav, h->buf, (unsigned)n) != 0) return GG_ERR_IO;
-    return GG_OK;
+    return publish_output(h, m, 0) == 0 ? GG_OK : GG_ERR_IO;
 }
 
 static uint32_t hal_cycle_count(void *ctx)
@@ -216,10 +249,10 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     const int64_t s = m.seq;
     if (s < h->next) {
         h->st.frames_duplicate++;
-        if (h->have_last_out && s == h->last_out.seq) { /* the sender probably lost our answer */
-            h->last_out.republished = 1;
-            int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &h->last_out);
-            if (n > 0) lcm_publish(h->lcm, h->ch_nav, h->buf, (unsigned)n);
+        ggins_nav_output_t *o = &h->out_ring[s & (WINDOW - 1)];
+        if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o->seq == s) { /* the sender probably lost our answer */
+            if (o->republished < 127) o->republished++;
+            publish_output(h, o, (uint64_t)o->republished);
             h->st.outputs_republished++;
         }
         return;
@@ -382,6 +415,8 @@ static void usage(FILE *out)
             "  --gap-timeout-ms MS    re-request a missing frame every MS ms (default 20)\n"
             "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"
             "  --idle-timeout-s S     exit (status 3) after S s without a message (default 60)\n"
+            "  --drop-output-prob P   fault injection: do not send an output with probability P\n"
+            "  --inject-seed N        seed of the fault injection (default 1)\n"
             "  --quiet                no diagnostics on stderr\n"
             "  --help                 this text\n\n"
             "exit status: 0 after STOP, 1 bad usage or LCM failure, 3 idle timeout, 4 signal\n");
@@ -400,9 +435,11 @@ int main(int argc, char **argv)
         {"lcm-url", required_argument, 0, 'u'}, {"prefix", required_argument, 0, 'p'},
         {"run-id", required_argument, 0, 'r'}, {"gap-timeout-ms", required_argument, 0, 'g'},
         {"max-resend", required_argument, 0, 'm'}, {"idle-timeout-s", required_argument, 0, 'i'},
-        {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+        {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
+        {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'}, {0, 0, 0, 0}};
     int c;
-    while ((c = getopt_long(argc, argv, "u:p:r:g:m:i:qh", opts, NULL)) != -1) {
+    h.inject_seed = 1;
+    while ((c = getopt_long(argc, argv, "u:p:r:g:m:i:qhd:s:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
@@ -412,6 +449,8 @@ int main(int argc, char **argv)
         case 'm': h.max_resend = (int)strtol(optarg, &end, 0); if (*end || h.max_resend < 0) goto bad; break;
         case 'i': h.idle_timeout_s = strtod(optarg, &end); if (*end || !(h.idle_timeout_s > 0)) goto bad; break;
         case 'q': h.quiet = 1; break;
+        case 'd': h.drop_output_prob = strtod(optarg, &end); if (*end || !(h.drop_output_prob >= 0.0 && h.drop_output_prob < 1.0)) goto bad; break;
+        case 's': h.inject_seed = strtoull(optarg, &end, 0); if (*end) goto bad; break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 1;
         }

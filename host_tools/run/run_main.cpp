@@ -222,7 +222,7 @@ struct Options {
   std::optional<double> duration_s;
   std::optional<uint64_t> seed;
   std::optional<double> csv_rate, truth_rate;
-  std::optional<double> drop, dup, reorder;
+  std::optional<double> drop, dup, reorder, drop_output;
   std::string lcm_url;
   std::string prefix = "GGINS_";
   int resend_timeout_ms = 50;
@@ -535,7 +535,9 @@ void Runner::start_logger() {
 
 void Runner::start_hal_sim() {
   hal_pid_ = spawn({opt_.hal_sim, "--lcm-url", url_, "--prefix", opt_.prefix, "--run-id", std::to_string(run_id_),
-                    "--gap-timeout-ms", std::to_string(std::max(2, opt_.resend_timeout_ms / 2)), "--idle-timeout-s", "30"},
+                    "--gap-timeout-ms", std::to_string(std::max(2, opt_.resend_timeout_ms / 2)), "--idle-timeout-s", "30",
+                    "--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
+                    std::to_string(sc_.transport.seed)},
                    out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
@@ -683,7 +685,7 @@ void Runner::loop_realtime() {
     ++rounds;
     int burst = 0;
     for (int64_t k = 0; k < n_ && burst < 256; ++k)
-      if (!got_[static_cast<size_t>(k)] && (hal_ ? k >= hal_->next_seq - 1 : true)) {
+      if (!got_[static_cast<size_t>(k)]) {
         ++resend_timeouts_;
         send_frame(k, true);
         ++burst;
@@ -870,7 +872,9 @@ json Runner::run() {
   }
   // transport
   const int64_t hal_recovered = hal_ ? hal_->frames_recovered : 0;
-  s["frames_lost"] = hal_ ? hal_->frames_lost + (n_ - outputs_) : n_ - outputs_;
+  // steps without a navigation output at the end of the run (a frame hal_sim gave
+  // up on, or an output that never came back despite resends)
+  s["frames_lost"] = n_ - outputs_;
   s["frames_recovered"] = hal_recovered;
   json tr;
   tr["frames_published"] = frames_published_;
@@ -897,7 +901,8 @@ json Runner::run() {
                      {"outputs_republished", h.outputs_republished},
                      {"decode_errors", h.decode_errors},
                      {"foreign_messages", h.foreign_messages},
-                     {"deadline_overruns", h.deadline_overruns}};
+                     {"deadline_overruns", h.deadline_overruns},
+                     {"outputs_dropped_injected", h.outputs_dropped_injected}};
   }
   s["transport"] = tr;
   s["wall_s"] = wall_loop_;
@@ -1001,6 +1006,8 @@ int main(int argc, char** argv) {
   app.add_option("--dup-prob", o.dup, "inject: send a frame twice with this probability")->check(CLI::Range(0.0, 0.99));
   app.add_option("--reorder-prob", o.reorder, "inject: send frame k+1 before frame k with this probability")
       ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--drop-output-prob", o.drop_output, "inject: hal_sim drops each navigation output with this probability")
+      ->check(CLI::Range(0.0, 0.99));
   app.add_option("--resend-timeout-ms", o.resend_timeout_ms, "resend a frame whose output is this late, ms")
       ->capture_default_str()
       ->check(CLI::Range(1, 60000));
@@ -1049,6 +1056,7 @@ int main(int argc, char** argv) {
     if (o.drop) sc.transport.drop_prob = *o.drop;
     if (o.dup) sc.transport.duplicate_prob = *o.dup;
     if (o.reorder) sc.transport.reorder_prob = *o.reorder;
+    if (o.drop_output) sc.transport.output_drop_prob = *o.drop_output;
     if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ggins run: %s\n", e.what());
@@ -1081,8 +1089,8 @@ int main(int argc, char** argv) {
     f << "# scenario " << sc.name << " from " << sc.source << "\n";
     f << "# effective after command-line overrides: duration_s = " << sc.duration_s << ", accel.seed = " << sc.accel.seed
       << ", csv_rate_hz = " << sc.output.csv_rate_hz << ", truth_rate_hz = " << sc.output.truth_rate_hz
-      << ", drop/dup/reorder = " << sc.transport.drop_prob << "/" << sc.transport.duplicate_prob << "/"
-      << sc.transport.reorder_prob << "\n"
+      << ", drop/dup/reorder/output-drop = " << sc.transport.drop_prob << "/" << sc.transport.duplicate_prob << "/"
+      << sc.transport.reorder_prob << "/" << sc.transport.output_drop_prob << "\n"
       << sc.text;
   }
   struct sigaction sa {};

@@ -229,7 +229,7 @@ def test_faults(a):
     common = ["--scenario", "welker-table1", "--duration", "30", "--csv-rate", "10", "--no-plots"]
     run(a.ggins_run, clean, *common)
     run(a.ggins_run, faulty, *common, "--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
-        "--resend-timeout-ms", "5")
+        "--drop-output-prob", "0.05", "--resend-timeout-ms", "5")
     sc, rc = load(clean)
     sf, rf = load(faulty)
     tr = sf["transport"]
@@ -248,6 +248,10 @@ def test_faults(a):
           "hal_sim counted the out-of-order frames (%d, %d reordered)" % (tr["hal_sim"]["frames_out_of_order"],
                                                                        inj["reordered"]))
     check(sf["steps_rejected"] == 0, "the firmware saw every frame once, in order")
+    hd = tr["hal_sim"]["outputs_dropped_injected"]
+    check(hd > 50 and tr["outputs_recovered"] >= hd - 5,
+          "lost outputs recovered by resending the frame (%d dropped, %d recovered, %d republished)"
+          % (hd, tr["outputs_recovered"], tr["hal_sim"]["outputs_republished"]))
     cols = [c for c in rc[0] if c.startswith("nav_")]
     same = len(rc) == len(rf) and all(x[c] == y[c] for x, y in zip(rc, rf) for c in cols)
     check(same, "navigation outputs identical to the clean run (%d rows x %d columns)" % (len(rc), len(cols)))

@@ -16,7 +16,7 @@
 //                 scale = [[sx,sy,sz] x n] [0]
 //   [firmware]    f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0],
 //                 gravdr_trapezoid_only [false]
-//   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0]
+//   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0], output_drop_prob [0]
 //   [output]      csv_rate_hz [1], truth_rate_hz [10; 0 = every step]
 #pragma once
 
@@ -62,7 +62,8 @@ struct TransportParams {
   uint64_t seed = 1;
   double drop_prob = 0.0;       // first transmission of a frame silently dropped
   double duplicate_prob = 0.0;  // frame sent twice
-  double reorder_prob = 0.0;    // frame held back and sent after the next one (realtime mode)
+  double reorder_prob = 0.0;    // frame k+1 sent before frame k
+  double output_drop_prob = 0.0;  // hal_sim does not send a navigation output
 };
 
 struct OutputParams {
