@@ -104,20 +104,135 @@ FieldSample LatticeField::eval(const Vec3& r) const {
   return s;
 }
 
-FastField::FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> anomaly, LatticeOptions opt)
-    : normal_(std::move(normal)), lattice_(std::move(anomaly), opt) {
-  if (!normal_) throw std::invalid_argument("FastField: null normal field");
+FastField::FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> fast_anomaly)
+    : normal_(std::move(normal)), anomaly_(std::move(fast_anomaly)) {
+  if (!normal_ || !anomaly_) throw std::invalid_argument("FastField: null field");
 }
+
+FastField::FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> smooth_anomaly, LatticeOptions opt)
+    : FastField(std::move(normal), std::make_shared<LatticeField>(std::move(smooth_anomaly), opt)) {}
 
 FieldSample FastField::eval(const Vec3& r) const {
   FieldSample s = normal_->eval(r);
-  const FieldSample a = lattice_.eval(r);
+  const FieldSample a = anomaly_->eval(r);
   s.potential += a.potential;
   s.g += a.g;
   s.gamma += a.gamma;
   return s;
 }
 
-std::string FastField::name() const { return "fast(" + normal_->name() + " + " + lattice_.name() + ")"; }
+std::string FastField::name() const { return "fast(" + normal_->name() + " + " + anomaly_->name() + ")"; }
+
+// ---- Ewald-split point masses ----------------------------------------------
+
+namespace {
+
+// Long-range kernel f(rho) = erf(rho/sigma)/rho written as f = c S(y),
+// y = rho^2/sigma^2, c = 2/(sqrt(pi) sigma), S(y) = sum_n (-1)^n y^n / (n! (2n+1))
+// (series of erf, Abramowitz & Stegun 7.1.5). With d = r - r_i:
+//   grad f = c S'(y) 2d/sigma^2,   grad grad f = c [S''(y) 4 d d^T/sigma^4 + S'(y) 2I/sigma^2].
+// For y < 1 S, S', S'' by the series (no cancellation); beyond, by the closed forms
+//   f' = G/rho - erf/rho^2, f'' = -2G/sigma^2 - 2G/rho^2 + 2 erf/rho^3, G = c e^{-y},
+//   grad f = f' u, grad grad f = f'' u u^T + f'/rho (I - u u^T).
+struct Kernel { Real f, a, b; };  // f, grad f = a d, grad grad f = b d d^T + a I
+Kernel erf_kernel(const Vec3& d, Real sigma) {
+  const Real c = 2.0L / (std::sqrt(static_cast<Real>(M_PI)) * sigma);
+  const Real r2 = d.squaredNorm(), y = r2 / (sigma * sigma);
+  Kernel k{};
+  if (y < 1) {
+    Real s0 = 0, s1 = 0, s2 = 0, fact = 1, pw[32];
+    pw[0] = 1;
+    for (int n = 1; n < 32; ++n) pw[n] = pw[n - 1] * y;
+    for (int n = 0; n < 30; ++n) {
+      if (n > 0) fact *= n;
+      const Real an = ((n % 2) ? -1.0L : 1.0L) / (fact * (2 * n + 1));
+      s0 += an * pw[n];
+      if (n >= 1) s1 += n * an * pw[n - 1];
+      if (n >= 2) s2 += n * (n - 1) * an * pw[n - 2];
+    }
+    const Real is2 = 1.0L / (sigma * sigma);
+    k.f = c * s0;
+    k.a = c * s1 * 2 * is2;
+    k.b = c * s2 * 4 * is2 * is2;
+    return k;
+  }
+  const Real rho = std::sqrt(r2), e = std::erf(rho / sigma), G = c * std::exp(-y);
+  const Real f1 = G / rho - e / r2;
+  const Real f2 = -2 * G / (sigma * sigma) - 2 * G / r2 + 2 * e / (r2 * rho);
+  k.f = e / rho;
+  k.a = f1 / rho;                  // grad f = (f'/rho) d
+  k.b = (f2 - f1 / rho) / r2;      // grad grad f = (f'' - f'/rho) u u^T + f'/rho I
+  return k;
+}
+
+void accumulate(FieldSample& s, Real gm, const Vec3& d, const Kernel& k) {
+  s.potential += gm * k.f;
+  s.g += gm * k.a * d;  // G = grad V = gm f'(rho) u = gm (f'/rho) d
+  s.gamma += gm * (k.b * d * d.transpose() + k.a * Mat3::Identity());
+}
+
+}  // namespace
+
+ErfPointMassField::ErfPointMassField(std::shared_ptr<const std::vector<PointMass>> masses, Real sigma)
+    : masses_(std::move(masses)), sigma_(sigma) {}
+
+FieldSample ErfPointMassField::eval(const Vec3& r) const {
+  FieldSample s;
+  for (const PointMass& m : *masses_) accumulate(s, m.gm, r - m.r_e, erf_kernel(r - m.r_e, sigma_));
+  return s;
+}
+
+}  // namespace ggins::gravity
+
+namespace ggins::gravity {
+
+SplitPointMassField::SplitPointMassField(const std::vector<PointMass>& masses, Real sigma, LatticeOptions far)
+    : masses_(std::make_shared<const std::vector<PointMass>>(masses)),
+      sigma_(sigma),
+      cell_(6.5L * sigma),
+      far_(std::make_shared<ErfPointMassField>(masses_, sigma), far) {
+  if (!(sigma > 0)) throw std::invalid_argument("SplitPointMassField: sigma must be positive");
+  for (std::uint32_t i = 0; i < masses_->size(); ++i) {
+    const Vec3& p = (*masses_)[i].r_e;
+    cells_[{static_cast<std::int64_t>(std::floor(p.x() / cell_)), static_cast<std::int64_t>(std::floor(p.y() / cell_)),
+            static_cast<std::int64_t>(std::floor(p.z() / cell_))}]
+        .push_back(i);
+  }
+}
+
+std::string SplitPointMassField::name() const {
+  return "split-point-masses(n=" + std::to_string(masses_->size()) + ", sigma=" + std::to_string(static_cast<double>(sigma_)) +
+         " m, far: " + far_.name() + ")";
+}
+
+FieldSample SplitPointMassField::eval(const Vec3& r) const {
+  FieldSample s = far_.eval(r);
+  const std::int64_t c[3] = {static_cast<std::int64_t>(std::floor(r.x() / cell_)), static_cast<std::int64_t>(std::floor(r.y() / cell_)),
+                             static_cast<std::int64_t>(std::floor(r.z() / cell_))};
+  const Real cut2 = cell_ * cell_;
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j)
+      for (int k = -1; k <= 1; ++k) {
+        const auto it = cells_.find({c[0] + i, c[1] + j, c[2] + k});
+        if (it == cells_.end()) continue;
+        for (std::uint32_t idx : it->second) {
+          const PointMass& m = (*masses_)[idx];
+          const Vec3 d = r - m.r_e;
+          const Real r2 = d.squaredNorm();
+          if (r2 >= cut2) continue;
+          if (!(r2 > 0)) throw std::domain_error("SplitPointMassField: evaluation at a mass");
+          // short range = exact point mass - erf kernel (= gm erfc(rho/sigma)/rho)
+          const Real ir2 = 1.0L / r2, ir = std::sqrt(ir2), k3 = m.gm * ir * ir2;
+          s.potential += m.gm * ir;
+          s.g -= k3 * d;
+          s.gamma += k3 * (3.0L * ir2 * d * d.transpose() - Mat3::Identity());
+          const Kernel e = erf_kernel(d, sigma_);
+          s.potential -= m.gm * e.f;
+          s.g -= m.gm * e.a * d;
+          s.gamma -= m.gm * (e.b * d * d.transpose() + e.a * Mat3::Identity());
+        }
+      }
+  return s;
+}
 
 }  // namespace ggins::gravity

@@ -14,12 +14,23 @@
 // per axis (e.g. Davis 1975, "Interpolation and Approximation", thm 3.1.1);
 // tests/gravity/test_fast.cpp measures it against the exact field.
 //
+// SplitPointMassField: a point-mass anomaly field split as in Ewald summation,
+//   1/rho = erfc(rho/sigma)/rho + erf(rho/sigma)/rho:
+// the short-range part (erfc) is summed exactly over the masses within
+// 6.5 sigma of the query (erfc(6.5) = 4e-20; a spatial hash finds them); the
+// long-range part (erf), an entire function with a Gaussian spectrum
+// exp(-k^2 sigma^2/4), is smooth on the scale sigma everywhere (also near
+// and at the masses) and goes on a LatticeField. So the lattice spacing is
+// set by sigma, not by the distance to the nearest mass.
+//
 // FastField: the WGS-84 normal field evaluated exactly at every call plus a
-// LatticeField of the anomaly.
+// fast anomaly field (a LatticeField of a smooth anomaly such as EGM96 minus
+// normal, or a SplitPointMassField).
 #pragma once
 
 #include "ggins/gravity/field.hpp"
 #include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/point_anomaly.hpp"
 
 #include <array>
 #include <atomic>
@@ -27,6 +38,7 @@
 #include <memory>
 #include <mutex>
 #include <unordered_map>
+#include <vector>
 
 namespace ggins::gravity {
 
@@ -69,17 +81,51 @@ class LatticeField final : public Field {
   static std::atomic<std::uint64_t> next_id_;
 };
 
-class FastField final : public Field {
+// Long-range part sum_i gm_i erf(rho_i/sigma)/rho_i, exact (a lattice source).
+class ErfPointMassField final : public Field {
  public:
-  // anomaly: the field to add to the normal one (e.g. SumField{+total, -normal}).
-  FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> anomaly, LatticeOptions opt);
+  ErfPointMassField(std::shared_ptr<const std::vector<PointMass>> masses, Real sigma);
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override { return "erf-point-masses"; }
+
+ private:
+  std::shared_ptr<const std::vector<PointMass>> masses_;
+  Real sigma_;
+};
+
+class SplitPointMassField final : public Field {
+ public:
+  SplitPointMassField(const std::vector<PointMass>& masses, Real sigma, LatticeOptions far);
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override;
-  const LatticeField& lattice() const { return lattice_; }
+  const LatticeField& lattice() const { return far_; }
+  Real sigma() const { return sigma_; }
+
+ private:
+  struct CellHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+      return static_cast<std::size_t>((k[0] * 73856093) ^ (k[1] * 19349663) ^ (k[2] * 83492791));
+    }
+  };
+  std::shared_ptr<const std::vector<PointMass>> masses_;
+  Real sigma_, cell_;
+  std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>, CellHash> cells_;
+  LatticeField far_;
+};
+
+class FastField final : public Field {
+ public:
+  // fast_anomaly: the field added to the exact normal one.
+  FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> fast_anomaly);
+  // Convenience: smooth anomaly (e.g. SumField{+EGM96, -normal}) on a LatticeField.
+  FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> smooth_anomaly, LatticeOptions opt);
+  FieldSample eval(const Vec3& r_e) const override;
+  std::string name() const override;
+  const Field& anomaly() const { return *anomaly_; }
 
  private:
   std::shared_ptr<const NormalField> normal_;
-  LatticeField lattice_;
+  std::shared_ptr<const Field> anomaly_;
 };
 
 }  // namespace ggins::gravity
