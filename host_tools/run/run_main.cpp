@@ -311,12 +311,13 @@ class Runner {
 
 // ---- LCM handlers ---------------------------------------------------------------
 void Runner::on_nav(const lcm_recv_buf_t* rb) {
-  record(rb, ch_nav_);
   ggins::nav_output_t m{};
   if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
+    record(rb, ch_nav_);  // on our channel but undecodable: keep it as evidence
     ++decode_errors_;
     return;
   }
+  if (m.run_id == run_id_) record(rb, ch_nav_);  // another run's traffic stays out of our log
   if (m.run_id != run_id_) {
     ++outputs_foreign_;
     return;
@@ -382,23 +383,25 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
 }
 
 void Runner::on_hal(const lcm_recv_buf_t* rb) {
-  record(rb, ch_hal_);
   ggins::hal_status_t m{};
   if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
+    record(rb, ch_hal_);  // on our channel but undecodable: keep it as evidence
     ++decode_errors_;
     return;
   }
+  if (m.run_id == run_id_) record(rb, ch_hal_);  // another run's traffic stays out of our log
   if (m.run_id != run_id_) return;
   if (!hal_ || m.seq >= hal_->seq) hal_ = m;
 }
 
 void Runner::on_req(const lcm_recv_buf_t* rb) {
-  record(rb, ch_request_);
   ggins::run_control_t m{};
   if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
+    record(rb, ch_request_);  // on our channel but undecodable: keep it as evidence
     ++decode_errors_;
     return;
   }
+  if (m.run_id == run_id_) record(rb, ch_request_);  // another run's traffic stays out of our log
   if (m.run_id != run_id_ || m.command != ggins::run_control_t::RESEND) return;
   if (m.resend_seq < 0 || m.resend_seq >= n_) return;
   ++resend_on_request_;
@@ -1073,12 +1076,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   fs::path out = o.out.empty() ? fs::path("out") / (sc.name + "-" + utc_stamp()) : fs::path(o.out);
-  if (o.out.empty()) {
-    std::error_code ec;
-    for (int i = 2; fs::exists(out, ec); ++i) out = fs::path("out") / (sc.name + "-" + utc_stamp() + "-" + std::to_string(i));
-  }
   std::error_code ec;
-  fs::create_directories(out, ec);
+  if (o.out.empty()) {  // a fresh folder, also when runs start in the same second
+    fs::create_directories(out.parent_path(), ec);
+    const std::string stem = out.string();
+    for (int i = 2; !ec && !fs::create_directory(out, ec) && i < 10000; ++i) out = stem + "-" + std::to_string(i);
+  } else {
+    fs::create_directories(out, ec);
+  }
   if (ec) {
     std::fprintf(stderr, "ggins run: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
     return 2;
