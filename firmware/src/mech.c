@@ -36,9 +36,11 @@ gg_status_t gg_mech_init(gg_mech_t *st, const gg_mech_config_t *cfg)
         gg_acc_set(&st->r[j], cfg->r0[j]);
         gg_acc_set(&st->v[j], cfg->v0[j]);
         st->a[j] = cfg->a0[j];
+        st->a_prev[j] = cfg->a0[j];
         st->dr[j] = 0.0L;
     }
     st->pending = 0;
+    st->have_prev = 0;
     st->initialized = 1;
     return GG_OK;
 }
@@ -54,8 +56,10 @@ gg_status_t gg_mech_step_position(gg_mech_t *st, gg_real_t dr[3])
     }
     for (j = 0U; j < 3U; ++j) {
         const gg_real_t dt = st->dt_s;
-        /* dr = v dt + a dt^2 / 2, with the velocity's low part kept */
-        st->dr[j] = (st->v[j].hi * dt) + ((st->v[j].lo * dt) + (0.5L * st->a[j] * dt * dt));
+        /* dr = v dt + a dt^2/2 + (a - a_prev) dt^2/6, velocity's low part kept */
+        const gg_real_t jerk = (st->have_prev != 0) ? ((st->a[j] - st->a_prev[j]) / 6.0L) : 0.0L;
+        st->dr[j] =
+            (st->v[j].hi * dt) + ((st->v[j].lo * dt) + (((0.5L * st->a[j]) + jerk) * dt * dt));
         dr[j] = st->dr[j];
     }
     for (j = 0U; j < 3U; ++j) {
@@ -96,9 +100,16 @@ gg_status_t gg_mech_step_velocity(gg_mech_t *st, const gg_real_t f_next[3],
         a_next[j] = (f_next[j] + g_next[j].hi) + g_next[j].lo;
     }
     for (j = 0U; j < 3U; ++j) {
-        gg_acc_add(&st->v[j], 0.5L * (st->a[j] + a_next[j]) * st->dt_s);
+        gg_real_t dv = 0.5L * (st->a[j] + a_next[j]) * st->dt_s;
+        if (st->have_prev != 0) {
+            const gg_real_t d2 = (a_next[j] - (2.0L * st->a[j])) + st->a_prev[j];
+            dv -= (d2 * st->dt_s) / 12.0L;
+        }
+        gg_acc_add(&st->v[j], dv);
+        st->a_prev[j] = st->a[j];
         st->a[j] = a_next[j];
     }
+    st->have_prev = 1;
     st->pending = 0;
     return GG_OK;
 }
@@ -120,6 +131,7 @@ gg_status_t gg_mech_correct(gg_mech_t *st, const gg_real_t dr[3], const gg_real_
         gg_acc_add(&st->r[j], dr[j]);
         gg_acc_add(&st->v[j], dv[j]);
         st->a[j] += da[j];
+        st->a_prev[j] += da[j]; /* a shift, not a jerk */
     }
     return GG_OK;
 }

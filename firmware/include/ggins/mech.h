@@ -4,11 +4,16 @@
  *        (Welker, Pachter & Huffman, section V, with the sign convention of
  *        DESIGN.md: f = a - G, so a = f + G).
  *
- * Fixed-step velocity Verlet (second order in position and velocity):
- *   position:  dr = v_k dt + 1/2 a_k dt^2;  r_{k+1} = r_k + dr
+ * Fixed-step velocity Verlet with end corrections (h = dt, a_k = f_k + G_k):
+ *   position:  dr = v_k h + h^2/2 a_k + h^2/6 (a_k - a_{k-1});  r_{k+1} = r_k + dr
  *   (the caller now obtains G_{k+1} at r_{k+1}, e.g. gg_gravdr_step with dr)
- *   velocity:  a_{k+1} = f_{k+1} + G_{k+1};  v_{k+1} = v_k + 1/2 (a_k + a_{k+1}) dt
- * so G at the end of the step is the one at the end-of-step position.
+ *   velocity:  a_{k+1} = f_{k+1} + G_{k+1};
+ *              v_{k+1} = v_k + h/2 (a_k + a_{k+1}) - h/12 (a_{k+1} - 2 a_k + a_{k-1})
+ * so G at the end of the step is the one at the end-of-step position. The
+ * correction terms are the Taylor jerk term (backward difference) and the
+ * Euler-Maclaurin end correction of the trapezoid: local error O(h^4), third
+ * order globally (plain Verlet, second order, left 7e-8 m after a 10 h
+ * flight at 100 Hz). The first step, with no a_{k-1}, is plain Verlet.
  * Position and velocity are compensated accumulators (real.h).
  * Frame: inertial (platform axes = inertial axes). Vectors are 3-D.
  */
@@ -30,6 +35,8 @@ typedef struct {
     gg_acc_t r[3];         /**< position, m */
     gg_acc_t v[3];         /**< velocity, m/s */
     gg_real_t a[3];        /**< acceleration at the current step, m/s^2 */
+    gg_real_t a_prev[3];   /**< acceleration one step earlier, m/s^2 */
+    int have_prev;         /**< a_prev valid */
     gg_real_t dr[3];       /**< displacement of the pending step, m */
     gg_acc_t r_prev[3];    /**< position before the pending step (for roll-back) */
     int pending;           /**< 1 between position and velocity half-steps */
