@@ -4,6 +4,7 @@
 #include "test_util.hpp"
 
 #include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/spherical_harmonic.hpp"
 #include "ggins/gravity/wgs84.hpp"
 
 #include <vector>
@@ -93,6 +94,14 @@ static void test_c20_published(void**) {
   assert_true(std::fabs(c20 - wgs84::kPubC20) < 2e-15L);
 }
 
+// J2 of the level ellipsoid from its defining constants, H&M eq. (2-90), as
+// used by subtract_normal(), equals the published one (-sqrt(5) C20).
+static void test_j2_formula(void**) {
+  const Real pub = -std::sqrt(5.0L) * wgs84::kPubC20;
+  std::printf("  J2 from (2-90) %.15Le, published %.15Le\n", normal_j2n(1), pub);
+  assert_true(std::fabs(normal_j2n(1) - pub) < 1e-17L);
+}
+
 static void test_fd_laplace(void**) {
   const NormalField f;
   Real wg = 0, wgam = 0, wtr = 0, was = 0;
@@ -112,7 +121,7 @@ int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_somigliana_u0_direction), cmocka_unit_test(test_no_centrifugal),
       cmocka_unit_test(test_against_zonal_series),    cmocka_unit_test(test_c20_published),
-      cmocka_unit_test(test_fd_laplace),
+      cmocka_unit_test(test_j2_formula),              cmocka_unit_test(test_fd_laplace),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

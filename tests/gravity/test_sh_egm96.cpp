@@ -74,6 +74,23 @@ static void test_disturbance_plausible(void**) {
   assert_true(wn < 110);
 }
 
+// Disturbing field from subtract_normal() in double precision equals the
+// long-double total EGM96 minus the closed-form normal field.
+static void test_disturbance_coefficients(void**) {
+  const SphericalHarmonicField t(subtract_normal(g_egm->coefficients()), 360, 2, ShPrecision::Double);
+  const NormalField nf;
+  Real eg = 0, eG = 0;
+  for (Real lat : {0.1L, 0.7L, -1.2L, 89.999L * kDeg}) {
+    const Vec3 r = wgs84::geodetic_to_ecef(lat, 0.3L, 3000);
+    const FieldSample a = g_egm->eval(r), n = nf.eval(r), d = t.eval(r);
+    eg = std::max(eg, (a.g - n.g - d.g).cwiseAbs().maxCoeff());
+    eG = std::max(eG, (a.gamma - n.gamma - d.gamma).cwiseAbs().maxCoeff());
+  }
+  std::printf("  subtract_normal (double) vs EGM96 - normal (long double): G %.2Le m/s^2, Gamma %.2Le E\n", eg, eG * 1e9L);
+  assert_true(eg < 1e-15L);
+  assert_true(eG < 1e-19L);  // 1e-10 E
+}
+
 int main() {
   if (!gt::have_file(gt::egm96_path())) {
     std::printf("SKIP: %s absent; run scripts/fetch-egm96\n", gt::egm96_path().c_str());
@@ -82,7 +99,7 @@ int main() {
   g_egm = std::make_unique<SphericalHarmonicField>(read_nasa_ascii(gt::egm96_path()), 360);
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_fd), cmocka_unit_test(test_j2_vs_normal), cmocka_unit_test(test_pole_continuity),
-      cmocka_unit_test(test_disturbance_plausible),
+      cmocka_unit_test(test_disturbance_plausible), cmocka_unit_test(test_disturbance_coefficients),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

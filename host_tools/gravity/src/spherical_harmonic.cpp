@@ -1,5 +1,7 @@
 #include "ggins/gravity/spherical_harmonic.hpp"
 
+#include "ggins/gravity/wgs84.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -158,100 +160,122 @@ Real ShDerivatives::at(int ax, int ay, int az) const {
   throw std::out_of_range("ShDerivatives::at");
 }
 
-SphericalHarmonicField::SphericalHarmonicField(ShCoefficients coeffs, int nmax, int max_order)
-    : k_(std::move(coeffs)), nmax_(nmax < 0 ? k_.nmax : nmax), jmax_(std::max(2, max_order)) {
+SphericalHarmonicField::SphericalHarmonicField(ShCoefficients coeffs, int nmax, int max_order, ShPrecision precision)
+    : k_(std::move(coeffs)), nmax_(nmax < 0 ? k_.nmax : nmax), jmax_(std::max(2, max_order)), prec_(precision) {
   if (nmax_ > k_.nmax) throw std::invalid_argument("SphericalHarmonicField: nmax above the coefficients' degree");
   if (!(k_.gm > 0) || !(k_.a > 0)) throw std::invalid_argument("SphericalHarmonicField: GM and a must be positive");
+  if (prec_ == ShPrecision::Double) fill(td_);
+  else fill(tl_);
+}
+
+template <class T>
+void SphericalHarmonicField::fill(Tables<T>& t) const {
   const int L = nmax_ + jmax_;
   const std::size_t nl = ShCoefficients::idx(L, L) + 1;
-  sec_.assign(L + 1, 0); anm_.assign(nl, 0); bnm_.assign(nl, 0);
-  for (int m = 1; m <= L; ++m) sec_[m] = (m == 1) ? std::sqrt(3.0L) : std::sqrt((2.0L * m + 1) / (2.0L * m));
+  t.sec.assign(L + 1, 0); t.anm.assign(nl, 0); t.bnm.assign(nl, 0);
+  for (int m = 1; m <= L; ++m) t.sec[m] = static_cast<T>((m == 1) ? std::sqrt(3.0L) : std::sqrt((2.0L * m + 1) / (2.0L * m)));
   for (int m = 0; m <= L; ++m)
     for (int n = m + 1; n <= L; ++n) {
       const auto i = ShCoefficients::idx(n, m);
       const Real nn = n, mm = m;
-      anm_[i] = std::sqrt((2 * nn - 1) * (2 * nn + 1) / ((nn - mm) * (nn + mm)));
-      bnm_[i] = (n >= m + 2) ? std::sqrt((2 * nn + 1) * (nn + mm - 1) * (nn - mm - 1) / ((2 * nn - 3) * (nn + mm) * (nn - mm))) : 0;
+      t.anm[i] = static_cast<T>(std::sqrt((2 * nn - 1) * (2 * nn + 1) / ((nn - mm) * (nn + mm))));
+      t.bnm[i] = static_cast<T>((n >= m + 2) ? std::sqrt((2 * nn + 1) * (nn + mm - 1) * (nn - mm - 1) / ((2 * nn - 3) * (nn + mm) * (nn - mm))) : 0);
     }
   const std::size_t nk = ShCoefficients::idx(nmax_, nmax_) + 1;
-  ratio_.resize(jmax_ + 1);
+  t.ratio.resize(jmax_ + 1);
   for (int j = 0; j <= jmax_; ++j) {
-    ratio_[j].assign(nk * (2 * j + 1), 0);
+    t.ratio[j].assign(nk * (2 * j + 1), 0);
     for (int n = 0; n <= nmax_; ++n)
       for (int m = 0; m <= n; ++m)
         for (int s = -j; s <= j; ++s)
-          ratio_[j][ShCoefficients::idx(n, m) * (2 * j + 1) + (s + j)] = norm_ratio(n, m, n + j, m + s);
+          t.ratio[j][ShCoefficients::idx(n, m) * (2 * j + 1) + (s + j)] = static_cast<T>(norm_ratio(n, m, n + j, m + s));
   }
   const int tw = 2 * jmax_ + 1;
-  fact_.assign(static_cast<std::size_t>(nmax_ + 1) * tw, 0);
+  t.fact.assign(static_cast<std::size_t>(nmax_ + 1) * tw, 0);
   for (int l = 0; l <= nmax_; ++l)
-    for (int t = 0; t < tw; ++t) fact_[l * tw + t] = fact_ratio(l + t, l);
+    for (int q = 0; q < tw; ++q) t.fact[l * tw + q] = static_cast<T>(fact_ratio(l + q, l));
+  t.c.assign(nk, 0); t.s.assign(nk, 0);
+  for (std::size_t i = 0; i < nk; ++i) { t.c[i] = static_cast<T>(k_.c[i]); t.s[i] = static_cast<T>(k_.s[i]); }
 }
 
 std::string SphericalHarmonicField::name() const {
-  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + ")";
-}
-
-void SphericalHarmonicField::solid_harmonics(const Vec3& r, std::vector<Real>& re, std::vector<Real>& im) const {
-  const int L = nmax_ + jmax_;
-  const std::size_t nl = ShCoefficients::idx(L, L) + 1;
-  re.assign(nl, 0); im.assign(nl, 0);
-  const Real r2 = r.squaredNorm();
-  if (!(r2 > 0) || !std::isfinite(r2)) throw std::domain_error("SphericalHarmonicField: position at the centre or not finite");
-  const Real a = k_.a, rr = std::sqrt(r2);
-  const Real X = r.x() * a / r2, Y = r.y() * a / r2, Z = r.z() * a / r2, Q = a * a / r2;
-  re[0] = a / rr;
-  for (int m = 0; m <= L; ++m) {
-    const auto imm = ShCoefficients::idx(m, m);
-    if (m > 0) {  // M&G eq. (3.30), normalised
-      const auto ip = ShCoefficients::idx(m - 1, m - 1);
-      re[imm] = sec_[m] * (X * re[ip] - Y * im[ip]);
-      im[imm] = sec_[m] * (X * im[ip] + Y * re[ip]);
-    }
-    if (m + 1 <= L) {  // M&G eq. (3.31) with n = m+1
-      const auto i1 = ShCoefficients::idx(m + 1, m);
-      re[i1] = anm_[i1] * Z * re[imm];
-      im[i1] = anm_[i1] * Z * im[imm];
-    }
-    for (int n = m + 2; n <= L; ++n) {  // M&G eq. (3.31)
-      const auto i = ShCoefficients::idx(n, m), i1 = ShCoefficients::idx(n - 1, m), i2 = ShCoefficients::idx(n - 2, m);
-      re[i] = anm_[i] * Z * re[i1] - bnm_[i] * Q * re[i2];
-      im[i] = anm_[i] * Z * im[i1] - bnm_[i] * Q * im[i2];
-    }
-  }
+  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + (prec_ == ShPrecision::Double ? ", double" : "") + ")";
 }
 
 std::vector<ShDerivatives> SphericalHarmonicField::derivatives(const Vec3& r, int order) const {
   if (order < 0 || order > jmax_) throw std::invalid_argument("SphericalHarmonicField::derivatives: order above max_order");
-  thread_local std::vector<Real> re, im;
-  solid_harmonics(r, re, im);
+  return prec_ == ShPrecision::Double ? derivatives_impl(td_, r, order) : derivatives_impl(tl_, r, order);
+}
+
+template <class T>
+std::vector<ShDerivatives> SphericalHarmonicField::derivatives_impl(const Tables<T>& tb, const Vec3& r, int order) const {
+  // Solid harmonics Phi_nm, n <= nmax + order (M&G eqs. (3.29)-(3.31), normalised).
+  const int L = nmax_ + order;
+  const std::size_t nl = ShCoefficients::idx(L, L) + 1;
+  thread_local std::vector<T> re, im;
+  if (re.size() < nl) { re.resize(nl); im.resize(nl); }
+  const Real r2l = r.squaredNorm();
+  if (!(r2l > 0) || !std::isfinite(r2l)) throw std::domain_error("SphericalHarmonicField: position at the centre or not finite");
+  {
+    const Real a = k_.a;
+    const T X = static_cast<T>(r.x() * a / r2l), Y = static_cast<T>(r.y() * a / r2l), Z = static_cast<T>(r.z() * a / r2l),
+            Q = static_cast<T>(a * a / r2l);
+    re[0] = static_cast<T>(a / std::sqrt(r2l));
+    im[0] = 0;
+    for (int m = 0; m <= L; ++m) {
+      const auto imm = ShCoefficients::idx(m, m);
+      if (m > 0) {  // M&G eq. (3.30)
+        const auto ip = ShCoefficients::idx(m - 1, m - 1);
+        re[imm] = tb.sec[m] * (X * re[ip] - Y * im[ip]);
+        im[imm] = tb.sec[m] * (X * im[ip] + Y * re[ip]);
+      }
+      if (m + 1 <= L) {  // M&G eq. (3.31), n = m+1
+        const auto i1 = ShCoefficients::idx(m + 1, m);
+        re[i1] = tb.anm[i1] * Z * re[imm];
+        im[i1] = tb.anm[i1] * Z * im[imm];
+      }
+      for (int n = m + 2; n <= L; ++n) {  // M&G eq. (3.31)
+        const auto i = ShCoefficients::idx(n, m), i1 = ShCoefficients::idx(n - 1, m), i2 = ShCoefficients::idx(n - 2, m);
+        re[i] = tb.anm[i] * Z * re[i1] - tb.bnm[i] * Q * re[i2];
+        im[i] = tb.anm[i] * Z * im[i1] - tb.bnm[i] * Q * im[i2];
+      }
+    }
+  }
+  // Ladder terms: for each (j, s) the pairs (a, b) with a - b = s, a + b <= j,
+  // c = j - a - b, sign (-1)^(a+c), factorial offset t = 2b + c.
+  struct Term { int j, s, slot, t; T sign; };
+  std::vector<Term> terms;
+  for (int j = 0; j <= order; ++j)
+    for (int s = -j; s <= j; ++s)
+      for (int b = std::max(0, -s); 2 * b + s <= j; ++b) {
+        const int a = b + s, c = j - a - b;
+        terms.push_back({j, s, a * (j + 1) + b, 2 * b + c, static_cast<T>(((a + c) % 2) ? -1 : 1)});
+      }
   const int J = order, tw = 2 * jmax_ + 1;
-  // Ladder sums S_j[a][b] (complex), a+b <= j; flat index a*(j+1)+b.
-  std::vector<std::vector<Real>> sr(J + 1), si(J + 1);
+  std::vector<std::vector<T>> sr(J + 1), si(J + 1);
   for (int j = 0; j <= J; ++j) { sr[j].assign((j + 1) * (j + 1), 0); si[j].assign((j + 1) * (j + 1), 0); }
   for (int n = nmax_; n >= 0; --n) {  // high degrees first: small terms summed before large ones
     for (int m = n; m >= 0; --m) {
       const auto inm = ShCoefficients::idx(n, m);
-      const Real C = k_.c[inm], S = k_.s[inm];
+      const T C = tb.c[inm], S = tb.s[inm];
       if (C == 0 && S == 0) continue;
-      const int l = n - m;
-      for (int j = 0; j <= J; ++j) {
-        const Real* rat = &ratio_[j][inm * (2 * j + 1)];
-        for (int s = -j; s <= j; ++s) {
-          const Real R = rat[s + j];
-          if (R == 0) continue;
-          const int mp = m + s;
-          const auto ip = ShCoefficients::idx(n + j, mp < 0 ? -mp : mp);
-          const Real fr = re[ip], fi = (mp < 0) ? -im[ip] : im[ip];
-          // P = R (C - iS)(fr + i fi)
-          const Real pr = R * (C * fr + S * fi), pi = R * (C * fi - S * fr);
-          for (int b = std::max(0, -s); 2 * b + s <= j; ++b) {
-            const int a = b + s, c = j - a - b;
-            const Real f = (((a + c) % 2) ? -1.0L : 1.0L) * fact_[l * tw + 2 * b + c];
-            sr[j][a * (j + 1) + b] += f * pr;
-            si[j][a * (j + 1) + b] += f * pi;
-          }
+      const T* fl = &tb.fact[(n - m) * tw];
+      int cur_j = -1, cur_s = -100;
+      T pr = 0, pi = 0;
+      for (const Term& q : terms) {
+        if (q.j != cur_j || q.s != cur_s) {
+          cur_j = q.j; cur_s = q.s;
+          const T R = tb.ratio[q.j][inm * (2 * q.j + 1) + (q.s + q.j)];
+          const int mp = m + q.s;
+          if (R == 0) { pr = pi = 0; continue; }
+          const auto ip = ShCoefficients::idx(n + q.j, mp < 0 ? -mp : mp);
+          const T fr = re[ip], fi = (mp < 0) ? -im[ip] : im[ip];
+          pr = R * (C * fr + S * fi);  // R (C - iS)(fr + i fi)
+          pi = R * (C * fi - S * fr);
         }
+        const T f = q.sign * fl[q.t];
+        sr[q.j][q.slot] += f * pr;
+        si[q.j][q.slot] += f * pi;
       }
     }
   }
@@ -296,6 +320,33 @@ FieldSample SphericalHarmonicField::eval(const Vec3& r) const {
   const Real xy = d[2].at(1, 1, 0), xz = d[2].at(1, 0, 1), yz = d[2].at(0, 1, 1);
   s.gamma << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   return s;
+}
+
+}  // namespace ggins::gravity
+
+namespace ggins::gravity {
+
+Real normal_j2n(int n) {
+  // H&M (2-90) for J2 from the defining constants, (2-92) for J2n.
+  const Real a = wgs84::kA, b = wgs84::kB, gm = wgs84::kGm, w = wgs84::kOmega;
+  const Real e2 = wgs84::kE2, ep = std::sqrt(a * a - b * b) / b;
+  // q0 = q(b) by its series in t = E/b = e' (see normal.cpp)
+  Real q0 = 0, p = ep * ep * ep;
+  for (int k = 1; k < 60; ++k, p *= ep * ep) q0 += ((k % 2) ? 2.0L : -2.0L) * k * p / ((2.0L * k + 1) * (2.0L * k + 3));
+  const Real m = w * w * a * a * b / gm;
+  const Real j2 = e2 / 3 * (1 - 2 * m * ep / (15 * q0));
+  if (n == 1) return j2;
+  return ((n % 2) ? 1 : -1) * 3 * std::pow(e2, static_cast<Real>(n)) / ((2 * n + 1) * (2 * n + 3)) * (1 - n + 5 * n * j2 / e2);
+}
+
+ShCoefficients subtract_normal(const ShCoefficients& k) {
+  ShCoefficients t = k;
+  t.source = k.source + " - normal";
+  const Real gr = wgs84::kGm / k.gm, ar = wgs84::kA / k.a;
+  t.c[0] -= gr;
+  for (int n = 1; 2 * n <= std::min(k.nmax, 40); ++n)
+    t.c[ShCoefficients::idx(2 * n, 0)] -= gr * std::pow(ar, static_cast<Real>(2 * n)) * (-normal_j2n(n) / std::sqrt(4.0L * n + 1));
+  return t;
 }
 
 }  // namespace ggins::gravity

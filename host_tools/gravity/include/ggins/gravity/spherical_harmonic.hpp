@@ -74,11 +74,28 @@ struct ShDerivatives {
   Real at(int ax, int ay, int az) const;
 };
 
+// Arithmetic of the synthesis. LongDouble (x87, 64-bit mantissa) for total
+// fields at the 1e-19 relative level; Double (SSE, several times faster) is
+// enough for a DISTURBING field (|G| < 1e-2 m/s^2: rounding ~1e-18 m/s^2),
+// e.g. the coefficients from subtract_normal(), used to build fast-path nodes.
+enum class ShPrecision { LongDouble, Double };
+
+// Coefficients of T = V_model - V_normal (the WGS-84 normal gravitation of
+// NormalField) at the model's GM and a: the normal field's zonal series
+// C_2k,0 = -J2k / sqrt(4k+1), J2k = (-1)^(k+1) 3 e^2k / ((2k+1)(2k+3)) (1 - k + 5k J2/e^2)
+// (Heiskanen & Moritz 1967 eq. (2-92)), J2 = e^2/3 (1 - 2 m e' / (15 q0))
+// (H&M eq. (2-90), m = w^2 a^2 b / GM), rescaled by (GM_n/GM)(a_n/a)^n,
+// subtracted to degree min(nmax, 20) (J2k ~ e^2k: J22 ~ 1e-24).
+ShCoefficients subtract_normal(const ShCoefficients& model);
+// J2n of the WGS-84 normal field (n = 1 gives J2).
+Real normal_j2n(int n);
+
 class SphericalHarmonicField final : public Field {
  public:
   // nmax < 0: all degrees of the coefficient set. max_order: highest derivative
   // order precomputed (>= 2; 3 gives third derivatives via derivatives()).
-  explicit SphericalHarmonicField(ShCoefficients coeffs, int nmax = -1, int max_order = 2);
+  explicit SphericalHarmonicField(ShCoefficients coeffs, int nmax = -1, int max_order = 2,
+                                  ShPrecision precision = ShPrecision::LongDouble);
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override;
   // All partial derivatives of V of orders 0..order (order <= max_order).
@@ -87,13 +104,23 @@ class SphericalHarmonicField final : public Field {
   const ShCoefficients& coefficients() const { return k_; }
 
  private:
+  template <class T>
+  struct Tables {
+    // ratio[j][idx(n,m)*(2j+1) + (s+j)] = N_nm * G(n+j, m+s) (see .cpp).
+    std::vector<std::vector<T>> ratio;
+    std::vector<T> fact;   // (l+t)!/l! at [l*(2*jmax+1) + t]
+    std::vector<T> sec, anm, bnm, c, s;
+  };
+  template <class T>
+  void fill(Tables<T>& t) const;
+  template <class T>
+  std::vector<ShDerivatives> derivatives_impl(const Tables<T>& t, const Vec3& r, int order) const;
+
   ShCoefficients k_;
   int nmax_, jmax_;
-  // ratio_[j][idx(n,m)*(2j+1) + (s+j)] = N_nm * G(n+j, m+s) (see .cpp).
-  std::vector<std::vector<Real>> ratio_;
-  std::vector<Real> fact_;   // (l+t)!/l! at [l*(2*jmax+1) + t]
-  std::vector<Real> sec_, anm_, bnm_;
-  void solid_harmonics(const Vec3& r, std::vector<Real>& re, std::vector<Real>& im) const;
+  ShPrecision prec_;
+  Tables<long double> tl_;
+  Tables<double> td_;
 };
 
 }  // namespace ggins::gravity
