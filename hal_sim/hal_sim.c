@@ -56,7 +56,8 @@ typedef struct {
 
 typedef struct {
     /* options */
-    const char *url;
+    const char *url;     /* inbound: configuration, control, frames */
+    const char *url_out; /* outbound: outputs, status, requests (NULL: same as url) */
     char ch_frame[96], ch_nav[96], ch_config[96], ch_control[96], ch_request[96], ch_hal[96];
     int64_t run_id;
     int gap_timeout_ms;
@@ -66,7 +67,8 @@ typedef struct {
     double drop_output_prob; /* fault injection */
     uint64_t inject_seed;
 
-    lcm_t *lcm;
+    lcm_t *lcm;     /* inbound (subscribed) */
+    lcm_t *lcm_out; /* outbound (publish only; == lcm in single-URL mode) */
     gg_nav2d_t nav;
     gg_hal_t hal;
 
@@ -116,7 +118,7 @@ static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t at
         return 0;
     }
     int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m);
-    if (n < 0 || lcm_publish(h->lcm, h->ch_nav, h->buf, (unsigned)n) != 0) return -1;
+    if (n < 0 || lcm_publish(h->lcm_out, h->ch_nav, h->buf, (unsigned)n) != 0) return -1;
     return 0;
 }
 static void on_signal(int sig) { g_signal = sig; }
@@ -209,7 +211,7 @@ static void publish_status(hal_sim_t *h)
     h->st.config_seq = h->config_seq;
     h->st.next_seq = h->next;
     int n = ggins_hal_status_t_encode(h->buf, 0, MAX_MSG, &h->st);
-    if (n > 0) lcm_publish(h->lcm, h->ch_hal, h->buf, (unsigned)n);
+    if (n > 0) lcm_publish(h->lcm_out, h->ch_hal, h->buf, (unsigned)n);
     h->last_status_wall = now_s();
 }
 
@@ -223,7 +225,7 @@ static void request_resend(hal_sim_t *h, int64_t seq)
     c.command = GGINS_RUN_CONTROL_T_RESEND;
     c.resend_seq = seq;
     int n = ggins_run_control_t_encode(h->buf, 0, MAX_MSG, &c);
-    if (n > 0) lcm_publish(h->lcm, h->ch_request, h->buf, (unsigned)n);
+    if (n > 0) lcm_publish(h->lcm_out, h->ch_request, h->buf, (unsigned)n);
     h->st.resend_requests++;
 }
 
@@ -408,7 +410,9 @@ static void usage(FILE *out)
             "frames of one run, steps the firmware (gg_nav2d_task_cycle) once per frame in\n"
             "seq order, publishes every navigation output. Normally started by `ggins run`.\n\n"
             "options:\n"
-            "  --lcm-url URL          LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)\n"
+            "  --lcm-url URL          LCM URL hal_sim listens on (default: LCM_DEFAULT_URL or LCM's default)\n"
+            "  --lcm-url-out URL      LCM URL for what hal_sim publishes (default: the same); a second\n"
+            "                         URL spares each process receiving its own traffic\n"
             "  --prefix P             channel prefix (default GGINS_): P+FRAME, P+NAV, P+CONFIG,\n"
             "                         P+CONTROL, P+REQUEST, P+HAL\n"
             "  --run-id N             run nonce; messages with another run_id are ignored (required)\n"
@@ -432,17 +436,19 @@ int main(int argc, char **argv)
     h.max_resend = 50;
     h.idle_timeout_s = 60.0;
     static const struct option opts[] = {
-        {"lcm-url", required_argument, 0, 'u'}, {"prefix", required_argument, 0, 'p'},
+        {"lcm-url", required_argument, 0, 'u'}, {"lcm-url-out", required_argument, 0, 'o'},
+        {"prefix", required_argument, 0, 'p'},
         {"run-id", required_argument, 0, 'r'}, {"gap-timeout-ms", required_argument, 0, 'g'},
         {"max-resend", required_argument, 0, 'm'}, {"idle-timeout-s", required_argument, 0, 'i'},
         {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
         {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'}, {0, 0, 0, 0}};
     int c;
     h.inject_seed = 1;
-    while ((c = getopt_long(argc, argv, "u:p:r:g:m:i:qhd:s:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
+        case 'o': h.url_out = optarg; break;
         case 'p': prefix = optarg; break;
         case 'r': h.run_id = strtoll(optarg, &end, 0); if (*end) goto bad; break;
         case 'g': h.gap_timeout_ms = (int)strtol(optarg, &end, 0); if (*end || h.gap_timeout_ms <= 0) goto bad; break;
@@ -485,6 +491,15 @@ int main(int argc, char **argv)
                         "  fix (as root): ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo\n",
                 h.url ? h.url : "(default)");
         return 1;
+    }
+    h.lcm_out = h.lcm;
+    if (h.url_out && (!h.url || strcmp(h.url_out, h.url) != 0)) {
+        h.lcm_out = lcm_create(h.url_out);
+        if (!h.lcm_out) {
+            fprintf(stderr, "hal_sim: cannot create LCM (url %s)\n", h.url_out);
+            lcm_destroy(h.lcm);
+            return 1;
+        }
     }
     lcm_subscription_t *sf = lcm_subscribe(h.lcm, h.ch_frame, on_frame, &h);
     lcm_subscribe(h.lcm, h.ch_config, on_config, &h);
@@ -539,6 +554,7 @@ int main(int argc, char **argv)
         const double t_end = now_s() + 0.2;
         while (now_s() < t_end && !g_signal) lcm_handle_timeout(h.lcm, 50);
     }
+    if (h.lcm_out != h.lcm) lcm_destroy(h.lcm_out);
     lcm_destroy(h.lcm);
     return rc;
 }

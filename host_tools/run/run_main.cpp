@@ -87,22 +87,28 @@ uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
-// A free UDP port right now (the kernel's choice); LCM's multicast sockets on
-// that port are then private to this run, so parallel runs do not cross-talk.
-int free_udp_port() {
-  int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  if (fd < 0) return -1;
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_ANY);
-  a.sin_port = 0;
-  int port = -1;
-  if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+// Free UDP ports right now (the kernel's choice, all different); LCM's
+// multicast sockets on them are then private to this run, so parallel runs do
+// not cross-talk.
+std::vector<int> free_udp_ports(int n) {
+  std::vector<int> fds, ports;
+  for (int i = 0; i < n; ++i) {
+    int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd < 0) break;
+    fds.push_back(fd);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_ANY);
+    a.sin_port = 0;
     socklen_t len = sizeof a;
-    if (getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0) port = ntohs(a.sin_port);
+    if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0)
+      break;
+    ports.push_back(ntohs(a.sin_port));
   }
-  close(fd);
-  return port;
+  for (int fd : fds) close(fd);
+  if (static_cast<int>(ports.size()) != n) ports.clear();
+  return ports;
 }
 
 const char* kMulticastFix =
@@ -252,7 +258,8 @@ class Runner {
   template <class M>
   void publish(const std::string& ch, const M& m) {
     const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-    if (n < 0 || lcm_publish(lcm_, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
+    lcm_t* l = ch == ch_ping_ ? lcm_ : lcm_out_;  // pings go round our own inbound URL
+    if (n < 0 || lcm_publish(l, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
       throw Fail("LCM publish on " + ch + " failed");
     if (rec_ && ch != ch_ping_) rec_->write(ch, buf_.data(), n, wall_us());
   }
@@ -275,7 +282,9 @@ class Runner {
   ggins::truth::Scenario sc_;
   ggins::truth::Generator gen_;
   fs::path out_;
-  std::string url_;
+  std::string url_;     // to hal_sim (hal_sim listens here)
+  std::string url_in_;  // from hal_sim (this process listens here); == url_ in single-URL mode
+  lcm_t* lcm_out_ = nullptr;  // publishes on url_ (== lcm_ in single-URL mode)
   int64_t run_id_ = 0;
   lcm_t* lcm_ = nullptr;
   pid_t hal_pid_ = -1, logger_pid_ = -1;
@@ -495,9 +504,13 @@ void Runner::check_children() {
 
 // ---- setup -------------------------------------------------------------------------
 void Runner::check_multicast() {
-  lcm_ = lcm_create(url_.c_str());
-  if (!lcm_)
-    throw Fail("cannot open LCM at " + url_ + " (lcm_create failed).\n" + kMulticastFix, 3);
+  lcm_ = lcm_create(url_in_.c_str());
+  if (!lcm_) throw Fail("cannot open LCM at " + url_in_ + " (lcm_create failed).\n" + kMulticastFix, 3);
+  lcm_out_ = lcm_;
+  if (url_ != url_in_) {
+    lcm_out_ = lcm_create(url_.c_str());
+    if (!lcm_out_) throw Fail("cannot open LCM at " + url_ + " (lcm_create failed).\n" + kMulticastFix, 3);
+  }
   lcm_subscribe(lcm_, ch_ping_.c_str(), on_ping_cb, this);
   const double end = mono_s() + 1.5;
   while (pings_ == 0 && mono_s() < end) {
@@ -509,7 +522,7 @@ void Runner::check_multicast() {
     handle(0.1);
   }
   if (pings_ == 0)
-    throw Fail("an LCM message sent to " + url_ + " did not come back within 1.5 s.\n" + kMulticastFix, 3);
+    throw Fail("an LCM message sent to " + url_in_ + " did not come back within 1.5 s.\n" + kMulticastFix, 3);
 }
 
 void Runner::start_logger() {
@@ -537,7 +550,7 @@ void Runner::start_logger() {
 }
 
 void Runner::start_hal_sim() {
-  hal_pid_ = spawn({opt_.hal_sim, "--lcm-url", url_, "--prefix", opt_.prefix, "--run-id", std::to_string(run_id_),
+  hal_pid_ = spawn({opt_.hal_sim, "--lcm-url", url_, "--lcm-url-out", url_in_, "--prefix", opt_.prefix, "--run-id", std::to_string(run_id_),
                     "--gap-timeout-ms", std::to_string(std::max(2, opt_.resend_timeout_ms / 2)), "--idle-timeout-s", "30",
                     "--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
                     std::to_string(sc_.transport.seed)},
@@ -718,6 +731,8 @@ void Runner::finish_hal() {
 void Runner::cleanup() {
   if (hal_pid_ > 0) stop_child(hal_pid_, SIGTERM, 1.0);
   if (logger_pid_ > 0) stop_child(logger_pid_, SIGINT, 10.0);
+  if (lcm_out_ && lcm_out_ != lcm_) lcm_destroy(lcm_out_);
+  lcm_out_ = nullptr;
   if (lcm_) {
     lcm_destroy(lcm_);
     lcm_ = nullptr;
@@ -771,10 +786,10 @@ json Runner::run() {
   std::random_device rd;
   run_id_ = static_cast<int64_t>((static_cast<uint64_t>(rd()) << 31 ^ rd() ^ static_cast<uint64_t>(getpid())) & 0x7fffffffffffffffULL);
   if (!opt_.lcm_url.empty()) {
-    url_ = opt_.lcm_url;
+    url_ = url_in_ = opt_.lcm_url;
   } else {
-    const int port = free_udp_port();
-    if (port <= 0) throw Fail("cannot find a free UDP port for LCM");
+    const std::vector<int> ports = free_udp_ports(2);
+    if (ports.empty()) throw Fail("cannot find free UDP ports for LCM");
     // a large socket receive buffer (up to net.core.rmem_max) lets lcm-logger
     // ride out scheduling hiccups without dropping packets
     long rmem = 4 << 20;
@@ -783,7 +798,15 @@ json Runner::run() {
       if (std::fscanf(f, "%ld", &v) == 1 && v > 0) rmem = std::min<long>(v, 16 << 20);
       std::fclose(f);
     }
-    url_ = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=" + std::to_string(rmem);
+    auto url = [&](int port) {
+      return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=" + std::to_string(rmem);
+    };
+    // Two ports, one per direction (to hal_sim: frames, truth, configuration,
+    // control; from hal_sim: outputs, status, requests), so that no process has
+    // to receive and discard its own traffic: half the wake-ups per step. A
+    // separate lcm-logger can listen to one URL only: then one port for all.
+    url_ = url(ports[0]);
+    url_in_ = opt_.log_mode == "lcm-logger" ? url_ : url(ports[1]);
   }
   const std::string& p = opt_.prefix;
   ch_frame_ = p + "FRAME";
@@ -815,8 +838,8 @@ json Runner::run() {
   start_hal_sim();
   configure_hal();
   if (!opt_.quiet)
-    std::fprintf(stderr, "ggins run: %s, %lld steps at %g Hz (%s), LCM %s, output %s\n", sc_.name.c_str(),
-                 static_cast<long long>(n_), rate, opt_.realtime ? "realtime" : "lockstep", url_.c_str(), out_.c_str());
+    std::fprintf(stderr, "ggins run: %s, %lld steps at %g Hz (%s), LCM %s (to hal_sim) %s (back), output %s\n", sc_.name.c_str(),
+                 static_cast<long long>(n_), rate, opt_.realtime ? "realtime" : "lockstep", url_.c_str(), url_in_.c_str(), out_.c_str());
 
   t_start_ = mono_s();
   const double setup_s = t_start_ - t_setup;
@@ -926,6 +949,7 @@ json Runner::run() {
   ft["source"] = "gg_nav_output_t.cycles (HAL cycle counter: CLOCK_MONOTONIC ns truncated to uint32)";
   s["firmware_step_ns"] = ft;
   s["lcm_url"] = url_;
+  s["lcm_url_from_hal"] = url_in_;
   s["channel_prefix"] = opt_.prefix;
   s["run_id"] = run_id_;
   if (opt_.log_mode != "none") {
@@ -971,8 +995,8 @@ int main(int argc, char** argv) {
       "(long double, G evaluated at every sensor), adds the scenario's sensor errors and\n"
       "publishes sensor frames; hal_sim (a separate process) implements the firmware's\n"
       "HAL over LCM and steps the firmware once per frame; every message of the run is\n"
-      "recorded to an LCM log (--log). In lockstep mode (default) frame k+1 is sent only after the output of\n"
-      "step k arrived, so the run goes as fast as the machine allows and never drops a\n"
+      "recorded to an LCM log (--log). In lockstep mode (default) frame k+1 is sent\n"
+      "only after the output of step k arrived, so the run goes as fast as the machine allows and never drops a\n"
       "step: a frame or output that does not arrive within --resend-timeout-ms is sent\n"
       "again; gaps seen by hal_sim are re-requested; all of it is counted.\n\n"
       "Output folder (--out, default out/<scenario>-<UTC time>):\n"
@@ -981,14 +1005,16 @@ int main(int argc, char** argv) {
       "                   realtime_factor, firmware step time (median/p99/max ns from\n"
       "                   the HAL cycle counter), transport counters, log check\n"
       "  timeseries.csv   truth, navigation and error at --csv-rate (default 1 Hz)\n"
-      "  errors.png       position, velocity and gravity error against time\n"
-      "  run.lcmlog       every LCM channel (play with: lcm-logplayer run.lcmlog)\n"
-      "  scenario.toml    the scenario as flown; hal_sim.log, lcm-logger.log\n"
+      "  errors.png       position, velocity and gravity error against time (and\n"
+      "                   errors_log.png, the norms on a log scale)\n"
+      "  run.lcmlog       every message of the run (play with: lcm-logplayer run.lcmlog)\n"
+      "  scenario.toml    the scenario as flown; hal_sim.log (its stderr)\n"
       "Gravity error = |G estimated - true gravitation at the TRUE position|.\n\n"
       "Scenarios are TOML files: --scenario takes a path, or a name looked up in\n"
       "" GGINS_SCENARIO_DIR " and then among the built-ins.\n"
-      "Each run uses its own LCM port (udpm://239.255.76.67:<free port>?ttl=0) and run\n"
-      "id, so runs in parallel do not interfere. Needs UDP multicast on loopback:\n"
+      "Each run uses its own LCM ports (udpm://239.255.76.67:<free port>?ttl=0, one per\n"
+      "direction) and run id, so runs in parallel do not interfere. Needs UDP multicast\n"
+      "on loopback:\n"
       "  ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo   (as root)\n\n"
       "Exit status: 0 run completed, 1 run failed, 2 bad arguments or scenario,\n"
       "3 multicast on loopback unavailable, 130 interrupted.",
