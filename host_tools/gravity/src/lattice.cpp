@@ -1,5 +1,6 @@
 #include "ggins/gravity/lattice.hpp"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -134,42 +135,60 @@ namespace {
 // For y < 1 S, S', S'' by the series (no cancellation); beyond, by the closed forms
 //   f' = G/rho - erf/rho^2, f'' = -2G/sigma^2 - 2G/rho^2 + 2 erf/rho^3, G = c e^{-y},
 //   grad f = f' u, grad grad f = f'' u u^T + f'/rho (I - u u^T).
-struct Kernel { Real f, a, b; };  // f, grad f = a d, grad grad f = b d d^T + a I
-Kernel erf_kernel(const Vec3& d, Real sigma) {
-  const Real c = 2.0L / (std::sqrt(static_cast<Real>(M_PI)) * sigma);
-  const Real r2 = d.squaredNorm(), y = r2 / (sigma * sigma);
+// Evaluated in double: the anomaly sums are < 1e-2 m/s^2, so double rounding
+// (~1e-18 m/s^2 per term) is far below the 1e-13 m/s^2 budget.
+struct Kernel { double f, a, b; };  // f, grad f = a d, grad grad f = b d d^T + a I
+inline Kernel erf_kernel(double dx, double dy, double dz, double sigma) {
+  const double c = 2.0 / (std::sqrt(M_PI) * sigma);
+  const double r2 = dx * dx + dy * dy + dz * dz, is2 = 1.0 / (sigma * sigma), y = r2 * is2;
   Kernel k{};
   if (y < 1) {
-    Real s0 = 0, s1 = 0, s2 = 0, fact = 1, pw[32];
-    pw[0] = 1;
-    for (int n = 1; n < 32; ++n) pw[n] = pw[n - 1] * y;
-    for (int n = 0; n < 30; ++n) {
-      if (n > 0) fact *= n;
-      const Real an = ((n % 2) ? -1.0L : 1.0L) / (fact * (2 * n + 1));
-      s0 += an * pw[n];
-      if (n >= 1) s1 += n * an * pw[n - 1];
-      if (n >= 2) s2 += n * (n - 1) * an * pw[n - 2];
-    }
-    const Real is2 = 1.0L / (sigma * sigma);
+    // S(y) = sum_{n<=22} a_n y^n, a_n = (-1)^n / (n! (2n+1)) (term < 1e-23 for y < 1);
+    // S' and S'' by Horner on n a_n and n(n-1) a_n.
+    static const auto an = [] {
+      std::array<double, 23> t{};
+      double fact = 1;
+      for (int n = 0; n < 23; ++n) {
+        if (n > 1) fact *= n;
+        t[n] = ((n % 2) ? -1.0 : 1.0) / (fact * (2 * n + 1));
+      }
+      return t;
+    }();
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int n = 22; n >= 0; --n) s0 = s0 * y + an[n];
+    for (int n = 22; n >= 1; --n) s1 = s1 * y + n * an[n];
+    for (int n = 22; n >= 2; --n) s2 = s2 * y + n * (n - 1) * an[n];
     k.f = c * s0;
     k.a = c * s1 * 2 * is2;
     k.b = c * s2 * 4 * is2 * is2;
     return k;
   }
-  const Real rho = std::sqrt(r2), e = std::erf(rho / sigma), G = c * std::exp(-y);
-  const Real f1 = G / rho - e / r2;
-  const Real f2 = -2 * G / (sigma * sigma) - 2 * G / r2 + 2 * e / (r2 * rho);
+  const double rho = std::sqrt(r2), e = std::erf(rho / sigma), G = c * std::exp(-y);
+  const double f1 = G / rho - e / r2;
+  const double f2 = -2 * G * is2 - 2 * G / r2 + 2 * e / (r2 * rho);
   k.f = e / rho;
   k.a = f1 / rho;                  // grad f = (f'/rho) d
   k.b = (f2 - f1 / rho) / r2;      // grad grad f = (f'' - f'/rho) u u^T + f'/rho I
   return k;
 }
 
-void accumulate(FieldSample& s, Real gm, const Vec3& d, const Kernel& k) {
-  s.potential += gm * k.f;
-  s.g += gm * k.a * d;  // G = grad V = gm f'(rho) u = gm (f'/rho) d
-  s.gamma += gm * (k.b * d * d.transpose() + k.a * Mat3::Identity());
-}
+struct Acc {
+  double v = 0, gx = 0, gy = 0, gz = 0, xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+  void add(double gm, double dx, double dy, double dz, double f, double a, double b) {
+    v += gm * f;
+    gx += gm * a * dx; gy += gm * a * dy; gz += gm * a * dz;  // G = grad V = gm (f'/rho) d
+    const double gb = gm * b, ga = gm * a;
+    xx += gb * dx * dx + ga; yy += gb * dy * dy + ga; zz += gb * dz * dz + ga;
+    xy += gb * dx * dy; xz += gb * dx * dz; yz += gb * dy * dz;
+  }
+  FieldSample sample() const {
+    FieldSample s;
+    s.potential = v;
+    s.g = Vec3(gx, gy, gz);
+    s.gamma << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+    return s;
+  }
+};
 
 }  // namespace
 
@@ -177,9 +196,15 @@ ErfPointMassField::ErfPointMassField(std::shared_ptr<const std::vector<PointMass
     : masses_(std::move(masses)), sigma_(sigma) {}
 
 FieldSample ErfPointMassField::eval(const Vec3& r) const {
-  FieldSample s;
-  for (const PointMass& m : *masses_) accumulate(s, m.gm, r - m.r_e, erf_kernel(r - m.r_e, sigma_));
-  return s;
+  Acc acc;
+  const double sg = static_cast<double>(sigma_);
+  for (const PointMass& m : *masses_) {
+    const double dx = static_cast<double>(r.x() - m.r_e.x()), dy = static_cast<double>(r.y() - m.r_e.y()),
+                 dz = static_cast<double>(r.z() - m.r_e.z());
+    const Kernel k = erf_kernel(dx, dy, dz, sg);
+    acc.add(static_cast<double>(m.gm), dx, dy, dz, k.f, k.a, k.b);
+  }
+  return acc.sample();
 }
 
 }  // namespace ggins::gravity
@@ -206,10 +231,10 @@ std::string SplitPointMassField::name() const {
 }
 
 FieldSample SplitPointMassField::eval(const Vec3& r) const {
-  FieldSample s = far_.eval(r);
+  Acc acc;
   const std::int64_t c[3] = {static_cast<std::int64_t>(std::floor(r.x() / cell_)), static_cast<std::int64_t>(std::floor(r.y() / cell_)),
                              static_cast<std::int64_t>(std::floor(r.z() / cell_))};
-  const Real cut2 = cell_ * cell_;
+  const double cut2 = static_cast<double>(cell_ * cell_), sg = static_cast<double>(sigma_);
   for (int i = -1; i <= 1; ++i)
     for (int j = -1; j <= 1; ++j)
       for (int k = -1; k <= 1; ++k) {
@@ -217,21 +242,23 @@ FieldSample SplitPointMassField::eval(const Vec3& r) const {
         if (it == cells_.end()) continue;
         for (std::uint32_t idx : it->second) {
           const PointMass& m = (*masses_)[idx];
-          const Vec3 d = r - m.r_e;
-          const Real r2 = d.squaredNorm();
+          const double dx = static_cast<double>(r.x() - m.r_e.x()), dy = static_cast<double>(r.y() - m.r_e.y()),
+                       dz = static_cast<double>(r.z() - m.r_e.z());
+          const double r2 = dx * dx + dy * dy + dz * dz;
           if (r2 >= cut2) continue;
           if (!(r2 > 0)) throw std::domain_error("SplitPointMassField: evaluation at a mass");
           // short range = exact point mass - erf kernel (= gm erfc(rho/sigma)/rho)
-          const Real ir2 = 1.0L / r2, ir = std::sqrt(ir2), k3 = m.gm * ir * ir2;
-          s.potential += m.gm * ir;
-          s.g -= k3 * d;
-          s.gamma += k3 * (3.0L * ir2 * d * d.transpose() - Mat3::Identity());
-          const Kernel e = erf_kernel(d, sigma_);
-          s.potential -= m.gm * e.f;
-          s.g -= m.gm * e.a * d;
-          s.gamma -= m.gm * (e.b * d * d.transpose() + e.a * Mat3::Identity());
+          const double ir2 = 1.0 / r2, ir = std::sqrt(ir2);
+          const Kernel e = erf_kernel(dx, dy, dz, sg);
+          // 1/rho: f = ir, a = -ir^3, b = 3 ir^5
+          acc.add(static_cast<double>(m.gm), dx, dy, dz, ir - e.f, -ir * ir2 - e.a, 3 * ir * ir2 * ir2 - e.b);
         }
       }
+  FieldSample s = far_.eval(r);
+  const FieldSample n = acc.sample();
+  s.potential += n.potential;
+  s.g += n.g;
+  s.gamma += n.gamma;
   return s;
 }
 
