@@ -617,11 +617,11 @@ void Runner::progress(bool final) {
     t_last_progress_ = now;
     std::fprintf(stderr, "\r%s", msg);
     if (final) std::fprintf(stderr, "\n");
-  } else if (opt_.progress == "on" || (opt_.progress == "auto")) {
+  } else if (opt_.progress != "off") {  // not a terminal: one line per 10%
     const int pct = static_cast<int>(frac * 10.0) * 10;
-    if (pct != last_pct_reported_ && (pct > last_pct_reported_ || final)) {
+    if (pct > last_pct_reported_) {
       last_pct_reported_ = pct;
-      if (!final || pct < 100 || true) std::fprintf(stderr, "ggins run: %s\n", msg);
+      std::fprintf(stderr, "ggins run: %s\n", msg);
     }
   }
 }
@@ -933,7 +933,9 @@ json Runner::run() {
   s["transport"] = tr;
   s["wall_s"] = wall_loop_;
   s["setup_s"] = setup_s;
-  s["realtime_factor"] = wall_loop_ > 0 ? s["duration_s"].get<double>() / wall_loop_ : 0.0;
+  // flight time actually navigated (all of it when the run completed) per wall second
+  const double flown_s = static_cast<double>(std::max<int64_t>(outputs_ - 1, 0)) * static_cast<double>(sc_.dt_us()) * 1e-6;
+  s["realtime_factor"] = wall_loop_ > 0 ? flown_s / wall_loop_ : 0.0;
   s["steps_per_s"] = wall_loop_ > 0 ? static_cast<double>(outputs_) / wall_loop_ : 0.0;
   json ft;
   for (int j = 0; j < GG_MOD_COUNT; ++j) {

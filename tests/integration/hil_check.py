@@ -334,6 +334,11 @@ def test_cli(a):
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
     check(p.returncode == 3 and "ip route add 224.0.0.0/4 dev lo" in p.stdout,
           "LCM unavailable: exit 3 with the multicast fix")
+    false = shutil.which("false")
+    out = os.path.join(a.workdir, "deadhal")
+    p = subprocess.run([a.ggins_run, "--out", out, "--hal-sim", false, "--duration", "1", "--no-plots"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+    check(p.returncode == 1 and "hal_sim exited unexpectedly" in p.stdout, "hal_sim dying: exit 1 naming it")
 
 
 TESTS = {"perfect": test_perfect, "bias": test_bias, "faults": test_faults, "realtime": test_realtime,
