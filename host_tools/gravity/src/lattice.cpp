@@ -163,6 +163,13 @@ inline Kernel erf_kernel(double dx, double dy, double dz, double sigma) {
     k.b = c * s2 * 4 * is2 * is2;
     return k;
   }
+  if (y > 42.25) {  // rho > 6.5 sigma: erf = 1 - 4e-20, exp(-y) < 5e-19: plain 1/rho
+    const double ir2 = 1.0 / r2, ir = std::sqrt(ir2);
+    k.f = ir;
+    k.a = -ir * ir2;
+    k.b = 3 * ir * ir2 * ir2;
+    return k;
+  }
   const double rho = std::sqrt(r2), e = std::erf(rho / sigma), G = c * std::exp(-y);
   const double f1 = G / rho - e / r2;
   const double f2 = -2 * G * is2 - 2 * G / r2 + 2 * e / (r2 * rho);
