@@ -215,9 +215,32 @@ std::string module_name(int j) {
     case GG_MOD_DIFF: return "diff";
     case GG_MOD_GRAVDR: return "gravdr";
     case GG_MOD_MECH: return "mech";
+    case GG_MOD_VCHAN: return "vchan";
     case GG_MOD_TOTAL: return "total";
     default: return "module" + std::to_string(j);
   }
+}
+
+json health_names(uint32_t h) {
+  static const struct {
+    uint32_t bit;
+    const char* name;
+  } kBits[] = {{GG_HEALTH_NOT_INIT, "NOT_INIT"},         {GG_HEALTH_ACC_NONFINITE, "ACC_NONFINITE"},
+               {GG_HEALTH_ACC_RANGE, "ACC_RANGE"},       {GG_HEALTH_ACC_SENSOR, "ACC_SENSOR"},
+               {GG_HEALTH_SEQ_GAP, "SEQ_GAP"},           {GG_HEALTH_SEQ_REPEAT, "SEQ_REPEAT"},
+               {GG_HEALTH_TIME_JUMP, "TIME_JUMP"},       {GG_HEALTH_GAMMA_ASYM, "GAMMA_ASYM"},
+               {GG_HEALTH_FRAME_REJECTED, "FRAME_REJECTED"}, {GG_HEALTH_DEADLINE, "DEADLINE"},
+               {GG_HEALTH_BARO_INVALID, "BARO_INVALID"}, {GG_HEALTH_BARO_STALE, "BARO_STALE"},
+               {GG_HEALTH_BARO_OUTLIER, "BARO_OUTLIER"}, {GG_HEALTH_BARO_RECAPTURE, "BARO_RECAPTURE"},
+               {GG_HEALTH_BARO_COAST, "BARO_COAST"}};
+  json j = json::array();
+  uint32_t known = 0;
+  for (const auto& b : kBits) {
+    known |= b.bit;
+    if (h & b.bit) j.push_back(b.name);
+  }
+  if (h & ~known) j.push_back("0x" + [&] { char x[16]; std::snprintf(x, sizeof x, "%x", h & ~known); return std::string(x); }());
+  return j;
 }
 
 // ------------------------------------------------------------------------------------
@@ -874,7 +897,8 @@ json Runner::run() {
   s["steps"] = outputs_;
   s["steps_expected"] = n_;
   s["steps_rejected"] = steps_rejected_;
-  s["health_bits_seen"] = health_or_;
+  s["health_bits_seen"] = health_or_;  // OR of every output's GG_HEALTH_* word
+  s["health_seen"] = health_names(health_or_);
   auto axes = [](const std::array<double, 3>& v) { return json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}}; };
   s["final"] = {{"position_error_m", pos_.final},
                 {"velocity_error_mps", vel_.final},
