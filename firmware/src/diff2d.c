@@ -51,7 +51,7 @@ gg_status_t gg_diff2d_step(const gg_diff2d_t *st, const gg_diff2d_input_t *in,
             o.f_c[j] = 0.0L;
         }
         for (ax = 0U; ax < 2U; ++ax) {
-            const size_t row = (ax == 0U) ? 0U : 2U;
+            const size_t row = ax * 2U; /* input axis 0 -> x (0), 1 -> z (2) */
             const gg_real_t h1 = (gg_real_t)in->f[0][ax];
             const gg_real_t h2 = (gg_real_t)in->f[1][ax];
             const gg_real_t h3 = (gg_real_t)in->f[2][ax];

@@ -19,11 +19,6 @@ static int all_finite_33(const gg_real_t m[3][3])
     return ok;
 }
 
-static int all_finite_3(const gg_real_t v[3])
-{
-    return (GG_ISFINITE(v[0]) && GG_ISFINITE(v[1]) && GG_ISFINITE(v[2])) ? 1 : 0;
-}
-
 gg_status_t gg_gravdr_init(gg_gravdr_t *st, const gg_gravdr_config_t *cfg)
 {
     size_t j;
@@ -31,7 +26,7 @@ gg_status_t gg_gravdr_init(gg_gravdr_t *st, const gg_gravdr_config_t *cfg)
     if ((st == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
     }
-    if ((all_finite_3(cfg->g0) == 0) || (all_finite_33(cfg->gamma0) == 0)) {
+    if ((gg_finite3(cfg->g0) == 0) || (all_finite_33(cfg->gamma0) == 0)) {
         return GG_ERR_CONFIG;
     }
     if ((cfg->trapezoid_only != 0) && (cfg->trapezoid_only != 1)) {
@@ -62,11 +57,14 @@ gg_status_t gg_gravdr_step(gg_gravdr_t *st, const gg_real_t gamma_new[3][3],
     if (st->initialized == 0) {
         return GG_ERR_NOT_INIT;
     }
-    if ((all_finite_33(gamma_new) == 0) || (all_finite_3(dr) == 0)) {
+    if ((all_finite_33(gamma_new) == 0) || (gg_finite3(dr) == 0)) {
         return GG_ERR_NONFINITE;
     }
     {
-        const int corrected = ((st->have_prev != 0) && (st->trapezoid_only == 0)) ? 1 : 0;
+        int corrected = 0;
+        if ((st->have_prev != 0) && (st->trapezoid_only == 0)) {
+            corrected = 1;
+        }
         for (j = 0U; j < 3U; ++j) {
             gg_real_t trap = 0.0L;
             gg_real_t corr = 0.0L;
@@ -133,7 +131,7 @@ gg_status_t gg_gravdr_correct(gg_gravdr_t *st, const gg_real_t dg[3])
     if (st->initialized == 0) {
         return GG_ERR_NOT_INIT;
     }
-    if (all_finite_3(dg) == 0) {
+    if (gg_finite3(dg) == 0) {
         return GG_ERR_NONFINITE;
     }
     for (j = 0U; j < 3U; ++j) {

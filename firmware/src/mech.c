@@ -4,11 +4,6 @@
 
 #include <stddef.h>
 
-static int finite3(const gg_real_t v[3])
-{
-    return (GG_ISFINITE(v[0]) && GG_ISFINITE(v[1]) && GG_ISFINITE(v[2])) ? 1 : 0;
-}
-
 static int finite_acc3(const gg_acc_t v[3])
 {
     size_t j;
@@ -27,8 +22,8 @@ gg_status_t gg_mech_init(gg_mech_t *st, const gg_mech_config_t *cfg)
     if ((st == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
     }
-    if (!GG_ISFINITE(cfg->dt_s) || !(cfg->dt_s > 0.0L) || (finite3(cfg->r0) == 0) ||
-        (finite3(cfg->v0) == 0) || (finite3(cfg->a0) == 0)) {
+    if (!GG_ISFINITE(cfg->dt_s) || !(cfg->dt_s > 0.0L) || (gg_finite3(cfg->r0) == 0) ||
+        (gg_finite3(cfg->v0) == 0) || (gg_finite3(cfg->a0) == 0)) {
         return GG_ERR_CONFIG;
     }
     st->dt_s = cfg->dt_s;
@@ -90,7 +85,7 @@ gg_status_t gg_mech_step_velocity(gg_mech_t *st, const gg_real_t f_next[3],
     if ((st->initialized == 0) || (st->pending == 0)) {
         return GG_ERR_NOT_INIT;
     }
-    if ((finite3(f_next) == 0) || (finite_acc3(g_next) == 0)) {
+    if ((gg_finite3(f_next) == 0) || (finite_acc3(g_next) == 0)) {
         undo_position(st);
         return GG_ERR_NONFINITE;
     }
@@ -124,7 +119,7 @@ gg_status_t gg_mech_correct(gg_mech_t *st, const gg_real_t dr[3], const gg_real_
     if ((st->initialized == 0) || (st->pending != 0)) {
         return GG_ERR_NOT_INIT;
     }
-    if ((finite3(dr) == 0) || (finite3(dv) == 0) || (finite3(da) == 0)) {
+    if ((gg_finite3(dr) == 0) || (gg_finite3(dv) == 0) || (gg_finite3(da) == 0)) {
         return GG_ERR_NONFINITE;
     }
     for (j = 0U; j < 3U; ++j) {

@@ -23,11 +23,6 @@ static uint32_t cycles_now(const gg_hal_t *hal)
     return c;
 }
 
-static int finite3(const gg_real_t v[3])
-{
-    return (GG_ISFINITE(v[0]) && GG_ISFINITE(v[1]) && GG_ISFINITE(v[2])) ? 1 : 0;
-}
-
 gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
 {
     gg_diff2d_t diff;
@@ -44,7 +39,7 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
         return st;
     }
     if ((cfg->dt_us <= 0) || (cfg->dt_tol_us < 0) || (cfg->dt_tol_us >= cfg->dt_us) ||
-        (finite3(cfg->r0) == 0) || (finite3(cfg->v0) == 0) || (finite3(cfg->g0) == 0) ||
+        (gg_finite3(cfg->r0) == 0) || (gg_finite3(cfg->v0) == 0) || (gg_finite3(cfg->g0) == 0) ||
         !GG_ISFINITE(cfg->f_max) || !(cfg->f_max > 0.0) || !GG_ISFINITE(cfg->asym_max) ||
         !(cfg->asym_max > 0.0) || (cfg->gravdr_trapezoid_only < 0) ||
         (cfg->gravdr_trapezoid_only > 1) || (cfg->baro_enable < 0) || (cfg->baro_enable > 1) ||
@@ -194,7 +189,6 @@ static gg_status_t up_vector(const gg_real_t r[3], gg_real_t u[3], gg_real_t *rn
 static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3])
 {
     gg_status_t st;
-    size_t j;
     if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
         gg_real_t r[3];
         gg_real_t v[3];
@@ -204,6 +198,7 @@ static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3])
             st = gg_gmodel_eval(&nav->gmodel, r, gm);
         }
         if (st == GG_OK) {
+            size_t j;
             for (j = 0U; j < 3U; ++j) {
                 gg_acc_set(&g[j], gm[j]);
             }
@@ -251,6 +246,28 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
         st = gg_mech_init(&nav->mech, &mc);
     }
     return st;
+}
+
+/* Vertical-channel health bits -> navigation health bits. */
+static uint32_t baro_health(uint32_t vh)
+{
+    uint32_t h = 0U;
+    if ((vh & GG_VCHAN_INVALID) != 0U) {
+        h |= GG_HEALTH_BARO_INVALID;
+    }
+    if ((vh & GG_VCHAN_STALE) != 0U) {
+        h |= GG_HEALTH_BARO_STALE;
+    }
+    if ((vh & GG_VCHAN_OUTLIER) != 0U) {
+        h |= GG_HEALTH_BARO_OUTLIER;
+    }
+    if ((vh & GG_VCHAN_RECAPTURE) != 0U) {
+        h |= GG_HEALTH_BARO_RECAPTURE;
+    }
+    if ((vh & GG_VCHAN_COAST) != 0U) {
+        h |= GG_HEALTH_BARO_COAST;
+    }
+    return h;
 }
 
 /* One step of the barometric loop after the mechanization step; applies
@@ -308,12 +325,7 @@ static gg_status_t baro_step(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_rea
                     if (vo.accepted != 0) {
                         nav->baro_innov = vo.innov_m;
                     }
-                    *health |= (((vo.health & GG_VCHAN_INVALID) != 0U) ? GG_HEALTH_BARO_INVALID : 0U) |
-                               (((vo.health & GG_VCHAN_STALE) != 0U) ? GG_HEALTH_BARO_STALE : 0U) |
-                               (((vo.health & GG_VCHAN_OUTLIER) != 0U) ? GG_HEALTH_BARO_OUTLIER : 0U) |
-                               (((vo.health & GG_VCHAN_RECAPTURE) != 0U) ? GG_HEALTH_BARO_RECAPTURE
-                                                                          : 0U) |
-                               (((vo.health & GG_VCHAN_COAST) != 0U) ? GG_HEALTH_BARO_COAST : 0U);
+                    *health |= baro_health(vo.health);
                 }
             }
         }
@@ -328,18 +340,15 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
 {
     gg_status_t st;
     uint32_t t0;
-    uint32_t t1;
     if (nav->started == 0) {
         st = start(nav, d);
     } else {
         gg_real_t dr[3];
         gg_acc_t g[3];
-        gg_real_t f_next[3];
         gg_real_t r[3];
-        gg_real_t v[3];
         gg_real_t u[3];
         gg_real_t rn = 0.0L;
-        size_t j;
+        uint32_t t1;
         t0 = cycles_now(hal);
         st = gg_mech_step_position(&nav->mech, dr);
         t1 = cycles_now(hal);
@@ -354,12 +363,15 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
         cyc[GG_MOD_GRAVDR] = t0 - t1;
         /* specific force less the vertical loop's integral state along up */
         if (st == GG_OK) {
+            gg_real_t v[3];
             st = gg_mech_get(&nav->mech, r, v);
         }
         if (st == GG_OK) {
             st = up_vector(r, u, &rn);
         }
         if (st == GG_OK) {
+            gg_real_t f_next[3];
+            size_t j;
             for (j = 0U; j < 3U; ++j) {
                 f_next[j] = d->f_c[j] - (nav->a_c * u[j]);
             }
@@ -382,7 +394,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     const uint32_t t_start = cycles_now(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
-    gg_diff2d_output_t d;
+    gg_diff2d_output_t d = {0};
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }

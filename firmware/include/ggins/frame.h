@@ -43,21 +43,21 @@ typedef struct {
 } gg_frame_t;
 
 /** Health bits of the navigation output (a bit set = condition present this step). */
-#define GG_HEALTH_NOT_INIT        (1u << 0)  /**< no valid navigation state yet */
-#define GG_HEALTH_ACC_NONFINITE   (1u << 1)  /**< an accelerometer reading was NaN/Inf */
-#define GG_HEALTH_ACC_RANGE       (1u << 2)  /**< an accelerometer reading was out of range */
-#define GG_HEALTH_ACC_SENSOR      (1u << 3)  /**< an accelerometer flagged its sample bad/absent */
-#define GG_HEALTH_SEQ_GAP         (1u << 4)  /**< seq skipped forward */
-#define GG_HEALTH_SEQ_REPEAT      (1u << 5)  /**< seq repeated or went backwards */
-#define GG_HEALTH_TIME_JUMP       (1u << 6)  /**< utime step differs from the configured step */
-#define GG_HEALTH_GAMMA_ASYM      (1u << 7)  /**< gradient symmetry residual above threshold */
-#define GG_HEALTH_FRAME_REJECTED  (1u << 8)  /**< frame not used; state propagated no further */
-#define GG_HEALTH_DEADLINE        (1u << 9)  /**< step took longer than the step period */
-#define GG_HEALTH_BARO_INVALID    (1u << 10) /**< barometer sample NaN/Inf, out of range or bad */
-#define GG_HEALTH_BARO_STALE      (1u << 11) /**< barometer sample too old */
-#define GG_HEALTH_BARO_OUTLIER    (1u << 12) /**< barometer sample rejected by the innovation gate */
-#define GG_HEALTH_BARO_RECAPTURE  (1u << 13) /**< gate overridden after repeated rejections */
-#define GG_HEALTH_BARO_COAST      (1u << 14) /**< vertical channel coasting: no barometer accepted lately */
+#define GG_HEALTH_NOT_INIT        0x00000001u  /**< no valid navigation state yet */
+#define GG_HEALTH_ACC_NONFINITE   0x00000002u  /**< an accelerometer reading was NaN/Inf */
+#define GG_HEALTH_ACC_RANGE       0x00000004u  /**< an accelerometer reading was out of range */
+#define GG_HEALTH_ACC_SENSOR      0x00000008u  /**< an accelerometer flagged its sample bad/absent */
+#define GG_HEALTH_SEQ_GAP         0x00000010u  /**< seq skipped forward */
+#define GG_HEALTH_SEQ_REPEAT      0x00000020u  /**< seq repeated or went backwards */
+#define GG_HEALTH_TIME_JUMP       0x00000040u  /**< utime step differs from the configured step */
+#define GG_HEALTH_GAMMA_ASYM      0x00000080u  /**< gradient symmetry residual above threshold */
+#define GG_HEALTH_FRAME_REJECTED  0x00000100u  /**< frame not used; state propagated no further */
+#define GG_HEALTH_DEADLINE        0x00000200u  /**< step took longer than the step period */
+#define GG_HEALTH_BARO_INVALID    0x00000400u /**< barometer sample NaN/Inf, out of range or bad */
+#define GG_HEALTH_BARO_STALE      0x00000800u /**< barometer sample too old */
+#define GG_HEALTH_BARO_OUTLIER    0x00001000u /**< barometer sample rejected by the innovation gate */
+#define GG_HEALTH_BARO_RECAPTURE  0x00002000u /**< gate overridden after repeated rejections */
+#define GG_HEALTH_BARO_COAST      0x00004000u /**< vertical channel coasting: no barometer accepted lately */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {

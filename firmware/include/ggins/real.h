@@ -66,4 +66,10 @@ static inline gg_real_t gg_acc_value(const gg_acc_t *acc)
  *  C99 isfinite() is a type-generic macro; gcc expands it inline (no libm). */
 #define GG_ISFINITE(x) (isfinite(x))
 
+/** 1 when all three components are finite, else 0. */
+static inline int gg_finite3(const gg_real_t v[3])
+{
+    return (GG_ISFINITE(v[0]) && GG_ISFINITE(v[1]) && GG_ISFINITE(v[2])) ? 1 : 0;
+}
+
 #endif /* GGINS_REAL_H */

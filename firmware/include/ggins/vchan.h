@@ -58,11 +58,11 @@ typedef struct {
 } gg_vchan_config_t;
 
 /** Health bits of the vertical channel (mapped into the nav health word). */
-#define GG_VCHAN_INVALID   (1u << 0) /**< sample NaN/Inf, out of range or flagged bad */
-#define GG_VCHAN_STALE     (1u << 1) /**< sample older than max_age_us */
-#define GG_VCHAN_OUTLIER   (1u << 2) /**< sample rejected by the innovation gate */
-#define GG_VCHAN_RECAPTURE (1u << 3) /**< gate overridden after max_rejects rejections */
-#define GG_VCHAN_COAST     (1u << 4) /**< no accepted sample for longer than coast_us */
+#define GG_VCHAN_INVALID   0x00000001u /**< sample NaN/Inf, out of range or flagged bad */
+#define GG_VCHAN_STALE     0x00000002u /**< sample older than max_age_us */
+#define GG_VCHAN_OUTLIER   0x00000004u /**< sample rejected by the innovation gate */
+#define GG_VCHAN_RECAPTURE 0x00000008u /**< gate overridden after max_rejects rejections */
+#define GG_VCHAN_COAST     0x00000010u /**< no accepted sample for longer than coast_us */
 
 typedef struct {
     gg_vchan_config_t cfg;
