@@ -251,7 +251,7 @@ struct Options {
   std::optional<double> duration_s;
   std::optional<uint64_t> seed;
   std::optional<double> csv_rate, truth_rate;
-  std::optional<double> drop, dup, reorder, drop_output;
+  std::optional<double> drop, dup, reorder, drop_output, garbage;
   std::string lcm_url;
   std::string prefix = "GGINS_";
   int resend_timeout_ms = 50;
@@ -325,7 +325,7 @@ class Runner {
   std::vector<uint8_t> sent_ahead_;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_foreign_ = 0, decode_errors_ = 0;
   int64_t frames_published_ = 0, truth_published_ = 0, control_published_ = 0;
-  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0;
+  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0, garbage_inj_ = 0;
   int64_t resend_timeouts_ = 0, resend_on_request_ = 0, outputs_recovered_ = 0;
   int64_t steps_rejected_ = 0, pings_ = 0;
   uint32_t health_or_ = 0;
@@ -465,6 +465,23 @@ void Runner::send_frame(int64_t k, bool resend) {
   // transport fault injection (seeded, a pure function of seq and attempt)
   const auto& tp = sc_.transport;
   const uint64_t uk = static_cast<uint64_t>(k), ua = att;
+  if (tp.garbage_prob > 0 && ggins::truth::counter_uniform(tp.seed, 13, uk, ua, 0) < tp.garbage_prob) {
+    // a payload that must not decode as a frame: alternately truncated, and a
+    // message of another type (truth_t) on the frame channel
+    const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+    if ((garbage_inj_ & 1) == 0) {
+      lcm_publish(lcm_out_, ch_frame_.c_str(), buf_.data(), static_cast<unsigned>(n / 2));
+      if (rec_) rec_->write(ch_frame_, buf_.data(), n / 2, wall_us());
+    } else {
+      ggins::truth_t wrong{};
+      wrong.seq = k;
+      wrong.run_id = run_id_;
+      const int nw = wrong.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+      lcm_publish(lcm_out_, ch_frame_.c_str(), buf_.data(), static_cast<unsigned>(nw));
+      if (rec_) rec_->write(ch_frame_, buf_.data(), nw, wall_us());
+    }
+    ++garbage_inj_;
+  }
   if (tp.drop_prob > 0 && ggins::truth::counter_uniform(tp.seed, 10, uk, ua, 0) < tp.drop_prob) {
     ++frames_dropped_inj_;
   } else {
@@ -791,7 +808,8 @@ json Runner::verify_log() {
   const int64_t nav_unique = std::count(nav_seen.begin(), nav_seen.end(), 1);
   j["frames_expected"] = frames_published_;
   j["nav_outputs_unique"] = nav_unique;
-  j["complete"] = per[ch_frame_] == frames_published_ && per[ch_truth_] == truth_published_ && nav_unique == outputs_;
+  const int64_t frame_events = frames_published_ + (opt_.log_mode == "internal" ? garbage_inj_ : 0);
+  j["complete"] = per[ch_frame_] >= frame_events && per[ch_truth_] == truth_published_ && nav_unique == outputs_;
   return j;
 }
 
@@ -936,7 +954,8 @@ json Runner::run() {
   tr["decode_errors"] = decode_errors_;
   tr["resend_timeouts"] = resend_timeouts_;
   tr["resends_on_request"] = resend_on_request_;
-  tr["injected"] = {{"dropped", frames_dropped_inj_}, {"duplicated", frames_dup_inj_}, {"reordered", frames_reordered_inj_}};
+  tr["injected"] = {{"dropped", frames_dropped_inj_}, {"duplicated", frames_dup_inj_}, {"reordered", frames_reordered_inj_},
+                    {"garbage", garbage_inj_}};
   if (hal_) {
     const auto& h = *hal_;
     tr["hal_sim"] = {{"state", h.state},
@@ -1063,6 +1082,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--drop-output-prob", o.drop_output, "inject: hal_sim drops each navigation output with this probability")
       ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--garbage-prob", o.garbage,
+                 "inject: before a frame, an undecodable payload on the frame channel with this probability")
+      ->check(CLI::Range(0.0, 0.99));
   app.add_option("--resend-timeout-ms", o.resend_timeout_ms, "resend a frame whose output is this late, ms")
       ->capture_default_str()
       ->check(CLI::Range(1, 60000));
@@ -1112,6 +1134,7 @@ int main(int argc, char** argv) {
     if (o.dup) sc.transport.duplicate_prob = *o.dup;
     if (o.reorder) sc.transport.reorder_prob = *o.reorder;
     if (o.drop_output) sc.transport.output_drop_prob = *o.drop_output;
+    if (o.garbage) sc.transport.garbage_prob = *o.garbage;
     if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ggins run: %s\n", e.what());

@@ -221,15 +221,16 @@ def test_bias(a):
 
 
 def test_faults(a):
-    """Injected transport faults in lockstep: drops, duplicates and reordering are
-    detected, recovered and counted, and the navigation is bit for bit the same as
+    """Injected transport faults in lockstep: drops, duplicates, reordering, lost
+    outputs and undecodable payloads (truncated, wrong type) are detected, recovered
+    and counted, and the navigation is bit for bit the same as
     a clean run's."""
     clean = os.path.join(a.workdir, "clean")
     faulty = os.path.join(a.workdir, "faulty")
     common = ["--scenario", "welker-table1", "--duration", "30", "--csv-rate", "10", "--no-plots"]
     run(a.ggins_run, clean, *common)
     run(a.ggins_run, faulty, *common, "--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
-        "--drop-output-prob", "0.05", "--resend-timeout-ms", "5")
+        "--drop-output-prob", "0.05", "--garbage-prob", "0.05", "--resend-timeout-ms", "5")
     sc, rc = load(clean)
     sf, rf = load(faulty)
     tr = sf["transport"]
@@ -248,6 +249,8 @@ def test_faults(a):
           "hal_sim counted the out-of-order frames (%d, %d reordered)" % (tr["hal_sim"]["frames_out_of_order"],
                                                                        inj["reordered"]))
     check(sf["steps_rejected"] == 0, "the firmware saw every frame once, in order")
+    check(inj["garbage"] > 50 and tr["hal_sim"]["decode_errors"] == inj["garbage"],
+          "undecodable payloads counted by hal_sim (%d of %d)" % (tr["hal_sim"]["decode_errors"], inj["garbage"]))
     hd = tr["hal_sim"]["outputs_dropped_injected"]
     check(hd > 50 and tr["outputs_recovered"] >= hd - 5,
           "lost outputs recovered by resending the frame (%d dropped, %d recovered, %d republished)"
@@ -256,6 +259,7 @@ def test_faults(a):
     same = len(rc) == len(rf) and all(x[c] == y[c] for x, y in zip(rc, rf) for c in cols)
     check(same, "navigation outputs identical to the clean run (%d rows x %d columns)" % (len(rc), len(cols)))
     check(sf["final"]["position_error_m"] == sc["final"]["position_error_m"], "final error identical")
+    check(sf["log"]["complete"] is True, "the log of the faulty run is complete")
 
 
 def test_realtime(a):

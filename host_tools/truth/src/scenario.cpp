@@ -204,7 +204,7 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
       fail(source, "firmware.f_max_mps2 and asym_max_ps2 must be > 0, dt_tol_us >= 0");
   }
   if (const auto* t = sub(root, "transport", source)) {
-    check_keys(*t, "transport", {"seed", "drop_prob", "duplicate_prob", "reorder_prob", "output_drop_prob"}, source);
+    check_keys(*t, "transport", {"seed", "drop_prob", "duplicate_prob", "reorder_prob", "output_drop_prob", "garbage_prob"}, source);
     auto& p = s.transport;
     p.seed = get_seed(*t, "transport", source);
     p.drop_prob = get_num(*t, "transport", "drop_prob", 0.0, source);
@@ -215,6 +215,8 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     p.output_drop_prob = get_num(*t, "transport", "output_drop_prob", 0.0, source);
     check_prob(p.reorder_prob, "transport.reorder_prob", source);
     check_prob(p.output_drop_prob, "transport.output_drop_prob", source);
+    p.garbage_prob = get_num(*t, "transport", "garbage_prob", 0.0, source);
+    check_prob(p.garbage_prob, "transport.garbage_prob", source);
   }
   if (const auto* t = sub(root, "output", source)) {
     check_keys(*t, "output", {"csv_rate_hz", "truth_rate_hz"}, source);

@@ -16,7 +16,8 @@
 //                 scale = [[sx,sy,sz] x n] [0]
 //   [firmware]    f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0],
 //                 gravdr_trapezoid_only [false]
-//   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0], output_drop_prob [0]
+//   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0], output_drop_prob [0],
+//                 garbage_prob [0]
 //   [output]      csv_rate_hz [1], truth_rate_hz [10; 0 = every step]
 #pragma once
 
@@ -64,6 +65,7 @@ struct TransportParams {
   double duplicate_prob = 0.0;  // frame sent twice
   double reorder_prob = 0.0;    // frame k+1 sent before frame k
   double output_drop_prob = 0.0;  // hal_sim does not send a navigation output
+  double garbage_prob = 0.0;      // an undecodable payload on the frame channel before a frame
 };
 
 struct OutputParams {
