@@ -47,15 +47,15 @@ double us_per_eval(const Field& f, const std::vector<Vec3>& pts, int n) {
 // A flight: straight and level at 170 m/s, 100 Hz, six accelerometers at
 // +-0.5 m along the local axes. Returns total seconds and evaluations.
 struct FlightCost { double seconds; long evals; };
-FlightCost fly(const Field& f, Real lat, Real lon, Real h, Real km) {
+FlightCost fly(const Field& f, Real lat, Real lon, Real h, Real km, Real start_km = 0) {
   const Vec3 c = wgs84::geodetic_to_ecef(lat, lon, h);
   const Mat3 enu = wgs84::enu_to_ecef(lat, lon);
   const Vec3 dir = enu.col(1);  // north
-  const long steps = static_cast<long>(km * 1000 / 1.7L);
+  const long steps = static_cast<long>(km * 1000 / 1.7L), k0 = static_cast<long>(start_km * 1000 / 1.7L);
   const Vec3 off[6] = {0.5L * enu.col(0), -0.5L * enu.col(0), 0.5L * enu.col(1), -0.5L * enu.col(1), 0.5L * enu.col(2), -0.5L * enu.col(2)};
   const auto t0 = Clock::now();
   double acc = 0;
-  for (long k = 0; k < steps; ++k) {
+  for (long k = k0; k < k0 + steps; ++k) {
     const Vec3 p = c + (1.7L * k) * dir;
     for (const Vec3& o : off) acc += static_cast<double>(f.eval(p + o).g.x());
   }
@@ -75,10 +75,16 @@ int main(int argc, char** argv) {
   std::printf("machine: %s, %u hardware threads; compiler %s; long double %zu bytes\n", cpu_model().c_str(),
               std::thread::hardware_concurrency(), __VERSION__, sizeof(long double));
   const Real lat = 35.5L * M_PI / 180, lon = -82.5L * M_PI / 180;
-  std::vector<Vec3> pts;
+  std::vector<Vec3> pts;  // 16 points spread over ~10 km (exact models)
   for (int i = 0; i < 16; ++i) pts.push_back(wgs84::geodetic_to_ecef(lat + 1e-4L * i, lon - 2e-4L * i, 3000 + 10.0L * i));
+  std::vector<Vec3> acc;  // six accelerometers at +-0.5 m around one centre (fast paths, steady state in one cell)
+  {
+    const Vec3 c = wgs84::geodetic_to_ecef(lat, lon, 3000);
+    for (int a = 0; a < 3; ++a)
+      for (Real sg : {0.5L, -0.5L}) { Vec3 d = Vec3::Zero(); d[a] = sg; acc.push_back(c + d); }
+  }
 
-  std::printf("\n%-58s %12s\n", "model (potential + G + Gamma, single thread)", "us/eval");
+  std::printf("\n%-58s %12s\n", "model (potential + G + Gamma, single thread; fast paths: steady state, 6 accelerometers in one cell)", "us/eval");
   const PointMassField pm;
   std::printf("%-58s %12.3f\n", "spherical point mass", us_per_eval(pm, pts, 200000));
   const auto normal = std::make_shared<NormalField>();
@@ -95,8 +101,8 @@ int main(int argc, char** argv) {
   pmo.spacing = 1000; pmo.points = 12; pmo.origin = wgs84::geodetic_to_ecef(lat, lon, 0);
   const auto split = std::make_shared<SplitPointMassField>(rw->masses(), 8000, pmo);
   const FastField fast_pm(normal, split);
-  (void)us_per_eval(fast_pm, pts, 16);  // build the nodes around the points
-  std::printf("%-58s %12.3f\n", "fast: normal + split point masses (sigma 8 km, h 1 km, p 12)", us_per_eval(fast_pm, pts, 20000));
+  (void)us_per_eval(fast_pm, acc, 6);  // build the nodes around the points
+  std::printf("%-58s %12.3f\n", "fast: normal + split point masses (sigma 8 km, h 1 km, p 12)", us_per_eval(fast_pm, acc, 20000));
 
   const bool have_egm = static_cast<bool>(std::ifstream(egm));
   std::shared_ptr<SphericalHarmonicField> sh;
@@ -113,32 +119,39 @@ int main(int argc, char** argv) {
     LatticeOptions o;
     o.spacing = 2500; o.points = 8;
     fast_sh = std::make_shared<FastField>(normal, anomaly, o);
-    (void)us_per_eval(*fast_sh, pts, 16);
-    std::printf("%-58s %12.3f\n", "fast: normal + EGM96-360 disturbance lattice (h 2.5 km, p 8)", us_per_eval(*fast_sh, pts, 20000));
+    (void)us_per_eval(*fast_sh, acc, 6);
+    std::printf("%-58s %12.3f\n", "fast: normal + EGM96-360 disturbance lattice (h 2.5 km, p 8)", us_per_eval(*fast_sh, acc, 20000));
   } else {
     std::printf("(EGM96 file %s absent: SH rows skipped; run scripts/fetch-egm96)\n", egm.c_str());
   }
 
-  std::printf("\nflight: %.0Lf km north at 170 m/s, 100 Hz, 6 accelerometers (node building included)\n", km);
+  std::printf("\nflight north at 170 m/s, 100 Hz, 6 accelerometers at +-0.5 m, 3 km height; first km (initial\n"
+              "stencil) and then %.0Lf km (steady state), node building included\n", km);
+  auto report = [&](const char* what, const Field& f, const LatticeField& lf, Real la, double node_us) {
+    auto n0 = lf.nodes_computed();
+    const FlightCost a = fly(f, la, lon, 3000, 1);
+    auto n1 = lf.nodes_computed();
+    const FlightCost b = fly(f, la, lon, 3000, km, 1);
+    auto n2 = lf.nodes_computed();
+    const double per_km = (n2 - n1) / static_cast<double>(km);
+    const double us_b = 1e6 * b.seconds / b.evals;
+    std::printf("  %s: first km %.2f s (%zu nodes); then %.3f us/eval amortised, %.0f nodes/km\n", what, a.seconds, n1 - n0, us_b, per_km);
+    // 10 h at 170 m/s = 6120 km, 3.6e6 steps x 6 accelerometers
+    std::printf("    -> 10 h flight estimate: %.0f s (%.0f s node building at %.0f us/node + %.0f s interpolation)\n",
+                6120 * per_km * node_us * 1e-6 + 3.6e6 * 6 * (us_b - 1e-3 * per_km * node_us * 1.7 / 6) * 1e-6,
+                6120 * per_km * node_us * 1e-6, node_us, 3.6e6 * 6 * (us_b - 1e-3 * per_km * node_us * 1.7 / 6) * 1e-6);
+  };
   {
-    const auto before = split->lattice().nodes_computed();
-    const FlightCost c = fly(fast_pm, lat + 0.01L, lon, 3000, km);
-    const auto nodes = split->lattice().nodes_computed() - before;
-    std::printf("  split point masses: %.2f s, %.3f us/eval amortised, %zu lattice nodes built (%.0f nodes/km)\n", c.seconds,
-                1e6 * c.seconds / c.evals, nodes, nodes / static_cast<double>(km));
-    const auto t0 = Clock::now();
     ErfPointMassField erf(std::make_shared<const std::vector<PointMass>>(rw->masses()), 8000);
-    (void)erf.eval(pts[0]);
-    std::printf("  (one lattice node = long-range sum over all masses: %.0f us)\n",
-                std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    const double node_us = us_per_eval(erf, pts, 20);
+    std::printf("  (split point masses: one lattice node = long-range sum over %zu masses: %.0f us)\n", rw->masses().size(), node_us);
+    report("split point masses", fast_pm, split->lattice(), lat + 0.01L, node_us);
   }
   if (fast_sh) {
-    const auto& lat_f = static_cast<const LatticeField&>(fast_sh->anomaly());
-    const auto before = lat_f.nodes_computed();
-    const FlightCost c = fly(*fast_sh, lat + 0.05L, lon, 3000, km);
-    const auto nodes = lat_f.nodes_computed() - before;
-    std::printf("  EGM96-360 lattice: %.2f s, %.3f us/eval amortised, %zu lattice nodes built (%.0f nodes/km)\n", c.seconds,
-                1e6 * c.seconds / c.evals, nodes, nodes / static_cast<double>(km));
+    const auto& lf = static_cast<const LatticeField&>(fast_sh->anomaly());
+    const SphericalHarmonicField node_field(subtract_normal(sh->coefficients()), 360, 2, ShPrecision::Double);
+    const double node_us = us_per_eval(node_field, pts, 20);
+    report("EGM96-360 lattice", *fast_sh, lf, lat + 0.05L, node_us);
   }
   return 0;
 }

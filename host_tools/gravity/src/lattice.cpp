@@ -59,14 +59,22 @@ FieldSample LatticeField::eval(const Vec3& r) const {
     (a == 0 ? base.i : a == 1 ? base.j : base.k) = b;
     t[a] = static_cast<double>(u[a] - static_cast<Real>(b));  // in [half-1, half)
   }
-  // Per-thread stencil cache: consecutive queries in one cell reuse it.
+  // Per-thread stencil cache (4 slots, one per lattice in use, round robin):
+  // consecutive queries in one cell reuse the gathered node values.
   struct Stencil {
     std::uint64_t owner = 0;
     Key base{};
     std::vector<Node> v;
   };
-  thread_local Stencil st;
+  thread_local Stencil slots[4];
+  thread_local unsigned next_slot = 0;
+  Stencil* found = nullptr;
+  for (Stencil& c : slots)
+    if (c.owner == id_) { found = &c; break; }
+  if (!found) { found = &slots[next_slot++ % 4]; found->owner = 0; }
+  Stencil& st = *found;
   if (st.owner != id_ || !(st.base == base) || st.v.size() != static_cast<std::size_t>(p * p * p)) {
+    st.owner = 0;  // invalid until fully gathered (node() may throw)
     st.v.resize(static_cast<std::size_t>(p) * p * p);
     for (int i = 0; i < p; ++i)
       for (int j = 0; j < p; ++j)
