@@ -1234,9 +1234,13 @@ int main(int argc, char** argv) {
     if (o.python.empty()) {
       std::fprintf(stderr, "ggins run: no Python with matplotlib was found at build time; plots skipped (--python)\n");
     } else {
-      std::string cmd = "'" + o.python + "' '" + script + "' '" + out.string() + "' > '" + (out / "plot.log").string() + "' 2>&1";
-      if (std::system(cmd.c_str()) != 0)
-        std::fprintf(stderr, "ggins run: plotting failed; see %s\n", (out / "plot.log").c_str());
+      int st = -1;
+      try {
+        const pid_t pid = spawn({o.python, script, out.string()}, out / "plot.log");
+        st = wait_child(pid, 300.0);
+      } catch (const Fail&) {
+      }
+      if (st != 0) std::fprintf(stderr, "ggins run: plotting failed; see %s\n", (out / "plot.log").c_str());
     }
   }
   if (!o.quiet) {
