@@ -62,6 +62,14 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
             return st;
         }
     }
+    {
+        const gg_fdi2d_config_t fc = {cfg->geometry.a_m, cfg->geometry.b_m, cfg->fdi_parity_f_max,
+                                      cfg->fdi_asym_max};
+        st = gg_fdi2d_init(&nav->fdi, &fc);
+        if (st != GG_OK) {
+            return st;
+        }
+    }
     nav->cfg = *cfg;
     if (nav->cfg.r_ref_m == 0.0L) {
         nav->cfg.r_ref_m = GG_R_REF_DEFAULT_M;
@@ -85,10 +93,12 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
     return GG_OK;
 }
 
-/* Health bits of a frame's accelerometers and sequencing; 0 when usable. */
-static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr)
+/* Health bits of a frame's accelerometers and sequencing; *known_bad gets
+ * the readings (GG_FDI_BIT) that cannot be used as they are. */
+static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_t *known_bad)
 {
     uint32_t h = 0U;
+    uint32_t kb = 0U;
     int32_t i;
     if ((fr->n_acc < N_ACC_2D) || (fr->n_acc > GG_MAX_ACC)) {
         h |= GG_HEALTH_ACC_SENSOR;
@@ -100,17 +110,30 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr)
         const double lz = fr->f_lo[i][AX_Z];
         if (fr->acc_status[i] != GG_SENSOR_OK) {
             h |= GG_HEALTH_ACC_SENSOR;
+            kb |= GG_FDI_BIT(i, 0) | GG_FDI_BIT(i, 1);
         }
-        if (!GG_ISFINITE(fx) || !GG_ISFINITE(fz) || !GG_ISFINITE(lx) || !GG_ISFINITE(lz)) {
+        if (!GG_ISFINITE(fx) || !GG_ISFINITE(lx)) {
             h |= GG_HEALTH_ACC_NONFINITE;
-        } else if ((fx > nav->cfg.f_max) || (fx < -nav->cfg.f_max) || (fz > nav->cfg.f_max) ||
-                   (fz < -nav->cfg.f_max) || (lx > F_LO_MAX) || (lx < -F_LO_MAX) ||
-                   (lz > F_LO_MAX) || (lz < -F_LO_MAX)) {
+            kb |= GG_FDI_BIT(i, 0);
+        } else if ((fx > nav->cfg.f_max) || (fx < -nav->cfg.f_max) || (lx > F_LO_MAX) ||
+                   (lx < -F_LO_MAX)) {
             h |= GG_HEALTH_ACC_RANGE;
+            kb |= GG_FDI_BIT(i, 0);
         } else {
-            /* reading usable */
+            /* x reading usable */
+        }
+        if (!GG_ISFINITE(fz) || !GG_ISFINITE(lz)) {
+            h |= GG_HEALTH_ACC_NONFINITE;
+            kb |= GG_FDI_BIT(i, 1);
+        } else if ((fz > nav->cfg.f_max) || (fz < -nav->cfg.f_max) || (lz > F_LO_MAX) ||
+                   (lz < -F_LO_MAX)) {
+            h |= GG_HEALTH_ACC_RANGE;
+            kb |= GG_FDI_BIT(i, 1);
+        } else {
+            /* z reading usable */
         }
     }
+    *known_bad = kb;
     if (nav->started != 0) {
         if (fr->seq > (nav->last_seq + 1)) {
             h |= GG_HEALTH_SEQ_GAP;
@@ -168,6 +191,7 @@ static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t
     out->h_ins_m = (double)nav->h_ins;
     out->baro_innov_m = (double)nav->baro_innov;
     out->g_up_corr = (double)nav->a_c;
+    out->acc_excluded = nav->fdi.excluded;
 }
 
 /* Unit up vector u = r/|r| and |r|. */
@@ -246,6 +270,22 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
         st = gg_mech_init(&nav->mech, &mc);
     }
     return st;
+}
+
+/* Fault-detection outcome -> navigation health bits. */
+static uint32_t fdi_health(const gg_fdi2d_output_t *fo)
+{
+    uint32_t h = 0U;
+    if ((fo->flags & GG_FDI_DETECTED) != 0U) {
+        h |= GG_HEALTH_ACC_FAULT;
+    }
+    if ((fo->flags & GG_FDI_REBUILT) != 0U) {
+        h |= GG_HEALTH_ACC_REBUILT;
+    }
+    if ((fo->flags & (GG_FDI_COAST_GXX | GG_FDI_COAST_GZZ)) != 0U) {
+        h |= GG_HEALTH_GRAD_COAST;
+    }
+    return h;
 }
 
 /* Vertical-channel health bits -> navigation health bits. */
@@ -395,6 +435,9 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     uint32_t health;
     gg_status_t st = GG_OK;
     gg_diff2d_output_t d = {0};
+    gg_fdi2d_output_t fo = {0};
+    gg_fdi2d_t fdi_saved;
+    uint32_t known_bad = 0U;
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
@@ -407,12 +450,9 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         out->health = GG_HEALTH_NOT_INIT | GG_HEALTH_FRAME_REJECTED;
         return GG_ERR_NOT_INIT;
     }
-    health = check_frame(nav, frame);
-    if ((health & (GG_HEALTH_ACC_NONFINITE)) != 0U) {
-        st = GG_ERR_NONFINITE;
-    } else if ((health & GG_HEALTH_ACC_RANGE) != 0U) {
-        st = GG_ERR_RANGE;
-    } else if ((health & GG_HEALTH_ACC_SENSOR) != 0U) {
+    fdi_saved = nav->fdi;
+    health = check_frame(nav, frame, &known_bad);
+    if ((frame->n_acc < N_ACC_2D) || (frame->n_acc > GG_MAX_ACC)) {
         st = GG_ERR_SENSOR;
     } else if ((health & (GG_HEALTH_SEQ_GAP | GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
         st = GG_ERR_SEQUENCE;
@@ -421,14 +461,21 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         uint32_t t0;
         size_t i;
         for (i = 0U; i < 4U; ++i) {
-            in.f[i][0] = frame->f[i][AX_X];
-            in.f[i][1] = frame->f[i][AX_Z];
-            in.f_lo[i][0] = frame->f_lo[i][AX_X];
-            in.f_lo[i][1] = frame->f_lo[i][AX_Z];
+            const uint32_t bx = GG_FDI_BIT(i, 0);
+            const uint32_t bz = GG_FDI_BIT(i, 1);
+            /* unusable readings enter as 0: fdi2d rebuilds them */
+            in.f[i][0] = ((known_bad & bx) != 0U) ? 0.0 : frame->f[i][AX_X];
+            in.f[i][1] = ((known_bad & bz) != 0U) ? 0.0 : frame->f[i][AX_Z];
+            in.f_lo[i][0] = ((known_bad & bx) != 0U) ? 0.0 : frame->f_lo[i][AX_X];
+            in.f_lo[i][1] = ((known_bad & bz) != 0U) ? 0.0 : frame->f_lo[i][AX_Z];
         }
         t0 = cycles_now(hal);
-        st = gg_diff2d_step(&nav->diff, &in, &d);
+        st = gg_fdi2d_step(&nav->fdi, known_bad, &in, &fo);
+        if (st == GG_OK) {
+            st = gg_diff2d_step(&nav->diff, &in, &d);
+        }
         cyc[GG_MOD_DIFF] = cycles_now(hal) - t0;
+        health |= fdi_health(&fo);
     }
     if (st == GG_OK) {
         /* module states saved so a failure part-way leaves nothing changed */
@@ -468,9 +515,13 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         nav->last_seq = frame->seq;
         nav->last_utime = frame->utime;
     } else {
+        nav->fdi = fdi_saved;
         health |= GG_HEALTH_FRAME_REJECTED;
     }
     fill_output(nav, frame, st, health, out);
+    out->parity_f[0] = (double)fo.p_x;
+    out->parity_f[1] = (double)fo.p_z;
+    out->acc_rebuilt = fo.rebuilt;
     cyc[GG_MOD_TOTAL] = cycles_now(hal) - t_start;
     if ((hal != NULL) && (hal->cycle_count != NULL) && (hal->cycles_per_second > 0U)) {
         const uint64_t budget =

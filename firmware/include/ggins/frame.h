@@ -58,6 +58,9 @@ typedef struct {
 #define GG_HEALTH_BARO_OUTLIER    0x00001000u /**< barometer sample rejected by the innovation gate */
 #define GG_HEALTH_BARO_RECAPTURE  0x00002000u /**< gate overridden after repeated rejections */
 #define GG_HEALTH_BARO_COAST      0x00004000u /**< vertical channel coasting: no barometer accepted lately */
+#define GG_HEALTH_ACC_FAULT       0x00008000u /**< accelerometer parity check failed this step */
+#define GG_HEALTH_ACC_REBUILT     0x00010000u /**< degraded: readings rebuilt from parity (see acc_excluded) */
+#define GG_HEALTH_GRAD_COAST      0x00020000u /**< degraded: a gradient component coasts on its last good value */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {
@@ -83,6 +86,9 @@ typedef struct {
     double gamma_asym;          /**< symmetry residual Gamma_xz - Gamma_zx, s^-2 */
     double h_ins_m;             /**< inertial altitude |r| - R_ref, m */
     double baro_innov_m;        /**< last barometer innovation h_ins - h_baro, m (0 if none) */
+    double parity_f[2];         /**< accelerometer parity residuals p_x, p_z, m/s^2 (fdi2d.h) */
+    uint32_t acc_excluded;      /**< readings excluded for good, bit 2*sensor+axis (fdi2d.h) */
+    uint32_t acc_rebuilt;       /**< readings rebuilt this step (known bad or excluded) */
     double g_up_corr;           /**< vertical loop's integral state a_c, m/s^2: the up
                                      acceleration the loop removes. In gravity-model mode
                                      -a_c estimates the vertical gravity disturbance

@@ -8,9 +8,13 @@
  * The first accepted frame (time t0) initialises the state at the configured
  * r0, v0 and G0 (the paper assumes G(0) known) and the measured Gamma(t0),
  * f(t0); every later frame advances the state by exactly one step.
- * Frames are validated before any module runs: a frame with NaN/Inf or
- * out-of-range readings, a sensor flagged bad, or a seq/utime that is not
- * exactly one step on, is rejected and flagged in the health word, and the
+ * Frames are validated before any module runs. A reading that is NaN/Inf,
+ * out of range or from a sensor flagged bad is flagged and rebuilt from the
+ * redundancy of the others (fdi2d.h: at most one per axis group); parity
+ * checks (when configured) detect and isolate faults the sensors do not
+ * report themselves (stuck, stepped, drifting axes) and accommodate them.
+ * A frame that cannot be accommodated, or whose seq/utime is not exactly
+ * one step on, is rejected and flagged in the health word, and the
  * navigation state is left untouched.
  * Gravity comes from the dead reckoning (gradiometer mode) or from the
  * onboard model (model mode); optionally a barometric vertical channel
@@ -26,6 +30,7 @@
 
 #include <stdint.h>
 #include "ggins/diff2d.h"
+#include "ggins/fdi2d.h"
 #include "ggins/frame.h"
 #include "ggins/gmodel.h"
 #include "ggins/gravdr.h"
@@ -58,11 +63,14 @@ typedef struct {
     gg_vchan_config_t baro;      /**< vertical loop (baro_enable only) */
     gg_real_t r_ref_m;           /**< altitude reference: h = |r| - r_ref_m, m (>= 0; 0 selects
                                       GG_R_REF_DEFAULT_M) */
+    double fdi_parity_f_max;     /**< accelerometer parity detection threshold, m/s^2 (0: off) */
+    double fdi_asym_max;         /**< gradient-symmetry detection threshold, s^-2 (0: off) */
 } gg_nav2d_config_t;
 
 typedef struct {
     gg_nav2d_config_t cfg;
     gg_diff2d_t diff;
+    gg_fdi2d_t fdi;
     gg_gravdr_t gravdr;
     gg_mech_t mech;
     gg_gmodel_t gmodel;

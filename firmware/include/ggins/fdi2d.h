@@ -1,0 +1,88 @@
+/**
+ * @file fdi2d.h
+ * @brief Fault detection, isolation and accommodation for the four dual-axis
+ *        accelerometers of the 2-D platform, from the redundancy of their
+ *        readings.
+ *
+ * Eight readings measure six things (two centre specific forces, four
+ * gradient components), so three parity relations hold for any field and
+ * any motion (to the finite-baseline terms, ~1e-13 m/s^2 at 0.5 m):
+ *   p_x = ((f1x + f3x) - (f2x + f4x)) / 2        [m/s^2]  both pairs see the same mean
+ *   p_z = ((f1z + f3z) - (f2z + f4z)) / 2        [m/s^2]
+ *   p_s = Gxz - Gzx = (f4x - f2x)/2b - (f3z - f1z)/2a   [s^-2]  a gradient is symmetric
+ * A fault d on one reading moves them along its signature:
+ *   f1x (+1/2, 0, 0)       f2x (-1/2, 0, -1/2b)    f3x (+1/2, 0, 0)      f4x (-1/2, 0, +1/2b)
+ *   f1z (0, +1/2, +1/2a)   f2z (0, -1/2, 0)        f3z (0, +1/2, -1/2a)  f4z (0, -1/2, 0)
+ * so 2x, 4x, 1z and 3z are isolable; 1x/3x and 2z/4z are not told apart
+ * (same signature): the geometry allows no more.
+ *
+ * Accommodation (degraded modes), by synthesising readings so that the
+ * differencing downstream needs no special case:
+ *  - a reading known bad (sensor status, NaN/Inf, out of range) or isolated
+ *    (and then excluded for the rest of the run) is rebuilt from its group's
+ *    parity relation, e.g. f2x := f1x + f3x - f4x - 2 p_x, with p_x the
+ *    group's last healthy residual (the curvature term (a^2 Gx,xx - b^2
+ *    Gx,zz)/2 ~ 3e-13 m/s^2, which taking p = 0 would put into Gxx); one per
+ *    axis group;
+ *  - a fault isolated only to a pair (1x/3x or 2z/4z): the centre force of
+ *    that axis comes from the other pair, and Gxx (or Gzz) coasts on its
+ *    last good value;
+ *  - anything else (two faults in one group, a signature that fits no single
+ *    reading) rejects the frame.
+ * Detection thresholds come from the configuration; a threshold of 0 turns
+ * that parity check off.
+ */
+#ifndef GGINS_FDI2D_H
+#define GGINS_FDI2D_H
+
+#include <stdint.h>
+#include "ggins/diff2d.h"
+#include "ggins/real.h"
+#include "ggins/status.h"
+
+/** Reading index in masks: bit (2 * sensor + axis), sensor 0..3 = paper's 1..4, axis 0 = x, 1 = z. */
+#define GG_FDI_BIT(sensor, axis) (1u << ((2u * (uint32_t)(sensor)) + (uint32_t)(axis)))
+
+typedef struct {
+    gg_real_t a_m;          /**< half-baseline along x, m (> 0) */
+    gg_real_t b_m;          /**< half-baseline along z, m (> 0) */
+    double parity_f_max;    /**< |p_x|, |p_z| detection threshold, m/s^2 (0: off) */
+    double asym_max;        /**< |p_s| detection threshold, s^-2 (0: off) */
+} gg_fdi2d_config_t;
+
+typedef struct {
+    gg_fdi2d_config_t cfg;
+    uint32_t excluded;      /**< readings isolated as faulty, latched (GG_FDI_BIT mask) */
+    gg_real_t gxx_good;     /**< last gradient Gxx computed from healthy readings, s^-2 */
+    gg_real_t gzz_good;     /**< last Gzz likewise, s^-2 */
+    gg_real_t p_good[2];    /**< last parity residuals p_x, p_z of whole, healthy groups, m/s^2 */
+    int have_good;
+    int initialized;
+} gg_fdi2d_t;
+
+/** Outcome flags. */
+#define GG_FDI_DETECTED   0x01u /**< a parity check exceeded its threshold this step */
+#define GG_FDI_REBUILT    0x02u /**< one or more readings rebuilt from parity (degraded) */
+#define GG_FDI_COAST_GXX  0x04u /**< Gxx coasting on its last good value (1x/3x ambiguous) */
+#define GG_FDI_COAST_GZZ  0x08u /**< Gzz coasting likewise (2z/4z ambiguous) */
+#define GG_FDI_NEW_EXCL   0x10u /**< a reading was newly isolated and excluded this step */
+
+typedef struct {
+    gg_real_t p_x;          /**< parity residuals before accommodation: m/s^2 */
+    gg_real_t p_z;
+    gg_real_t p_s;          /**< s^-2 */
+    uint32_t flags;         /**< GG_FDI_* */
+    uint32_t excluded;      /**< latched exclusions after this step */
+    uint32_t rebuilt;       /**< readings rebuilt this step (known bad or excluded) */
+} gg_fdi2d_output_t;
+
+gg_status_t gg_fdi2d_init(gg_fdi2d_t *st, const gg_fdi2d_config_t *cfg);
+
+/** Check and accommodate one set of readings in place. known_bad: readings
+ *  the caller already knows are unusable (their values are ignored).
+ *  GG_ERR_SENSOR when the set cannot be accommodated (in untouched, state
+ *  untouched); GG_ERR_NONFINITE if a reading not marked known_bad is not finite. */
+gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t *in,
+                          gg_fdi2d_output_t *out);
+
+#endif /* GGINS_FDI2D_H */

@@ -1,0 +1,254 @@
+/* Parity-space fault detection, isolation and accommodation; see fdi2d.h. */
+#include "ggins/fdi2d.h"
+
+#include <stddef.h>
+
+#define N_READ 8U
+
+/* reading value hi + lo */
+static gg_real_t rd(const gg_diff2d_input_t *in, uint32_t s, uint32_t ax)
+{
+    return (gg_real_t)in->f[s][ax] + (gg_real_t)in->f_lo[s][ax];
+}
+
+static void wr(gg_diff2d_input_t *in, uint32_t s, uint32_t ax, gg_real_t v)
+{
+    const double hi = (double)v;
+    in->f[s][ax] = hi;
+    in->f_lo[s][ax] = (double)(v - (gg_real_t)hi);
+}
+
+static void parity(const gg_fdi2d_t *st, const gg_diff2d_input_t *in, gg_real_t *px,
+                   gg_real_t *pz, gg_real_t *ps)
+{
+    *px = 0.5L * ((rd(in, 0U, 0U) + rd(in, 2U, 0U)) - (rd(in, 1U, 0U) + rd(in, 3U, 0U)));
+    *pz = 0.5L * ((rd(in, 0U, 1U) + rd(in, 2U, 1U)) - (rd(in, 1U, 1U) + rd(in, 3U, 1U)));
+    *ps = (((in->f[3][0] - in->f[1][0]) + (in->f_lo[3][0] - in->f_lo[1][0])) / (2.0L * st->cfg.b_m)) -
+          (((in->f[2][1] - in->f[0][1]) + (in->f_lo[2][1] - in->f_lo[0][1])) / (2.0L * st->cfg.a_m));
+}
+
+static uint32_t popcount8(uint32_t m)
+{
+    uint32_t n = 0U;
+    uint32_t i;
+    for (i = 0U; i < N_READ; ++i) {
+        n += (m >> i) & 1U;
+    }
+    return n;
+}
+
+/* Rebuild reading (s, ax) from its group's parity relation, p = p_good (the
+ * group's last healthy residual: the finite-baseline curvature term, which
+ * varies only over Earth-scale distances). */
+static void rebuild(gg_diff2d_input_t *in, uint32_t s, uint32_t ax, gg_real_t p_good)
+{
+    /* p = ((r0 + r2) - (r1 + r3))/2: r_s from the other three */
+    const gg_real_t p2 = 2.0L * p_good;
+    const gg_real_t r0 = rd(in, 0U, ax);
+    const gg_real_t r1 = rd(in, 1U, ax);
+    const gg_real_t r2 = rd(in, 2U, ax);
+    const gg_real_t r3 = rd(in, 3U, ax);
+    gg_real_t v;
+    if (s == 0U) {
+        v = ((r1 + r3) - r2) + p2;
+    } else if (s == 1U) {
+        v = ((r0 + r2) - r3) - p2;
+    } else if (s == 2U) {
+        v = ((r1 + r3) - r0) + p2;
+    } else {
+        v = ((r0 + r2) - r1) - p2;
+    }
+    wr(in, s, ax, v);
+}
+
+gg_status_t gg_fdi2d_init(gg_fdi2d_t *st, const gg_fdi2d_config_t *cfg)
+{
+    if ((st == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    st->initialized = 0;
+    if (!GG_ISFINITE(cfg->a_m) || !(cfg->a_m > 0.0L) || !GG_ISFINITE(cfg->b_m) ||
+        !(cfg->b_m > 0.0L) || !GG_ISFINITE(cfg->parity_f_max) || (cfg->parity_f_max < 0.0) ||
+        !GG_ISFINITE(cfg->asym_max) || (cfg->asym_max < 0.0)) {
+        return GG_ERR_CONFIG;
+    }
+    st->cfg = *cfg;
+    st->excluded = 0U;
+    st->gxx_good = 0.0L;
+    st->gzz_good = 0.0L;
+    st->p_good[0] = 0.0L;
+    st->p_good[1] = 0.0L;
+    st->have_good = 0;
+    st->initialized = 1;
+    return GG_OK;
+}
+
+/* Which single reading explains the residuals (p_x, p_z, p_s) best?
+ * Returns its bit, or 0 when none fits; *pair set for the ambiguous pairs. */
+static uint32_t isolate(const gg_fdi2d_t *st, gg_real_t px, gg_real_t pz, gg_real_t ps,
+                        uint32_t *pair)
+{
+    const gg_real_t ia = 1.0L / (2.0L * st->cfg.a_m);
+    const gg_real_t ib = 1.0L / (2.0L * st->cfg.b_m);
+    /* residuals normalised by their thresholds so the three are comparable */
+    const gg_real_t tf = (st->cfg.parity_f_max > 0.0) ? (gg_real_t)st->cfg.parity_f_max : 1.0L;
+    const gg_real_t ts = (st->cfg.asym_max > 0.0) ? (gg_real_t)st->cfg.asym_max : 1.0L;
+    const gg_real_t sig[6][3] = {
+        {-0.5L, 0.0L, -ib}, /* 2x */
+        {-0.5L, 0.0L, ib},  /* 4x */
+        {0.0L, 0.5L, ia},   /* 1z */
+        {0.0L, 0.5L, -ia},  /* 3z */
+        {0.5L, 0.0L, 0.0L}, /* 1x or 3x */
+        {0.0L, -0.5L, 0.0L} /* 2z or 4z */
+    };
+    const uint32_t bits[6] = {GG_FDI_BIT(1, 0), GG_FDI_BIT(3, 0), GG_FDI_BIT(0, 1),
+                              GG_FDI_BIT(2, 1), GG_FDI_BIT(0, 0) | GG_FDI_BIT(2, 0),
+                              GG_FDI_BIT(1, 1) | GG_FDI_BIT(3, 1)};
+    const gg_real_t p[3] = {px / tf, pz / tf, ps / ts};
+    gg_real_t best = -1.0L;
+    uint32_t best_bits = 0U;
+    size_t c;
+    for (c = 0U; c < 6U; ++c) {
+        const gg_real_t s[3] = {sig[c][0] / tf, sig[c][1] / tf, sig[c][2] / ts};
+        const gg_real_t ss = (s[0] * s[0]) + (s[1] * s[1]) + (s[2] * s[2]);
+        const gg_real_t sp = (s[0] * p[0]) + (s[1] * p[1]) + (s[2] * p[2]);
+        const gg_real_t d = sp / ss; /* least-squares fault size */
+        const gg_real_t e0 = p[0] - (d * s[0]);
+        const gg_real_t e1 = p[1] - (d * s[1]);
+        const gg_real_t e2 = p[2] - (d * s[2]);
+        const gg_real_t res = (e0 * e0) + (e1 * e1) + (e2 * e2);
+        if ((best < 0.0L) || (res < best)) {
+            best = res;
+            best_bits = bits[c];
+        }
+    }
+    /* the best fit must explain the residuals: what is left must be below
+     * the thresholds (normalised: below 1 in each) */
+    if (best > 1.0L) {
+        best_bits = 0U;
+    }
+    *pair = (popcount8(best_bits) == 2U) ? 1U : 0U;
+    return best_bits;
+}
+
+gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t *in,
+                          gg_fdi2d_output_t *out)
+{
+    gg_diff2d_input_t w;
+    gg_fdi2d_output_t o;
+    uint32_t s;
+    uint32_t ax;
+    uint32_t excluded;
+    uint32_t bad;
+    if ((st == NULL) || (in == NULL) || (out == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    for (s = 0U; s < 4U; ++s) {
+        for (ax = 0U; ax < 2U; ++ax) {
+            if (((known_bad & GG_FDI_BIT(s, ax)) == 0U) &&
+                (!GG_ISFINITE(in->f[s][ax]) || !GG_ISFINITE(in->f_lo[s][ax]))) {
+                return GG_ERR_NONFINITE;
+            }
+        }
+    }
+    w = *in;
+    excluded = st->excluded;
+    bad = known_bad | excluded;
+    o.flags = 0U;
+    o.rebuilt = 0U;
+    /* at most one unusable reading per axis group can be rebuilt */
+    for (ax = 0U; ax < 2U; ++ax) {
+        const uint32_t g = bad & (GG_FDI_BIT(0, ax) | GG_FDI_BIT(1, ax) | GG_FDI_BIT(2, ax) |
+                                  GG_FDI_BIT(3, ax));
+        if (popcount8(g) > 1U) {
+            return GG_ERR_SENSOR;
+        }
+    }
+    for (s = 0U; s < 4U; ++s) {
+        for (ax = 0U; ax < 2U; ++ax) {
+            if ((bad & GG_FDI_BIT(s, ax)) != 0U) {
+                rebuild(&w, s, ax, st->p_good[ax]);
+                o.rebuilt |= GG_FDI_BIT(s, ax);
+            }
+        }
+    }
+    parity(st, &w, &o.p_x, &o.p_z, &o.p_s);
+    {
+        /* a group with a rebuilt reading has no parity left to test */
+        const int test_x = ((o.rebuilt & 0x55u) == 0U) && (st->cfg.parity_f_max > 0.0);
+        const int test_z = ((o.rebuilt & 0xAAu) == 0U) && (st->cfg.parity_f_max > 0.0);
+        const int test_s = (st->cfg.asym_max > 0.0);
+        const gg_real_t fx = (test_x != 0) ? o.p_x : 0.0L;
+        const gg_real_t fz = (test_z != 0) ? o.p_z : 0.0L;
+        const gg_real_t fs = (test_s != 0) ? o.p_s : 0.0L;
+        const gg_real_t lf = (gg_real_t)st->cfg.parity_f_max;
+        const gg_real_t ls = (gg_real_t)st->cfg.asym_max;
+        if (((test_x != 0) && ((fx > lf) || (fx < -lf))) ||
+            ((test_z != 0) && ((fz > lf) || (fz < -lf))) ||
+            ((test_s != 0) && ((fs > ls) || (fs < -ls)))) {
+            uint32_t pair = 0U;
+            const uint32_t which = isolate(st, fx, fz, fs, &pair);
+            o.flags |= GG_FDI_DETECTED;
+            if ((which == 0U) || ((which & bad) != 0U)) {
+                return GG_ERR_SENSOR; /* no single reading explains it */
+            }
+            if (pair == 0U) {
+                /* isolated: exclude for good and rebuild it */
+                const uint32_t gx = ((which & 0x55u) != 0U) ? 0x55u : 0xAAu;
+                if (popcount8((bad | which) & gx) > 1U) {
+                    return GG_ERR_SENSOR;
+                }
+                excluded |= which;
+                o.flags |= GG_FDI_NEW_EXCL;
+                for (s = 0U; s < 4U; ++s) {
+                    for (ax = 0U; ax < 2U; ++ax) {
+                        if ((which & GG_FDI_BIT(s, ax)) != 0U) {
+                            rebuild(&w, s, ax, st->p_good[ax]);
+                            o.rebuilt |= GG_FDI_BIT(s, ax);
+                        }
+                    }
+                }
+            } else if (st->have_good == 0) {
+                return GG_ERR_SENSOR; /* nothing to coast on yet */
+            } else if ((which & 0x55u) != 0U) {
+                /* 1x or 3x: centre x force from sensors 2, 4; Gxx coasts */
+                const gg_real_t m = 0.5L * (rd(&w, 1U, 0U) + rd(&w, 3U, 0U));
+                wr(&w, 0U, 0U, m - (st->cfg.a_m * st->gxx_good));
+                wr(&w, 2U, 0U, m + (st->cfg.a_m * st->gxx_good));
+                o.flags |= GG_FDI_COAST_GXX;
+            } else {
+                /* 2z or 4z: centre z force from sensors 1, 3; Gzz coasts */
+                const gg_real_t m = 0.5L * (rd(&w, 0U, 1U) + rd(&w, 2U, 1U));
+                wr(&w, 1U, 1U, m - (st->cfg.b_m * st->gzz_good));
+                wr(&w, 3U, 1U, m + (st->cfg.b_m * st->gzz_good));
+                o.flags |= GG_FDI_COAST_GZZ;
+            }
+        }
+    }
+    if (o.rebuilt != 0U) {
+        o.flags |= GG_FDI_REBUILT;
+    }
+    /* remember the diagonal gradients while they come from good readings */
+    if ((o.flags & GG_FDI_COAST_GXX) == 0U) {
+        st->gxx_good = (rd(&w, 2U, 0U) - rd(&w, 0U, 0U)) / (2.0L * st->cfg.a_m);
+    }
+    if ((o.flags & GG_FDI_COAST_GZZ) == 0U) {
+        st->gzz_good = (rd(&w, 3U, 1U) - rd(&w, 1U, 1U)) / (2.0L * st->cfg.b_m);
+    }
+    /* and the parity residuals of groups that are whole and healthy */
+    if (((o.flags & GG_FDI_DETECTED) == 0U) && ((o.rebuilt & 0x55u) == 0U)) {
+        st->p_good[0] = o.p_x;
+    }
+    if (((o.flags & GG_FDI_DETECTED) == 0U) && ((o.rebuilt & 0xAAu) == 0U)) {
+        st->p_good[1] = o.p_z;
+    }
+    st->have_good = 1;
+    st->excluded = excluded;
+    o.excluded = excluded;
+    *in = w;
+    *out = o;
+    return GG_OK;
+}
