@@ -37,13 +37,12 @@ static uint32_t popcount8(uint32_t m)
     return n;
 }
 
-/* Rebuild reading (s, ax) from its group's parity relation, p = p_good (the
- * group's last healthy residual: the finite-baseline curvature term, which
- * varies only over Earth-scale distances). */
-static void rebuild(gg_diff2d_input_t *in, uint32_t s, uint32_t ax, gg_real_t p_good)
+/* Rebuild reading (s, ax) from its group's parity relation, p = p_exp (the
+ * expected finite-baseline curvature term). */
+static void rebuild(gg_diff2d_input_t *in, uint32_t s, uint32_t ax, gg_real_t p_exp)
 {
     /* p = ((r0 + r2) - (r1 + r3))/2: r_s from the other three */
-    const gg_real_t p2 = 2.0L * p_good;
+    const gg_real_t p2 = 2.0L * p_exp;
     const gg_real_t r0 = rd(in, 0U, ax);
     const gg_real_t r1 = rd(in, 1U, ax);
     const gg_real_t r2 = rd(in, 2U, ax);
@@ -76,8 +75,6 @@ gg_status_t gg_fdi2d_init(gg_fdi2d_t *st, const gg_fdi2d_config_t *cfg)
     st->excluded = 0U;
     st->gxx_good = 0.0L;
     st->gzz_good = 0.0L;
-    st->p_good[0] = 0.0L;
-    st->p_good[1] = 0.0L;
     st->have_good = 0;
     st->initialized = 1;
     return GG_OK;
@@ -131,8 +128,8 @@ static uint32_t isolate(const gg_fdi2d_t *st, gg_real_t px, gg_real_t pz, gg_rea
     return best_bits;
 }
 
-gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t *in,
-                          gg_fdi2d_output_t *out)
+gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_exp[2],
+                          gg_diff2d_input_t *in, gg_fdi2d_output_t *out)
 {
     gg_diff2d_input_t w;
     gg_fdi2d_output_t o;
@@ -140,11 +137,14 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t 
     uint32_t ax;
     uint32_t excluded;
     uint32_t bad;
-    if ((st == NULL) || (in == NULL) || (out == NULL)) {
+    if ((st == NULL) || (in == NULL) || (out == NULL) || (p_exp == NULL)) {
         return GG_ERR_NULL;
     }
     if (st->initialized == 0) {
         return GG_ERR_NOT_INIT;
+    }
+    if (!GG_ISFINITE(p_exp[0]) || !GG_ISFINITE(p_exp[1])) {
+        return GG_ERR_NONFINITE;
     }
     for (s = 0U; s < 4U; ++s) {
         for (ax = 0U; ax < 2U; ++ax) {
@@ -170,12 +170,14 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t 
     for (s = 0U; s < 4U; ++s) {
         for (ax = 0U; ax < 2U; ++ax) {
             if ((bad & GG_FDI_BIT(s, ax)) != 0U) {
-                rebuild(&w, s, ax, st->p_good[ax]);
+                rebuild(&w, s, ax, p_exp[ax]);
                 o.rebuilt |= GG_FDI_BIT(s, ax);
             }
         }
     }
     parity(st, &w, &o.p_x, &o.p_z, &o.p_s);
+    o.p_x -= p_exp[0];
+    o.p_z -= p_exp[1];
     {
         /* a group with a rebuilt reading has no parity left to test */
         const int test_x = ((o.rebuilt & 0x55u) == 0U) && (st->cfg.parity_f_max > 0.0);
@@ -206,7 +208,7 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t 
                 for (s = 0U; s < 4U; ++s) {
                     for (ax = 0U; ax < 2U; ++ax) {
                         if ((which & GG_FDI_BIT(s, ax)) != 0U) {
-                            rebuild(&w, s, ax, st->p_good[ax]);
+                            rebuild(&w, s, ax, p_exp[ax]);
                             o.rebuilt |= GG_FDI_BIT(s, ax);
                         }
                     }
@@ -238,17 +240,45 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t 
     if ((o.flags & GG_FDI_COAST_GZZ) == 0U) {
         st->gzz_good = (rd(&w, 3U, 1U) - rd(&w, 1U, 1U)) / (2.0L * st->cfg.b_m);
     }
-    /* and the parity residuals of groups that are whole and healthy */
-    if (((o.flags & GG_FDI_DETECTED) == 0U) && ((o.rebuilt & 0x55u) == 0U)) {
-        st->p_good[0] = o.p_x;
-    }
-    if (((o.flags & GG_FDI_DETECTED) == 0U) && ((o.rebuilt & 0xAAu) == 0U)) {
-        st->p_good[1] = o.p_z;
-    }
     st->have_good = 1;
     st->excluded = excluded;
     o.excluded = excluded;
     *in = w;
     *out = o;
+    return GG_OK;
+}
+
+gg_status_t gg_fdi2d_expected_parity(gg_real_t a_m, gg_real_t b_m, gg_real_t mu,
+                                     const gg_real_t r[3], gg_real_t p_exp[2])
+{
+    gg_real_t r2;
+    gg_real_t rn;
+    gg_real_t r5;
+    gg_real_t r7;
+    uint32_t k;
+    if ((r == NULL) || (p_exp == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if ((gg_finite3(r) == 0) || !GG_ISFINITE(mu) || !GG_ISFINITE(a_m) || !GG_ISFINITE(b_m)) {
+        return GG_ERR_NONFINITE;
+    }
+    r2 = (r[0] * r[0]) + (r[1] * r[1]) + (r[2] * r[2]);
+    if (!(r2 > 1.0L)) {
+        return GG_ERR_RANGE;
+    }
+    rn = sqrtl(r2);
+    r5 = r2 * r2 * rn;
+    r7 = r5 * r2;
+    for (k = 0U; k < 2U; ++k) {
+        const gg_real_t xi = r[2U * k]; /* component i = x (k = 0) or z (k = 1) */
+        const gg_real_t x = r[0];
+        const gg_real_t z = r[2];
+        /* D_i,xx and D_i,zz */
+        const gg_real_t dxx = mu * ((-15.0L * xi * x * x / r7) +
+                                    (3.0L * (xi + (2.0L * ((k == 0U) ? x : 0.0L))) / r5));
+        const gg_real_t dzz = mu * ((-15.0L * xi * z * z / r7) +
+                                    (3.0L * (xi + (2.0L * ((k == 1U) ? z : 0.0L))) / r5));
+        p_exp[k] = -0.5L * ((a_m * a_m * dxx) - (b_m * b_m * dzz));
+    }
     return GG_OK;
 }

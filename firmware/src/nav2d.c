@@ -272,6 +272,37 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
     return st;
 }
 
+/* Expected accelerometer parity residuals (the finite-baseline curvature
+ * terms, fdi2d.h) at the current estimate, for a point-mass field with
+ * mu = |G| |r|^2 taken from the estimate itself. */
+static gg_status_t expected_parity(const gg_nav2d_t *nav, gg_real_t p_exp[2])
+{
+    gg_real_t r[3];
+    gg_real_t v[3];
+    gg_real_t g[3];
+    gg_status_t st = GG_OK;
+    if (nav->started != 0) {
+        st = gg_mech_get(&nav->mech, r, v);
+        if (st == GG_OK) {
+            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g)
+                                                              : gg_gravdr_get(&nav->gravdr, g);
+        }
+    } else {
+        size_t j;
+        for (j = 0U; j < 3U; ++j) {
+            r[j] = nav->cfg.r0[j];
+            g[j] = nav->cfg.g0[j];
+        }
+    }
+    if (st == GG_OK) {
+        const gg_real_t rr = (r[0] * r[0]) + (r[1] * r[1]) + (r[2] * r[2]);
+        const gg_real_t gg2 = (g[0] * g[0]) + (g[1] * g[1]) + (g[2] * g[2]);
+        st = gg_fdi2d_expected_parity(nav->cfg.geometry.a_m, nav->cfg.geometry.b_m,
+                                      sqrtl(gg2) * rr, r, p_exp);
+    }
+    return st;
+}
+
 /* Fault-detection outcome -> navigation health bits. */
 static uint32_t fdi_health(const gg_fdi2d_output_t *fo)
 {
@@ -438,6 +469,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     gg_fdi2d_output_t fo = {0};
     gg_fdi2d_t fdi_saved;
     uint32_t known_bad = 0U;
+    gg_real_t p_exp[2] = {0.0L, 0.0L};
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
@@ -470,7 +502,10 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
             in.f_lo[i][1] = ((known_bad & bz) != 0U) ? 0.0 : frame->f_lo[i][AX_Z];
         }
         t0 = cycles_now(hal);
-        st = gg_fdi2d_step(&nav->fdi, known_bad, &in, &fo);
+        st = expected_parity(nav, p_exp);
+        if (st == GG_OK) {
+            st = gg_fdi2d_step(&nav->fdi, known_bad, p_exp, &in, &fo);
+        }
         if (st == GG_OK) {
             st = gg_diff2d_step(&nav->diff, &in, &d);
         }

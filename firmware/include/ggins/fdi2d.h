@@ -6,7 +6,9 @@
  *
  * Eight readings measure six things (two centre specific forces, four
  * gradient components), so three parity relations hold for any field and
- * any motion (to the finite-baseline terms, ~1e-13 m/s^2 at 0.5 m):
+ * any motion, up to the finite-baseline curvature terms, which the caller
+ * supplies as the expected residuals p_exp (for p_x, p_z; ~3e-13 m/s^2 at
+ * 0.5 m; gg_fdi2d_expected_parity computes them for a point-mass field):
  *   p_x = ((f1x + f3x) - (f2x + f4x)) / 2        [m/s^2]  both pairs see the same mean
  *   p_z = ((f1z + f3z) - (f2z + f4z)) / 2        [m/s^2]
  *   p_s = Gxz - Gzx = (f4x - f2x)/2b - (f3z - f1z)/2a   [s^-2]  a gradient is symmetric
@@ -20,10 +22,8 @@
  * differencing downstream needs no special case:
  *  - a reading known bad (sensor status, NaN/Inf, out of range) or isolated
  *    (and then excluded for the rest of the run) is rebuilt from its group's
- *    parity relation, e.g. f2x := f1x + f3x - f4x - 2 p_x, with p_x the
- *    group's last healthy residual (the curvature term (a^2 Gx,xx - b^2
- *    Gx,zz)/2 ~ 3e-13 m/s^2, which taking p = 0 would put into Gxx); one per
- *    axis group;
+ *    parity relation, e.g. f2x := f1x + f3x - f4x - 2 p_x,exp (with p = 0
+ *    the curvature term would go into the gradient); one per axis group;
  *  - a fault isolated only to a pair (1x/3x or 2z/4z): the centre force of
  *    that axis comes from the other pair, and Gxx (or Gzz) coasts on its
  *    last good value;
@@ -55,7 +55,6 @@ typedef struct {
     uint32_t excluded;      /**< readings isolated as faulty, latched (GG_FDI_BIT mask) */
     gg_real_t gxx_good;     /**< last gradient Gxx computed from healthy readings, s^-2 */
     gg_real_t gzz_good;     /**< last Gzz likewise, s^-2 */
-    gg_real_t p_good[2];    /**< last parity residuals p_x, p_z of whole, healthy groups, m/s^2 */
     int have_good;
     int initialized;
 } gg_fdi2d_t;
@@ -68,7 +67,7 @@ typedef struct {
 #define GG_FDI_NEW_EXCL   0x10u /**< a reading was newly isolated and excluded this step */
 
 typedef struct {
-    gg_real_t p_x;          /**< parity residuals before accommodation: m/s^2 */
+    gg_real_t p_x;          /**< parity residuals less the expected ones, before accommodation: m/s^2 */
     gg_real_t p_z;
     gg_real_t p_s;          /**< s^-2 */
     uint32_t flags;         /**< GG_FDI_* */
@@ -79,10 +78,21 @@ typedef struct {
 gg_status_t gg_fdi2d_init(gg_fdi2d_t *st, const gg_fdi2d_config_t *cfg);
 
 /** Check and accommodate one set of readings in place. known_bad: readings
- *  the caller already knows are unusable (their values are ignored).
- *  GG_ERR_SENSOR when the set cannot be accommodated (in untouched, state
- *  untouched); GG_ERR_NONFINITE if a reading not marked known_bad is not finite. */
-gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, gg_diff2d_input_t *in,
-                          gg_fdi2d_output_t *out);
+ *  the caller already knows are unusable (their values are ignored); p_exp:
+ *  expected p_x, p_z (m/s^2). GG_ERR_SENSOR when the set cannot be
+ *  accommodated (in untouched, state untouched); GG_ERR_NONFINITE if a
+ *  reading not marked known_bad, or p_exp, is not finite. */
+gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_exp[2],
+                          gg_diff2d_input_t *in, gg_fdi2d_output_t *out);
+
+/** Expected parity residuals p_x, p_z (m/s^2) of the 2-D geometry at
+ *  position r (m, axes 0 = x, 2 = z) in a point-mass field of parameter
+ *  mu = GM (m^3/s^2): with D_ijk = d3(mu/r)/dx_i dx_j dx_k =
+ *  mu (-15 x_i x_j x_k / r^7 + 3 (x_i d_jk + x_j d_ik + x_k d_ij) / r^5),
+ *  each pair's mean is a - G - (half-baseline^2 / 2) D_i,kk, so
+ *  p_i = -(a^2 D_ixx - b^2 D_izz) / 2. (Field beyond the point mass changes
+ *  it by ~1e-3 relative: ~1e-16 m/s^2.) */
+gg_status_t gg_fdi2d_expected_parity(gg_real_t a_m, gg_real_t b_m, gg_real_t mu,
+                                     const gg_real_t r[3], gg_real_t p_exp[2]);
 
 #endif /* GGINS_FDI2D_H */
