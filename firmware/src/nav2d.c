@@ -278,10 +278,10 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
 static gg_status_t expected_parity(const gg_nav2d_t *nav, gg_real_t p_exp[2])
 {
     gg_real_t r[3];
-    gg_real_t v[3];
     gg_real_t g[3];
     gg_status_t st = GG_OK;
     if (nav->started != 0) {
+        gg_real_t v[3];
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
             st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g)
