@@ -124,7 +124,10 @@ static uint32_t isolate(const gg_fdi2d_t *st, gg_real_t px, gg_real_t pz, gg_rea
     if (best > 1.0L) {
         best_bits = 0U;
     }
-    *pair = (popcount8(best_bits) == 2U) ? 1U : 0U;
+    *pair = 0U;
+    if (popcount8(best_bits) == 2U) {
+        *pair = 1U;
+    }
     return best_bits;
 }
 
@@ -180,9 +183,18 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
     o.p_z -= p_exp[1];
     {
         /* a group with a rebuilt reading has no parity left to test */
-        const int test_x = ((o.rebuilt & 0x55u) == 0U) && (st->cfg.parity_f_max > 0.0);
-        const int test_z = ((o.rebuilt & 0xAAu) == 0U) && (st->cfg.parity_f_max > 0.0);
-        const int test_s = (st->cfg.asym_max > 0.0);
+        int test_x = 0;
+        int test_z = 0;
+        int test_s = 0;
+        if (((o.rebuilt & 0x55u) == 0U) && (st->cfg.parity_f_max > 0.0)) {
+            test_x = 1;
+        }
+        if (((o.rebuilt & 0xAAu) == 0U) && (st->cfg.parity_f_max > 0.0)) {
+            test_z = 1;
+        }
+        if (st->cfg.asym_max > 0.0) {
+            test_s = 1;
+        }
         const gg_real_t fx = (test_x != 0) ? o.p_x : 0.0L;
         const gg_real_t fz = (test_z != 0) ? o.p_z : 0.0L;
         const gg_real_t fs = (test_s != 0) ? o.p_s : 0.0L;
@@ -199,7 +211,10 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
             }
             if (pair == 0U) {
                 /* isolated: exclude for good and rebuild it */
-                const uint32_t gx = ((which & 0x55u) != 0U) ? 0x55u : 0xAAu;
+                uint32_t gx = 0xAAu;
+                if ((which & 0x55u) != 0U) {
+                    gx = 0x55u;
+                }
                 if (popcount8((bad | which) & gx) > 1U) {
                     return GG_ERR_SENSOR;
                 }
