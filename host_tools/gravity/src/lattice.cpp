@@ -59,8 +59,9 @@ FieldSample LatticeField::eval(const Vec3& r) const {
     (a == 0 ? base.i : a == 1 ? base.j : base.k) = b;
     t[a] = static_cast<double>(u[a] - static_cast<Real>(b));  // in [half-1, half)
   }
-  // Per-thread stencil cache (4 slots, one per lattice in use, round robin):
-  // consecutive queries in one cell reuse the gathered node values.
+  // Per-thread stencil cache (4 slots keyed by lattice and cell, round robin):
+  // consecutive queries in one cell reuse the gathered node values, also when
+  // the accelerometers straddle a cell face or two lattices are in use.
   struct Stencil {
     std::uint64_t owner = 0;
     Key base{};
@@ -70,7 +71,7 @@ FieldSample LatticeField::eval(const Vec3& r) const {
   thread_local unsigned next_slot = 0;
   Stencil* found = nullptr;
   for (Stencil& c : slots)
-    if (c.owner == id_) { found = &c; break; }
+    if (c.owner == id_ && c.base == base) { found = &c; break; }
   if (!found) { found = &slots[next_slot++ % 4]; found->owner = 0; }
   Stencil& st = *found;
   if (st.owner != id_ || !(st.base == base) || st.v.size() != static_cast<std::size_t>(p * p * p)) {
