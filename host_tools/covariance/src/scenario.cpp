@@ -1,0 +1,132 @@
+#include "ggins/covariance/scenario.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+#include <toml++/toml.h>
+
+namespace ggins::covariance {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> builtin_names() { return {"welker-table1"}; }
+
+std::optional<CovScenario> builtin_scenario(const std::string& name) {
+  if (name == "welker-table1") {
+    // Welker, Pachter & Huffman, section VI and Table I: V = 300 m/s, L0 = 0,
+    // level flight (h = 0) due north for T = 3600 s over a spherical Earth,
+    // sigma_a = 2e-12 m/s^2 on all eight accelerometer axes (eq. 11's P(0)),
+    // dG(0) ~ 2e-12 m/s^2 (eq. 8), half-baseline a = b = 0.5 m (DESIGN.md).
+    CovScenario s;  // the defaults are this scenario
+    s.name = name;
+    return s;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+double num(const toml::node* n, const std::string& key) {
+  if (!n) throw std::runtime_error("missing " + key);
+  if (auto v = n->value<double>()) return *v;
+  throw std::runtime_error(key + " is not a number");
+}
+
+}  // namespace
+
+CovScenario load_scenario_toml(const std::string& path) {
+  toml::table tbl;
+  try {
+    tbl = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw std::runtime_error(path + ": " + std::string(e.description()));
+  }
+  // Keys shared with the truth generator / ggins run (scenarios/*.toml); the
+  // [initial] table is read by ggins-covariance only. Missing keys keep the
+  // defaults of CovScenario (the paper's values) and are listed in `defaulted`.
+  CovScenario s;
+  s.source = path;
+  s.name = tbl["name"].value_or(fs::path(path).stem().string());
+  auto node = [&](const char* dotted) { return tbl.at_path(dotted).node(); };
+  auto get = [&](const char* dotted, double& dst) {
+    const toml::node* n = node(dotted);
+    if (!n) {
+      s.defaulted.emplace_back(dotted);
+      return;
+    }
+    try {
+      dst = num(n, dotted);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(path + ": " + e.what());
+    }
+  };
+  if (auto m = tbl.at_path("gravity.model").value<std::string>(); m && *m != "point-mass")
+    throw std::runtime_error(path + ": gravity.model '" + *m + "' not supported by ggins-covariance yet (point-mass)");
+  if (auto t = tbl.at_path("trajectory.type").value<std::string>()) s.trajectory = *t;
+  if (s.trajectory != "north-flight")
+    throw std::runtime_error(path + ": trajectory.type '" + s.trajectory + "' not supported (north-flight)");
+  get("time.duration_s", s.duration_s);
+  get("gravity.gm_m3ps2", s.gm_m3ps2);
+  get("trajectory.radius_m", s.radius_m);
+  get("trajectory.speed_mps", s.speed_mps);
+  get("trajectory.height_m", s.height_m);
+  if (node("trajectory.lat0_rad")) {
+    get("trajectory.lat0_rad", s.lat0_rad);
+  } else {
+    double d = 0;
+    get("trajectory.lat0_deg", d);
+    s.lat0_rad = d * M_PI / 180.0;
+  }
+  get("platform.a_m", s.a_m);
+  get("platform.b_m", s.b_m);
+  get("time.rate_hz", s.rate_hz);
+  auto vec8 = [&](const char* dotted, std::vector<double>& dst) {
+    const toml::node* n = node(dotted);
+    if (!n) {
+      s.defaulted.emplace_back(dotted);
+      return;
+    }
+    if (const toml::array* arr = n->as_array()) {
+      if (arr->size() != 8) throw std::runtime_error(path + ": " + dotted + " needs 8 values (f1x f2x f3x f4x f1z f2z f3z f4z)");
+      for (size_t i = 0; i < 8; ++i) dst[i] = num(arr->get(i), dotted);
+    } else {
+      dst.assign(8, num(n, dotted));
+    }
+  };
+  vec8("accel.bias_sigma_mps2", s.bias_sigma_mps2);
+  vec8("accel.noise_sigma_mps2", s.noise_sigma_mps2);
+  get("accel.scale_sigma", s.scale_sigma);
+  if (const toml::node* n = node("initial.gravity_sigma_mps2")) {
+    if (const toml::array* arr = n->as_array()) {
+      if (arr->size() != 2) throw std::runtime_error(path + ": initial.gravity_sigma_mps2 needs [x, z]");
+      s.gravity0_sigma_x_mps2 = num(arr->get(0), "initial.gravity_sigma_mps2[0]");
+      s.gravity0_sigma_z_mps2 = num(arr->get(1), "initial.gravity_sigma_mps2[1]");
+    } else {
+      s.gravity0_sigma_x_mps2 = s.gravity0_sigma_z_mps2 = num(n, "initial.gravity_sigma_mps2");
+    }
+  } else {
+    s.defaulted.emplace_back("initial.gravity_sigma_mps2");
+  }
+  get("initial.position_sigma_m", s.pos0_sigma_m);
+  get("initial.velocity_sigma_mps", s.vel0_sigma_mps);
+  if (!(s.duration_s > 0) || !(s.radius_m > 0) || !(s.gm_m3ps2 > 0) || !(s.a_m > 0) || !(s.b_m > 0) ||
+      !(s.rate_hz > 0))
+    throw std::runtime_error(path + ": duration, radius, GM, rate and half-baselines must be > 0");
+  return s;
+}
+
+CovScenario resolve_scenario(const std::string& arg, const std::string& repo_root) {
+  std::error_code ec;
+  if (fs::is_regular_file(arg, ec)) return load_scenario_toml(arg);
+  std::vector<fs::path> dirs{fs::path("scenarios")};
+  if (!repo_root.empty()) dirs.push_back(fs::path(repo_root) / "scenarios");
+  for (const fs::path& dir : dirs) {
+    const fs::path p = dir / (arg + ".toml");
+    if (fs::is_regular_file(p, ec)) return load_scenario_toml(p.string());
+  }
+  if (auto b = builtin_scenario(arg)) return *b;
+  throw std::runtime_error("unknown scenario '" + arg + "' (no such file, no scenarios/" + arg +
+                           ".toml, not built in)");
+}
+
+}  // namespace ggins::covariance
