@@ -1,0 +1,110 @@
+// ggins profile: fly a scenario host-in-the-loop (ggins run, no log, no
+// plots) and print the firmware's per-module step time table - median, p99
+// and max, from the HAL cycle counter the firmware reads around each module
+// (host: CLOCK_MONOTONIC ns) - with the step period budget and overruns.
+#include <sys/utsname.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ggins profile: per-module firmware step time for a scenario.\n"
+      "Runs `ggins run --no-log --no-plots` (lockstep over LCM, hal_sim in its own process),\n"
+      "then prints median / p99 / max ns per firmware module as the firmware measured it\n"
+      "through the HAL cycle counter (CLOCK_MONOTONIC on the host; DWT CYCCNT on a board),\n"
+      "the share of the step period, and the deadline overruns the firmware counted.\n"
+      "Deterministic instruction counts: scripts/bench (callgrind), scripts/m7-qemu-count."};
+  std::string scenario = "welker-perfect";
+  double duration = 0.0;
+  std::string keep;
+  bool realtime = false;
+  app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
+  app.add_option("--duration", duration, "override the scenario's duration, s")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--realtime", realtime, "pace frames at the sensor rate (caches go cold between steps)");
+  app.add_option("--keep", keep, "keep the run's output folder here (default: a temporary folder, removed)");
+  CLI11_PARSE(app, argc, argv);
+
+  std::error_code ec;
+  fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) self = fs::absolute(argv[0]);
+  const fs::path run = self.parent_path() / "ggins-run";
+  if (!fs::exists(run)) {
+    std::fprintf(stderr, "ggins profile: %s not found (build the project)\n", run.c_str());
+    return 1;
+  }
+  fs::path out = keep.empty() ? fs::temp_directory_path() / ("ggins-profile-" + std::to_string(getpid()))
+                              : fs::path(keep);
+  std::vector<std::string> args = {run.string(), "--scenario", scenario, "--no-log", "--no-plots",
+                                   "--out", out.string()};
+  if (duration > 0) {
+    args.push_back("--duration");
+    args.push_back(std::to_string(duration));
+  }
+  if (realtime) args.push_back("--realtime");
+  std::vector<char*> cargs;
+  for (auto& a : args) cargs.push_back(a.data());
+  cargs.push_back(nullptr);
+  std::fprintf(stderr, "ggins profile: running %s ...\n", scenario.c_str());
+  const pid_t pid = fork();
+  if (pid < 0) {
+    std::perror("ggins profile: fork");
+    return 1;
+  }
+  if (pid == 0) {
+    execv(cargs[0], cargs.data());
+    std::perror("ggins profile: exec ggins-run");
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::fprintf(stderr, "ggins profile: ggins run failed (status %d); see its messages above\n",
+                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+  }
+  nlohmann::json s;
+  try {
+    std::ifstream f(out / "summary.json");
+    f >> s;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins profile: cannot read %s: %s\n", (out / "summary.json").c_str(), e.what());
+    return 1;
+  }
+  const auto& fw = s.at("firmware_step_ns");
+  const double rate = s.value("rate_hz", 0.0);
+  struct utsname u {};
+  uname(&u);
+  std::printf("firmware step time, scenario %s, %lld steps, %s; machine %s %s (%ld cores)\n",
+              scenario.c_str(), static_cast<long long>(s.value("steps", 0)),
+              realtime ? "realtime" : "lockstep", u.sysname, u.machine, sysconf(_SC_NPROCESSORS_ONLN));
+  std::printf("%-10s %10s %10s %10s\n", "module", "median ns", "p99 ns", "max ns");
+  const char* order[] = {"diff", "gravdr", "mech", "vchan", "total"};
+  for (const char* m : order) {
+    if (!fw.contains("modules") || !fw["modules"].contains(m)) continue;
+    const auto& r = fw["modules"][m];
+    std::printf("%-10s %10.0f %10.0f %10.0f\n", m, r.value("median", 0.0), r.value("p99", 0.0),
+                r.value("max", 0.0));
+  }
+  if (rate > 0) {
+    const double period_ns = 1e9 / rate;
+    std::printf("step period %.0f ns: median total uses %.3f %% of it\n", period_ns,
+                100.0 * fw.value("median", 0.0) / period_ns);
+  }
+  if (s.contains("transport") && s["transport"].contains("hal_sim") &&
+      s["transport"]["hal_sim"].contains("deadline_overruns"))
+    std::printf("deadline overruns (steps flagged GG_HEALTH_DEADLINE): %lld\n",
+                static_cast<long long>(s["transport"]["hal_sim"]["deadline_overruns"].get<double>()));
+  if (keep.empty()) fs::remove_all(out, ec);
+  return 0;
+}
