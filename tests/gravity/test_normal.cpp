@@ -117,11 +117,24 @@ static void test_fd_laplace(void**) {
   assert_true(was < 1e-20L);
 }
 
+// Third derivatives (zonal series to degree 20) against FD of the closed-form Gamma.
+static void test_third(void**) {
+  const NormalField f;
+  Real worst = 0, scale = 0;
+  bool ok = false;
+  for (Real lat : {0.0L, 40.0L, 90.0L})
+    worst = std::max(worst, gt::third_fd_check(f, wgs84::geodetic_to_ecef(lat * kDeg, 1.0L, 5000), 50.0L, scale, ok));
+  std::printf("  third derivatives vs fd of Gamma: %.2Le of %.2Le s^-2/m\n", worst, scale);
+  assert_true(ok);
+  assert_true(worst < 1e-8L * scale);
+}
+
 int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_somigliana_u0_direction), cmocka_unit_test(test_no_centrifugal),
       cmocka_unit_test(test_against_zonal_series),    cmocka_unit_test(test_c20_published),
       cmocka_unit_test(test_j2_formula),              cmocka_unit_test(test_fd_laplace),
+      cmocka_unit_test(test_third),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -40,6 +40,18 @@ static void test_fd_laplace(void**) {
   }
 }
 
+// Third derivatives (optional Field member) against FD of Gamma.
+static void test_third(void**) {
+  const PointMassField f;
+  Real worst = 0, scale = 0;
+  bool ok = false;
+  for (const Vec3& r : {Vec3(6.4e6L, 1.0e5L, -2.0e5L), Vec3(-3.0e6L, 5.0e6L, 2.5e6L), Vec3(0, 0, 6.36e6L)})
+    worst = std::max(worst, gt::third_fd_check(f, r, 50.0L, scale, ok));
+  std::printf("  third derivatives vs fd: %.2Le of %.2Le s^-2/m\n", worst, scale);
+  assert_true(ok);
+  assert_true(worst < 1e-8L * scale);
+}
+
 static void test_rejects_centre(void**) {
   const PointMassField f;
   bool threw = false;
@@ -51,6 +63,7 @@ int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_axis_values),
       cmocka_unit_test(test_fd_laplace),
+      cmocka_unit_test(test_third),
       cmocka_unit_test(test_rejects_centre),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);

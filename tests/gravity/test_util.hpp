@@ -65,6 +65,24 @@ inline FdErrors fd_check(const Field& f, const Vec3& r, Real hv, Real hg) {
   return e;
 }
 
+// Field::third against 4th-order finite differences of Gamma: returns the max
+// abs error and (in scale) the max |T| seen; supported = false if not provided.
+inline Real third_fd_check(const Field& f, const Vec3& r, Real h, Real& scale, bool& supported) {
+  ggins::gravity::Tensor3 t;
+  supported = f.third(r, t);
+  if (!supported) return 0;
+  Real worst = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Mat3 dG = fd4([&](const Vec3& x) -> Mat3 { return f.eval(x).gamma; }, r, k, h);
+    worst = std::max(worst, (dG - t[k]).cwiseAbs().maxCoeff());
+    scale = std::max(scale, t[k].cwiseAbs().maxCoeff());
+    // symmetric in all three indices
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) worst = std::max(worst, std::fabs(t[k](i, j) - t[i](k, j)));
+  }
+  return worst;
+}
+
 // Normalised C20 of the WGS-84 normal field, extracted by Gauss-Legendre
 // quadrature of V on the sphere r = a: C_n0 = (r/GM)(r/a)^n 1/2 int V Pbar_n dt.
 inline void gauss_legendre(int n, std::vector<Real>& x, std::vector<Real>& w) {

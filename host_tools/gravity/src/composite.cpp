@@ -21,6 +21,18 @@ FieldSample SumField::eval(const Vec3& r) const {
   return s;
 }
 
+bool SumField::third(const Vec3& r, Tensor3& t) const {
+  Tensor3 acc;
+  for (Mat3& m : acc) m.setZero();
+  for (const auto& [w, f] : terms_) {
+    Tensor3 one;
+    if (!f->third(r, one)) return false;
+    for (int k = 0; k < 3; ++k) acc[k] += w * one[k];
+  }
+  t = acc;
+  return true;
+}
+
 std::string SumField::name() const {
   if (!label_.empty()) return label_;
   std::string n;

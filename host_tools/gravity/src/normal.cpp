@@ -1,5 +1,7 @@
 #include "ggins/gravity/normal.hpp"
 
+#include "ggins/gravity/spherical_harmonic.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -62,7 +64,23 @@ NormalField::NormalField(const EllipsoidParams& p) : p_(p) {
   b_ = p_.a * (1.0L - p_.f);
   e_lin_ = std::sqrt(p_.a * p_.a - b_ * b_);
   q0_ = q_series(e_lin_ / b_, [](Real x, Real y) { return x * y; });
+  ShCoefficients z;
+  z.gm = p_.gm; z.a = p_.a; z.source = "normal-zonal";
+  z.resize(20);
+  z.c[0] = 1;
+  for (int n = 1; n <= 10; ++n) z.c[ShCoefficients::idx(2 * n, 0)] = -j2n(n) / std::sqrt(4.0L * n + 1);
+  zonal_ = std::make_shared<SphericalHarmonicField>(z, 20, 3);
 }
+
+Real NormalField::j2n(int n) const {
+  const Real e2 = p_.f * (2 - p_.f), ep = e_lin_ / b_;
+  const Real m = p_.omega * p_.omega * p_.a * p_.a * b_ / p_.gm;
+  const Real j2 = e2 / 3 * (1 - 2 * m * ep / (15 * q0_));  // H&M (2-90)
+  if (n == 1) return j2;
+  return ((n % 2) ? 1 : -1) * 3 * std::pow(e2, static_cast<Real>(n)) / ((2 * n + 1) * (2 * n + 3)) * (1 - n + 5 * n * j2 / e2);  // (2-92)
+}
+
+bool NormalField::third(const Vec3& r, Tensor3& t) const { return zonal_->third(r, t); }
 
 FieldSample NormalField::eval(const Vec3& r_e) const {
   Hd x[3];

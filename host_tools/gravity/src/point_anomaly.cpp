@@ -1,6 +1,7 @@
 #include "ggins/gravity/point_anomaly.hpp"
 
 #include "ggins/gravity/wgs84.hpp"
+#include "detail.hpp"
 
 #include <cmath>
 #include <random>
@@ -29,6 +30,12 @@ FieldSample PointMassAnomalyField::eval(const Vec3& r) const {
   s.g = Vec3(gx, gy, gz);
   s.gamma << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   return s;
+}
+
+bool PointMassAnomalyField::third(const Vec3& r, Tensor3& t) const {
+  for (Mat3& m : t) m.setZero();
+  for (const PointMass& m : masses_) add_point_mass_third(m.gm, r - m.r_e, t);
+  return true;
 }
 
 Vec3 PointMassAnomalyField::gravitation(const Vec3& r) const {

@@ -311,6 +311,19 @@ std::vector<ShDerivatives> SphericalHarmonicField::derivatives_impl(const Tables
   return out;
 }
 
+bool SphericalHarmonicField::third(const Vec3& r, Tensor3& t) const {
+  if (jmax_ < 3) return false;
+  const auto d = derivatives(r, 3);
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        int ix[3] = {0, 0, 0};
+        ++ix[i]; ++ix[j]; ++ix[k];
+        t[k](i, j) = d[3].at(ix[0], ix[1], ix[2]);
+      }
+  return true;
+}
+
 FieldSample SphericalHarmonicField::eval(const Vec3& r) const {
   const auto d = derivatives(r, 2);
   FieldSample s;

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
 #include <memory>
 #include <string>
 
@@ -23,6 +24,9 @@ namespace ggins::gravity {
 using Real = long double;
 using Vec3 = Eigen::Matrix<Real, 3, 1>;
 using Mat3 = Eigen::Matrix<Real, 3, 3>;
+
+// Third derivatives of V: t[k](i, j) = d^3 V / dx_i dx_j dx_k = dGamma_ij/dx_k (s^-2 m^-1).
+using Tensor3 = std::array<Mat3, 3>;
 
 struct FieldSample {
   Real potential = 0;          // m^2/s^2
@@ -36,6 +40,13 @@ class Field {
   // Field at r_e (m). Implementations must be thread-safe for concurrent const calls.
   virtual FieldSample eval(const Vec3& r_e) const = 0;
   virtual std::string name() const = 0;
+  // Optional: third derivatives at r_e. Returns false (t untouched) when the
+  // model does not provide them.
+  virtual bool third(const Vec3& r_e, Tensor3& t) const {
+    (void)r_e;
+    (void)t;
+    return false;
+  }
 };
 
 // Spherical point-mass Earth: V = GM/r, G = -GM r/r^3,
@@ -45,6 +56,7 @@ class PointMassField final : public Field {
   explicit PointMassField(Real gm = kGmWgs84) : gm_(gm) {}
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override { return "point-mass"; }
+  bool third(const Vec3& r_e, Tensor3& t) const override;
   Real gm() const { return gm_; }
 
   static constexpr Real kGmWgs84 = 3.986004418e14L;  // m^3/s^2 (WGS-84, NIMA TR8350.2)

@@ -25,6 +25,8 @@
 #include "ggins/gravity/field.hpp"
 #include "ggins/gravity/wgs84.hpp"
 
+#include <memory>
+
 namespace ggins::gravity {
 
 struct EllipsoidParams {
@@ -39,6 +41,11 @@ class NormalField final : public Field {
   explicit NormalField(const EllipsoidParams& p = EllipsoidParams{});
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override { return "wgs84-normal"; }
+  // Third derivatives from the equivalent zonal series (degree 20, J2n of
+  // H&M eqs. (2-90), (2-92); J22 ~ 1e-24), exact to rounding for r > E.
+  bool third(const Vec3& r_e, Tensor3& t) const override;
+  // J2n of this ellipsoid (n = 1: J2), H&M eqs. (2-90) and (2-92).
+  Real j2n(int n) const;
   const EllipsoidParams& params() const { return p_; }
   // Centrifugal potential and acceleration of the rotating frame, for callers
   // (and tests) that want normal GRAVITY = gravitation + centrifugal.
@@ -49,6 +56,7 @@ class NormalField final : public Field {
  private:
   EllipsoidParams p_;
   Real b_, e_lin_, q0_;
+  std::shared_ptr<const Field> zonal_;  // SphericalHarmonicField, max_order 3
 };
 
 }  // namespace ggins::gravity

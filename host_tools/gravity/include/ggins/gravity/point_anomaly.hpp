@@ -43,6 +43,7 @@ class PointMassAnomalyField final : public Field {
   explicit PointMassAnomalyField(std::vector<PointMass> masses, std::string label = "point-mass-anomaly");
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override { return label_; }
+  bool third(const Vec3& r_e, Tensor3& t) const override;
   Vec3 gravitation(const Vec3& r_e) const;  // g only (cheaper)
   const std::vector<PointMass>& masses() const { return masses_; }
 

@@ -98,6 +98,7 @@ class SphericalHarmonicField final : public Field {
                                   ShPrecision precision = ShPrecision::LongDouble);
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override;
+  bool third(const Vec3& r_e, Tensor3& t) const override;  // needs max_order >= 3
   // All partial derivatives of V of orders 0..order (order <= max_order).
   std::vector<ShDerivatives> derivatives(const Vec3& r_e, int order) const;
   int nmax() const { return nmax_; }
