@@ -39,11 +39,13 @@ bool PointMassAnomalyField::third(const Vec3& r, Tensor3& t) const {
 }
 
 Vec3 PointMassAnomalyField::gravitation(const Vec3& r) const {
-  Real gx = 0, gy = 0, gz = 0;
+  // double: an anomaly (< 1e-2 m/s^2) needs no more; several times faster than x87.
+  double gx = 0, gy = 0, gz = 0;
+  const double x = static_cast<double>(r.x()), y = static_cast<double>(r.y()), z = static_cast<double>(r.z());
   for (const PointMass& m : masses_) {
-    const Real dx = r.x() - m.r_e.x(), dy = r.y() - m.r_e.y(), dz = r.z() - m.r_e.z();
-    const Real r2 = dx * dx + dy * dy + dz * dz;
-    const Real k = m.gm / (r2 * std::sqrt(r2));
+    const double dx = x - static_cast<double>(m.r_e.x()), dy = y - static_cast<double>(m.r_e.y()), dz = z - static_cast<double>(m.r_e.z());
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    const double k = static_cast<double>(m.gm) / (r2 * std::sqrt(r2));
     gx -= k * dx; gy -= k * dy; gz -= k * dz;
   }
   return Vec3(gx, gy, gz);
