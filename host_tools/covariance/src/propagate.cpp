@@ -17,6 +17,24 @@ MatrixXd lyap_rhs(const MatrixXd& Fa, const MatrixXd& P, const MatrixXd* Qa) {
 
 }  // namespace
 
+MatrixXd transition_matrix(const LinearErrorModel& model, double t_end, double dt) {
+  const int N = model.n_states() + model.n_dist();
+  if (!(dt > 0) || !(t_end >= 0)) throw std::invalid_argument("transition_matrix: dt must be > 0, t_end >= 0");
+  const long nsteps = std::lround(std::ceil(t_end / dt - 1e-9));
+  const double h = nsteps > 0 ? t_end / double(nsteps) : dt;
+  MatrixXd Phi = MatrixXd::Identity(N, N);
+  for (long k = 0; k < nsteps; ++k) {
+    const double t = k * h;
+    const MatrixXd F0 = model.augmented(t), F1 = model.augmented(t + 0.5 * h), F2 = model.augmented(t + h);
+    const MatrixXd k1 = F0 * Phi;
+    const MatrixXd k2 = F1 * (Phi + 0.5 * h * k1);
+    const MatrixXd k3 = F1 * (Phi + 0.5 * h * k2);
+    const MatrixXd k4 = F2 * (Phi + h * k3);
+    Phi += (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  }
+  return Phi;
+}
+
 VectorXd sigmas(const MatrixXd& P, int k) {
   VectorXd s(k);
   for (int i = 0; i < k; ++i) s(i) = std::sqrt(std::max(0.0, P(i, i)));

@@ -37,6 +37,10 @@ struct Sample {
 std::vector<Sample> propagate(const LinearErrorModel& model, const MatrixXd& P0,
                               const PropagationOptions& opt);
 
+// Transition matrix Phi(t_end, 0) of the augmented model (RK4 on Phi' = Fa Phi,
+// steps of at most dt).
+MatrixXd transition_matrix(const LinearErrorModel& model, double t_end, double dt);
+
 // One-sigma values (sqrt of the diagonal) of the first k states of P.
 VectorXd sigmas(const MatrixXd& P, int k);
 
