@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
     method = Method::kLyapunov;
     method_s = "lyapunov";
   }
-  std::vector<std::string> unmodelled;
+  std::vector<std::string> unmodelled = sc.unmodelled;
   if (sc.scale_sigma != 0) unmodelled.emplace_back("accel.scale_sigma (scale-factor errors are not in the linear model)");
   for (const auto& u : unmodelled) std::fprintf(stderr, "ggins-covariance: NOTE not modelled: %s\n", u.c_str());
 

@@ -41,11 +41,17 @@ CovScenario load_scenario_toml(const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw std::runtime_error(path + ": " + std::string(e.description()));
   }
-  // Keys shared with the truth generator / ggins run (scenarios/*.toml); the
-  // [initial] table is read by ggins-covariance only. Missing keys keep the
-  // defaults of CovScenario (the paper's values) and are listed in `defaulted`.
+  // Keys shared with the truth generator / ggins run (scenarios/*.toml, see
+  // host_tools/truth/include/ggins/truth/scenario.hpp). Missing keys take the
+  // truth generator's defaults (no accelerometer errors) and are listed in
+  // `defaulted`. The firmware starts from the true G(r0) in host-in-the-loop
+  // runs, so dG(0) defaults to 0 here; the optional [initial] table is read by
+  // ggins-covariance only (the truth generator rejects unknown tables, so put
+  // it only in covariance-only files, or use --sigma-g0).
   CovScenario s;
   s.source = path;
+  s.bias_sigma_mps2.assign(8, 0.0);
+  s.gravity0_sigma_x_mps2 = s.gravity0_sigma_z_mps2 = 0.0;
   s.name = tbl["name"].value_or(fs::path(path).stem().string());
   auto node = [&](const char* dotted) { return tbl.at_path(dotted).node(); };
   auto get = [&](const char* dotted, double& dst) {
@@ -65,6 +71,14 @@ CovScenario load_scenario_toml(const std::string& path) {
   if (auto t = tbl.at_path("trajectory.type").value<std::string>()) s.trajectory = *t;
   if (s.trajectory != "north-flight")
     throw std::runtime_error(path + ": trajectory.type '" + s.trajectory + "' not supported (north-flight)");
+  if (auto g = tbl.at_path("navigation.gravity").value<std::string>(); g && *g != "gradiometer")
+    throw std::runtime_error(path + ": navigation.gravity '" + *g +
+                             "': ggins-covariance models the gradiometer mode (Welker et al.) only");
+  // Inputs of the truth generator that the linear model does not contain.
+  if (node("accel.bias_mps2")) s.unmodelled.emplace_back("accel.bias_mps2 (deterministic biases)");
+  if (node("accel.scale")) s.unmodelled.emplace_back("accel.scale (deterministic scale factors)");
+  if (tbl.at_path("baro.enable").value_or(false)) s.unmodelled.emplace_back("baro (vertical loop, issue 5)");
+  if (node("sensor_faults")) s.unmodelled.emplace_back("sensor_faults");
   get("time.duration_s", s.duration_s);
   get("gravity.gm_m3ps2", s.gm_m3ps2);
   get("trajectory.radius_m", s.radius_m);

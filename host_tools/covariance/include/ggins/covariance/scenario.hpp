@@ -37,6 +37,8 @@ struct CovScenario {
   double pos0_sigma_m = 0.0, vel0_sigma_mps = 0.0;
   // TOML keys that were absent (their defaults above were used).
   std::vector<std::string> defaulted;
+  // Inputs present in the scenario that the linear model leaves out.
+  std::vector<std::string> unmodelled;
 };
 
 // Built-in names: "welker-table1". Returns nullopt for an unknown name.
