@@ -21,6 +21,13 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+std::string loadavg() {
+  std::ifstream f("/proc/loadavg");
+  std::string a, b, c;
+  f >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
 std::string cpu_model() {
   std::ifstream f("/proc/cpuinfo");
   for (std::string l; std::getline(f, l);)
@@ -72,8 +79,8 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--egm96")) egm = argv[i + 1];
     else if (!std::strcmp(argv[i], "--km")) km = std::stold(argv[i + 1]);
   }
-  std::printf("machine: %s, %u hardware threads; compiler %s; long double %zu bytes\n", cpu_model().c_str(),
-              std::thread::hardware_concurrency(), __VERSION__, sizeof(long double));
+  std::printf("machine: %s, %u hardware threads; compiler %s; long double %zu bytes; load average at start %s\n",
+              cpu_model().c_str(), std::thread::hardware_concurrency(), __VERSION__, sizeof(long double), loadavg().c_str());
   const Real lat = 35.5L * M_PI / 180, lon = -82.5L * M_PI / 180;
   std::vector<Vec3> pts;  // 16 points spread over ~10 km (exact models)
   for (int i = 0; i < 16; ++i) pts.push_back(wgs84::geodetic_to_ecef(lat + 1e-4L * i, lon - 2e-4L * i, 3000 + 10.0L * i));
@@ -153,5 +160,6 @@ int main(int argc, char** argv) {
     const double node_us = us_per_eval(node_field, pts, 20);
     report("EGM96-360 lattice", *fast_sh, lf, lat + 0.05L, node_us);
   }
+  std::printf("load average at end %s\n", loadavg().c_str());
   return 0;
 }

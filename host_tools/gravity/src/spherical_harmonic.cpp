@@ -243,17 +243,23 @@ std::vector<ShDerivatives> SphericalHarmonicField::derivatives_impl(const Tables
   }
   // Ladder terms: for each (j, s) the pairs (a, b) with a - b = s, a + b <= j,
   // c = j - a - b, sign (-1)^(a+c), factorial offset t = 2b + c.
+  // Sums live in one flat array: order j at offset off[j], slot a*(j+1)+b.
   struct Term { int j, s, slot, t; T sign; };
   std::vector<Term> terms;
+  std::vector<int> off(order + 2, 0);
+  for (int j = 0; j <= order; ++j) off[j + 1] = off[j] + (j + 1) * (j + 1);
   for (int j = 0; j <= order; ++j)
     for (int s = -j; s <= j; ++s)
       for (int b = std::max(0, -s); 2 * b + s <= j; ++b) {
         const int a = b + s, c = j - a - b;
-        terms.push_back({j, s, a * (j + 1) + b, 2 * b + c, static_cast<T>(((a + c) % 2) ? -1 : 1)});
+        terms.push_back({j, s, off[j] + a * (j + 1) + b, 2 * b + c, static_cast<T>(((a + c) % 2) ? -1 : 1)});
       }
   const int J = order, tw = 2 * jmax_ + 1;
-  std::vector<std::vector<T>> sr(J + 1), si(J + 1);
-  for (int j = 0; j <= J; ++j) { sr[j].assign((j + 1) * (j + 1), 0); si[j].assign((j + 1) * (j + 1), 0); }
+  std::vector<T> sr(off[J + 1], 0), si(off[J + 1], 0);
+  T* const srp = sr.data();
+  T* const sip = si.data();
+  const Term* const tb0 = terms.data();
+  const std::size_t nterms = terms.size();
   for (int n = nmax_; n >= 0; --n) {  // high degrees first: small terms summed before large ones
     for (int m = n; m >= 0; --m) {
       const auto inm = ShCoefficients::idx(n, m);
@@ -262,7 +268,8 @@ std::vector<ShDerivatives> SphericalHarmonicField::derivatives_impl(const Tables
       const T* fl = &tb.fact[(n - m) * tw];
       int cur_j = -1, cur_s = -100;
       T pr = 0, pi = 0;
-      for (const Term& q : terms) {
+      for (std::size_t iq = 0; iq < nterms; ++iq) {
+        const Term& q = tb0[iq];
         if (q.j != cur_j || q.s != cur_s) {
           cur_j = q.j; cur_s = q.s;
           const T R = tb.ratio[q.j][inm * (2 * q.j + 1) + (q.s + q.j)];
@@ -274,8 +281,8 @@ std::vector<ShDerivatives> SphericalHarmonicField::derivatives_impl(const Tables
           pi = R * (C * fi - S * fr);
         }
         const T f = q.sign * fl[q.t];
-        sr[q.j][q.slot] += f * pr;
-        si[q.j][q.slot] += f * pi;
+        srp[q.slot] += f * pr;
+        sip[q.slot] += f * pi;
       }
     }
   }
@@ -292,8 +299,8 @@ std::vector<ShDerivatives> SphericalHarmonicField::derivatives_impl(const Tables
           for (int q = 0; q <= ay; ++q) {
             const int a = p + q, b = (ax - p) + (ay - q);
             const Real w = binom(ax, p) * binom(ay, q) * (((ay - q) % 2) ? -1.0L : 1.0L);
-            accr += w * sr[j][a * (j + 1) + b];
-            acci += w * si[j][a * (j + 1) + b];
+            accr += w * sr[off[j] + a * (j + 1) + b];
+            acci += w * si[off[j] + a * (j + 1) + b];
           }
         // multiply by (-i)^ay / 2^(ax+ay) and take the real part
         Real v = 0;
