@@ -36,6 +36,7 @@
 
 #include "ggins/hal.h"
 #include "ggins/nav2d.h"
+#include "hal_lcm.h"
 #include "ggins_hal_status_t.h"
 #include "ggins_nav2d_config_t.h"
 #include "ggins_nav_output_t.h"
@@ -163,25 +164,7 @@ static gg_status_t hal_write_output(void *ctx, const gg_nav_output_t *o)
 {
     hal_sim_t *h = ctx;
     ggins_nav_output_t *m = &h->last_out;
-    m->utime = o->utime;
-    m->seq = o->seq;
-    m->run_id = h->run_id;
-    m->status = o->status;
-    m->health = (int64_t)o->health;
-    for (int j = 0; j < 3; ++j) {
-        m->r_i[j] = o->r_i[j];
-        m->v_i[j] = o->v_i[j];
-        m->g_i[j] = o->g_i[j];
-        m->f_i[j] = o->f_i[j];
-        for (int k = 0; k < 3; ++k) m->gamma_i[j][k] = o->gamma_i[j][k];
-    }
-    m->gamma_asym = o->gamma_asym;
-    m->h_ins_m = o->h_ins_m;
-    m->baro_innov_m = o->baro_innov_m;
-    m->g_up_corr = o->g_up_corr;
-    m->n_cycles = GG_MOD_COUNT;
-    for (int j = 0; j < GG_MOD_COUNT; ++j) m->cycles[j] = (int64_t)o->cycles[j];
-    m->republished = 0;
+    ggins_output_to_lcm(o, h->run_id, m); /* hal_lcm.c: shared with ggins replay */
     h->have_last_out = 1;
     h->out_ring[o->seq & (WINDOW - 1)] = *m;
     h->out_valid[o->seq & (WINDOW - 1)] = 1;
@@ -271,22 +254,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     if (s > h->next) h->st.frames_out_of_order++;
     const int requested = (sl->frame.seq == s && sl->requested);
     memset(sl, 0, sizeof *sl);
-    gg_frame_t *f = &sl->frame;
-    f->utime = m.utime;
-    f->seq = m.seq;
-    f->n_acc = m.n_acc;
-    for (int i = 0; i < GG_MAX_ACC; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            f->f[i][j] = m.f[i][j];
-            f->f_lo[i][j] = m.f_lo[i][j];
-        }
-        f->acc_status[i] = m.acc_status[i];
-    }
-    for (int j = 0; j < 3; ++j) f->omega_b[j] = m.omega_b[j];
-    f->gyro_status = m.gyro_status;
-    f->baro_alt_m = m.baro_alt_m;
-    f->baro_utime = m.baro_utime;
-    f->baro_status = m.baro_status;
+    ggins_frame_from_lcm(&m, &sl->frame); /* hal_lcm.c: shared with ggins replay */
     sl->valid = 1;
     sl->resent = m.resent > 0;
     sl->requested = requested || (h->gap_seq == s && h->gap_requests > 0);
@@ -314,19 +282,9 @@ static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *use
         return;
     }
     gg_nav2d_config_t c;
-    memset(&c, 0, sizeof c);
-    c.geometry.a_m = (gg_real_t)m.a_m;
-    c.geometry.b_m = (gg_real_t)m.b_m;
-    c.dt_us = m.dt_us;
-    c.dt_tol_us = m.dt_tol_us;
-    for (int j = 0; j < 3; ++j) {
-        c.r0[j] = (gg_real_t)m.r0_hi[j] + (gg_real_t)m.r0_lo[j];
-        c.v0[j] = (gg_real_t)m.v0_hi[j] + (gg_real_t)m.v0_lo[j];
-        c.g0[j] = (gg_real_t)m.g0_hi[j] + (gg_real_t)m.g0_lo[j];
-    }
-    c.f_max = m.f_max;
-    c.asym_max = m.asym_max;
-    c.gravdr_trapezoid_only = m.gravdr_trapezoid_only;
+    /* message -> firmware configuration: hal_lcm.c (shared with ggins replay;
+     * add new configuration fields there) */
+    ggins_config_from_lcm(&m, &c);
     gg_status_t rc = gg_nav2d_init(&h->nav, &c);
     h->init_status = (int32_t)rc;
     h->config_seq = m.seq;

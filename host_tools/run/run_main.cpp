@@ -260,7 +260,8 @@ json health_names(uint32_t h) {
                {GG_HEALTH_FRAME_REJECTED, "FRAME_REJECTED"}, {GG_HEALTH_DEADLINE, "DEADLINE"},
                {GG_HEALTH_BARO_INVALID, "BARO_INVALID"}, {GG_HEALTH_BARO_STALE, "BARO_STALE"},
                {GG_HEALTH_BARO_OUTLIER, "BARO_OUTLIER"}, {GG_HEALTH_BARO_RECAPTURE, "BARO_RECAPTURE"},
-               {GG_HEALTH_BARO_COAST, "BARO_COAST"}};
+               {GG_HEALTH_BARO_COAST, "BARO_COAST"},     {GG_HEALTH_ACC_FAULT, "ACC_FAULT"},
+               {GG_HEALTH_ACC_REBUILT, "ACC_REBUILT"},   {GG_HEALTH_GRAD_COAST, "GRAD_COAST"}};
   json j = json::array();
   uint32_t known = 0;
   for (const auto& b : kBits) {
@@ -651,6 +652,8 @@ void Runner::configure_hal() {
   c.f_max = sc_.firmware.f_max_mps2;
   c.asym_max = sc_.firmware.asym_max_ps2;
   c.gravdr_trapezoid_only = sc_.firmware.gravdr_trapezoid_only ? 1 : 0;
+  c.fdi_parity_f_max = sc_.firmware.fdi_parity_f_max_mps2;
+  c.fdi_asym_max = sc_.firmware.fdi_asym_max_ps2;
   const double end = mono_s() + 10.0;
   double next_send = 0;
   while (!(hal_ && hal_->config_seq == 0 && hal_->state != ggins::hal_status_t::IDLE)) {

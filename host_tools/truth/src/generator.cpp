@@ -133,6 +133,16 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
   out.gyro_status = GG_SENSOR_ABSENT;
   out.baro_status = GG_SENSOR_ABSENT;
   out.baro_utime = 0;
+  if (!sc_.sensor_faults.faults.empty()) {  // injected sensor faults (sensor_faults.cpp), last
+    apply_sensor_faults(sc_.sensor_faults, k, dt_us_, out, [&](int64_t k0, int s, int j, double& hi, double& lo) {
+      Scenario clean = sc_;
+      clean.sensor_faults.faults.clear();
+      gg_frame_t f0;
+      Generator(clean).frame(k0, f0);
+      hi = f0.f[s][j];
+      lo = f0.f_lo[s][j];
+    });
+  }
   if (truth_out) *truth_out = t;
 }
 

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <toml++/toml.h>
 
+#include "sensor_faults_parse.hpp"
+
 namespace ggins::truth {
 
 // Generated at configure time from scenarios/*.toml (builtin_scenarios.cpp).
@@ -130,7 +132,7 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
   s.text = text;
   check_keys(root, "",
              {"name", "description", "trajectory", "gravity", "platform", "time", "accel", "firmware",
-              "transport", "output"},
+              "transport", "output", "sensor_faults"},
              source);
   s.name = get_str(root, "", "name", fallback_name, source);
   s.description = get_str(root, "", "description", "", source);
@@ -194,7 +196,10 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     get_per_axis(*t, "accel", "scale", a.scale, source);
   }
   if (const auto* t = sub(root, "firmware", source)) {
-    check_keys(*t, "firmware", {"f_max_mps2", "asym_max_ps2", "dt_tol_us", "gravdr_trapezoid_only"}, source);
+    check_keys(*t, "firmware",
+               {"f_max_mps2", "asym_max_ps2", "dt_tol_us", "gravdr_trapezoid_only", "fdi_parity_f_max_mps2",
+                "fdi_asym_max_ps2"},
+               source);
     auto& f = s.firmware;
     f.f_max_mps2 = get_num(*t, "firmware", "f_max_mps2", f.f_max_mps2, source);
     f.asym_max_ps2 = get_num(*t, "firmware", "asym_max_ps2", f.asym_max_ps2, source);
@@ -202,6 +207,10 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     f.gravdr_trapezoid_only = get_bool(*t, "firmware", "gravdr_trapezoid_only", f.gravdr_trapezoid_only, source);
     if (!(f.f_max_mps2 > 0) || !(f.asym_max_ps2 > 0) || f.dt_tol_us < 0)
       fail(source, "firmware.f_max_mps2 and asym_max_ps2 must be > 0, dt_tol_us >= 0");
+    f.fdi_parity_f_max_mps2 = get_num(*t, "firmware", "fdi_parity_f_max_mps2", f.fdi_parity_f_max_mps2, source);
+    f.fdi_asym_max_ps2 = get_num(*t, "firmware", "fdi_asym_max_ps2", f.fdi_asym_max_ps2, source);
+    if (f.fdi_parity_f_max_mps2 < 0 || f.fdi_asym_max_ps2 < 0)
+      fail(source, "firmware.fdi_parity_f_max_mps2 and fdi_asym_max_ps2 must be >= 0 (0: off)");
   }
   if (const auto* t = sub(root, "transport", source)) {
     check_keys(*t, "transport", {"seed", "drop_prob", "duplicate_prob", "reorder_prob", "output_drop_prob", "garbage_prob"}, source);
@@ -218,6 +227,7 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     p.garbage_prob = get_num(*t, "transport", "garbage_prob", 0.0, source);
     check_prob(p.garbage_prob, "transport.garbage_prob", source);
   }
+  if (const auto* t = sub(root, "sensor_faults", source)) s.sensor_faults = parse_sensor_faults(*t, source);
   if (const auto* t = sub(root, "output", source)) {
     check_keys(*t, "output", {"csv_rate_hz", "truth_rate_hz"}, source);
     s.output.csv_rate_hz = get_num(*t, "output", "csv_rate_hz", s.output.csv_rate_hz, source);

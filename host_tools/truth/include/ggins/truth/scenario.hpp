@@ -19,12 +19,16 @@
 //   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0], output_drop_prob [0],
 //                 garbage_prob [0]
 //   [output]      csv_rate_hz [1], truth_rate_hz [10; 0 = every step]
+//   [sensor_faults] seed [1], [[sensor_faults.fault]] ... (sensor_faults.hpp)
+//   [firmware]    also fdi_parity_f_max_mps2 [0 = off], fdi_asym_max_ps2 [0 = off] (fdi2d.h)
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "ggins/truth/sensor_faults.hpp"
 
 namespace ggins::truth {
 
@@ -57,6 +61,8 @@ struct FirmwareParams {
   double asym_max_ps2 = 1e-6;
   int64_t dt_tol_us = 0;
   bool gravdr_trapezoid_only = false;
+  double fdi_parity_f_max_mps2 = 0.0;  // accelerometer parity detection threshold (0: off)
+  double fdi_asym_max_ps2 = 0.0;       // gradient-symmetry detection threshold (0: off)
 };
 
 struct TransportParams {
@@ -88,6 +94,7 @@ struct Scenario {
   FirmwareParams firmware;
   TransportParams transport;
   OutputParams output;
+  SensorFaultParams sensor_faults;  // injected sensor faults (sensor_faults.hpp)
 
   int64_t dt_us() const;    // step, microseconds
   int64_t n_steps() const;  // frames: seq 0 .. n_steps-1 (t = 0 .. duration)

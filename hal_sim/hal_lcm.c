@@ -1,0 +1,71 @@
+/* LCM message <-> firmware struct conversions (see hal_lcm.h). */
+#include "hal_lcm.h"
+
+#include <string.h>
+
+void ggins_frame_from_lcm(const ggins_sensor_frame_t *m, gg_frame_t *f)
+{
+    memset(f, 0, sizeof *f);
+    f->utime = m->utime;
+    f->seq = m->seq;
+    f->n_acc = m->n_acc;
+    for (int i = 0; i < GG_MAX_ACC; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            f->f[i][j] = m->f[i][j];
+            f->f_lo[i][j] = m->f_lo[i][j];
+        }
+        f->acc_status[i] = m->acc_status[i];
+    }
+    for (int j = 0; j < 3; ++j) f->omega_b[j] = m->omega_b[j];
+    f->gyro_status = m->gyro_status;
+    f->baro_alt_m = m->baro_alt_m;
+    f->baro_utime = m->baro_utime;
+    f->baro_status = m->baro_status;
+}
+
+void ggins_config_from_lcm(const ggins_nav2d_config_t *m, gg_nav2d_config_t *c)
+{
+    memset(c, 0, sizeof *c);
+    c->geometry.a_m = (gg_real_t)m->a_m;
+    c->geometry.b_m = (gg_real_t)m->b_m;
+    c->dt_us = m->dt_us;
+    c->dt_tol_us = m->dt_tol_us;
+    for (int j = 0; j < 3; ++j) {
+        c->r0[j] = (gg_real_t)m->r0_hi[j] + (gg_real_t)m->r0_lo[j];
+        c->v0[j] = (gg_real_t)m->v0_hi[j] + (gg_real_t)m->v0_lo[j];
+        c->g0[j] = (gg_real_t)m->g0_hi[j] + (gg_real_t)m->g0_lo[j];
+    }
+    c->f_max = m->f_max;
+    c->asym_max = m->asym_max;
+    c->gravdr_trapezoid_only = m->gravdr_trapezoid_only;
+    c->fdi_parity_f_max = m->fdi_parity_f_max;
+    c->fdi_asym_max = m->fdi_asym_max;
+}
+
+void ggins_output_to_lcm(const gg_nav_output_t *o, int64_t run_id, ggins_nav_output_t *m)
+{
+    memset(m, 0, sizeof *m);
+    m->utime = o->utime;
+    m->seq = o->seq;
+    m->run_id = run_id;
+    m->status = o->status;
+    m->health = (int64_t)o->health;
+    for (int j = 0; j < 3; ++j) {
+        m->r_i[j] = o->r_i[j];
+        m->v_i[j] = o->v_i[j];
+        m->g_i[j] = o->g_i[j];
+        m->f_i[j] = o->f_i[j];
+        for (int k = 0; k < 3; ++k) m->gamma_i[j][k] = o->gamma_i[j][k];
+    }
+    m->gamma_asym = o->gamma_asym;
+    m->h_ins_m = o->h_ins_m;
+    m->baro_innov_m = o->baro_innov_m;
+    m->g_up_corr = o->g_up_corr;
+    m->n_cycles = GG_MOD_COUNT;
+    for (int j = 0; j < GG_MOD_COUNT; ++j) m->cycles[j] = (int64_t)o->cycles[j];
+    m->republished = 0;
+    m->parity_f[0] = o->parity_f[0];
+    m->parity_f[1] = o->parity_f[1];
+    m->acc_excluded = (int64_t)o->acc_excluded;
+    m->acc_rebuilt = (int64_t)o->acc_rebuilt;
+}

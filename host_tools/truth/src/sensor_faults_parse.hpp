@@ -1,0 +1,12 @@
+// Parser of the [sensor_faults] scenario table (internal to ggins_truth).
+#pragma once
+
+#include <string>
+#include <toml++/toml.h>
+
+#include "ggins/truth/sensor_faults.hpp"
+
+namespace ggins::truth {
+// Throws std::runtime_error("scenario <source>: ...") naming the offending key.
+SensorFaultParams parse_sensor_faults(const toml::table& t, const std::string& source);
+}  // namespace ggins::truth
