@@ -93,7 +93,37 @@ static void test_sampled_statistics(void**) {
   assert_true(std::fabs(le / L - 1) < 0.20L);
 }
 
+// The point-mass anomaly field itself: Gamma vs FD of G, G vs FD of V,
+// Laplace, symmetry, G-only path, third derivatives, at 1 km height over a
+// small realisation (the shallowest masses are 3 km deep).
+static void test_fd(void**) {
+  RwAnomalyConfig cfg;
+  cfg.half_size = 40e3L;
+  const PointMassAnomalyField f = make_rubenstein_winter_field(cfg);
+  Real wg = 0, wG = 0, wtr = 0, was = 0, wgo = 0, w3 = 0, s3 = 0, smax = 0;
+  bool ok3 = false;
+  for (int i = 0; i < 5; ++i) {
+    const Vec3 r = wgs84::geodetic_to_ecef(cfg.lat0 + 1e-4L * i, cfg.lon0 - 2e-4L * i, 1000 + 300.0L * i);
+    const gt::FdErrors e = gt::fd_check(f, r, 5.0L, 5.0L);
+    const FieldSample s = f.eval(r);
+    wg = std::max(wg, e.g); wG = std::max(wG, e.gamma); wtr = std::max(wtr, e.trace); was = std::max(was, e.asym);
+    wgo = std::max(wgo, (f.gravitation(r) - s.g).cwiseAbs().maxCoeff());
+    smax = std::max(smax, s.gamma.cwiseAbs().maxCoeff());
+    w3 = std::max(w3, gt::third_fd_check(f, r, 5.0L, s3, ok3));
+  }
+  std::printf("  %zu masses: fd g %.2Le m/s^2, Gamma %.2Le E (max |Gamma| %.1Lf E), trace %.2Le E, asym %.2Le E;"
+              " G-only path %.2Le m/s^2; third %.2Le of %.2Le s^-2/m\n",
+              f.masses().size(), wg, wG * 1e9L, smax * 1e9L, wtr * 1e9L, was * 1e9L, wgo, w3, s3);
+  assert_true(wg < 1e-14L);
+  assert_true(wG < 1e-17L);  // 1e-8 E (fd truncation and rounding ~3e-10 E)
+  assert_true(wtr < 1e-22L);
+  assert_true(was == 0);
+  assert_true(wgo < 1e-16L);  // G-only path sums in double
+  assert_true(ok3 && w3 < 1e-6L * s3);
+}
+
 int main() {
-  const struct CMUnitTest tests[] = {cmocka_unit_test(test_design), cmocka_unit_test(test_sampled_statistics)};
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_design), cmocka_unit_test(test_sampled_statistics),
+                                     cmocka_unit_test(test_fd)};
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
