@@ -1,0 +1,303 @@
+// ggins-montecarlo: runs N host-in-the-loop flights of a scenario (ggins-run,
+// fresh accelerometer error seed per run, all cores), and compares the sample
+// one-sigma errors with the covariance prediction of ggins-covariance (same
+// scenario file, same linear model: Welker, Pachter & Huffman eqs. 7-11).
+//
+// Statistics: the errors are zero-mean (zero-mean random biases through a
+// linear error model), so the sample one-sigma is s = sqrt(sum e^2 / N) with
+// N degrees of freedom, N s^2 / sigma^2 ~ chi^2_N. The acceptance band for
+// s / sigma is the two-sided chi-square interval at +-z standard normal
+// quantiles (default z = 3, 99.73 %), via the Wilson-Hilferty approximation
+// chi^2_p ~ N (1 - 2/(9N) + z_p sqrt(2/(9N)))^3.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "ggins/covariance/propagate.hpp"
+#include "ggins/covariance/scenario.hpp"
+#include "ggins/covariance/welker2d.hpp"
+#include "ggins/gravity/field.hpp"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using namespace ggins::covariance;
+
+namespace {
+
+const char* kKeys[6] = {"x_m", "z_m", "vx_mps", "vz_mps", "gx_mps2", "gz_mps2"};
+const char* kCols[6] = {"err_r_x", "err_r_z", "err_v_x", "err_v_z", "err_g_x", "err_g_z"};
+
+struct RunData {
+  std::vector<double> t;
+  std::vector<std::array<double, 6>> e;
+  bool ok = false;
+};
+
+RunData read_run(const fs::path& csv) {
+  RunData r;
+  std::ifstream f(csv);
+  if (!f) return r;
+  std::string line;
+  if (!std::getline(f, line)) return r;
+  std::vector<std::string> head;
+  {
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) head.push_back(c);
+  }
+  auto idx = [&](const std::string& n) {
+    for (size_t i = 0; i < head.size(); ++i)
+      if (head[i] == n) return int(i);
+    return -1;
+  };
+  const int it = idx("t_s");
+  int ic[6];
+  for (int k = 0; k < 6; ++k) ic[k] = idx(kCols[k]);
+  if (it < 0) return r;
+  for (int k = 0; k < 6; ++k)
+    if (ic[k] < 0) return r;
+  std::vector<double> v;
+  while (std::getline(f, line)) {
+    v.clear();
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) v.push_back(std::strtod(c.c_str(), nullptr));
+    if (int(v.size()) < int(head.size())) continue;
+    r.t.push_back(v[size_t(it)]);
+    std::array<double, 6> e{};
+    for (int k = 0; k < 6; ++k) e[size_t(k)] = v[size_t(ic[k])];
+    r.e.push_back(e);
+  }
+  r.ok = !r.t.empty();
+  return r;
+}
+
+double chi2_quantile_wh(double n, double z) {  // Wilson-Hilferty
+  const double a = 2.0 / (9.0 * n);
+  const double c = 1.0 - a + z * std::sqrt(a);
+  return n * c * c * c;
+}
+
+std::string self_dir() {
+  std::error_code ec;
+  fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : self.parent_path().string();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ggins montecarlo: N host-in-the-loop flights (ggins-run) with fresh random accelerometer errors,\n"
+      "in parallel, against the covariance prediction (ggins-covariance's model). Writes montecarlo.csv,\n"
+      "montecarlo.json, run_errors.csv and montecarlo.png to --out; --json prints the summary.",
+      "ggins-montecarlo"};
+  std::string scen = "welker-table1", out_dir, run_exe, python;
+  int runs = 200, jobs = int(std::thread::hardware_concurrency());
+  int64_t seed0 = 1000;
+  double z = 3.0;
+  std::optional<double> duration;
+  bool want_json = false, no_plot = false, keep = false;
+  app.add_option("-s,--scenario", scen, "scenario name or .toml path (as ggins run)")->capture_default_str();
+  app.add_option("-n,--runs", runs, "number of flights")->capture_default_str()->check(CLI::Range(2, 100000));
+  app.add_option("-j,--jobs", jobs, "flights in parallel (default: all cores)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--seed0", seed0, "run i uses accelerometer seed seed0 + i")->capture_default_str();
+  app.add_option("--duration", duration, "override the scenario duration, s")->check(CLI::PositiveNumber);
+  app.add_option("--z", z, "acceptance band: +-z normal quantiles of the chi-square interval")->capture_default_str();
+  app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo/<scenario>)");
+  app.add_option("--run-exe", run_exe, "ggins-run executable (default: beside this one)");
+  app.add_flag("--keep-runs", keep, "keep every run's output folder");
+  app.add_flag("--json", want_json, "print the JSON summary on stdout");
+  app.add_flag("--no-plot", no_plot, "no PNG");
+  app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
+  CLI11_PARSE(app, argc, argv);
+
+  CovScenario sc;
+  try {
+    sc = resolve_scenario(scen, GGINS_SOURCE_DIR);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-montecarlo: %s\n", e.what());
+    return 2;
+  }
+  if (duration) sc.duration_s = *duration;
+  if (out_dir.empty()) out_dir = "out/montecarlo/" + sc.name;
+  if (run_exe.empty()) run_exe = self_dir() + "/ggins-run";
+  const fs::path outp = fs::absolute(out_dir);
+  fs::create_directories(outp / "runs");
+
+  // 1. The flights, `jobs` at a time.
+  std::atomic<int> next{0}, failed{0}, done{0};
+  std::mutex io;
+  auto worker = [&] {
+    for (int i; (i = next++) < runs;) {
+      const fs::path rd = outp / "runs" / std::to_string(i);
+      std::ostringstream cmd;
+      cmd << "'" << run_exe << "' --scenario '" << scen << "' --seed " << (seed0 + i)
+          << " --no-log --no-plots -q --csv-rate 1 --out '" << rd.string() << "'";
+      if (duration) cmd << " --duration " << *duration;
+      cmd << " > '" << rd.string() << ".log' 2>&1";
+      const int rc = std::system(cmd.str().c_str());
+      const int d = ++done;
+      if (rc != 0) {
+        ++failed;
+        std::lock_guard<std::mutex> lk(io);
+        std::fprintf(stderr, "ggins-montecarlo: run %d failed (rc %d), see %s.log\n", i, rc, rd.c_str());
+      }
+      if (d % std::max(1, runs / 10) == 0) {
+        std::lock_guard<std::mutex> lk(io);
+        std::fprintf(stderr, "ggins-montecarlo: %d/%d flights done\n", d, runs);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int k = 0; k < std::min(jobs, runs); ++k) pool.emplace_back(worker);
+  for (auto& th : pool) th.join();
+
+  // 2. Sample one-sigma (RMS about zero, N degrees of freedom) against time.
+  std::vector<RunData> data;
+  for (int i = 0; i < runs; ++i) {
+    RunData r = read_run(outp / "runs" / std::to_string(i) / "timeseries.csv");
+    if (r.ok) data.push_back(std::move(r));
+  }
+  const int n = int(data.size());
+  if (n < 2) {
+    std::fprintf(stderr, "ggins-montecarlo: fewer than 2 usable runs\n");
+    return 1;
+  }
+  size_t nt = data[0].t.size();
+  for (const auto& r : data) nt = std::min(nt, r.t.size());
+  std::vector<std::array<double, 6>> ss(nt, std::array<double, 6>{});
+  for (const auto& r : data)
+    for (size_t k = 0; k < nt; ++k)
+      for (int s = 0; s < 6; ++s) ss[k][size_t(s)] += r.e[k][size_t(s)] * r.e[k][size_t(s)];
+
+  // 3. Covariance on the same scenario (model of ggins-covariance), 1 s samples.
+  auto field = std::make_shared<ggins::gravity::PointMassField>(sc.gm_m3ps2);
+  auto traj = std::make_shared<NorthGreatCircle2D>(sc.speed_mps, sc.height_m, sc.lat0_rad, sc.radius_m);
+  Welker2DModel model(field, traj, sc.a_m, sc.b_m);
+  VectorXd psd(8);
+  for (int i = 0; i < 8; ++i) psd(i) = sc.noise_sigma_mps2[size_t(i)] * sc.noise_sigma_mps2[size_t(i)] / sc.rate_hz;
+  model.set_white_noise_psd(psd);
+  MatrixXd P0 = MatrixXd::Zero(14, 14);
+  P0(4, 4) = sc.gravity0_sigma_x_mps2 * sc.gravity0_sigma_x_mps2;
+  P0(5, 5) = sc.gravity0_sigma_z_mps2 * sc.gravity0_sigma_z_mps2;
+  for (int i = 0; i < 8; ++i) P0(6 + i, 6 + i) = sc.bias_sigma_mps2[size_t(i)] * sc.bias_sigma_mps2[size_t(i)];
+  PropagationOptions opt;
+  opt.t_end = sc.duration_s;
+  opt.dt = 1.0;
+  opt.output_dt = 1.0;
+  opt.method = model.has_process_noise() ? Method::kLyapunov : Method::kTransition;
+  const auto cov = propagate(model, P0, opt);
+  auto cov_sigma = [&](double t) {
+    const size_t k = std::min(cov.size() - 1, size_t(std::lround(std::max(0.0, t))));
+    return sigmas(cov[k].P, 6);
+  };
+
+  const double lo = std::sqrt(chi2_quantile_wh(n, -z) / n), hi = std::sqrt(chi2_quantile_wh(n, z) / n);
+  {
+    std::ofstream f(outp / "montecarlo.csv");
+    f << "t_s";
+    for (auto k : kKeys) f << ",mc_" << k;
+    for (auto k : kKeys) f << ",cov_" << k;
+    f << '\n';
+    f.precision(10);
+    for (size_t k = 0; k < nt; ++k) {
+      const VectorXd c = cov_sigma(data[0].t[k]);
+      f << data[0].t[k];
+      for (int s = 0; s < 6; ++s) f << ',' << std::sqrt(ss[k][size_t(s)] / n);
+      for (int s = 0; s < 6; ++s) f << ',' << c(s);
+      f << '\n';
+    }
+  }
+  {
+    std::ofstream f(outp / "run_errors.csv");  // every run's errors every 10 s, for the plot
+    f << "run,t_s";
+    for (auto k : kKeys) f << ',' << k;
+    f << '\n';
+    f.precision(8);
+    for (int i = 0; i < n; ++i)
+      for (size_t k = 0; k < nt; k += 10) {
+        f << i << ',' << data[size_t(i)].t[k];
+        for (int s = 0; s < 6; ++s) f << ',' << data[size_t(i)].e[k][size_t(s)];
+        f << '\n';
+      }
+  }
+
+  json j;
+  j["scenario"] = sc.name;
+  j["runs"] = runs;
+  j["runs_used"] = n;
+  j["runs_failed"] = int(failed);
+  j["seed0"] = seed0;
+  j["t_s"] = data[0].t[nt - 1];
+  j["tolerance"] = {{"statistic", "s/sigma, s = sqrt(sum e^2/N) (zero-mean errors, N dof)"},
+                    {"z", z},
+                    {"ratio_lo", lo},
+                    {"ratio_hi", hi},
+                    {"method", "two-sided chi-square interval, Wilson-Hilferty, per state and time"}};
+  bool agree = true;
+  const VectorXd cf = cov_sigma(data[0].t[nt - 1]);
+  json fin;
+  for (int s = 0; s < 6; ++s) {
+    const double m = std::sqrt(ss[nt - 1][size_t(s)] / n), ratio = m / cf(s);
+    const bool ok = ratio >= lo && ratio <= hi;
+    agree = agree && ok;
+    fin[kKeys[s]] = {{"montecarlo", m}, {"covariance", cf(s)}, {"ratio", ratio}, {"within", ok}};
+  }
+  j["final"] = fin;
+  // The same comparison every 600 s (t >= 600 s), for the record.
+  json marks = json::array();
+  for (size_t k = 0; k < nt; ++k) {
+    const double t = data[0].t[k];
+    if (t < 600 - 1e-9 || std::fmod(t + 1e-6, 600.0) > 2e-6) continue;
+    const VectorXd c = cov_sigma(t);
+    json row = {{"t_s", t}};
+    for (int s = 0; s < 6; ++s) row[kKeys[s]] = std::sqrt(ss[k][size_t(s)] / n) / c(s);
+    marks.push_back(row);
+  }
+  j["ratio_every_600s"] = marks;
+  j["agree_final"] = agree;
+  std::ofstream(outp / "montecarlo.json") << j.dump(2) << '\n';
+  if (!keep) {
+    std::error_code ec;
+    fs::remove_all(outp / "runs", ec);
+  }
+
+  if (!no_plot) {
+    std::vector<std::string> cands;
+    if (!python.empty()) cands.push_back(python);
+    if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
+    cands.emplace_back("/usr/bin/python3");
+    cands.emplace_back("python3");
+    for (const auto& py : cands) {
+      if (std::system(("'" + py + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) != 0) continue;
+      const std::string cmd = "'" + py + "' '" GGINS_MC_PLOT_SCRIPT "' '" + outp.string() + "' --title '" + sc.name +
+                              " (N = " + std::to_string(n) + ")' 1>&2";
+      if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "ggins-montecarlo: plot failed\n");
+      break;
+    }
+  }
+  if (want_json) {
+    std::cout << j.dump(2) << '\n';
+  } else {
+    std::printf("scenario %s: %d flights (%d failed), t = %.0f s; band for s/sigma: [%.4f, %.4f] (z = %g)\n",
+                sc.name.c_str(), n, int(failed), data[0].t[nt - 1], lo, hi, z);
+    for (int s = 0; s < 6; ++s)
+      std::printf("  %-8s MC %.6g  covariance %.6g  ratio %.4f  %s\n", kKeys[s],
+                  fin[kKeys[s]]["montecarlo"].get<double>(), fin[kKeys[s]]["covariance"].get<double>(),
+                  fin[kKeys[s]]["ratio"].get<double>(), fin[kKeys[s]]["within"].get<bool>() ? "ok" : "OUTSIDE");
+    std::printf("wrote %s\n", outp.c_str());
+  }
+  return agree && failed == 0 ? 0 : 1;
+}
