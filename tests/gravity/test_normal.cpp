@@ -1,5 +1,5 @@
 // WGS-84 normal gravitation field: against published WGS-84 numbers
-// (NIMA TR8350.2 Tables 3.3/3.4 and the Somigliana formula, eq. (4-1)), an
+// (NIMA TR8350.2 ch. 3 derived constants and the Somigliana formula, eq. (4-1)), an
 // independent zonal spherical-harmonic formulation, and finite differences.
 #include "test_util.hpp"
 
@@ -87,7 +87,7 @@ static void test_against_zonal_series(void**) {
 }
 
 // Normalised C20 of the field, extracted by quadrature (gt::normal_c20), equals
-// the published WGS-84 value -0.484166774985e-3 (TR8350.2 Table 3.3).
+// the published WGS-84 value -0.484166774985e-3 (TR8350.2 ch. 3, table of derived physical constants).
 static void test_c20_published(void**) {
   const Real c20 = gt::normal_c20();
   std::printf("  C20 of the normal field %.15Le, published %.15Le, diff %.2Le\n", c20, wgs84::kPubC20, c20 - wgs84::kPubC20);

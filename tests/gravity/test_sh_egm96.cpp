@@ -30,7 +30,7 @@ static void test_fd(void**) {
 // The degree-2 term of EGM96 against the WGS-84 normal field: EGM96's C20,
 // rescaled to WGS-84's GM and a, against the C20 extracted from the normal
 // field by quadrature. WGS-84 fixed its J2 in 1984 from WGS-84's own EGM;
-// EGM96's differs by 1.40e-9 (TR8350.2 quotes both: Table 3.3 and ch. 5).
+// EGM96's differs by 1.40e-9 (TR8350.2 ch. 3 derived constants vs EGM96, ch. 5).
 static void test_j2_vs_normal(void**) {
   const ShCoefficients& k = g_egm->coefficients();
   const Real c20_egm = k.C(2, 0) * (k.gm / wgs84::kGm) * (k.a / wgs84::kA) * (k.a / wgs84::kA);

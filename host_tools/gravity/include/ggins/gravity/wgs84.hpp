@@ -1,6 +1,7 @@
 // WGS-84 constants and geodetic <-> Earth-fixed conversions.
 // Defining constants: NIMA TR8350.2 (3rd ed., 2000), Table 3.1;
-// derived constants quoted for checks: TR8350.2 Tables 3.3 and 3.4.
+// derived constants quoted for checks: the tables of derived geometric and
+// physical constants of TR8350.2 ch. 3 (table numbers not re-checked here).
 #pragma once
 
 #include "ggins/gravity/field.hpp"
@@ -15,7 +16,7 @@ constexpr Real kOmega = 7.292115e-5L;              // rad/s (Table 3.1)
 constexpr Real kB = kA * (1.0L - kF);              // semi-minor axis, m
 constexpr Real kE2 = kF * (2.0L - kF);             // first eccentricity squared
 
-// Derived constants as published (Tables 3.3/3.4), used by tests as independent truth.
+// Derived constants as published (TR8350.2 ch. 3), used by tests as independent truth.
 constexpr Real kPubC20 = -0.484166774985e-3L;      // normalised C20 of the ellipsoid
 constexpr Real kPubU0 = 62636851.7146L;            // normal potential on the ellipsoid, m^2/s^2
 constexpr Real kPubGammaE = 9.7803253359L;         // normal gravity at the equator, m/s^2
