@@ -2,15 +2,15 @@
 // centrifugal term), in closed form in ellipsoidal harmonics.
 //
 // The normal gravity potential of a level ellipsoid (Heiskanen & Moritz 1967,
-// "Physical Geodesy", sec. 2-7, eq. (2-61); the same expression is the basis
+// "Physical Geodesy", sec. 2-7 (eq. number quoted from memory: (2-61)); the same expression is the basis
 // of NIMA TR8350.2 ch. 4 and of Moritz, "Geodetic Reference System 1980",
 // Bull. Geod. 62(3) 1988, sec. 2) is
 //   U(u, beta) = (GM/E) atan(E/u) + (1/2) w^2 a^2 (q/q0)(sin^2 beta - 1/3)
 //                + (1/2) w^2 (u^2 + E^2) cos^2 beta,
 // with ellipsoidal coordinates (u, beta, lambda):
 //   x = sqrt(u^2+E^2) cos(beta) cos(lambda), y = ... sin(lambda), z = u sin(beta),
-//   u^2 = (r^2 - E^2)/2 [1 + sqrt(1 + 4 E^2 z^2 / (r^2 - E^2)^2)]   (H&M eq. (6-?) / TR8350.2 ch.4),
-//   q(u) = (1/2)[(1 + 3u^2/E^2) atan(E/u) - 3u/E]  (H&M eq. (2-58)), q0 = q(b).
+//   u^2 = (r^2 - E^2)/2 [1 + sqrt(1 + 4 E^2 z^2 / (r^2 - E^2)^2)]   (inverting the definition above),
+//   q(u) = (1/2)[(1 + 3u^2/E^2) atan(E/u) - 3u/E]  (H&M sec. 2-7), q0 = q(b).
 // The last term of U is the centrifugal potential (1/2) w^2 (x^2 + y^2); this
 // class returns V = U - that term, i.e. GRAVITATION ONLY, as the Field
 // interface requires. g = grad V and Gamma = grad grad V are exact derivatives
