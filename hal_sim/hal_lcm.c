@@ -23,6 +23,8 @@ void ggins_frame_from_lcm(const ggins_sensor_frame_t *m, gg_frame_t *f)
     f->baro_status = m->baro_status;
 }
 
+_Static_assert(GG_GMODEL_MAX_DEGREE + 1 == 9, "ggins_nav2d_config_t.model_j holds J_0..J_8");
+
 void ggins_config_from_lcm(const ggins_nav2d_config_t *m, gg_nav2d_config_t *c)
 {
     memset(c, 0, sizeof *c);
@@ -40,6 +42,21 @@ void ggins_config_from_lcm(const ggins_nav2d_config_t *m, gg_nav2d_config_t *c)
     c->gravdr_trapezoid_only = m->gravdr_trapezoid_only;
     c->fdi_parity_f_max = m->fdi_parity_f_max;
     c->fdi_asym_max = m->fdi_asym_max;
+    c->gravity_mode = m->gravity_mode;
+    c->model.gm = (gg_real_t)m->model_gm_hi + (gg_real_t)m->model_gm_lo;
+    c->model.a_m = (gg_real_t)m->model_a_m;
+    for (int n = 0; n <= GG_GMODEL_MAX_DEGREE; ++n) c->model.j[n] = (gg_real_t)m->model_j[n];
+    c->baro_enable = m->baro_enable;
+    for (int i = 0; i < 3; ++i) c->baro.poles[i] = (gg_real_t)m->baro_poles[i];
+    c->baro.omega_s2 = (gg_real_t)m->baro_omega_s2;
+    c->baro.period_us = m->baro_period_us;
+    c->baro.max_age_us = m->baro_max_age_us;
+    c->baro.coast_us = m->baro_coast_us;
+    c->baro.alt_min_m = m->baro_alt_min_m;
+    c->baro.alt_max_m = m->baro_alt_max_m;
+    c->baro.gate_m = m->baro_gate_m;
+    c->baro.max_rejects = m->baro_max_rejects;
+    c->r_ref_m = (gg_real_t)m->r_ref_hi + (gg_real_t)m->r_ref_lo;
 }
 
 void ggins_output_to_lcm(const gg_nav_output_t *o, int64_t run_id, ggins_nav_output_t *m)

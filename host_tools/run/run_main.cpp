@@ -360,6 +360,22 @@ class Runner {
   uint32_t health_or_ = 0;
   CycleStats cyc_[GG_MOD_COUNT];
   Stats pos_, vel_, grav_, gam_;
+  // vertical channel and gravimeter (issue 5)
+  Stats vert_, horiz_, gravim_;
+  double settle_s_ = 0;  // statistics "after settling" start here (6 / smallest loop pole)
+  double vert_ss_ = 0, vert_max_settled_ = 0, gravim_ss_ = 0, gravim_true_ss_ = 0, gravim_true_sum_ = 0;
+  int64_t vert_n_ = 0, gravim_n_ = 0;
+  // the true disturbance through the loop's ideal transfer function from the
+  // disturbance to -a_c, p1 p2 p3 / ((s + p1)(s + p2)(s + p3)) (vchan.h: a_c' = k3 e,
+  // characteristic polynomial s^3 + k1 s^2 + (k2 - 2 w_s^2) s + k3): what a
+  // gravimeter of this bandwidth can see; outputs taken in seq order only
+  std::array<double, 3> gfilt_{};
+  double gfilt_prev_in_ = 0, gfilt_ss_ = 0;
+  int64_t gfilt_seq_ = -1, gfilt_n_ = 0;
+  double falong_ = 0, fvert_ = 0;
+  std::map<int, double> vert_at_h_, horiz_at_h_;  // errors at whole hours
+  std::array<int64_t, 32> health_count_{};
+  int64_t baro_due_ = 0, baro_dropped_ = 0, baro_outliers_ = 0, baro_invalid_ = 0;
   std::array<double, 3> fpos_{}, fvel_{}, fgrav_{};
   std::optional<ggins::nav_output_t> last_out_;
   std::optional<ggins::hal_status_t> hal_;
@@ -419,8 +435,70 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
     }
     last_out_ = m;
   }
+  for (int b = 0; b < 32; ++b)
+    if (static_cast<uint32_t>(m.health) & (1u << b)) ++health_count_[static_cast<size_t>(b)];
+  // Vertical channel: h = |r| - r_ref (the barometer's altitude); horizontal =
+  // the rest of dr (in the 2-D flight: along track). Gravimeter: the vertical
+  // gravity disturbance, true minus onboard model along up (positive up):
+  //   true      (G(r) - G_model(r)) . u at the TRUE position r,
+  //   estimate  (g_nav - G_model(r_nav)) . u_nav - a_c   (the gravity the navigator effectively uses,
+  //             less the model; in model mode g_nav = G_model(r_nav), so it is -a_c, Rubenstein & Winter Fig. 4)
+  const Vec3 rn(static_cast<Real>(m.r_i[0]), static_cast<Real>(m.r_i[1]), static_cast<Real>(m.r_i[2]));
+  const Vec3 gn(static_cast<Real>(m.g_i[0]), static_cast<Real>(m.g_i[1]), static_cast<Real>(m.g_i[2]));
+  const Vec3 ut = t.kin.r.normalized(), un = rn.normalized();
+  const Real h_true = gen_.altitude(t.kin.r), h_nav = gen_.altitude(rn), err_h = h_nav - h_true;
+  const Vec3 dr_h = dr - dr.dot(ut) * ut;
+  const Real err_along = dr.dot(t.kin.v.normalized());
+  const Real gd_true = (t.g - gen_.model_g(t.kin.r)).dot(ut);
+  const Real gd_est = (gn - gen_.model_g(rn)).dot(un) - static_cast<Real>(m.g_up_corr);
+  const double t_s = static_cast<double>(t.t_s);
+  vert_.add(static_cast<double>(std::fabs(err_h)));
+  horiz_.add(static_cast<double>(dr_h.norm()));
+  if (m.seq == n_ - 1 || m.seq >= last_out_->seq) {
+    falong_ = static_cast<double>(err_along);
+    fvert_ = static_cast<double>(err_h);
+  }
+  const int64_t steps_per_h = 3600000000LL / sc_.dt_us();
+  if (3600000000LL % sc_.dt_us() == 0 && m.seq > 0 && m.seq % steps_per_h == 0) {
+    vert_at_h_[static_cast<int>(m.seq / steps_per_h)] = static_cast<double>(err_h);
+    horiz_at_h_[static_cast<int>(m.seq / steps_per_h)] = static_cast<double>(dr_h.norm());
+  }
+  if (sc_.baro_loop_enabled() && m.seq == gfilt_seq_ + 1) {
+    const double in = static_cast<double>(gd_true), dts = static_cast<double>(sc_.dt_us()) * 1e-6;
+    double u = m.seq == 0 ? in : 0.5 * (in + gfilt_prev_in_);  // trapezoidal input over the step
+    for (size_t i = 0; i < 3; ++i) {
+      const double a = std::exp(-sc_.navigation.baro.poles_radps[i] * dts);
+      gfilt_[i] = m.seq == 0 ? 0.0 : a * gfilt_[i] + (1.0 - a) * u;
+      u = gfilt_[i];
+    }
+    gfilt_prev_in_ = in;
+    gfilt_seq_ = m.seq;
+    if (t_s >= settle_s_) {
+      const double e = static_cast<double>(gd_est) - gfilt_[2];
+      gfilt_ss_ += e * e;
+      ++gfilt_n_;
+    }
+  }
+  if (t_s >= settle_s_) {
+    const double e = static_cast<double>(err_h), ge = static_cast<double>(gd_est - gd_true);
+    vert_ss_ += e * e;
+    vert_max_settled_ = std::max(vert_max_settled_, std::fabs(e));
+    ++vert_n_;
+    gravim_.add(std::fabs(ge));
+    gravim_ss_ += ge * ge;
+    gravim_true_ss_ += static_cast<double>(gd_true * gd_true);
+    gravim_true_sum_ += static_cast<double>(gd_true);
+    ++gravim_n_;
+  }
+  const ggins::truth::BaroSample bs = gen_.baro(m.seq, t);
+  if (bs.due) {
+    ++baro_due_;
+    baro_dropped_ += bs.dropped;
+    baro_outliers_ += bs.outlier && !bs.dropped;
+    baro_invalid_ += bs.invalid && !bs.dropped;
+  }
   if (csv_ && (m.seq % csv_every_ == 0 || m.seq == n_ - 1)) {
-    char line[2048];
+    char line[4096];
     int p = std::snprintf(line, sizeof line, "%.6Lf,%lld", t.t_s, static_cast<long long>(m.seq));
     auto put3 = [&](const double* v) {
       for (int j = 0; j < 3; ++j) p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), ",%.17g", v[j]);
@@ -437,8 +515,15 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
     put3L(dr);
     put3L(dv);
     put3L(dg);
-    p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), ",%.6Lg,%.6Lg,%.6Lg,%.6Lg,%d,%lld\n", dr.norm(),
+    p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), ",%.6Lg,%.6Lg,%.6Lg,%.6Lg,%d,%lld", dr.norm(),
                        dv.norm(), dg.norm(), dgam, m.status, static_cast<long long>(m.health));
+    // vertical channel, barometer (the sample of this step, if any) and gravimeter
+    p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p),
+                       ",%.12Lg,%.12Lg,%.9Lg,%.9Lg,%.9Lg,%.12g,%d,%d,%d,%.9g,%.9g,%.9g,%.12Lg,%.12Lg,%.9Lg,%.12g,%.12Lg", h_true,
+                       h_nav, err_h, dr_h.norm(), err_along, bs.alt_m, bs.due ? 1 : 0, bs.status, bs.outlier ? 1 : 0,
+                       bs.due ? bs.error_m : 0.0, m.baro_innov_m, m.g_up_corr, gd_est, gd_true, gd_est - gd_true,
+                       static_cast<double>(gn.dot(un)), t.g.dot(ut));
+    p += std::snprintf(line + p, sizeof line - static_cast<size_t>(p), "\n");
     csv_.write(line, p);
   }
 }
@@ -654,6 +739,29 @@ void Runner::configure_hal() {
   c.gravdr_trapezoid_only = sc_.firmware.gravdr_trapezoid_only ? 1 : 0;
   c.fdi_parity_f_max = sc_.firmware.fdi_parity_f_max_mps2;
   c.fdi_asym_max = sc_.firmware.fdi_asym_max_ps2;
+  // gravity source, onboard model, barometric loop, altitude reference (issue 5)
+  c.gravity_mode = sc_.navigation.gravity == "model" ? 1 : 0;  // GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER (nav2d.h)
+  {
+    const ggins::truth::NavModelParams nm = sc_.nav_model();
+    hilo(static_cast<Real>(nm.gm_m3ps2), c.model_gm_hi, c.model_gm_lo);
+    c.model_a_m = nm.a_m;
+    for (int n = 0; n < 9; ++n) c.model_j[n] = nm.j[static_cast<size_t>(n)];
+  }
+  c.baro_enable = sc_.baro_loop_enabled() ? 1 : 0;
+  {
+    const auto& l = sc_.navigation.baro;
+    for (int i = 0; i < 3; ++i) c.baro_poles[i] = l.poles_radps[static_cast<size_t>(i)];
+    // w_s^2 = |G| / |r| at the start (the point-mass vertical gradient is 2 w_s^2)
+    c.baro_omega_s2 = l.omega_s2 > 0 ? l.omega_s2 : static_cast<double>(t0.g.norm() / t0.kin.r.norm());
+    c.baro_period_us = std::llround(sc_.baro_period_s() * 1e6);
+    c.baro_max_age_us = std::llround(l.max_age_s * 1e6);
+    c.baro_coast_us = std::llround(l.coast_s * 1e6);
+    c.baro_alt_min_m = l.alt_min_m;
+    c.baro_alt_max_m = l.alt_max_m;
+    c.baro_gate_m = l.gate_m;
+    c.baro_max_rejects = static_cast<int32_t>(l.max_rejects);
+  }
+  hilo(static_cast<Real>(sc_.r_ref_m()), c.r_ref_hi, c.r_ref_lo);
   const double end = mono_s() + 10.0;
   double next_send = 0;
   while (!(hal_ && hal_->config_seq == 0 && hal_->state != ggins::hal_status_t::IDLE)) {
@@ -894,7 +1002,13 @@ json Runner::run() {
   csv_ << "t_s,seq";
   for (const char* q : {"true_r", "true_v", "true_g", "nav_r", "nav_v", "nav_g", "err_r", "err_v", "err_g"})
     for (const char* a : {"x", "y", "z"}) csv_ << "," << q << "_" << a;
-  csv_ << ",err_r_norm_m,err_v_norm_mps,err_g_norm_mps2,err_gamma_max_ps2,status,health\n";
+  csv_ << ",err_r_norm_m,err_v_norm_mps,err_g_norm_mps2,err_gamma_max_ps2,status,health";
+  csv_ << ",h_true_m,h_nav_m,err_h_m,err_horiz_m,err_along_m,baro_alt_m,baro_due,baro_status,baro_outlier,baro_err_m"
+          ",baro_innov_m,a_c_mps2,gd_est_up_mps2,gd_true_up_mps2,gd_err_up_mps2,g_up_nav_mps2,g_up_true_mps2\n";
+  if (sc_.baro_loop_enabled()) {
+    const auto& pl = sc_.navigation.baro.poles_radps;
+    settle_s_ = 6.0 / std::min({pl[0], pl[1], pl[2]});
+  }
 
   const double t_setup = mono_s();
   check_multicast();
@@ -960,6 +1074,51 @@ json Runner::run() {
               {"gravity_error_mps2", grav_.max},
               {"gradient_error_max_abs_ps2", gam_.max}};
   s["gravity_error_definition"] = "|G estimated by the firmware - true gravitation at the TRUE position|";
+  {  // vertical channel, horizontal errors, gravimeter, barometer (issue 5)
+    json v;
+    v["definition"] = "h = |r| - r_ref; error = h(nav) - h(true); horizontal = dr less its component along the true up";
+    v["r_ref_m"] = sc_.r_ref_m();
+    v["baro_loop"] = sc_.baro_loop_enabled();
+    v["final_error_m"] = fvert_;
+    v["max_abs_error_m"] = vert_.max;
+    v["settle_s"] = settle_s_;
+    v["rms_error_after_settle_m"] = vert_n_ ? std::sqrt(vert_ss_ / static_cast<double>(vert_n_)) : 0.0;
+    v["max_abs_error_after_settle_m"] = vert_max_settled_;
+    json vh = json::object(), hh = json::object();
+    for (const auto& [h, e] : vert_at_h_) vh[std::to_string(h) + "h"] = e;
+    for (const auto& [h, e] : horiz_at_h_) hh[std::to_string(h) + "h"] = e;
+    v["error_at_hours_m"] = vh;
+    s["vertical"] = v;
+    s["horizontal"] = {{"final_error_m", horiz_.final},
+                       {"max_error_m", horiz_.max},
+                       {"final_along_track_error_m", falong_},
+                       {"error_at_hours_m", hh}};
+    json g;
+    g["definition"] = "vertical gravity disturbance along up (true minus onboard model, m/s^2); estimate = "
+                      "(g_nav - G_model(r_nav)).u_nav - a_c (model mode: -a_c); error over t >= settle_s";
+    g["mode"] = sc_.navigation.gravity;
+    g["settle_s"] = settle_s_;
+    g["samples"] = gravim_n_;
+    g["rms_error_mps2"] = gravim_n_ ? std::sqrt(gravim_ss_ / static_cast<double>(gravim_n_)) : 0.0;
+    g["max_abs_error_mps2"] = gravim_.max;
+    g["rms_true_disturbance_mps2"] = gravim_n_ ? std::sqrt(gravim_true_ss_ / static_cast<double>(gravim_n_)) : 0.0;
+    g["mean_true_disturbance_mps2"] = gravim_n_ ? gravim_true_sum_ / static_cast<double>(gravim_n_) : 0.0;
+    if (gfilt_n_ > 0)  // error against the true disturbance low-passed by the loop (lag removed)
+      g["rms_error_vs_loop_filtered_truth_mps2"] = std::sqrt(gfilt_ss_ / static_cast<double>(gfilt_n_));
+    g["loop_filter"] = "p1 p2 p3 / ((s + p1)(s + p2)(s + p3)), group delay 1/p1 + 1/p2 + 1/p3 = " +
+                       std::to_string(1.0 / sc_.navigation.baro.poles_radps[0] + 1.0 / sc_.navigation.baro.poles_radps[1] +
+                                      1.0 / sc_.navigation.baro.poles_radps[2]) + " s";
+    s["gravimeter"] = g;
+    json hc = json::object();
+    for (int b = 0; b < 32; ++b)
+      if (health_count_[static_cast<size_t>(b)] > 0) {
+        const json nm = health_names(1u << b);
+        hc[nm.empty() ? std::to_string(b) : nm[0].get<std::string>()] = health_count_[static_cast<size_t>(b)];
+      }
+    s["health_counts"] = hc;
+    s["baro"] = {{"enabled", sc_.baro.enable},   {"samples_due", baro_due_},      {"dropped", baro_dropped_},
+                 {"outliers_sent", baro_outliers_}, {"invalid_sent", baro_invalid_}};
+  }
   if (last_out_) {
     const auto& m = *last_out_;
     const Vec3 rn(m.r_i[0], m.r_i[1], m.r_i[2]);

@@ -2,13 +2,25 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
+
+#include "ggins/gravity/lattice.hpp"
+#include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/point_anomaly.hpp"
+#include "ggins/gravity/wgs84.hpp"
+extern "C" {
+#include "ggins/gmodel.h"
+}
 
 namespace ggins::truth {
 
 namespace {
 
 constexpr uint64_t kStreamBias = 1, kStreamScale = 2, kStreamNoise = 3;
+// barometer streams (keyed by the [baro] seed and the sample index)
+constexpr uint64_t kStreamBaroGm = 20, kStreamBaroNoise = 21, kStreamBaroDrop = 22, kStreamBaroOutlier = 23,
+                   kStreamBaroInvalid = 24;
 
 uint64_t splitmix64(uint64_t x) {
   x += 0x9E3779B97F4A7C15ULL;
@@ -51,6 +63,32 @@ std::unique_ptr<Trajectory> make_trajectory(const Scenario& s) {
 
 std::unique_ptr<gravity::Field> make_field(const Scenario& s) {
   if (s.gravity.model == "point-mass") return std::make_unique<gravity::PointMassField>(s.gravity.gm_m3ps2);
+  if (s.gravity.model == "wgs84-normal") return std::make_unique<gravity::NormalField>();
+  if (s.gravity.model == "rw-anomaly") {
+    // WGS-84 normal field exactly + Rubenstein & Winter point masses on the
+    // fast path (Ewald split: short range exact, long range on a lattice;
+    // docs/gravity.md), region centred on the flight (longitude 0 = the x-z plane)
+    const auto& a = s.gravity.anomaly;
+    const Real deg = 3.14159265358979323846264338327950288L / 180.0L;
+    gravity::RwAnomalyConfig cfg;
+    const double lat_mid = s.trajectory.lat0_deg + 0.5 * s.trajectory.speed_mps * s.duration_s /
+                                                      (s.trajectory.radius_m + s.trajectory.height_m) / static_cast<double>(deg);
+    cfg.lat0 = static_cast<Real>(std::isnan(a.lat_deg) ? lat_mid : a.lat_deg) * deg;
+    cfg.lon0 = static_cast<Real>(a.lon_deg) * deg;
+    cfg.half_size = a.half_size_m;
+    cfg.ref_height = std::isnan(a.ref_height_m) ? s.trajectory.height_m : a.ref_height_m;
+    cfg.rms_deflection = static_cast<Real>(a.rms_arcsec) / 206264.80624709636L;
+    cfg.corr_length = a.corr_length_m;
+    cfg.seed = a.seed;
+    const gravity::PointMassAnomalyField masses = gravity::make_rubenstein_winter_field(cfg);
+    gravity::LatticeOptions o;
+    o.spacing = a.lattice_spacing_m;
+    o.points = static_cast<int>(a.lattice_points);
+    o.origin = gravity::wgs84::geodetic_to_ecef(cfg.lat0, cfg.lon0, cfg.ref_height);
+    auto normal = std::make_shared<gravity::NormalField>();
+    auto fast = std::make_shared<gravity::SplitPointMassField>(masses.masses(), static_cast<Real>(a.ewald_sigma_m), o);
+    return std::make_unique<gravity::FastField>(normal, fast);
+  }
   throw std::invalid_argument("unknown gravity model " + s.gravity.model);
 }
 
@@ -64,6 +102,28 @@ Generator::Generator(const Scenario& s)
   offsets_[3] = Vec3(0, 0, -b);
   axes_ = {0, 2, -1};
   n_axes_ = 2;
+  {  // the onboard zonal model (Scenario::nav_model), for the gravimeter's truth
+    const NavModelParams m = s.nav_model();
+    auto c = std::make_unique<gg_gmodel_config_t>();
+    std::memset(c.get(), 0, sizeof *c);
+    c->gm = m.gm_m3ps2;
+    c->a_m = m.a_m;
+    for (size_t n = 0; n <= GG_GMODEL_MAX_DEGREE && n < m.j.size(); ++n) c->j[n] = m.j[n];
+    model_ = std::make_shared<gg_gmodel_t>();
+    if (gg_gmodel_init(model_.get(), c.get()) != GG_OK) model_.reset();
+  }
+  if (s.baro.enable) {  // the Gauss-Markov sequence of every sample of the run (exact discrete recursion)
+    baro_every_ = s.baro_every();
+    const int64_t n = (n_steps_ - 1) / baro_every_ + 1;
+    const double T = static_cast<double>(baro_every_ * dt_us_) * 1e-6;
+    const double phi = std::exp(-T / s.baro.gm_tau_s), q = std::sqrt(1.0 - phi * phi);
+    baro_gm_.resize(static_cast<size_t>(n));
+    double m = s.baro.gm_sigma_m * counter_normal(s.baro.seed, kStreamBaroGm, 0, 0, 0);
+    for (int64_t j = 0; j < n; ++j) {
+      if (j > 0) m = phi * m + s.baro.gm_sigma_m * q * counter_normal(s.baro.seed, kStreamBaroGm, static_cast<uint64_t>(j), 0, 0);
+      baro_gm_[static_cast<size_t>(j)] = m;
+    }
+  }
   for (int i = 0; i < n_acc_; ++i) {
     for (int j = 0; j < 3; ++j) {
       auto ui = static_cast<uint64_t>(i), uj = static_cast<uint64_t>(j);
@@ -83,6 +143,47 @@ Generator::Generator(const Scenario& s)
       scale_[static_cast<size_t>(i)][static_cast<size_t>(j)] = scale;
     }
   }
+}
+
+Real Generator::altitude(const Vec3& r) const { return r.norm() - static_cast<Real>(sc_.r_ref_m()); }
+
+Vec3 Generator::model_g(const Vec3& r) const {
+  gg_real_t rr[3] = {r(0), r(1), r(2)}, gg[3] = {0, 0, 0};
+#ifdef GG_GMODEL_OUTSIDE_GRID  // gmodel.h with programmed anomalies (flags argument)
+  if (!model_ || gg_gmodel_eval(model_.get(), rr, gg, nullptr) != GG_OK)
+#else
+  if (!model_ || gg_gmodel_eval(model_.get(), rr, gg) != GG_OK)
+#endif
+    return Vec3::Constant(std::numeric_limits<Real>::quiet_NaN());
+  return Vec3(gg[0], gg[1], gg[2]);
+}
+
+BaroSample Generator::baro(int64_t k, const TruthState& t) const {
+  BaroSample b;
+  b.true_alt_m = static_cast<double>(altitude(t.kin.r));
+  const BaroParams& p = sc_.baro;
+  if (!p.enable || k % baro_every_ != 0) return b;
+  const auto j = static_cast<uint64_t>(k / baro_every_);
+  b.due = true;
+  const double ts = static_cast<double>(t.t_s);
+  for (const auto& w : p.dropouts)
+    if (ts >= w[0] && ts < w[1]) b.dropped = true;
+  if (p.dropout_prob > 0 && counter_uniform(p.seed, kStreamBaroDrop, j, 0, 0) < p.dropout_prob) b.dropped = true;
+  b.gm_m = baro_gm_[static_cast<size_t>(j)];
+  b.error_m = p.bias_m + b.gm_m;
+  if (p.noise_sigma_m > 0) b.error_m += p.noise_sigma_m * counter_normal(p.seed, kStreamBaroNoise, j, 0, 0);
+  if (p.outlier_prob > 0) {
+    const double u = counter_uniform(p.seed, kStreamBaroOutlier, j, 0, 0);
+    if (u < p.outlier_prob) {
+      b.outlier = true;
+      b.error_m += (u < 0.5 * p.outlier_prob ? p.outlier_m : -p.outlier_m);
+    }
+  }
+  if (p.invalid_prob > 0 && counter_uniform(p.seed, kStreamBaroInvalid, j, 0, 0) < p.invalid_prob) b.invalid = true;
+  if (b.dropped) return b;
+  b.status = GG_SENSOR_OK;
+  b.alt_m = b.invalid ? std::numeric_limits<double>::quiet_NaN() : b.true_alt_m + b.error_m;
+  return b;
 }
 
 Real Generator::time_of(int64_t k) const {
@@ -133,6 +234,14 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
   out.gyro_status = GG_SENSOR_ABSENT;
   out.baro_status = GG_SENSOR_ABSENT;
   out.baro_utime = 0;
+  if (sc_.baro.enable) {
+    const BaroSample b = baro(k, t);
+    if (b.status == GG_SENSOR_OK) {
+      out.baro_alt_m = b.alt_m;
+      out.baro_utime = t.utime;
+      out.baro_status = GG_SENSOR_OK;
+    }
+  }
   if (!sc_.sensor_faults.faults.empty()) {  // injected sensor faults (sensor_faults.cpp), last
     apply_sensor_faults(sc_.sensor_faults, k, dt_us_, out, [&](int64_t k0, int s, int j, double& hi, double& lo) {
       Scenario clean = sc_;

@@ -1,6 +1,8 @@
 #include "ggins/truth/scenario.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -8,6 +10,7 @@
 #include <stdexcept>
 #include <toml++/toml.h>
 
+#include "ggins/gravity/normal.hpp"
 #include "sensor_faults_parse.hpp"
 
 namespace ggins::truth {
@@ -110,9 +113,47 @@ void check_prob(double p, const std::string& key, const std::string& source) {
   if (!(p >= 0.0 && p < 1.0)) fail(source, key + " must be in [0, 1)");
 }
 
+// An array of finite numbers with n_min..n_max entries.
+std::vector<double> get_num_array(const toml::table& t, const std::string& where, const char* key, size_t n_min,
+                                  size_t n_max, const std::string& source) {
+  std::vector<double> v;
+  const toml::node* n = t.get(key);
+  if (!n) return v;
+  const toml::array* a = n->as_array();
+  const std::string k = where + "." + key;
+  if (!a || a->size() < n_min || a->size() > n_max)
+    fail(source, k + " must be an array of " + std::to_string(n_min) + ".." + std::to_string(n_max) + " numbers");
+  for (const auto& e : *a) {
+    auto d = e.value<double>();
+    if (!d || !std::isfinite(*d)) fail(source, k + " entries must be finite numbers");
+    v.push_back(*d);
+  }
+  return v;
+}
+
 }  // namespace
 
 int64_t Scenario::dt_us() const { return static_cast<int64_t>(std::llround(1e6 / rate_hz)); }
+
+int64_t Scenario::baro_every() const {
+  return std::max<int64_t>(1, static_cast<int64_t>(std::llround(rate_hz / baro.rate_hz)));
+}
+
+NavModelParams Scenario::nav_model() const {
+  if (navigation.model.set) return navigation.model;
+  NavModelParams m;
+  m.set = true;
+  if (gravity.model == "point-mass") {
+    m.gm_m3ps2 = gravity.gm_m3ps2;
+    m.a_m = trajectory.radius_m;
+  } else {  // the WGS-84 normal field's zonal series: GM, a, J2, J4, J6, J8
+    const gravity::NormalField n;
+    m.gm_m3ps2 = static_cast<double>(n.params().gm);
+    m.a_m = static_cast<double>(n.params().a);
+    for (int k = 1; 2 * k <= 8; ++k) m.j[static_cast<size_t>(2 * k)] = static_cast<double>(n.j2n(k));
+  }
+  return m;
+}
 
 int64_t Scenario::n_steps() const {
   return static_cast<int64_t>(std::llround(duration_s * 1e6 / static_cast<double>(dt_us()))) + 1;
@@ -132,7 +173,7 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
   s.text = text;
   check_keys(root, "",
              {"name", "description", "trajectory", "gravity", "platform", "time", "accel", "firmware",
-              "transport", "output", "sensor_faults"},
+              "transport", "output", "sensor_faults", "navigation", "baro"},
              source);
   s.name = get_str(root, "", "name", fallback_name, source);
   s.description = get_str(root, "", "description", "", source);
@@ -154,12 +195,38 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
   if (std::fabs(s.trajectory.lat0_deg) > 90.0) fail(source, "trajectory.lat0_deg must be within [-90, 90]");
 
   if (const auto* t = sub(root, "gravity", source)) {
-    check_keys(*t, "gravity", {"model", "gm_m3ps2"}, source);
+    check_keys(*t, "gravity", {"model", "gm_m3ps2", "anomaly"}, source);
     s.gravity.model = get_str(*t, "gravity", "model", s.gravity.model, source);
     s.gravity.gm_m3ps2 = get_num(*t, "gravity", "gm_m3ps2", s.gravity.gm_m3ps2, source);
+    if (const toml::node* an = t->get("anomaly")) {
+      if (!an->is_table()) fail(source, "'gravity.anomaly' must be a table ([gravity.anomaly])");
+      const toml::table& a = *an->as_table();
+      const std::string w = "gravity.anomaly";
+      check_keys(a, w,
+                 {"seed", "lat_deg", "lon_deg", "half_size_m", "ref_height_m", "rms_arcsec", "corr_length_m",
+                  "ewald_sigma_m", "lattice_spacing_m", "lattice_points"},
+                 source);
+      auto& p = s.gravity.anomaly;
+      p.seed = get_seed(a, w, source);
+      p.lat_deg = get_num(a, w, "lat_deg", p.lat_deg, source);
+      p.lon_deg = get_num(a, w, "lon_deg", p.lon_deg, source);
+      p.half_size_m = get_num(a, w, "half_size_m", p.half_size_m, source);
+      p.ref_height_m = get_num(a, w, "ref_height_m", p.ref_height_m, source);
+      p.rms_arcsec = get_num(a, w, "rms_arcsec", p.rms_arcsec, source);
+      p.corr_length_m = get_num(a, w, "corr_length_m", p.corr_length_m, source);
+      p.ewald_sigma_m = get_num(a, w, "ewald_sigma_m", p.ewald_sigma_m, source);
+      p.lattice_spacing_m = get_num(a, w, "lattice_spacing_m", p.lattice_spacing_m, source);
+      p.lattice_points = get_int(a, w, "lattice_points", p.lattice_points, source);
+      if (std::fabs(p.lat_deg) > 90.0) fail(source, w + ".lat_deg must be within [-90, 90]");
+      if (!(p.half_size_m > 0) || !(p.rms_arcsec >= 0) || !(p.corr_length_m > 0) || !(p.ewald_sigma_m > 0) ||
+          !(p.lattice_spacing_m > 0))
+        fail(source, w + ": half_size_m, corr_length_m, ewald_sigma_m, lattice_spacing_m must be > 0, rms_arcsec >= 0");
+      if (p.lattice_points < 2 || p.lattice_points > 16 || p.lattice_points % 2 != 0)
+        fail(source, w + ".lattice_points must be even, 2..16");
+    }
   }
-  if (s.gravity.model != "point-mass")
-    fail(source, "gravity.model '" + s.gravity.model + "' unknown (known: point-mass)");
+  if (s.gravity.model != "point-mass" && s.gravity.model != "wgs84-normal" && s.gravity.model != "rw-anomaly")
+    fail(source, "gravity.model '" + s.gravity.model + "' unknown (known: point-mass, wgs84-normal, rw-anomaly)");
   if (!(s.gravity.gm_m3ps2 > 0)) fail(source, "gravity.gm_m3ps2 must be > 0");
 
   if (const auto* t = sub(root, "platform", source)) {
@@ -227,7 +294,99 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     p.garbage_prob = get_num(*t, "transport", "garbage_prob", 0.0, source);
     check_prob(p.garbage_prob, "transport.garbage_prob", source);
   }
+  if (const auto* t = sub(root, "navigation", source)) {
+    const std::string w = "navigation";
+    check_keys(*t, w, {"gravity", "r_ref_m", "model", "baro"}, source);
+    auto& n = s.navigation;
+    n.gravity = get_str(*t, w, "gravity", n.gravity, source);
+    if (n.gravity != "gradiometer" && n.gravity != "model")
+      fail(source, "navigation.gravity '" + n.gravity + "' unknown (known: gradiometer, model)");
+    n.r_ref_m = get_num(*t, w, "r_ref_m", n.r_ref_m, source);
+    if (n.r_ref_m < 0) fail(source, "navigation.r_ref_m must be >= 0 (0: trajectory.radius_m)");
+    if (const auto* m = sub(*t, "model", source)) {
+      const std::string wm = "navigation.model";
+      check_keys(*m, wm, {"gm_m3ps2", "a_m", "j"}, source);
+      n.model.set = true;
+      n.model.gm_m3ps2 = get_num(*m, wm, "gm_m3ps2", s.gravity.gm_m3ps2, source);
+      n.model.a_m = get_num(*m, wm, "a_m", s.trajectory.radius_m, source);
+      const std::vector<double> j = get_num_array(*m, wm, "j", 0, 7, source);
+      for (size_t i = 0; i < j.size(); ++i) n.model.j[i + 2] = j[i];
+      if (!(n.model.gm_m3ps2 > 0) || !(n.model.a_m > 0)) fail(source, wm + ": gm_m3ps2 and a_m must be > 0");
+    }
+    if (const auto* b = sub(*t, "baro", source)) {
+      const std::string wb = "navigation.baro";
+      check_keys(*b, wb,
+                 {"enable", "poles_radps", "period_s", "omega_s2", "max_age_s", "coast_s", "alt_min_m", "alt_max_m",
+                  "gate_m", "max_rejects"},
+                 source);
+      auto& l = n.baro;
+      if (b->get("enable")) l.enable = get_bool(*b, wb, "enable", false, source) ? 1 : 0;
+      const std::vector<double> p = get_num_array(*b, wb, "poles_radps", 3, 3, source);
+      if (!p.empty()) l.poles_radps = {p[0], p[1], p[2]};
+      l.period_s = get_num(*b, wb, "period_s", l.period_s, source);
+      l.omega_s2 = get_num(*b, wb, "omega_s2", l.omega_s2, source);
+      l.max_age_s = get_num(*b, wb, "max_age_s", l.max_age_s, source);
+      l.coast_s = get_num(*b, wb, "coast_s", l.coast_s, source);
+      l.alt_min_m = get_num(*b, wb, "alt_min_m", l.alt_min_m, source);
+      l.alt_max_m = get_num(*b, wb, "alt_max_m", l.alt_max_m, source);
+      l.gate_m = get_num(*b, wb, "gate_m", l.gate_m, source);
+      l.max_rejects = get_int(*b, wb, "max_rejects", l.max_rejects, source);
+      for (double q : l.poles_radps)
+        if (!(q > 0)) fail(source, wb + ".poles_radps must be > 0 (the loop's poles are -p)");
+      if (l.period_s < 0 || l.omega_s2 < 0 || l.max_age_s < 0 || !(l.coast_s > 0) || !(l.alt_max_m > l.alt_min_m) ||
+          !(l.gate_m > 0) || l.max_rejects < 1 || l.max_rejects > 1000000)
+        fail(source, wb + ": period_s, omega_s2, max_age_s must be >= 0, coast_s and gate_m > 0, alt_max_m > alt_min_m, "
+                          "max_rejects >= 1");
+    }
+  }
+  if (const auto* t = sub(root, "baro", source)) {
+    const std::string w = "baro";
+    check_keys(*t, w,
+               {"enable", "seed", "rate_hz", "bias_m", "gm_sigma_m", "gm_tau_s", "noise_sigma_m", "dropout_prob",
+                "dropouts", "outlier_prob", "outlier_m", "invalid_prob"},
+               source);
+    auto& b = s.baro;
+    b.enable = get_bool(*t, w, "enable", true, source);  // a [baro] table means a barometer unless it says otherwise
+    b.seed = get_seed(*t, w, source);
+    b.rate_hz = get_num(*t, w, "rate_hz", b.rate_hz, source);
+    b.bias_m = get_num(*t, w, "bias_m", b.bias_m, source);
+    b.gm_sigma_m = get_num(*t, w, "gm_sigma_m", b.gm_sigma_m, source);
+    b.gm_tau_s = get_num(*t, w, "gm_tau_s", b.gm_tau_s, source);
+    b.noise_sigma_m = get_num(*t, w, "noise_sigma_m", b.noise_sigma_m, source);
+    b.dropout_prob = get_num(*t, w, "dropout_prob", b.dropout_prob, source);
+    b.outlier_prob = get_num(*t, w, "outlier_prob", b.outlier_prob, source);
+    b.outlier_m = get_num(*t, w, "outlier_m", b.outlier_m, source);
+    b.invalid_prob = get_num(*t, w, "invalid_prob", b.invalid_prob, source);
+    check_prob(b.dropout_prob, "baro.dropout_prob", source);
+    check_prob(b.outlier_prob, "baro.outlier_prob", source);
+    check_prob(b.invalid_prob, "baro.invalid_prob", source);
+    if (!(b.rate_hz > 0) || b.gm_sigma_m < 0 || !(b.gm_tau_s > 0) || b.noise_sigma_m < 0 || b.outlier_m < 0)
+      fail(source, "baro: rate_hz and gm_tau_s must be > 0, gm_sigma_m, noise_sigma_m, outlier_m >= 0");
+    if (const toml::node* d = t->get("dropouts")) {
+      const toml::array* rows = d->as_array();
+      if (!rows) fail(source, "baro.dropouts must be an array of [t0_s, t1_s] pairs");
+      for (const auto& r : *rows) {
+        const toml::array* pr = r.as_array();
+        auto a0 = pr && pr->size() == 2 ? (*pr)[0].value<double>() : std::nullopt;
+        auto a1 = pr && pr->size() == 2 ? (*pr)[1].value<double>() : std::nullopt;
+        if (!a0 || !a1 || !std::isfinite(*a0) || !std::isfinite(*a1) || !(*a1 > *a0))
+          fail(source, "baro.dropouts entries must be [t0_s, t1_s] with t1_s > t0_s");
+        b.dropouts.push_back({*a0, *a1});
+      }
+    }
+  }
   if (const auto* t = sub(root, "sensor_faults", source)) s.sensor_faults = parse_sensor_faults(*t, source);
+  if (s.baro.enable) {
+    const double every = s.rate_hz / s.baro.rate_hz;
+    if (!(every >= 1.0) || std::fabs(every - std::round(every)) > 1e-9 * every)
+      fail(source, "baro.rate_hz must divide time.rate_hz (an integer number of steps per sample)");
+  }
+  if (s.baro_loop_enabled()) {
+    const double pmax = std::max({s.navigation.baro.poles_radps[0], s.navigation.baro.poles_radps[1],
+                                  s.navigation.baro.poles_radps[2]});
+    if (pmax * s.baro_period_s() > 1.0)
+      fail(source, "navigation.baro: largest pole times period_s must be <= 1 (vchan.h)");
+  }
   if (const auto* t = sub(root, "output", source)) {
     check_keys(*t, "output", {"csv_rate_hz", "truth_rate_hz"}, source);
     s.output.csv_rate_hz = get_num(*t, "output", "csv_rate_hz", s.output.csv_rate_hz, source);

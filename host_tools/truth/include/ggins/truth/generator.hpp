@@ -19,14 +19,38 @@
 
 #include <array>
 #include <cstdint>
+#include <cmath>
 #include <memory>
+#include <vector>
 
 #include "ggins/frame.h"
+extern "C" {
+#include "ggins/gmodel.h"
+}
 #include "ggins/gravity/field.hpp"
 #include "ggins/truth/scenario.hpp"
 #include "ggins/truth/trajectory.hpp"
 
 namespace ggins::truth {
+
+// Barometer of step k (scenario [baro]). A sample is due every baro_every()
+// steps (sample j at step j * every, time-stamped with the frame's utime):
+//   h_baro = h_true + bias + m_j + n_j (+ outlier),  h_true = |r| - r_ref,
+// m_j a first-order Gauss-Markov sequence by its exact discrete recursion
+//   m_0 = sigma w_0,  m_{j+1} = phi m_j + sigma sqrt(1 - phi^2) w_{j+1},  phi = exp(-T/tau)
+// (stationary from the start: var m_j = sigma^2 for every j), n_j white with
+// sigma noise_sigma_m; w, n from the counter-based generator (seed, j).
+struct BaroSample {
+  bool due = false;       // a sample time
+  bool dropped = false;   // due but not sent (dropout: probability or scheduled window)
+  bool outlier = false;   // +-outlier_m added
+  bool invalid = false;   // sent as NaN with status OK
+  double alt_m = NAN;     // what the frame carries (NaN when none)
+  int32_t status = GG_SENSOR_ABSENT;
+  double true_alt_m = 0;  // h_true, m
+  double error_m = 0;     // bias + m_j + n_j (+ outlier), m (0 when not due)
+  double gm_m = 0;        // m_j, m
+};
 
 // Truth at the platform centre at one step.
 struct TruthState {
@@ -64,6 +88,14 @@ class Generator {
   // Sensor frame of step k (f rounded to double); optionally its truth too.
   void frame(int64_t k, gg_frame_t& out, TruthState* truth_out = nullptr) const;
 
+  // Barometer sample of step k (given the truth of that step).
+  BaroSample baro(int64_t k, const TruthState& t) const;
+  // Altitude h = |r| - r_ref of a position, m.
+  Real altitude(const Vec3& r) const;
+  // The onboard zonal gravitation model the firmware is configured with
+  // (Scenario::nav_model(); evaluated by the firmware's own gmodel.c).
+  Vec3 model_g(const Vec3& r) const;
+
   // Platform offset of accelerometer i (inertial = platform axes), m.
   const Vec3& offset(int i) const { return offsets_[static_cast<size_t>(i)]; }
   // Total constant bias and scale factor of accelerometer i, axis j.
@@ -82,6 +114,9 @@ class Generator {
   std::array<std::array<double, 3>, kMaxAcc> scale_{};
   std::array<int, 3> axes_{};  // which axes are measured (2-D: x and z)
   int n_axes_ = 0;
+  std::vector<double> baro_gm_;  // m_j per barometer sample j
+  std::shared_ptr<gg_gmodel_t> model_;  // onboard model (null if it does not initialise)
+  int64_t baro_every_ = 1;
 };
 
 }  // namespace ggins::truth

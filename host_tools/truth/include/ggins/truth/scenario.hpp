@@ -8,7 +8,25 @@
 //   description = "..."
 //   [trajectory]  type = "north-flight", speed_mps [300], height_m [0],
 //                 lat0_deg [0], radius_m [6378137]
-//   [gravity]     model = "point-mass", gm_m3ps2 [3.986004418e14]
+//   [gravity]     model = "point-mass" | "wgs84-normal" | "rw-anomaly" (WGS-84 normal field plus
+//                 buried point masses with Rubenstein & Winter statistics, gravity/point_anomaly.hpp),
+//                 gm_m3ps2 [3.986004418e14] (point-mass only)
+//   [gravity.anomaly] (rw-anomaly) seed [1], lat_deg [trajectory mid-latitude], lon_deg [0],
+//                 half_size_m [300e3], ref_height_m [trajectory.height_m], rms_arcsec [4.5],
+//                 corr_length_m [61116], ewald_sigma_m [8000], lattice_spacing_m [1000],
+//                 lattice_points [12]
+//   [navigation]  gravity = "gradiometer" | "model" [gradiometer], r_ref_m [trajectory.radius_m]
+//                 (altitude h = |r| - r_ref_m, for the barometer and the firmware)
+//   [navigation.model] onboard zonal model (model mode): gm_m3ps2, a_m, j = [J2, ..., J8]
+//                 [the truth field's normal part: point mass GM (J = 0), or WGS-84 GM, a, J2..J8]
+//   [navigation.baro] firmware vertical loop (vchan.h): enable [= baro.enable],
+//                 poles_radps [[0.01, 0.02, 0.03]], period_s [1 / baro.rate_hz],
+//                 omega_s2 [|G(r0)| / |r0| from the truth], max_age_s [0.5], coast_s [10],
+//                 alt_min_m [-1000], alt_max_m [30000], gate_m [50], max_rejects [5]
+//   [baro]        truth barometer: enable [false], seed [1], rate_hz [1], bias_m [0],
+//                 gm_sigma_m [0], gm_tau_s [600] (first-order Gauss-Markov), noise_sigma_m [0],
+//                 dropout_prob [0], dropouts = [[t0_s, t1_s], ...] [none], outlier_prob [0],
+//                 outlier_m [0], invalid_prob [0] (NaN sample flagged OK)
 //   [platform]    a_m [0.5], b_m [0.5]            (half-baselines along x and z)
 //   [time]        duration_s [3600], rate_hz [100] (1e6/rate_hz must be an integer)
 //   [accel]       seed [1], bias_sigma_mps2 [0], noise_sigma_mps2 [0],
@@ -24,6 +42,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,9 +61,66 @@ struct TrajectoryParams {
   double radius_m = 6378137.0;  // WGS-84 semi-major axis (the paper's R_e)
 };
 
+struct AnomalyParams {  // [gravity.anomaly], model = "rw-anomaly"
+  uint64_t seed = 1;
+  double lat_deg = NAN;           // region centre (NaN: the trajectory's mid-latitude)
+  double lon_deg = 0.0;
+  double half_size_m = 300e3;
+  double ref_height_m = NAN;      // NaN: trajectory.height_m
+  double rms_arcsec = 4.5;        // Rubenstein & Winter eq. (5)
+  double corr_length_m = 33.0 * 1852.0;
+  double ewald_sigma_m = 8000.0;  // SplitPointMassField (lattice.hpp)
+  double lattice_spacing_m = 1000.0;
+  int64_t lattice_points = 12;
+};
+
 struct GravityParams {
   std::string model = "point-mass";
   double gm_m3ps2 = 3.986004418e14;
+  AnomalyParams anomaly;
+};
+
+// [navigation]: what the firmware is configured with beyond the sensors (nav2d.h).
+struct NavModelParams {  // onboard zonal model (gmodel.h)
+  bool set = false;      // false: the truth field's normal part (resolved by nav_model())
+  double gm_m3ps2 = 0;
+  double a_m = 0;
+  std::array<double, 9> j{};  // J_n, n = 2..8
+};
+
+struct BaroLoopParams {  // vchan.h
+  int enable = -1;       // -1: same as baro.enable
+  std::array<double, 3> poles_radps{0.01, 0.02, 0.03};
+  double period_s = 0;   // 0: 1 / baro.rate_hz
+  double omega_s2 = 0;   // 0: |G(r0)| / |r0| from the truth at t0
+  double max_age_s = 0.5;
+  double coast_s = 10.0;
+  double alt_min_m = -1000.0;
+  double alt_max_m = 30000.0;
+  double gate_m = 50.0;
+  int64_t max_rejects = 5;
+};
+
+struct NavigationParams {
+  std::string gravity = "gradiometer";  // or "model"
+  double r_ref_m = 0;                   // 0: trajectory.radius_m
+  NavModelParams model;
+  BaroLoopParams baro;
+};
+
+struct BaroParams {  // [baro]: the truth generator's barometer
+  bool enable = false;
+  uint64_t seed = 1;
+  double rate_hz = 1.0;
+  double bias_m = 0.0;          // constant
+  double gm_sigma_m = 0.0;      // first-order Gauss-Markov error, stationary sigma
+  double gm_tau_s = 600.0;      // its correlation time
+  double noise_sigma_m = 0.0;   // white noise per sample
+  double dropout_prob = 0.0;    // a sample is missing (status ABSENT) with this probability
+  std::vector<std::array<double, 2>> dropouts;  // scheduled windows [t0, t1) without samples, s
+  double outlier_prob = 0.0;    // a sample is off by +-outlier_m with this probability
+  double outlier_m = 0.0;
+  double invalid_prob = 0.0;    // a sample is NaN (status OK: the firmware must notice)
 };
 
 struct AccelErrorParams {
@@ -94,11 +170,18 @@ struct Scenario {
   FirmwareParams firmware;
   TransportParams transport;
   OutputParams output;
+  NavigationParams navigation;
+  BaroParams baro;
   SensorFaultParams sensor_faults;  // injected sensor faults (sensor_faults.hpp)
 
   int64_t dt_us() const;    // step, microseconds
   int64_t n_steps() const;  // frames: seq 0 .. n_steps-1 (t = 0 .. duration)
   int n_acc() const { return 4; }
+  double r_ref_m() const { return navigation.r_ref_m > 0 ? navigation.r_ref_m : trajectory.radius_m; }
+  int64_t baro_every() const;   // steps per barometer sample
+  bool baro_loop_enabled() const { return navigation.baro.enable < 0 ? baro.enable : navigation.baro.enable != 0; }
+  double baro_period_s() const { return navigation.baro.period_s > 0 ? navigation.baro.period_s : 1.0 / baro.rate_hz; }
+  NavModelParams nav_model() const;  // the onboard model, defaults resolved
 };
 
 // Parse TOML text. `fallback_name` names the scenario when the text has no
