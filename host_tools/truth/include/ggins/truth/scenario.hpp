@@ -23,7 +23,7 @@
 //                 poles_radps [[0.01, 0.02, 0.03]], period_s [1 / baro.rate_hz],
 //                 omega_s2 [|G(r0)| / |r0| from the truth], max_age_s [0.5], coast_s [10],
 //                 alt_min_m [-1000], alt_max_m [30000], gate_m [50], max_rejects [5]
-//   [baro]        truth barometer: enable [false], seed [1], rate_hz [1], bias_m [0],
+//   [baro]        truth barometer (none without the table): enable [true], seed [1], rate_hz [1], bias_m [0],
 //                 gm_sigma_m [0], gm_tau_s [600] (first-order Gauss-Markov), noise_sigma_m [0],
 //                 dropout_prob [0], dropouts = [[t0_s, t1_s], ...] [none], outlier_prob [0],
 //                 outlier_m [0], invalid_prob [0] (NaN sample flagged OK)
