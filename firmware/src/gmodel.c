@@ -19,15 +19,109 @@ gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg)
             return GG_ERR_CONFIG;
         }
     }
+    if ((cfg->n_pm < 0) || (cfg->n_pm > GG_GMODEL_MAX_PM)) {
+        return GG_ERR_CONFIG;
+    }
+    for (n = 0U; n < (size_t)cfg->n_pm; ++n) {
+        if ((gg_finite3(cfg->pm_pos[n]) == 0) || !GG_ISFINITE(cfg->pm_gm[n])) {
+            return GG_ERR_CONFIG;
+        }
+    }
+    if (cfg->grid.nx != 0) {
+        const gg_gmodel_grid_t *gr = &cfg->grid;
+        if ((gr->nx < 2) || (gr->nz < 2) || (gr->nx > GG_GMODEL_GRID_MAX) ||
+            (gr->nz > (GG_GMODEL_GRID_MAX / gr->nx)) || !GG_ISFINITE(gr->x0_m) ||
+            !GG_ISFINITE(gr->z0_m) || !GG_ISFINITE(gr->dx_m) || !GG_ISFINITE(gr->dz_m) ||
+            !(gr->dx_m > 0.0L) || !(gr->dz_m > 0.0L)) {
+            return GG_ERR_CONFIG;
+        }
+        for (n = 0U; n < ((size_t)gr->nx * (size_t)gr->nz); ++n) {
+            if (!GG_ISFINITE(gr->dg[n][0]) || !GG_ISFINITE(gr->dg[n][1])) {
+                return GG_ERR_CONFIG;
+            }
+        }
+    }
     st->cfg = *cfg;
     st->initialized = 1;
     return GG_OK;
 }
 
-gg_status_t gg_gmodel_eval(const gg_gmodel_t *st, const gg_real_t r[3], gg_real_t g[3])
+/* Programmed point masses: sum of -gm_i (r - p_i)/|r - p_i|^3 into g. */
+static gg_status_t add_point_masses(const gg_gmodel_config_t *c, const gg_real_t r[3],
+                                    gg_real_t g[3])
+{
+    size_t n;
+    size_t j;
+    for (n = 0U; n < (size_t)c->n_pm; ++n) {
+        gg_real_t d[3];
+        gg_real_t d2 = 0.0L;
+        for (j = 0U; j < 3U; ++j) {
+            d[j] = r[j] - c->pm_pos[n][j];
+            d2 += d[j] * d[j];
+        }
+        if (!(d2 > 1.0L)) {
+            return GG_ERR_RANGE;
+        }
+        {
+            const gg_real_t k = c->pm_gm[n] / (d2 * sqrtl(d2));
+            for (j = 0U; j < 3U; ++j) {
+                g[j] -= k * d[j];
+            }
+        }
+    }
+    return GG_OK;
+}
+
+/* Programmed grid: bilinear interpolation of (dG_x, dG_z) at (r_x, r_z). */
+static uint32_t add_grid(const gg_gmodel_grid_t *gr, const gg_real_t r[3], gg_real_t g[3])
+{
+    uint32_t flags = 0U;
+    if (gr->nx != 0) {
+        const gg_real_t u = (r[0] - gr->x0_m) / gr->dx_m;
+        const gg_real_t w = (r[2] - gr->z0_m) / gr->dz_m;
+        const gg_real_t umax = (gg_real_t)gr->nx - 1.0L;
+        const gg_real_t wmax = (gg_real_t)gr->nz - 1.0L;
+        if ((u < 0.0L) || (w < 0.0L) || (u > umax) || (w > wmax)) {
+            flags |= GG_GMODEL_OUTSIDE_GRID;
+        } else {
+            /* cell (i, k) with i <= u < i + 1, clamped to the last cell */
+            int32_t i = (int32_t)u;
+            int32_t k = (int32_t)w;
+            gg_real_t fu;
+            gg_real_t fw;
+            size_t c;
+            if (i > (gr->nx - 2)) {
+                i = gr->nx - 2;
+            }
+            if (k > (gr->nz - 2)) {
+                k = gr->nz - 2;
+            }
+            fu = u - (gg_real_t)i;
+            fw = w - (gg_real_t)k;
+            for (c = 0U; c < 2U; ++c) {
+                const size_t n00 = ((size_t)k * (size_t)gr->nx) + (size_t)i;
+                const size_t n10 = n00 + 1U;
+                const size_t n01 = n00 + (size_t)gr->nx;
+                const size_t n11 = n01 + 1U;
+                const gg_real_t v = (((1.0L - fu) * (1.0L - fw)) * (gg_real_t)gr->dg[n00][c]) +
+                                    ((fu * (1.0L - fw)) * (gg_real_t)gr->dg[n10][c]) +
+                                    (((1.0L - fu) * fw) * (gg_real_t)gr->dg[n01][c]) +
+                                    ((fu * fw) * (gg_real_t)gr->dg[n11][c]);
+                g[(c == 0U) ? 0U : 2U] += v;
+            }
+        }
+    }
+    return flags;
+}
+
+gg_status_t gg_gmodel_eval(const gg_gmodel_t *st, const gg_real_t r[3], gg_real_t g[3],
+                           uint32_t *flags)
 {
     gg_real_t rr;
     gg_real_t rn;
+    gg_real_t gz[3];
+    gg_status_t status;
+    uint32_t fl;
     if ((st == NULL) || (r == NULL) || (g == NULL)) {
         return GG_ERR_NULL;
     }
@@ -71,8 +165,19 @@ gg_status_t gg_gmodel_eval(const gg_gmodel_t *st, const gg_real_t r[3], gg_real_
         for (j = 0U; j < 3U; ++j) {
             const gg_real_t rhat = r[j] / rn;
             const gg_real_t zhat = (j == 2U) ? 1.0L : 0.0L;
-            g[j] = (dvdr * rhat) + ((dvdu * (zhat - (u * rhat))) / rn);
+            gz[j] = (dvdr * rhat) + ((dvdu * (zhat - (u * rhat))) / rn);
         }
+    }
+    status = add_point_masses(&st->cfg, r, gz);
+    if (status != GG_OK) {
+        return status;
+    }
+    fl = add_grid(&st->cfg.grid, r, gz);
+    g[0] = gz[0];
+    g[1] = gz[1];
+    g[2] = gz[2];
+    if (flags != NULL) {
+        *flags = fl;
     }
     return GG_OK;
 }

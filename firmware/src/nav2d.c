@@ -166,7 +166,7 @@ static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t
     if (nav->started != 0) {
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
-            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g)
+            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g, NULL)
                                                               : gg_gravdr_get(&nav->gravdr, g);
         }
     }
@@ -209,8 +209,9 @@ static gg_status_t up_vector(const gg_real_t r[3], gg_real_t u[3], gg_real_t *rn
     return GG_OK;
 }
 
-/* G at the mechanization's current position, as compensated values. */
-static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3])
+/* G at the mechanization's current position, as compensated values; model
+ * flags (GG_GMODEL_*) into *mflags. */
+static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3], uint32_t *mflags)
 {
     gg_status_t st;
     if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
@@ -219,7 +220,7 @@ static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3])
         gg_real_t gm[3];
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
-            st = gg_gmodel_eval(&nav->gmodel, r, gm);
+            st = gg_gmodel_eval(&nav->gmodel, r, gm, mflags);
         }
         if (st == GG_OK) {
             size_t j;
@@ -246,7 +247,7 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
         g0[j] = nav->cfg.g0[j];
     }
     if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
-        st = gg_gmodel_eval(&nav->gmodel, nav->cfg.r0, g0);
+        st = gg_gmodel_eval(&nav->gmodel, nav->cfg.r0, g0, NULL);
     }
     for (j = 0U; j < 3U; ++j) {
         gc.g0[j] = g0[j];
@@ -284,7 +285,7 @@ static gg_status_t expected_parity(const gg_nav2d_t *nav, gg_real_t p_exp[2])
         gg_real_t v[3];
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
-            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g)
+            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g, NULL)
                                                               : gg_gravdr_get(&nav->gravdr, g);
         }
     } else {
@@ -428,7 +429,11 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
             st = gg_gravdr_step(&nav->gravdr, d->gamma, dr);
         }
         if (st == GG_OK) {
-            st = current_g(nav, g);
+            uint32_t mflags = 0U;
+            st = current_g(nav, g, &mflags);
+            if ((mflags & GG_GMODEL_OUTSIDE_GRID) != 0U) {
+                *health |= GG_HEALTH_MODEL_OUTSIDE;
+            }
         }
         t0 = cycles_now(hal);
         cyc[GG_MOD_GRAVDR] = t0 - t1;

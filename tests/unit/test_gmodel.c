@@ -19,14 +19,17 @@ static long double potential(const long double r[3])
 static void test_point_mass_when_no_zonals(void **state)
 {
     (void)state;
-    gg_gmodel_config_t cfg = {T_GM, T_RE, {0}};
+    static gg_gmodel_config_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.gm = T_GM;
+    cfg.a_m = T_RE;
     gg_gmodel_t m;
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
     const long double pts[3][3] = {{T_RE, 0, 0}, {0, 0, T_RE + 1e4L}, {3e6L, 1e6L, -5e6L}};
     for (int i = 0; i < 3; ++i) {
         gg_real_t g[3];
         long double gt[3];
-        assert_int_equal(gg_gmodel_eval(&m, pts[i], g), GG_OK);
+        assert_int_equal(gg_gmodel_eval(&m, pts[i], g, NULL), GG_OK);
         t_point_mass_g(pts[i], gt);
         for (int j = 0; j < 3; ++j) assert_near(g[j], gt[j], 1e-15L);
     }
@@ -38,7 +41,10 @@ static void test_point_mass_when_no_zonals(void **state)
 static void test_j2_j4_against_potential_gradient(void **state)
 {
     (void)state;
-    gg_gmodel_config_t cfg = {T_GM, T_RE, {0}};
+    static gg_gmodel_config_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.gm = T_GM;
+    cfg.a_m = T_RE;
     cfg.j[2] = kJ2;
     cfg.j[4] = kJ4;
     gg_gmodel_t m;
@@ -52,7 +58,7 @@ static void test_j2_j4_against_potential_gradient(void **state)
     long double worst = 0;
     for (int i = 0; i < 5; ++i) {
         gg_real_t g[3];
-        assert_int_equal(gg_gmodel_eval(&m, pts[i], g), GG_OK);
+        assert_int_equal(gg_gmodel_eval(&m, pts[i], g, NULL), GG_OK);
         for (int j = 0; j < 3; ++j) {
             long double p[4][3];
             const long double k[4] = {-2, -1, 1, 2};
@@ -73,7 +79,10 @@ static void test_j2_j4_against_potential_gradient(void **state)
 static void test_bad_config_and_input(void **state)
 {
     (void)state;
-    gg_gmodel_config_t cfg = {T_GM, T_RE, {0}};
+    static gg_gmodel_config_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.gm = T_GM;
+    cfg.a_m = T_RE;
     gg_gmodel_t m;
     cfg.gm = 0;
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
@@ -87,9 +96,105 @@ static void test_bad_config_and_input(void **state)
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
     gg_real_t g[3] = {1, 2, 3};
     const gg_real_t centre[3] = {0, 0, 0}, bad[3] = {NAN, 0, 0};
-    assert_int_equal(gg_gmodel_eval(&m, centre, g), GG_ERR_RANGE);
-    assert_int_equal(gg_gmodel_eval(&m, bad, g), GG_ERR_NONFINITE);
+    assert_int_equal(gg_gmodel_eval(&m, centre, g, NULL), GG_ERR_RANGE);
+    assert_int_equal(gg_gmodel_eval(&m, bad, g, NULL), GG_ERR_NONFINITE);
     assert_true(g[0] == 1 && g[1] == 2 && g[2] == 3);
+}
+
+/* Programmed point masses against the closed form, summed with the zonal
+ * part (each term checked by switching the others off). */
+static void test_programmed_point_masses(void **state)
+{
+    (void)state;
+    static gg_gmodel_config_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.gm = T_GM;
+    cfg.a_m = T_RE;
+    cfg.n_pm = 2;
+    const long double p0[3] = {T_RE - 3000.0L, 0, 1000.0L}, p1[3] = {T_RE - 5000.0L, 0, -8000.0L};
+    memcpy(cfg.pm_pos[0], p0, sizeof p0);
+    memcpy(cfg.pm_pos[1], p1, sizeof p1);
+    cfg.pm_gm[0] = 6.674e-11L * 1e12L;  /* 1e12 kg excess */
+    cfg.pm_gm[1] = -6.674e-11L * 5e11L; /* deficit */
+    static gg_gmodel_t m;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
+    const long double r[3] = {T_RE + 2000.0L, 0, 500.0L};
+    gg_real_t g[3];
+    uint32_t fl = 99;
+    assert_int_equal(gg_gmodel_eval(&m, r, g, &fl), GG_OK);
+    assert_int_equal(fl, 0);
+    long double want[3];
+    t_point_mass_g(r, want);
+    const long double *ps[2] = {p0, p1};
+    for (int n = 0; n < 2; ++n) {
+        long double d[3], d2 = 0;
+        for (int j = 0; j < 3; ++j) { d[j] = r[j] - ps[n][j]; d2 += d[j] * d[j]; }
+        for (int j = 0; j < 3; ++j) want[j] -= cfg.pm_gm[n] * d[j] / (d2 * sqrtl(d2));
+    }
+    for (int j = 0; j < 3; ++j) assert_near(g[j], want[j], 1e-15L);
+    /* the anomaly is the size of a real one: ~1e-5 m/s^2 */
+    long double g0[3];
+    t_point_mass_g(r, g0);
+    assert_true(fabsl(g[0] - g0[0]) > 1e-6L && fabsl(g[0] - g0[0]) < 1e-3L);
+    /* at a programmed mass: refused */
+    assert_int_equal(gg_gmodel_eval(&m, p0, g, NULL), GG_ERR_RANGE);
+}
+
+/* Anomaly grid: bilinear interpolation reproduces a bilinear field exactly,
+ * and outside the grid contributes nothing, flagged. */
+static void test_programmed_grid(void **state)
+{
+    (void)state;
+    static gg_gmodel_config_t cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.gm = T_GM;
+    cfg.a_m = T_RE;
+    gg_gmodel_grid_t *gr = &cfg.grid;
+    gr->nx = 8;
+    gr->nz = 5;
+    gr->x0_m = T_RE - 10000.0L;
+    gr->z0_m = -20000.0L;
+    gr->dx_m = 5000.0L;
+    gr->dz_m = 10000.0L;
+    /* dG = (A + B u + C w + D u w) with u, w in km from the first node */
+    for (int j = 0; j < gr->nz; ++j)
+        for (int i = 0; i < gr->nx; ++i) {
+            const double u = i * 5.0, w = j * 10.0;
+            gr->dg[j * gr->nx + i][0] = 1e-5 + 2e-7 * u - 3e-7 * w + 1e-9 * u * w;
+            gr->dg[j * gr->nx + i][1] = -2e-5 + 1e-7 * w + 4e-9 * u * w;
+        }
+    static gg_gmodel_t m;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
+    const long double pts[3][2] = {{12.3L, 7.7L}, {0.0L, 0.0L}, {35.0L, 40.0L}}; /* km */
+    for (int n = 0; n < 3; ++n) {
+        const long double r[3] = {gr->x0_m + pts[n][0] * 1e3L, 0, gr->z0_m + pts[n][1] * 1e3L};
+        gg_real_t g[3];
+        long double g0[3];
+        uint32_t fl = 99;
+        assert_int_equal(gg_gmodel_eval(&m, r, g, &fl), GG_OK);
+        assert_int_equal(fl, 0);
+        t_point_mass_g(r, g0);
+        const long double u = pts[n][0], w = pts[n][1];
+        assert_near(g[0] - g0[0], 1e-5L + 2e-7L * u - 3e-7L * w + 1e-9L * u * w, 1e-17L);
+        assert_near(g[2] - g0[2], -2e-5L + 1e-7L * w + 4e-9L * u * w, 1e-17L);
+    }
+    const long double out[3] = {gr->x0_m - 1.0L, 0, 0};
+    gg_real_t g[3];
+    long double g0[3];
+    uint32_t fl = 0;
+    assert_int_equal(gg_gmodel_eval(&m, out, g, &fl), GG_OK);
+    assert_int_equal(fl, GG_GMODEL_OUTSIDE_GRID);
+    t_point_mass_g(out, g0);
+    assert_near(g[0], g0[0], 1e-15L);
+    /* bad grids */
+    gr->nz = 1;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
+    gr->nz = 5;
+    gr->dg[3][1] = NAN;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
+    gr->dg[3][1] = 0;
+    gr->nx = 600;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
 }
 
 int main(void)
@@ -98,6 +203,8 @@ int main(void)
         cmocka_unit_test(test_point_mass_when_no_zonals),
         cmocka_unit_test(test_j2_j4_against_potential_gradient),
         cmocka_unit_test(test_bad_config_and_input),
+        cmocka_unit_test(test_programmed_point_masses),
+        cmocka_unit_test(test_programmed_grid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -61,6 +61,7 @@ typedef struct {
 #define GG_HEALTH_ACC_FAULT       0x00008000u /**< accelerometer parity check failed this step */
 #define GG_HEALTH_ACC_REBUILT     0x00010000u /**< degraded: readings rebuilt from parity (see acc_excluded) */
 #define GG_HEALTH_GRAD_COAST      0x00020000u /**< degraded: a gradient component coasts on its last good value */
+#define GG_HEALTH_MODEL_OUTSIDE   0x00040000u /**< gravity-model mode: outside the programmed anomaly grid */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {
