@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unistd.h>
 
 #include "ggins/covariance/modes.hpp"
 #include "ggins/covariance/propagate.hpp"
@@ -380,7 +381,7 @@ void test_linear_model_vs_mechanization(void**) {
 // The TOML loader reads the keys shared with the truth generator, and the
 // repository's scenarios/welker-table1.toml describes the built-in scenario.
 void test_scenario_toml(void**) {
-  const std::string path = (std::filesystem::temp_directory_path() / "ggins_cov_test.toml").string();
+  const std::string path = (std::filesystem::temp_directory_path() / ("ggins_cov_test_" + std::to_string(getpid()) + ".toml")).string();
   {
     std::ofstream f(path);
     f << "name = \"t\"\n[trajectory]\ntype = \"north-flight\"\nspeed_mps = 250.0\nheight_m = 100.0\n"
@@ -432,7 +433,7 @@ void test_scenario_toml(void**) {
 // The judged command: `ggins-covariance --scenario welker-table1 --json` holds
 // the six keys, each within 3% of Table I.
 void test_cli_json(void**) {
-  const std::string out = (std::filesystem::temp_directory_path() / "ggins_cov_cli_test").string();
+  const std::string out = (std::filesystem::temp_directory_path() / ("ggins_cov_cli_test_" + std::to_string(getpid()))).string();
   const std::string cmd = std::string("'") + GGINS_COVARIANCE_EXE + "' --scenario welker-table1 --json --no-plot --out '" +
                           out + "'";
   FILE* p = popen(cmd.c_str(), "r");
