@@ -38,10 +38,7 @@ def main():
         r["test_exit"] = q.returncode
         rows.append(r)
         print("%-22s exit %d" % (case, q.returncode))
-    if a.rev:
-        rev, dirty = a.rev, ""
-    else:
-        # barometer faults: issue 5's test (tests/integration/baro_check.py baro-faults), its own output
+    # barometer faults: issue 5's test (tests/integration/baro_check.py baro-faults), its own output
     baro = None
     bc = os.path.join(here, "baro_check.py")
     if os.path.exists(bc):
@@ -52,7 +49,10 @@ def main():
                  if l.strip().startswith(("samples:", "ok", "FAIL")) and "exit status" not in l]
         baro = (q.returncode, lines)
         print("%-22s exit %d" % ("baro-faults", q.returncode))
-    rev = subprocess.run(["git", "rev-parse", "--short", "HEAD"], stdout=subprocess.PIPE, text=True).stdout.strip()
+    if a.rev:
+        rev, dirty = a.rev, ""
+    else:
+        rev = subprocess.run(["git", "rev-parse", "--short", "HEAD"], stdout=subprocess.PIPE, text=True).stdout.strip()
         dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], stdout=subprocess.PIPE,
                                text=True).stdout.strip()
     L = []
@@ -86,6 +86,8 @@ def main():
         exc = "-" if r["acc_excluded_final"] is None else "0x%02x" % r["acc_excluded_final"]
         if r["case"] == "step-2x-fdi-off":
             res = "control passes (bound broken)" if r["passed"] else "CONTROL FAILED"
+        elif r["case"] == "none":
+            res = "reference" if r["passed"] else "**FAIL**"
         else:
             res = "pass" if r["passed"] else "**FAIL**"
         L.append("| %s | %s | %s | %s (%s) | %d (%d) | %.2e m (%.0e) | %.2e m/s² (%.0e) | %s | %s |"
@@ -140,7 +142,7 @@ def main():
     L.append("`integration.hil.faults`: 5% of each transport fault (drop, duplicate, reorder, dropped output, "
              "undecodable payload / wrong message type) gives navigation outputs bit-identical to a clean run, "
              "every fault counted in summary.json. `integration.replay`: a run with all of them plus NaN, "
-             "step and time-stamp faults is replayed from its LCM log by `ggins replay`, bit for bit (docs/hil.md).")
+             "step and time-stamp faults is replayed from its LCM log by `ggins replay`, bit for bit (docs/robustness.md).")
     L.append("")
     with open(a.out, "w") as f:
         f.write("\n".join(L))

@@ -73,6 +73,10 @@ def scenario(name, faults, fdi=True, duration=DURATION, extra=""):
 #    ~1000 steps and enters the solution until then: 1e-2 m, 1e-7 m/s^2.
 REBUILT = (1e-6, 1e-12)
 CASES = {
+    # reference: no fault at all -- the floor of the 30 s flight, nothing flagged
+    "none": dict(
+        what="no fault (reference: the clean flight's own error)",
+        faults=[], bits=[], within=None, bound=REBUILT, clean=True),
     "nan-3z": dict(
         what="NaN on 3z, every step from 5 s",
         faults=[{"kind": "nan", "sensor": 3, "axis": "z", "start_s": T_FAULT}],
@@ -208,7 +212,12 @@ def test_fault(a, case):
            "acc_excluded_final": excluded_final, "frames_rejected_after_fault": rejected,
            "frames_rejected_allowed": may_reject,
            "fdi": c.get("fdi", True), "duration_s": DURATION, "fault_start_s": T_FAULT}
-    if c.get("expect_exceed"):
+    if c.get("clean"):
+        check(detected is None, "clean: nothing flagged (detected after %s)" % detected)
+        check(rejected == 0, "clean: no frame rejected (%d)" % rejected)
+        check(dr < max_r and dg < max_g, "clean: errors within the bounds (%.2e m, %.2e m/s^2)" % (dr, dg))
+        row["passed"] = not H.FAILURES
+    elif c.get("expect_exceed"):
         check(detected is None, "control: not detected with the parity checks off (detected after %s)" % detected)
         check(dr > max_r or dg > max_g,
               "control: the error bound (%.0e m, %.0e m/s^2) is broken without detection (%.2e m, %.2e m/s^2)"
