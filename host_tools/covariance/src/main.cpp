@@ -20,6 +20,7 @@
 #include "ggins/covariance/propagate.hpp"
 #include "ggins/covariance/scenario.hpp"
 #include "ggins/covariance/welker2d.hpp"
+#include "ggins/covariance/welker2d_baro.hpp"
 #include "ggins/gravity/field.hpp"
 
 #ifndef GGINS_COV_PLOT_SCRIPT
@@ -152,12 +153,32 @@ int main(int argc, char** argv) {
   Method method = method_s == "lyapunov" ? Method::kLyapunov : Method::kTransition;
   if (out_dir.empty()) out_dir = "out/covariance/" + sc.name;
 
-  const auto model = make_model(sc, src);
-  const MatrixXd P0 = initial_covariance(sc);
+  const auto base = make_model(sc, src);
+  std::shared_ptr<const LinearErrorModel> model = base;
+  MatrixXd P0 = initial_covariance(sc);
+  std::shared_ptr<const Welker2DBaroModel> baro;
+  if (sc.baro_loop) {  // issue 5: the barometric vertical loop (welker2d_baro.hpp)
+    BaroLoopParams bp;
+    for (int i = 0; i < 3; ++i) bp.poles_radps[size_t(i)] = sc.baro_poles_radps[size_t(i)];
+    const double r0 = base->trajectory().at(0).r.norm();
+    bp.omega_s2 = sc.baro_omega_s2 > 0 ? sc.baro_omega_s2 : sc.gm_m3ps2 / (r0 * r0 * r0);
+    bp.gm_tau_s = sc.baro_gm_tau_s;
+    bp.gm_sigma_m = sc.baro_gm_sigma_m;
+    bp.noise_sigma_m = sc.baro_noise_sigma_m;
+    bp.period_s = sc.baro_period_s;
+    baro = std::make_shared<Welker2DBaroModel>(base, bp);
+    model = baro;
+    MatrixXd Pb = MatrixXd::Zero(17, 17);  // (6 states, a_c, 8 biases, baro bias, baro GM)
+    Pb.topLeftCorner(6, 6) = P0.topLeftCorner(6, 6);
+    Pb.block(7, 7, 8, 8) = P0.block(6, 6, 8, 8);
+    Pb(7 + Welker2DBaroModel::kBaroBias, 7 + Welker2DBaroModel::kBaroBias) = sc.baro_bias_m * sc.baro_bias_m;
+    Pb(7 + Welker2DBaroModel::kBaroGm, 7 + Welker2DBaroModel::kBaroGm) = sc.baro_gm_sigma_m * sc.baro_gm_sigma_m;
+    P0 = Pb;
+  }
   const int n = model->n_states();
   const auto keys = model->state_keys();
   if (model->has_process_noise() && method == Method::kTransition) {
-    std::fprintf(stderr, "ggins-covariance: white accelerometer noise in the scenario: using --method lyapunov\n");
+    std::fprintf(stderr, "ggins-covariance: process noise in the model (white accelerometer or barometer noise): using --method lyapunov\n");
     method = Method::kLyapunov;
     method_s = "lyapunov";
   }
@@ -205,8 +226,8 @@ int main(int argc, char** argv) {
   modes.reserve(run.size());
   for (size_t k = 0; k < run.size(); ++k) {
     const double t = run[k].t;
-    model->matrices(t, F, Gam);
-    const double r = model->trajectory().at(t).r.norm();
+    base->matrices(t, F, Gam);  // the open-loop F of Welker et al. (also with the baro loop)
+    const double r = base->trajectory().at(t).r.norm();
     const double ws = std::sqrt(sc.gm_m3ps2 / (r * r * r));
     const std::vector<cd> ev = sorted_eigenvalues(F);
     const std::vector<cd> expect = {cd(std::sqrt(2.0) * ws, 0), cd(0, ws), cd(0, 0),
@@ -223,9 +244,11 @@ int main(int argc, char** argv) {
     }
     double lu = 0;
     const MatrixXd Pi = unstable_projector(F, &lu);
-    const MatrixXd Pn = run[k].P.topLeftCorner(n, n);
+    const MatrixXd Pn = run[k].P.topLeftCorner(6, 6);
     const MatrixXd Pu = Pi * Pn * Pi.transpose();
-    modes.push_back({lu, ws, sigmas(Pu, n)});
+    VectorXd su = VectorXd::Zero(n);
+    su.head(6) = sigmas(Pu, 6);
+    modes.push_back({lu, ws, su});
     // JSON/--eigen samples: start, every 600 s, end.
     const bool mark = k == 0 || k + 1 == run.size() || std::fmod(t + 1e-6, 600.0) < 2e-6;
     if (mark) {
@@ -300,6 +323,30 @@ int main(int argc, char** argv) {
                 {"closed_form", {"+sqrt2*omega_s", "+j*omega_s", "0", "0", "-j*omega_s", "-sqrt2*omega_s"}},
                 {"max_abs_dev_over_flight_per_omega_s", eig_max_dev},
                 {"samples", eig_samples}};
+  if (baro) {  // vertical (along the true up) and along-track sigma from P_rr
+    auto proj = [&](const Sample& smp) {
+      const Eigen::Vector2d u = baro->up(smp.t);
+      const TrajectoryPoint tp = base->trajectory().at(smp.t);
+      const Eigen::Vector2d al = Eigen::Vector2d(tp.v(0), tp.v(2)).normalized();
+      const Eigen::Matrix2d Pr = smp.P.topLeftCorner(2, 2);
+      return std::make_pair(std::sqrt(u.dot(Pr * u)), std::sqrt(al.dot(Pr * al)));
+    };
+    json hv = json::object(), ha = json::object();
+    for (const auto& smp : run)
+      if (smp.t > 0 && std::fmod(smp.t + 1e-6, 3600.0) < 2e-6) {
+        hv[std::to_string(int(smp.t / 3600 + 0.5)) + "h"] = proj(smp).first;
+        ha[std::to_string(int(smp.t / 3600 + 0.5)) + "h"] = proj(smp).second;
+      }
+    j["baro_loop"] = {{"poles_radps", sc.baro_poles_radps},
+                      {"k1", baro->k1()}, {"k2", baro->k2()}, {"k3", baro->k3()},
+                      {"bias_sigma_m", sc.baro_bias_m}, {"gm_sigma_m", sc.baro_gm_sigma_m},
+                      {"gm_tau_s", sc.baro_gm_tau_s}, {"noise_sigma_m", sc.baro_noise_sigma_m},
+                      {"period_s", sc.baro_period_s},
+                      {"sigma_vertical_m", proj(fin).first}, {"sigma_along_track_m", proj(fin).second},
+                      {"sigma_vertical_at_hours_m", hv}, {"sigma_along_track_at_hours_m", ha},
+                      {"note", "eigen and unstable_mode describe the open-loop F of Welker et al. (6 states); the "
+                               "covariance includes the loop"}};
+  }
   j["unstable_mode"] = {
       {"lambda_ps", mend.lambda_u},
       {"sqrt2_omega_s_ps", std::sqrt(2.0) * mend.ws},
@@ -349,6 +396,9 @@ int main(int argc, char** argv) {
                 eig_max_dev);
     std::printf("unstable mode: lambda = %.9g /s (sqrt2 w_s = %.9g); share of sigma_x at end: %.4f\n",
                 mend.lambda_u, std::sqrt(2.0) * mend.ws, mend.sig_u(0) / sig(0));
+    if (baro)
+      std::printf("barometric loop: sigma vertical %.6g m, along-track %.6g m at the end\n",
+                  j["baro_loop"]["sigma_vertical_m"].get<double>(), j["baro_loop"]["sigma_along_track_m"].get<double>());
     std::printf("wrote %s, %s\n", csv.c_str(), jpath.c_str());
   }
   if (want_eigen) {

@@ -77,7 +77,28 @@ CovScenario load_scenario_toml(const std::string& path) {
   // Inputs of the truth generator that the linear model does not contain.
   if (node("accel.bias_mps2")) s.unmodelled.emplace_back("accel.bias_mps2 (deterministic biases)");
   if (node("accel.scale")) s.unmodelled.emplace_back("accel.scale (deterministic scale factors)");
-  if (tbl.at_path("baro.enable").value_or(false)) s.unmodelled.emplace_back("baro (vertical loop, issue 5)");
+  {  // barometric vertical loop (issue 5): the loop is on when [navigation.baro] enable says so,
+     // else when there is a [baro] table that does not disable the barometer (truth generator rules)
+    const bool baro_sensor = node("baro") && tbl.at_path("baro.enable").value_or(true);
+    s.baro_loop = tbl.at_path("navigation.baro.enable").value_or(baro_sensor);
+    if (s.baro_loop) {
+      const double rate = tbl.at_path("baro.rate_hz").value_or(1.0);
+      s.baro_period_s = tbl.at_path("navigation.baro.period_s").value_or(1.0 / rate);
+      s.baro_omega_s2 = tbl.at_path("navigation.baro.omega_s2").value_or(0.0);
+      if (const toml::array* a = tbl.at_path("navigation.baro.poles_radps").as_array()) {
+        if (a->size() != 3) throw std::runtime_error(path + ": navigation.baro.poles_radps needs 3 values");
+        for (size_t i = 0; i < 3; ++i) s.baro_poles_radps[i] = num(a->get(i), "navigation.baro.poles_radps");
+      }
+      if (baro_sensor) {
+        s.baro_bias_m = tbl.at_path("baro.bias_m").value_or(0.0);
+        s.baro_gm_sigma_m = tbl.at_path("baro.gm_sigma_m").value_or(0.0);
+        s.baro_gm_tau_s = tbl.at_path("baro.gm_tau_s").value_or(600.0);
+        s.baro_noise_sigma_m = tbl.at_path("baro.noise_sigma_m").value_or(0.0);
+      }
+      for (const char* k : {"baro.dropout_prob", "baro.dropouts", "baro.outlier_prob", "baro.invalid_prob"})
+        if (node(k)) s.unmodelled.emplace_back(std::string(k) + " (barometer faults)");
+    }
+  }
   if (node("sensor_faults")) s.unmodelled.emplace_back("sensor_faults");
   get("time.duration_s", s.duration_s);
   get("gravity.gm_m3ps2", s.gm_m3ps2);

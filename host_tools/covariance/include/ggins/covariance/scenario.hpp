@@ -35,6 +35,13 @@ struct CovScenario {
   double gravity0_sigma_x_mps2 = 2e-12, gravity0_sigma_z_mps2 = 2e-12;
   // Initial position/velocity uncertainty (zero in the paper: "known position").
   double pos0_sigma_m = 0.0, vel0_sigma_mps = 0.0;
+  // Barometric vertical loop (issue 5; [navigation.baro] and [baro] of the
+  // truth generator, same defaults): welker2d_baro.hpp. The constant baro bias
+  // is treated as random with sigma = |bias_m|.
+  bool baro_loop = false;
+  std::vector<double> baro_poles_radps{0.01, 0.02, 0.03};
+  double baro_period_s = 1.0, baro_omega_s2 = 0.0;  // 0: GM / r0^3
+  double baro_bias_m = 0.0, baro_gm_sigma_m = 0.0, baro_gm_tau_s = 600.0, baro_noise_sigma_m = 0.0;
   // TOML keys that were absent (their defaults above were used).
   std::vector<std::string> defaulted;
   // Inputs present in the scenario that the linear model leaves out.
