@@ -59,6 +59,16 @@ def plot_vertical(out, d, s, t, tl, title):
             lat = np.degrees(np.arctan2(d["true_r_z"], d["true_r_x"]))
         ax = axs[0]
         ax.plot(t, d["gd_true_up_mps2"] * mgal, "k", lw=1.2, label="true (field - onboard model) . up")
+        if g.get("poles_radps"):  # the truth through the loop's H_g = p1 p2 p3 / prod (s + p_i) (lag shown)
+            y = d["gd_true_up_mps2"].copy()
+            ts = d["t_s"]
+            for pi in g["poles_radps"]:
+                out_f = np.zeros_like(y)
+                for k in range(1, len(y)):
+                    a = np.exp(-pi * (ts[k] - ts[k - 1]))
+                    out_f[k] = a * out_f[k - 1] + (1 - a) * 0.5 * (y[k] + y[k - 1])
+                y = out_f
+            ax.plot(t, y * mgal, "0.5", lw=1, ls="--", label="true through the loop's H_g (lag)")
         ax.plot(t, d["gd_est_up_mps2"] * mgal, "C3", lw=1, label="gravimeter estimate")
         ax.set_ylabel("vertical gravity disturbance [mGal]")
         ax.grid(True, alpha=0.3)

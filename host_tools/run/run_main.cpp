@@ -1105,6 +1105,7 @@ json Runner::run() {
     g["mean_true_disturbance_mps2"] = gravim_n_ ? gravim_true_sum_ / static_cast<double>(gravim_n_) : 0.0;
     if (gfilt_n_ > 0)  // error against the true disturbance low-passed by the loop (lag removed)
       g["rms_error_vs_loop_filtered_truth_mps2"] = std::sqrt(gfilt_ss_ / static_cast<double>(gfilt_n_));
+    g["poles_radps"] = sc_.navigation.baro.poles_radps;
     g["loop_filter"] = "p1 p2 p3 / ((s + p1)(s + p2)(s + p3)), group delay 1/p1 + 1/p2 + 1/p3 = " +
                        std::to_string(1.0 / sc_.navigation.baro.poles_radps[0] + 1.0 / sc_.navigation.baro.poles_radps[1] +
                                       1.0 / sc_.navigation.baro.poles_radps[2]) + " s";
