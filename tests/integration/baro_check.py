@@ -364,6 +364,23 @@ max_rejects = 5
     # a_c-held drift of order e^{sqrt2 w 30} - 1 = 5e-2 of nothing: bounded
     check(worst < 2.0, "vertical error bounded through the faults: max |dh| %.3g m after %.0f s (< 2 m)" % (worst, settle))
 
+    # latency: samples stamped latency_s before their frame; older than max_age_s (0.5 s) = STALE
+    for lat, stale in ((0.2, False), (1.0, True)):
+        body = "[baro]\nenable = true\nlatency_s = %r\n[navigation.baro]\nenable = true\nmax_age_s = 0.5\n" % lat
+        sc = scenario(os.path.join(a.workdir, "lat.toml"), "baro-latency", 120, 10, body)
+        out = os.path.join(a.workdir, "lat%g" % lat)
+        run(a.ggins_run, out, "-s", sc)
+        s, rows = load(out)
+        due = [r for r in rows if r["baro_due"] == "1" and float(r["t_s"]) > 0]
+        n_stale = sum(1 for r in due if int(r["health"]) & HEALTH["BARO_STALE"])
+        n_coast = sum(1 for r in rows if float(r["t_s"]) > 11 and int(r["health"]) & HEALTH["BARO_COAST"])
+        if stale:
+            check(n_stale == len(due) and n_coast == sum(1 for r in rows if float(r["t_s"]) > 11),
+                  "latency 1 s > max_age 0.5 s: every sample STALE (%d of %d), the loop coasts" % (n_stale, len(due)))
+        else:
+            check(n_stale == 0 and n_coast == 0, "latency 0.2 s <= max_age 0.5 s: no STALE (%d), no COAST (%d)" %
+                  (n_stale, n_coast))
+
 
 def test_gravimeter_step(a):
     eps = 1e-5

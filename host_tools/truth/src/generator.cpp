@@ -160,8 +160,10 @@ Vec3 Generator::model_g(const Vec3& r) const {
 
 BaroSample Generator::baro(int64_t k, const TruthState& t) const {
   BaroSample b;
-  b.true_alt_m = static_cast<double>(altitude(t.kin.r));
   const BaroParams& p = sc_.baro;
+  // the altitude at the sample's own time (latency_s before the frame)
+  b.true_alt_m = static_cast<double>(
+      p.latency_s > 0 ? altitude(traj_->at(t.t_s - static_cast<Real>(p.latency_s)).r) : altitude(t.kin.r));
   if (!p.enable || k % baro_every_ != 0) return b;
   const auto j = static_cast<uint64_t>(k / baro_every_);
   b.due = true;
@@ -238,7 +240,7 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
     const BaroSample b = baro(k, t);
     if (b.status == GG_SENSOR_OK) {
       out.baro_alt_m = b.alt_m;
-      out.baro_utime = t.utime;
+      out.baro_utime = t.utime - std::llround(sc_.baro.latency_s * 1e6);
       out.baro_status = GG_SENSOR_OK;
     }
   }

@@ -343,7 +343,7 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     const std::string w = "baro";
     check_keys(*t, w,
                {"enable", "seed", "rate_hz", "bias_m", "gm_sigma_m", "gm_tau_s", "noise_sigma_m", "dropout_prob",
-                "dropouts", "outlier_prob", "outlier_m", "invalid_prob"},
+                "dropouts", "outlier_prob", "outlier_m", "invalid_prob", "latency_s"},
                source);
     auto& b = s.baro;
     b.enable = get_bool(*t, w, "enable", true, source);  // a [baro] table means a barometer unless it says otherwise
@@ -357,6 +357,9 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     b.outlier_prob = get_num(*t, w, "outlier_prob", b.outlier_prob, source);
     b.outlier_m = get_num(*t, w, "outlier_m", b.outlier_m, source);
     b.invalid_prob = get_num(*t, w, "invalid_prob", b.invalid_prob, source);
+    b.latency_s = get_num(*t, w, "latency_s", b.latency_s, source);
+    if (b.latency_s < 0 || std::fabs(b.latency_s * 1e6 - std::round(b.latency_s * 1e6)) > 1e-6)
+      fail(source, "baro.latency_s must be >= 0 and a whole number of microseconds");
     check_prob(b.dropout_prob, "baro.dropout_prob", source);
     check_prob(b.outlier_prob, "baro.outlier_prob", source);
     check_prob(b.invalid_prob, "baro.invalid_prob", source);

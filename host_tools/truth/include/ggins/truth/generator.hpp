@@ -47,7 +47,7 @@ struct BaroSample {
   bool invalid = false;   // sent as NaN with status OK
   double alt_m = NAN;     // what the frame carries (NaN when none)
   int32_t status = GG_SENSOR_ABSENT;
-  double true_alt_m = 0;  // h_true, m
+  double true_alt_m = 0;  // h_true at the sample time (latency_s before the frame), m
   double error_m = 0;     // bias + m_j + n_j (+ outlier), m (0 when not due)
   double gm_m = 0;        // m_j, m
 };

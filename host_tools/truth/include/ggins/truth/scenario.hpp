@@ -26,7 +26,8 @@
 //   [baro]        truth barometer (none without the table): enable [true], seed [1], rate_hz [1], bias_m [0],
 //                 gm_sigma_m [0], gm_tau_s [600] (first-order Gauss-Markov), noise_sigma_m [0],
 //                 dropout_prob [0], dropouts = [[t0_s, t1_s], ...] [none], outlier_prob [0],
-//                 outlier_m [0], invalid_prob [0] (NaN sample flagged OK)
+//                 outlier_m [0], invalid_prob [0] (NaN sample flagged OK), latency_s [0] (the sample
+//                 is the altitude latency_s before the frame and stamped so)
 //   [platform]    a_m [0.5], b_m [0.5]            (half-baselines along x and z)
 //   [time]        duration_s [3600], rate_hz [100] (1e6/rate_hz must be an integer)
 //   [accel]       seed [1], bias_sigma_mps2 [0], noise_sigma_mps2 [0],
@@ -121,6 +122,7 @@ struct BaroParams {  // [baro]: the truth generator's barometer
   double outlier_prob = 0.0;    // a sample is off by +-outlier_m with this probability
   double outlier_m = 0.0;
   double invalid_prob = 0.0;    // a sample is NaN (status OK: the firmware must notice)
+  double latency_s = 0.0;       // sample taken (and stamped) this long before its frame
 };
 
 struct AccelErrorParams {
