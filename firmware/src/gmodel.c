@@ -22,9 +22,24 @@ gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg)
     if ((cfg->n_pm < 0) || (cfg->n_pm > GG_GMODEL_MAX_PM)) {
         return GG_ERR_CONFIG;
     }
+    /* plausibility: an Earth-like body (finite but absurd values overflow) */
+    if ((cfg->gm < 1.0e10L) || (cfg->gm > 1.0e16L) || (cfg->a_m < 1.0e5L) || (cfg->a_m > 1.0e8L)) {
+        return GG_ERR_RANGE;
+    }
+    for (n = 2U; n <= (size_t)GG_GMODEL_MAX_DEGREE; ++n) {
+        if ((cfg->j[n] > 1.0L) || (cfg->j[n] < -1.0L)) {
+            return GG_ERR_RANGE;
+        }
+    }
     for (n = 0U; n < (size_t)cfg->n_pm; ++n) {
         if ((gg_finite3(cfg->pm_pos[n]) == 0) || !GG_ISFINITE(cfg->pm_gm[n])) {
             return GG_ERR_CONFIG;
+        }
+        if ((cfg->pm_gm[n] > 1.0e10L) || (cfg->pm_gm[n] < -1.0e10L) ||
+            (cfg->pm_pos[n][0] > 1.0e8L) || (cfg->pm_pos[n][0] < -1.0e8L) ||
+            (cfg->pm_pos[n][1] > 1.0e8L) || (cfg->pm_pos[n][1] < -1.0e8L) ||
+            (cfg->pm_pos[n][2] > 1.0e8L) || (cfg->pm_pos[n][2] < -1.0e8L)) {
+            return GG_ERR_RANGE;
         }
     }
     if (cfg->grid.nx != 0) {
@@ -35,9 +50,18 @@ gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg)
             !(gr->dx_m > 0.0L) || !(gr->dz_m > 0.0L)) {
             return GG_ERR_CONFIG;
         }
+        if ((gr->dx_m < 1.0L) || (gr->dz_m < 1.0L) || (gr->dx_m > 1.0e7L) || (gr->dz_m > 1.0e7L) ||
+            (gr->x0_m > 1.0e8L) || (gr->x0_m < -1.0e8L) || (gr->z0_m > 1.0e8L) ||
+            (gr->z0_m < -1.0e8L)) {
+            return GG_ERR_RANGE;
+        }
         for (n = 0U; n < ((size_t)gr->nx * (size_t)gr->nz); ++n) {
             if (!GG_ISFINITE(gr->dg[n][0]) || !GG_ISFINITE(gr->dg[n][1])) {
                 return GG_ERR_CONFIG;
+            }
+            if ((gr->dg[n][0] > 1.0) || (gr->dg[n][0] < -1.0) || (gr->dg[n][1] > 1.0) ||
+                (gr->dg[n][1] < -1.0)) {
+                return GG_ERR_RANGE;
             }
         }
     }

@@ -23,6 +23,31 @@ static uint32_t cycles_now(const gg_hal_t *hal)
     return c;
 }
 
+static gg_real_t norm3(const gg_real_t v[3])
+{
+    return sqrtl((v[0] * v[0]) + (v[1] * v[1]) + (v[2] * v[2]));
+}
+
+/* Physical plausibility of a (finite) configuration: GG_NAV2D_LIMITS. A
+ * finite but absurd value (|v0| = 1e289 m/s, found by fuzzing) would
+ * overflow within a few steps. */
+static int in_limits(const gg_nav2d_config_t *cfg)
+{
+    const gg_real_t rn = norm3(cfg->r0);
+    int ok = 1;
+    if ((rn < GG_LIM_R_MIN_M) || (rn > GG_LIM_R_MAX_M) || (norm3(cfg->v0) > GG_LIM_V_MAX_MPS) ||
+        (norm3(cfg->g0) > GG_LIM_G_MAX_MPS2) || (cfg->geometry.a_m < GG_LIM_BASE_MIN_M) ||
+        (cfg->geometry.b_m < GG_LIM_BASE_MIN_M) || (cfg->geometry.a_m > GG_LIM_BASE_MAX_M) ||
+        (cfg->geometry.b_m > GG_LIM_BASE_MAX_M) || (cfg->dt_us > GG_LIM_DT_MAX_US) ||
+        (cfg->f_max > GG_LIM_F_MAX_MPS2) || (cfg->asym_max > 1.0) ||
+        (cfg->fdi_parity_f_max > 1.0) || (cfg->fdi_asym_max > 1.0) ||
+        ((cfg->r_ref_m != 0.0L) &&
+         ((cfg->r_ref_m < GG_LIM_R_MIN_M) || (cfg->r_ref_m > GG_LIM_R_MAX_M)))) {
+        ok = 0;
+    }
+    return ok;
+}
+
 gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
 {
     gg_diff2d_t diff;
@@ -47,6 +72,9 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
          (cfg->gravity_mode != GG_GRAVITY_MODEL)) ||
         !GG_ISFINITE(cfg->r_ref_m) || (cfg->r_ref_m < 0.0L)) {
         return GG_ERR_CONFIG;
+    }
+    if (in_limits(cfg) == 0) {
+        return GG_ERR_RANGE;
     }
     nav->gmodel.initialized = 0;
     if (cfg->gravity_mode == GG_GRAVITY_MODEL) {
@@ -134,7 +162,9 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
         }
     }
     *known_bad = kb;
-    if (nav->started != 0) {
+    if ((fr->utime < 0) || (fr->utime > GG_TIME_MAX) || (fr->seq < 0) || (fr->seq > GG_TIME_MAX)) {
+        h |= GG_HEALTH_TIME_JUMP; /* outside the accepted range: differences could overflow */
+    } else if (nav->started != 0) {
         if (fr->seq > (nav->last_seq + 1)) {
             h |= GG_HEALTH_SEQ_GAP;
         } else if (fr->seq <= nav->last_seq) {
@@ -146,6 +176,8 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
                 h |= GG_HEALTH_TIME_JUMP;
             }
         }
+    } else {
+        /* first frame: nothing to compare with */
     }
     return h;
 }

@@ -164,6 +164,12 @@ gg_status_t gg_vchan_init(gg_vchan_t *st, const gg_vchan_config_t *cfg)
     if ((pmax * ((gg_real_t)cfg->period_us * 1.0e-6L)) > PT_MAX) {
         return GG_ERR_CONFIG;
     }
+    /* plausibility (finite but absurd values would overflow downstream) */
+    if ((cfg->omega_s2 > 1.0e-3L) || (cfg->period_us > 100000000) ||
+        (cfg->max_age_us > 100000000) || (cfg->coast_us > GG_TIME_MAX) ||
+        (cfg->alt_min_m < -1.0e6) || (cfg->alt_max_m > 1.0e7) || (cfg->gate_m > 1.0e6)) {
+        return GG_ERR_RANGE;
+    }
     {
         const gg_real_t p1 = cfg->poles[0];
         const gg_real_t p2 = cfg->poles[1];
@@ -200,6 +206,9 @@ gg_status_t gg_vchan_step(gg_vchan_t *st, int64_t now_us, gg_real_t h_ins_m,
     if (!GG_ISFINITE(h_ins_m)) {
         return GG_ERR_NONFINITE;
     }
+    if ((now_us < 0) || (now_us > GG_TIME_MAX)) {
+        return GG_ERR_RANGE; /* differences with it could overflow */
+    }
     o.dh_m = 0.0L;
     o.dv_mps = 0.0L;
     o.innov_m = 0.0L;
@@ -208,11 +217,12 @@ gg_status_t gg_vchan_step(gg_vchan_t *st, int64_t now_us, gg_real_t h_ins_m,
     if ((sample != NULL) && (sample->status != GG_SENSOR_ABSENT) &&
         ((st->started == 0) || (sample->utime > st->last_sample_utime))) {
         /* a new sample */
-        const int64_t age = now_us - sample->utime;
         if ((sample->status != GG_SENSOR_OK) || !GG_ISFINITE(sample->alt_m) ||
-            (sample->alt_m < st->cfg.alt_min_m) || (sample->alt_m > st->cfg.alt_max_m)) {
+            (sample->alt_m < st->cfg.alt_min_m) || (sample->alt_m > st->cfg.alt_max_m) ||
+            (sample->utime < 0) || (sample->utime > GG_TIME_MAX)) {
             o.health |= GG_VCHAN_INVALID;
-        } else if ((age < 0) || (age > st->cfg.max_age_us)) {
+        } else if (((now_us - sample->utime) < 0) ||
+                   ((now_us - sample->utime) > st->cfg.max_age_us)) {
             o.health |= GG_VCHAN_STALE;
         } else {
             const gg_real_t e = h_ins_m - (gg_real_t)sample->alt_m;

@@ -166,6 +166,49 @@ static void spoil_time_back(gg_frame_t *f) { f->utime -= 20000; }
 static void spoil_two_nan(gg_frame_t *f) { f->f[0][0] = NAN; f->f[2][0] = NAN; }
 static void spoil_two_bad(gg_frame_t *f) { f->acc_status[1] = GG_SENSOR_BAD; f->f[3][2] = INFINITY; }
 
+/* Fuzzing findings (docs/robustness.md): time stamps / seq at the ends of
+ * int64 must not overflow the step checks; absurd-but-finite configurations
+ * are refused. */
+static void spoil_utime_min(gg_frame_t *f) { f->utime = INT64_MIN; }
+static void spoil_seq_max(gg_frame_t *f) { f->seq = INT64_MAX; }
+static void spoil_utime_max(gg_frame_t *f) { f->utime = INT64_MAX; }
+
+static void test_extreme_time_and_config(void **state)
+{
+    (void)state;
+    check_rejected(spoil_utime_min, GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP);
+    check_rejected(spoil_seq_max, GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP);
+    check_rejected(spoil_utime_max, GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP);
+    /* a first frame at INT64_MIN is refused too (it used to be accepted and
+     * the next difference overflowed) */
+    gg_nav2d_config_t cfg;
+    gg_nav2d_t nav;
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    make_config(&cfg);
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    make_frame(0, &fr);
+    fr.utime = INT64_MIN;
+    assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_ERR_SEQUENCE);
+    assert_int_equal(nav.started, 0);
+    /* absurd but finite configurations */
+    make_config(&cfg);
+    cfg.v0[2] = 1.9e289L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_RANGE);
+    make_config(&cfg);
+    cfg.g0[0] = 6e144L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_RANGE);
+    make_config(&cfg);
+    cfg.geometry.a_m = 3e-5L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_RANGE);
+    make_config(&cfg);
+    cfg.r_ref_m = 1.96e308L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_RANGE);
+    make_config(&cfg);
+    cfg.r0[0] = 10.0L;
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_ERR_RANGE);
+}
+
 static void test_bad_frames_rejected_state_untouched(void **state)
 {
     (void)state;
@@ -571,6 +614,7 @@ int main(void)
         cmocka_unit_test(test_config_rejected),
         cmocka_unit_test(test_bad_frames_rejected_state_untouched),
         cmocka_unit_test(test_single_bad_reading_rebuilt),
+        cmocka_unit_test(test_extreme_time_and_config),
         cmocka_unit_test(test_asymmetry_flagged),
         cmocka_unit_test(test_task_cycle_through_hal),
         cmocka_unit_test(test_baro_loop_poles_model_mode),

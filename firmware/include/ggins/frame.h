@@ -17,6 +17,11 @@
 /** Largest number of distributed tri-axis accelerometers (3-D: six). */
 #define GG_MAX_ACC 6
 
+/** Time stamps and step indices are accepted in [0, GG_TIME_MAX]: ~146 000
+ *  years of microseconds, and small enough that no difference of two of them
+ *  can overflow int64 (a frame outside the range is rejected, GG_HEALTH_TIME_JUMP). */
+#define GG_TIME_MAX 0x3FFFFFFFFFFFFFFFLL
+
 /** Per-sensor status codes carried in frames (0 = good sample). */
 #define GG_SENSOR_OK 0
 #define GG_SENSOR_BAD 1
