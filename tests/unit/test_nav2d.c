@@ -607,6 +607,56 @@ static void test_bias_no_steady_state_altitude_error(void **state)
     assert_int_equal(out.health, 0);
 }
 
+/* Rubenstein & Winter eq. 2: in the conventional (gravity-model) mode a
+ * step deflection of the vertical delta, not in the onboard model, gives the
+ * Schuler response |dx| = R delta (1 - cos w_s t), w_s^2 = g/R. Platform at
+ * rest at the equator (up = x), true field = point mass + a uniform
+ * horizontal (north, z) gravitation g delta; onboard model = the point mass.
+ * Checked over two Schuler periods at 100 Hz, within 1 % of the peak. */
+static void test_schuler_step_deflection(void **state)
+{
+    (void)state;
+    const t_flight_t still = {0.0L, 0.0L, 0.0L};
+    gg_nav2d_config_t cfg;
+    static gg_nav2d_t nav;
+    gg_frame_t fr;
+    gg_nav_output_t out;
+    baro_config(&cfg, 1);
+    long double r0[3], v0[3], a0[3], g0[3];
+    t_flight(&still, 0.0L, r0, v0, a0);
+    t_point_mass_g(r0, g0);
+    for (int j = 0; j < 3; ++j) {
+        cfg.r0[j] = r0[j];
+        cfg.v0[j] = v0[j];
+        cfg.g0[j] = g0[j];
+    }
+    assert_int_equal(gg_nav2d_init(&nav, &cfg), GG_OK);
+    const long double g = T_GM / (T_RE * T_RE), ws = sqrtl(g / T_RE);
+    const long double delta = 10.0L / 206264.806L; /* 10 arcsec */
+    const long double dg = g * delta;              /* horizontal gravitation the model lacks */
+    /* readings: f_i = a - G(r_i) - dg z^ (a = 0 at rest), barometer perfect */
+    const long double bias[3] = {0.0L, 0.0L, -dg};
+    const long double period = 2.0L * 3.14159265358979323846L / ws;
+    const int64_t n = (int64_t)(2.0L * period * 100.0L);
+    long double worst = 0.0L;
+    for (int64_t k = 0; k <= n; ++k) {
+        make_frame_fl(&still, k, bias, &fr);
+        assert_int_equal(gg_nav2d_step(&nav, &fr, NULL, &out), GG_OK);
+        if (k % 6000 == 0) {
+            const long double t = (long double)k * 0.01L;
+            /* the navigation's acceleration error is G_model - G_true = -dg z^, so
+             * dz'' = -dg - w_s^2 dz: dz = -R delta (1 - cos w_s t) */
+            const long double want = -T_RE * delta * (1.0L - cosl(ws * t));
+            const long double got = out.r_i[2]; /* north error (truth z = 0) */
+            worst = fmaxl(worst, fabsl(got - want));
+        }
+    }
+    printf("step deflection 10\": peak 2 R delta = %.2Lf m; worst |dx - R delta (1 - cos w_s t)| "
+           "= %.3Le m over 2 Schuler periods (%.2Lf min each)\n",
+           2.0L * T_RE * delta, worst, period / 60.0L);
+    assert_true(worst < 0.01L * 2.0L * T_RE * delta);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -620,6 +670,7 @@ int main(void)
         cmocka_unit_test(test_baro_loop_poles_model_mode),
         cmocka_unit_test(test_baro_loop_poles_gradiometer_mode),
         cmocka_unit_test(test_bias_no_steady_state_altitude_error),
+        cmocka_unit_test(test_schuler_step_deflection),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
