@@ -123,7 +123,8 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
 
 /* Health bits of a frame's accelerometers and sequencing; *known_bad gets
  * the readings (GG_FDI_BIT) that cannot be used as they are. */
-static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_t *known_bad)
+static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_t *known_bad,
+                            int64_t *missing)
 {
     uint32_t h = 0U;
     uint32_t kb = 0U;
@@ -165,15 +166,25 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
     if ((fr->utime < 0) || (fr->utime > GG_TIME_MAX) || (fr->seq < 0) || (fr->seq > GG_TIME_MAX)) {
         h |= GG_HEALTH_TIME_JUMP; /* outside the accepted range: differences could overflow */
     } else if (nav->started != 0) {
-        if (fr->seq > (nav->last_seq + 1)) {
-            h |= GG_HEALTH_SEQ_GAP;
-        } else if (fr->seq <= nav->last_seq) {
+        if (fr->seq <= nav->last_seq) {
             h |= GG_HEALTH_SEQ_REPEAT;
         } else {
-            const int64_t dt = fr->utime - nav->last_utime;
-            const int64_t err = dt - nav->cfg.dt_us;
-            if ((err > nav->cfg.dt_tol_us) || (err < -nav->cfg.dt_tol_us)) {
-                h |= GG_HEALTH_TIME_JUMP;
+            /* n frames missing: bridged if n <= GG_NAV2D_MAX_BRIDGE and the
+             * time stamp is (n + 1) steps on */
+            const int64_t n = (fr->seq - nav->last_seq) - 1;
+            if (n > GG_NAV2D_MAX_BRIDGE) {
+                h |= GG_HEALTH_SEQ_GAP | GG_HEALTH_TIME_JUMP;
+            } else {
+                const int64_t dt = fr->utime - nav->last_utime;
+                const int64_t err = dt - ((n + 1) * nav->cfg.dt_us);
+                if ((err > nav->cfg.dt_tol_us) || (err < -nav->cfg.dt_tol_us)) {
+                    h |= GG_HEALTH_TIME_JUMP;
+                } else if (n > 0) {
+                    h |= GG_HEALTH_SEQ_GAP;
+                    *missing = n;
+                } else {
+                    /* the next step */
+                }
             }
         }
     } else {
@@ -495,6 +506,36 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
     return st;
 }
 
+/* Bridge `missing` lost frames (a seq gap whose time stamp is consistent):
+ * one fixed step each, with the gradient and centre specific force
+ * interpolated linearly between the last accepted frame and this one, and no
+ * barometer. Degraded, flagged GG_HEALTH_SEQ_GAP by the caller. */
+static gg_status_t bridge(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2d_output_t *d,
+                          int64_t missing, const gg_hal_t *hal, uint32_t cyc[GG_MOD_COUNT],
+                          uint32_t *health)
+{
+    gg_status_t st = GG_OK;
+    int64_t i;
+    for (i = 1; (i <= missing) && (i <= GG_NAV2D_MAX_BRIDGE) && (st == GG_OK); ++i) {
+        const gg_real_t w = (gg_real_t)i / ((gg_real_t)missing + 1.0L);
+        gg_diff2d_output_t di;
+        gg_frame_t fi = *fr;
+        size_t j;
+        size_t k;
+        for (j = 0U; j < 3U; ++j) {
+            di.f_c[j] = nav->f_c[j] + (w * (d->f_c[j] - nav->f_c[j]));
+            for (k = 0U; k < 3U; ++k) {
+                di.gamma[j][k] = nav->gamma[j][k] + (w * (d->gamma[j][k] - nav->gamma[j][k]));
+            }
+        }
+        di.asym = d->asym;
+        fi.utime = nav->last_utime + (i * nav->cfg.dt_us);
+        fi.baro_status = GG_SENSOR_ABSENT;
+        st = advance(nav, &fi, &di, hal, cyc, health);
+    }
+    return st;
+}
+
 gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav_output_t *out)
 {
@@ -507,6 +548,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     gg_fdi2d_t fdi_saved;
     uint32_t known_bad = 0U;
     gg_real_t p_exp[2] = {0.0L, 0.0L};
+    int64_t missing = 0;
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
@@ -520,10 +562,10 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         return GG_ERR_NOT_INIT;
     }
     fdi_saved = nav->fdi;
-    health = check_frame(nav, frame, &known_bad);
+    health = check_frame(nav, frame, &known_bad, &missing);
     if ((frame->n_acc < N_ACC_2D) || (frame->n_acc > GG_MAX_ACC)) {
         st = GG_ERR_SENSOR;
-    } else if ((health & (GG_HEALTH_SEQ_GAP | GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
+    } else if ((health & (GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
         st = GG_ERR_SEQUENCE;
     } else {
         gg_diff2d_input_t in;
@@ -558,7 +600,10 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         const gg_real_t h_saved = nav->h_ins;
         const gg_real_t innov_saved = nav->baro_innov;
         uint32_t step_health = 0U;
-        st = advance(nav, frame, &d, hal, cyc, &step_health);
+        st = bridge(nav, frame, &d, missing, hal, cyc, &step_health);
+        if (st == GG_OK) {
+            st = advance(nav, frame, &d, hal, cyc, &step_health);
+        }
         if (st != GG_OK) {
             nav->gravdr = gravdr_saved;
             nav->mech = mech_saved;

@@ -13,9 +13,11 @@
  * redundancy of the others (fdi2d.h: at most one per axis group); parity
  * checks (when configured) detect and isolate faults the sensors do not
  * report themselves (stuck, stepped, drifting axes) and accommodate them.
- * A frame that cannot be accommodated, or whose seq/utime is not exactly
- * one step on, is rejected and flagged in the health word, and the
- * navigation state is left untouched.
+ * A frame that cannot be accommodated, or whose seq/utime is inconsistent
+ * (repeated or backward seq, a time stamp not one step - or, after lost
+ * frames, n + 1 steps - on), is rejected and flagged in the health word, and
+ * the navigation state is left untouched. Up to GG_NAV2D_MAX_BRIDGE lost
+ * frames are bridged (see below).
  * Gravity comes from the dead reckoning (gradiometer mode) or from the
  * onboard model (model mode); optionally a barometric vertical channel
  * (vchan.h) damps the vertical mode: the up acceleration is reduced by its
@@ -54,6 +56,12 @@
 #define GG_LIM_BASE_MAX_M 100.0L
 #define GG_LIM_DT_MAX_US 10000000   /**< step, microseconds (10 s) */
 #define GG_LIM_F_MAX_MPS2 1.0e4     /**< accelerometer range f_max, m/s^2 */
+
+/** Lost frames a step may bridge (a seq gap of n <= this, with a time stamp
+ *  n + 1 steps on): the missing steps are flown with the gradient and specific
+ *  force interpolated between the frames on either side, flagged
+ *  GG_HEALTH_SEQ_GAP. A longer gap is rejected. 100 = 1 s at 100 Hz. */
+#define GG_NAV2D_MAX_BRIDGE 100
 
 /** Default altitude reference radius: WGS-84 semi-major axis, m. */
 #define GG_R_REF_DEFAULT_M 6378137.0L
