@@ -23,8 +23,12 @@ static void parity(const gg_fdi2d_t *st, const gg_diff2d_input_t *in, gg_real_t 
 {
     *px = 0.5L * ((rd(in, 0U, 0U) + rd(in, 2U, 0U)) - (rd(in, 1U, 0U) + rd(in, 3U, 0U)));
     *pz = 0.5L * ((rd(in, 0U, 1U) + rd(in, 2U, 1U)) - (rd(in, 1U, 1U) + rd(in, 3U, 1U)));
-    *ps = (((in->f[3][0] - in->f[1][0]) + (in->f_lo[3][0] - in->f_lo[1][0])) / (2.0L * st->cfg.b_m)) -
-          (((in->f[2][1] - in->f[0][1]) + (in->f_lo[2][1] - in->f_lo[0][1])) / (2.0L * st->cfg.a_m));
+    /* differences of neighbouring readings: hi - hi exactly, then the lo parts */
+    const gg_real_t dx = ((gg_real_t)in->f[3][0] - (gg_real_t)in->f[1][0]) +
+                         ((gg_real_t)in->f_lo[3][0] - (gg_real_t)in->f_lo[1][0]);
+    const gg_real_t dz = ((gg_real_t)in->f[2][1] - (gg_real_t)in->f[0][1]) +
+                         ((gg_real_t)in->f_lo[2][1] - (gg_real_t)in->f_lo[0][1]);
+    *ps = (dx / (2.0L * st->cfg.b_m)) - (dz / (2.0L * st->cfg.a_m));
 }
 
 static uint32_t popcount8(uint32_t m)
