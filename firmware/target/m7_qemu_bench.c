@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "ggins/nav2d.h"
+#include "m7_startup.h"
 
 #ifndef STEPS
 #define STEPS 100
@@ -24,31 +25,22 @@ static void semihost_exit(void)
     __asm__ volatile("bkpt 0xab" : : "r"(r0), "r"(r1) : "memory");
 }
 
-int main(void);
+void m7_fault(void)
+{
+    semihost_exit();
+    for (;;) {
+    }
+}
+
 int main(void)
 {
-    static const gg_nav2d_config_t cfg = {
-        .geometry = {0.5L, 0.5L},
-        .dt_us = 10000,
-        .dt_tol_us = 100,
-        .r0 = {6378137.0L, 0.0L, 0.0L},
-        .v0 = {0.0L, 0.0L, 0.0L},
-        .g0 = {-9.798285L, 0.0L, 0.0L},
-        .f_max = 100.0,
-        .asym_max = 1e-9,
-        .gravity_mode = GG_GRAVITY_GRADIOMETER,
-        .model = {3.986004418e14L, 6378137.0L, {0.0L}},
-        .baro_enable = 1,
-        .baro = {{0.005L, 0.01L, 0.015L}, 1.54e-6L, 1000000, 500000, 10000000, -500.0, 20000.0,
-                 50.0, 5},
-        .r_ref_m = 6378137.0L};
     /* readings of a platform at rest at the equator: f = -G(r + d_i),
      * gradient 2 GM/r^3 radially, -GM/r^3 across */
     const double g0 = 9.798285;
     const double gxx = 3.0725e-6;
     const double gzz = -1.5362e-6;
     int32_t k;
-    if (gg_nav2d_init(&g_nav, &cfg) != GG_OK) {
+    if (gg_nav2d_init(&g_nav, &g_m7_demo_config) != GG_OK) {
         semihost_exit();
     }
     g_frame.n_acc = 4;
@@ -73,36 +65,3 @@ int main(void)
     return 0;
 }
 
-extern uint32_t _sbss, _ebss, _sdata, _edata, _sidata, _estack;
-void Reset_Handler(void);
-void Default_Handler(void);
-
-void Reset_Handler(void)
-{
-    uint32_t *src = &_sidata;
-    uint32_t *dst = &_sdata;
-    while (dst < &_edata) {
-        *dst++ = *src++;
-    }
-    for (dst = &_sbss; dst < &_ebss; ++dst) {
-        *dst = 0u;
-    }
-    (*(volatile uint32_t *)0xE000ED88u) |= (0xFu << 20); /* FPU on */
-    __asm__ volatile("dsb\n\tisb");
-    (void)main();
-    for (;;) {
-    }
-}
-
-void Default_Handler(void)
-{
-    semihost_exit();
-    for (;;) {
-    }
-}
-
-__attribute__((section(".isr_vector"), used)) static const uintptr_t g_vectors[16] = {
-    (uintptr_t)&_estack,         (uintptr_t)Reset_Handler,   (uintptr_t)Default_Handler,
-    (uintptr_t)Default_Handler,  (uintptr_t)Default_Handler, (uintptr_t)Default_Handler,
-    (uintptr_t)Default_Handler,  0u, 0u, 0u, 0u,              (uintptr_t)Default_Handler,
-    (uintptr_t)Default_Handler,  0u, (uintptr_t)Default_Handler, (uintptr_t)Default_Handler};
