@@ -149,11 +149,7 @@ Real Generator::altitude(const Vec3& r) const { return r.norm() - static_cast<Re
 
 Vec3 Generator::model_g(const Vec3& r) const {
   gg_real_t rr[3] = {r(0), r(1), r(2)}, gg[3] = {0, 0, 0};
-#ifdef GG_GMODEL_OUTSIDE_GRID  // gmodel.h with programmed anomalies (flags argument)
   if (!model_ || gg_gmodel_eval(model_.get(), rr, gg, nullptr) != GG_OK)
-#else
-  if (!model_ || gg_gmodel_eval(model_.get(), rr, gg) != GG_OK)
-#endif
     return Vec3::Constant(std::numeric_limits<Real>::quiet_NaN());
   return Vec3(gg[0], gg[1], gg[2]);
 }
