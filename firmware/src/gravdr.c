@@ -94,17 +94,18 @@ gg_status_t gg_gravdr_step(gg_gravdr_t *st, const gg_real_t gamma_new[3][3],
 
 gg_status_t gg_gravdr_get(const gg_gravdr_t *st, gg_real_t g[3])
 {
-    size_t j;
-    if ((st == NULL) || (g == NULL)) {
-        return GG_ERR_NULL;
+    gg_acc_t acc[3];
+    gg_status_t status = GG_ERR_NULL;
+    if (g != NULL) {
+        status = gg_gravdr_get_acc(st, acc);
     }
-    if (st->initialized == 0) {
-        return GG_ERR_NOT_INIT;
+    if (status == GG_OK) {
+        size_t j;
+        for (j = 0U; j < 3U; ++j) {
+            g[j] = gg_acc_value(&acc[j]);
+        }
     }
-    for (j = 0U; j < 3U; ++j) {
-        g[j] = gg_acc_value(&st->g[j]);
-    }
-    return GG_OK;
+    return status;
 }
 
 gg_status_t gg_gravdr_get_acc(const gg_gravdr_t *st, gg_acc_t g[3])
