@@ -193,19 +193,13 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
     return h;
 }
 
-static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t status,
-                        uint32_t health, gg_nav_output_t *out)
+/* Position, velocity and G of the current estimate (G from the onboard
+ * model or the dead reckoning). Before the first frame, or if a module
+ * fails, the configured initial state is returned with a non-OK status. */
+static gg_status_t current_state(const gg_nav2d_t *nav, gg_real_t r[3], gg_real_t v[3],
+                                 gg_real_t g[3])
 {
-    size_t j;
-    size_t k;
-    gg_real_t r[3];
-    gg_real_t v[3];
-    gg_real_t g[3];
     gg_status_t st = GG_ERR_NOT_INIT;
-    out->utime = fr->utime;
-    out->seq = fr->seq;
-    out->status = (int32_t)status;
-    out->health = health;
     if (nav->started != 0) {
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
@@ -214,11 +208,29 @@ static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t
         }
     }
     if (st != GG_OK) {
+        size_t j;
         for (j = 0U; j < 3U; ++j) {
             r[j] = nav->cfg.r0[j];
             v[j] = nav->cfg.v0[j];
             g[j] = nav->cfg.g0[j];
         }
+    }
+    return st;
+}
+
+static void fill_output(const gg_nav2d_t *nav, const gg_frame_t *fr, gg_status_t status,
+                        uint32_t health, gg_nav_output_t *out)
+{
+    size_t j;
+    size_t k;
+    gg_real_t r[3];
+    gg_real_t v[3];
+    gg_real_t g[3];
+    out->utime = fr->utime;
+    out->seq = fr->seq;
+    out->status = (int32_t)status;
+    out->health = health;
+    if (current_state(nav, r, v, g) != GG_OK) {
         out->health |= GG_HEALTH_NOT_INIT;
     }
     for (j = 0U; j < 3U; ++j) {
@@ -322,21 +334,11 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
 static gg_status_t expected_parity(const gg_nav2d_t *nav, gg_real_t p_exp[2])
 {
     gg_real_t r[3];
+    gg_real_t v[3];
     gg_real_t g[3];
-    gg_status_t st = GG_OK;
-    if (nav->started != 0) {
-        gg_real_t v[3];
-        st = gg_mech_get(&nav->mech, r, v);
-        if (st == GG_OK) {
-            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g, NULL)
-                                                              : gg_gravdr_get(&nav->gravdr, g);
-        }
-    } else {
-        size_t j;
-        for (j = 0U; j < 3U; ++j) {
-            r[j] = nav->cfg.r0[j];
-            g[j] = nav->cfg.g0[j];
-        }
+    gg_status_t st = current_state(nav, r, v, g);
+    if (nav->started == 0) {
+        st = GG_OK; /* before the first frame: the configured initial state */
     }
     if (st == GG_OK) {
         const gg_real_t rr = (r[0] * r[0]) + (r[1] * r[1]) + (r[2] * r[2]);
