@@ -56,25 +56,7 @@ int main(int argc, char **argv)
     uint32_t *cyc[GG_MOD_COUNT];
     for (int m = 0; m < GG_MOD_COUNT; ++m) cyc[m] = calloc((size_t)steps, sizeof(uint32_t));
     if (!frames || !cyc[GG_MOD_COUNT - 1]) { fprintf(stderr, "bench_step: out of memory\n"); return 1; }
-    for (long k = 0; k < steps; ++k) {
-        long double r[3], v[3], a[3], f[4][3];
-        t_flight(&fl, (long double)k * 0.01L, r, v, a);
-        t_sensor_forces(r, a, 0.5L, 0.5L, f);
-        gg_frame_t *fr = &frames[k];
-        fr->utime = k * 10000;
-        fr->seq = k;
-        fr->n_acc = 4;
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 3; ++j) {
-                fr->f[i][j] = (double)f[i][j];
-                fr->f_lo[i][j] = (double)(f[i][j] - (long double)fr->f[i][j]);
-            }
-        for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
-        fr->gyro_status = GG_SENSOR_ABSENT;
-        fr->baro_status = (k % 100 == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
-        fr->baro_alt_m = 0.0;
-        fr->baro_utime = fr->utime;
-    }
+    for (long k = 0; k < steps; ++k) t_make_frame(&fl, k, 10000, 0, NULL, 100, &frames[k]);
     gg_nav2d_config_t cfg;
     memset(&cfg, 0, sizeof cfg);
     {

@@ -40,21 +40,7 @@ static void config(gg_nav2d_config_t *cfg)
 
 static void frame(int64_t k, gg_frame_t *fr)
 {
-    long double r[3], v[3], a[3], f[4][3];
-    memset(fr, 0, sizeof *fr);
-    t_flight(&kFlight, (long double)k * 0.01L, r, v, a);
-    t_sensor_forces(r, a, 0.5L, 0.5L, f);
-    fr->utime = k * DT_US;
-    fr->seq = k;
-    fr->n_acc = 4;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 3; ++j) {
-            fr->f[i][j] = (double)f[i][j];
-            fr->f_lo[i][j] = (double)(f[i][j] - (long double)fr->f[i][j]);
-        }
-    for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
-    fr->gyro_status = GG_SENSOR_ABSENT;
-    fr->baro_status = GG_SENSOR_ABSENT;
+    t_make_frame(&kFlight, k, DT_US, 0, NULL, 0, fr);
 }
 
 /* Run a clean and a faulty navigation side by side; return the detection

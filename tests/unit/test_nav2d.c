@@ -32,24 +32,7 @@ static void make_config(gg_nav2d_config_t *cfg)
 
 static void make_frame(int64_t k, gg_frame_t *fr)
 {
-    long double r[3], v[3], a[3], f[4][3];
-    const long double t = (long double)k * (long double)DT_US * 1e-6L;
-    memset(fr, 0, sizeof *fr);
-    t_flight(&kFlight, t, r, v, a);
-    t_sensor_forces(r, a, 0.5L, 0.5L, f);
-    fr->utime = 1000000 + k * DT_US;
-    fr->seq = k;
-    fr->n_acc = 4;
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            fr->f[i][j] = (double)f[i][j];
-            fr->f_lo[i][j] = (double)(f[i][j] - (long double)fr->f[i][j]);
-        }
-        fr->acc_status[i] = GG_SENSOR_OK;
-    }
-    for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
-    fr->baro_status = GG_SENSOR_ABSENT;
-    fr->gyro_status = GG_SENSOR_ABSENT;
+    t_make_frame(&kFlight, k, DT_US, 1000000, NULL, 0, fr);
 }
 
 /* Perfect sensors, 1 h at 100 Hz: the in-process equivalent of the
@@ -441,30 +424,7 @@ static void baro_config(gg_nav2d_config_t *cfg, int model_mode)
 static void make_frame_fl(const t_flight_t *fl, int64_t k, const long double bias[3],
                           gg_frame_t *fr)
 {
-    long double r[3], v[3], a[3], f[4][3];
-    const long double t = (long double)k * (long double)DT_US * 1e-6L;
-    memset(fr, 0, sizeof *fr);
-    t_flight(fl, t, r, v, a);
-    t_sensor_forces(r, a, 0.5L, 0.5L, f);
-    fr->utime = 1000000 + k * DT_US;
-    fr->seq = k;
-    fr->n_acc = 4;
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            const long double x = f[i][j] + bias[j];
-            fr->f[i][j] = (double)x;
-            fr->f_lo[i][j] = (double)(x - (long double)fr->f[i][j]);
-        }
-    }
-    for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
-    fr->gyro_status = GG_SENSOR_ABSENT;
-    if (k % BARO_EVERY == 0) {
-        fr->baro_alt_m = (double)(sqrtl(r[0] * r[0] + r[2] * r[2]) - T_RE);
-        fr->baro_utime = fr->utime;
-        fr->baro_status = GG_SENSOR_OK;
-    } else {
-        fr->baro_status = GG_SENSOR_ABSENT;
-    }
+    t_make_frame(fl, k, DT_US, 1000000, bias, BARO_EVERY, fr);
 }
 
 /* Vertical error state of a navigation state: h, v_up, a_c, G_up. */

@@ -1,6 +1,7 @@
 #include "truth2d.h"
 
 #include <math.h>
+#include <string.h>
 
 void t_point_mass_g(const long double r[3], long double g[3])
 {
@@ -39,5 +40,33 @@ void t_sensor_forces(const long double r[3], const long double acc[3], long doub
         for (int j = 0; j < 3; ++j) p[j] = r[j] + off[i][j];
         t_point_mass_g(p, g);
         for (int j = 0; j < 3; ++j) f[i][j] = acc[j] - g[j];
+    }
+}
+
+void t_make_frame(const t_flight_t *fl, int64_t k, int64_t dt_us, int64_t t0_us,
+                  const long double bias[3], int64_t baro_every, gg_frame_t *fr)
+{
+    long double r[3], v[3], a[3], f[4][3];
+    memset(fr, 0, sizeof *fr);
+    t_flight(fl, (long double)k * (long double)dt_us * 1e-6L, r, v, a);
+    t_sensor_forces(r, a, 0.5L, 0.5L, f);
+    fr->utime = t0_us + k * dt_us;
+    fr->seq = k;
+    fr->n_acc = 4;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            const long double x = f[i][j] + (bias != NULL ? bias[j] : 0.0L);
+            fr->f[i][j] = (double)x;
+            fr->f_lo[i][j] = (double)(x - (long double)fr->f[i][j]);
+        }
+        fr->acc_status[i] = GG_SENSOR_OK;
+    }
+    for (int i = 4; i < GG_MAX_ACC; ++i) fr->acc_status[i] = GG_SENSOR_ABSENT;
+    fr->gyro_status = GG_SENSOR_ABSENT;
+    fr->baro_status = GG_SENSOR_ABSENT;
+    if (baro_every > 0 && k % baro_every == 0) {
+        fr->baro_alt_m = (double)(sqrtl(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) - T_RE);
+        fr->baro_utime = fr->utime;
+        fr->baro_status = GG_SENSOR_OK;
     }
 }

@@ -5,6 +5,10 @@
 #ifndef GGINS_TESTS_TRUTH2D_H
 #define GGINS_TESTS_TRUTH2D_H
 
+#include <stdint.h>
+
+#include "ggins/frame.h"
+
 #define T_GM 3.986004418e14L  /* m^3/s^2, WGS-84 */
 #define T_RE 6378137.0L       /* m, WGS-84 semi-major axis */
 
@@ -29,5 +33,13 @@ void t_flight(const t_flight_t *fl, long double t, long double r[3], long double
  * acceleration acc: f_i = acc - G(r + d_i), exact field at each sensor. */
 void t_sensor_forces(const long double r[3], const long double acc[3], long double a_m,
                      long double b_m, long double f[4][3]);
+
+/* One sensor frame (frame.h) of the flight at step k: time t = k dt, utime
+ * t0_us + k dt_us, the four accelerometers at a = b = 0.5 m from
+ * t_sensor_forces, plus bias[3] on every sensor (NULL: none), each reading
+ * sent as double + sub-ulp residual; a perfect barometer (|r| - R_e) every
+ * baro_every steps (0: none); the other sensors absent. */
+void t_make_frame(const t_flight_t *fl, int64_t k, int64_t dt_us, int64_t t0_us,
+                  const long double bias[3], int64_t baro_every, gg_frame_t *fr);
 
 #endif
