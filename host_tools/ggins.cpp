@@ -19,6 +19,7 @@ static const struct {
     {"montecarlo", "Monte Carlo host-in-the-loop runs against the covariance prediction"},
     {"profile", "per-module firmware step timing for a scenario"},
     {"replay", "replay a recorded LCM log through the firmware, bit for bit"},
+    {"gmap", "onboard gravity-gradient map tile from EGM96 (binary/JSON) for the map-matching filters"},
 };
 
 static void usage(FILE* out) {

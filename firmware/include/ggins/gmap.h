@@ -1,0 +1,127 @@
+/**
+ * @file gmap.h
+ * @brief Onboard gravity-gradient map: one fixed-size tile of the gradient
+ *        tensor on a geodetic latitude/longitude grid at one altitude, and its
+ *        interpolation (value and gradient w.r.t. position).
+ *
+ * Shared by the map-matching UKF (issue 10, Gao et al.) and the cold-atom
+ * particle filter (issue 11, which needs Gamma_DD at candidate positions).
+ *
+ * Conventions (../shared/DESIGN.md): Gamma_jk = dG_j/dx_k (s^-2), G the
+ * gravitation (no centrifugal term), frame NED (north, east, down) at the
+ * node's geodetic latitude/longitude on the WGS-84 ellipsoid. The six
+ * independent components are stored in the order of Gao et al. eq. (31):
+ *   0 NN, 1 EE, 2 DD, 3 NE, 4 ND, 5 ED   (GG_GMAP_C_*).
+ * A tile holds either the total gravitation gradient (flags = 0) or the
+ * anomaly, i.e. total minus the WGS-84 normal gravitation (GG_GMAP_ANOMALY);
+ * the filter of issue 10 uses the TOTAL field (the gradiometer measures it).
+ *
+ * Nodes: i = 0..nlat-1 (north), j = 0..nlon-1 (east), at
+ *   lat_i = lat0 + i dlat,  lon_j = lon0 + j dlon,  height h0,
+ * stored at node[i * nlon + j][k]: k = 0..5 the six components at h0 (s^-2),
+ * k = 6..11 their derivatives w.r.t. ellipsoidal height at h0 (s^-2/m,
+ * d/dh along the ellipsoid normal, i.e. -d/dDown at fixed lat/lon).
+ *
+ * Interpolation (gg_gmap_eval): horizontally, bicubic LAGRANGE on the 4x4
+ * nodes around the point (tensor product of 4-point cubic Lagrange
+ * polynomials in lat and lon; the stencil is shifted inward at the tile edge):
+ * exact for every polynomial of degree <= 3 in lat times degree <= 3 in lon,
+ * error O(d^4) in the node spacing d (C0 across cells). Vertically, first
+ * order Taylor: value(h) = value(h0) + (h - h0) d/dh, valid for
+ * |h - h0| <= h_range_m (error ~ (h-h0)^2/2 d2Gamma/dh2; measured in
+ * docs/map-matching.md). The gradient output is the exact derivative of that
+ * interpolant: d/dlat (s^-2/rad), d/dlon (s^-2/rad), d/dh (s^-2/m).
+ *
+ * Memory: GG_GMAP_MAX_NODES nodes x 12 doubles = 2500 x 96 B = 240000 B
+ * (234.4 KiB) per tile, e.g. 50 x 50 nodes (a 245 km square at 0.045 deg).
+ * Longer voyages page tiles (the host uploads the next one with gg_gmap_load).
+ *
+ * Binary tile format ("GGMAP001", little-endian, IEEE-754 doubles), written
+ * by `ggins gmap` and read by gg_gmap_load:
+ *   offset  0  char[8]  magic "GGMAP001"
+ *           8  int32    nlat        12 int32  nlon
+ *          16  uint32   flags       20 int32  nmax (SH degree, metadata)
+ *          24  double   lat0_rad    32 double lon0_rad
+ *          40  double   dlat_rad    48 double dlon_rad
+ *          56  double   h0_m        64 double h_range_m
+ *          72  double   noise_s2 (database noise sigma added, s^-2, metadata)
+ *          80  uint64   seed (metadata)
+ *          88  double   node[nlat*nlon][12]
+ *   total 88 + 96 nlat nlon bytes.
+ */
+#ifndef GGINS_GMAP_H
+#define GGINS_GMAP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "ggins/real.h"
+#include "ggins/status.h"
+
+#define GG_GMAP_MAX_NODES 2500
+#define GG_GMAP_NCOMP 6
+#define GG_GMAP_NVAL 12
+#define GG_GMAP_HEADER_BYTES 88u
+
+/* Component indices (Gao et al. eq. 31 order) and mask bits. */
+#define GG_GMAP_C_NN 0
+#define GG_GMAP_C_EE 1
+#define GG_GMAP_C_DD 2
+#define GG_GMAP_C_NE 3
+#define GG_GMAP_C_ND 4
+#define GG_GMAP_C_ED 5
+#define GG_GMAP_MASK_ALL 0x3Fu
+#define GG_GMAP_MASK_DD (1u << GG_GMAP_C_DD)
+
+/** Tile flag: values are total minus the WGS-84 normal gravitation gradient. */
+#define GG_GMAP_ANOMALY 0x1u
+
+typedef struct {
+    int32_t nlat;          /**< nodes along latitude (>= 4) */
+    int32_t nlon;          /**< nodes along longitude (>= 4), nlat * nlon <= GG_GMAP_MAX_NODES */
+    uint32_t flags;        /**< GG_GMAP_ANOMALY or 0 */
+    int32_t nmax;          /**< SH degree of the source model (metadata) */
+    double lat0_rad;       /**< south-west node, geodetic latitude, rad (|lat| < 89 deg) */
+    double lon0_rad;       /**< south-west node, longitude, rad (tile does not cross +-pi) */
+    double dlat_rad;       /**< spacing, rad (> 0) */
+    double dlon_rad;       /**< spacing, rad (> 0) */
+    double h0_m;           /**< altitude of the grid above the ellipsoid, m */
+    double h_range_m;      /**< accepted |h - h0|, m (>= 0) */
+    double noise_s2;       /**< database noise sigma added by the host, s^-2 (metadata) */
+    uint64_t seed;         /**< noise seed (metadata) */
+    double node[GG_GMAP_MAX_NODES][GG_GMAP_NVAL]; /**< see file comment */
+} gg_gmap_tile_t;
+
+typedef struct {
+    gg_gmap_tile_t tile;
+    int initialized;
+} gg_gmap_t;
+
+/** One interpolated sample. */
+typedef struct {
+    gg_real_t gamma[GG_GMAP_NCOMP];       /**< NED components, s^-2 (GG_GMAP_C_* order) */
+    gg_real_t dgamma[GG_GMAP_NCOMP][3];   /**< d/dlat (s^-2/rad), d/dlon (s^-2/rad), d/dh (s^-2/m) */
+} gg_gmap_sample_t;
+
+/** Validate and copy a tile. GG_ERR_CONFIG on bad geometry, GG_ERR_NONFINITE
+ *  on a non-finite node value (state untouched on error). */
+gg_status_t gg_gmap_init(gg_gmap_t *st, const gg_gmap_tile_t *tile);
+
+/** Parse the binary tile format above from a byte buffer (len bytes) into st.
+ *  GG_ERR_CONFIG on a bad magic, size or geometry; GG_ERR_NONFINITE on a
+ *  non-finite value; state untouched on error. */
+gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len);
+
+/** Interpolate at geodetic (lat, lon) rad, height h m. mask selects the
+ *  components computed (others set to 0; GG_GMAP_MASK_DD for the particle
+ *  filter); want_grad != 0 fills dgamma. GG_ERR_RANGE outside the tile or
+ *  beyond h_range_m, GG_ERR_NONFINITE for NaN/Inf input, GG_ERR_NOT_INIT
+ *  before init (out untouched on error). */
+gg_status_t gg_gmap_eval(const gg_gmap_t *st, gg_real_t lat, gg_real_t lon, gg_real_t h,
+                         uint32_t mask, int want_grad, gg_gmap_sample_t *out);
+
+/** Expand the six components (GG_GMAP_C_* order) into the symmetric 3x3
+ *  tensor m[j][k]. */
+gg_status_t gg_gmap_to_matrix(const gg_real_t g6[GG_GMAP_NCOMP], gg_real_t m[3][3]);
+
+#endif /* GGINS_GMAP_H */

@@ -1,0 +1,59 @@
+// 3-D covariance scenarios (issue 7 item 5): parameters, model construction,
+// NED projection and the eigen analysis of the 3-D error dynamics, shared by
+// ggins-covariance3d, ggins-montecarlo3d and the tests.
+#pragma once
+
+#include <complex>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ggins/covariance/nav3d_model.hpp"
+
+namespace ggins::covariance {
+
+struct Cov3DScenario {
+  std::string name = "gc3d-stabilized";
+  Platform platform = Platform::kStabilized;
+  std::string field = "normal";    // "normal" (WGS-84 normal gravitation) or "point-mass"
+  double omega_ie = 7.292115e-5;   // rad/s; 0 = non-rotating Earth
+  double radius_m = 6378137.0, height_m = 0.0;  // geocentric radius of the circle = radius + height
+  double lat0_deg = 45.0, lon0_deg = 0.0, heading_deg = 45.0, speed_mps = 300.0;
+  double duration_s = 3600.0;
+  Nav3DModelConfig model;
+  double acc_bias_sigma_mps2 = 2e-12;     // each of the 18 readings
+  double gyro_bias_sigma_radps = 0.0;     // each gyro axis (strapdown)
+  double g0_sigma_mps2 = 0.0;             // initial dG, each ECEF axis
+  double r0_sigma_m = 0.0, v0_sigma_mps = 0.0, psi0_sigma_rad = 0.0;
+};
+
+std::optional<Cov3DScenario> builtin_scenario3d(const std::string& name);
+std::vector<std::string> builtin_names3d();
+
+std::shared_ptr<const gravity::Field> make_field3d(const Cov3DScenario& s);
+std::shared_ptr<const GreatCircle3D> make_trajectory3d(const Cov3DScenario& s);
+std::shared_ptr<const Nav3DModel> make_model3d(const Cov3DScenario& s);
+MatrixXd initial_covariance3d(const Cov3DScenario& s, const Nav3DModel& m);
+
+// One-sigma values in NED (north, east, down) of the 3-vector blocks of the
+// navigation states starting at index i0 (position, velocity, gravity, psi).
+Eigen::Vector3d ned_sigma(const MatrixXd& P, int i0, const Eigen::Matrix3d& C_n_e);
+
+// Eigen analysis of the reduced F at time t.
+struct Eigen3D {
+  std::vector<std::complex<double>> ev;  // all eigenvalues of F (sorted)
+  double omega_s = 0;       // sqrt(-mean horizontal eigenvalue of Gamma_e): Schuler frequency
+  double gamma_up = 0;      // radial eigenvalue of Gamma_e (2 w_s^2 for a point mass)
+  double lat_gc = 0;        // geocentric latitude of the point, rad
+  double foucault = 0;      // omega_ie sin(lat), rad/s
+  // Nav-block eigenvalues (first 9 states, no attitude/baro): the residual
+  // |det((sI + W)^2 - Gamma_e)| / |s|^6 of each non-zero eigenvalue (an
+  // independent characterisation: F's nav block has the characteristic
+  // polynomial s^3 det((sI + W)^2 - Gamma_e)).
+  double max_charpoly_residual = 0;
+  std::vector<std::complex<double>> nav_ev;
+};
+Eigen3D eigen3d(const Nav3DModel& m, double t);
+
+}  // namespace ggins::covariance

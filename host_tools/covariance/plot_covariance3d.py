@@ -1,0 +1,52 @@
+#!/usr/bin/env python3
+"""Plot ggins-covariance3d output: one-sigma position, velocity, gravity and
+(strapdown) attitude errors in NED against time.
+
+usage: plot_covariance3d.py covariance3d.csv covariance3d.png [--title T]
+Needs matplotlib (Debian python3-matplotlib: /usr/bin/python3).
+"""
+import argparse
+import csv
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("csv")
+    ap.add_argument("png")
+    ap.add_argument("--title", default="")
+    a = ap.parse_args()
+    with open(a.csv) as f:
+        rows = list(csv.DictReader(f))
+    col = {k: [float(r[k]) for r in rows] for k in rows[0]}
+    t = [x / 60.0 for x in col["t_s"]]
+    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
+    panels = [
+        (ax[0, 0], "r", "m", 1.0, "position error 1σ [m]"),
+        (ax[0, 1], "v", "mps", 100.0, "velocity error 1σ [cm/s]"),
+        (ax[1, 0], "g", "mps2", 1e3, "gravity error 1σ [mm/s²]"),
+        (ax[1, 1], "psi", "rad", 1e6, "attitude error 1σ [µrad]"),
+    ]
+    for axis, b, u, scale, label in panels:
+        keys = ["%s%s_%s" % (b, c, u) for c in "ned"]
+        if keys[0] not in col:
+            axis.axis("off")
+            continue
+        for k, name in zip(keys, ["north", "east", "down"]):
+            vals = [v * scale for v in col[k]]
+            axis.semilogy(t, [max(v, 1e-30) for v in vals], label=name)
+        axis.set_xlabel("time [min]")
+        axis.set_ylabel(label)
+        axis.grid(True, which="both", alpha=0.3)
+        axis.legend()
+    fig.suptitle("ggins covariance3d: %s" % a.title)
+    fig.tight_layout()
+    fig.savefig(a.png, dpi=110)
+
+
+if __name__ == "__main__":
+    main()
