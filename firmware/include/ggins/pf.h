@@ -1,0 +1,136 @@
+/**
+ * @file pf.h
+ * @brief Bootstrap particle filter for position fixing from single pairs of a
+ *        cold-atom vertical gradiometer (Phillips et al., "Position fixing with
+ *        partial gravity gradient measurements from cold atom interferometers",
+ *        section IV).
+ *
+ * Particles are candidate horizontal corrections to the (open-loop) INS solution,
+ * in metres in the local NED frame at the INS position, with a velocity
+ * correction each: x = (dN, dE, dvN, dvE). The corrected position is
+ * INS + corr, corr the smoothed mean of the particles.
+ *
+ * Per gradiometer shot (gg_pf_step, every dt seconds):
+ *  1. predict: dN += dvN dt + q_pos w, dvN += q_vel w (w ~ N(0,1)), same for E
+ *     (the paper's kinematic propagation plus process noise, section IV);
+ *  2. failed shot: no re-weighting (section V C) - go to 5;
+ *  3. re-weight: for each particle, the candidate position INS + (dN, dE) gives
+ *     Gamma_zz from the map (ops table gg_pf_map_t), the candidate ellipse
+ *     dphi_i = k_eff Gamma_zz dz T^2 (paper eq. 2), and the minimum distance d_i
+ *     of the measured pair (s0, s1) to that ellipse
+ *       s0 = c0 - A cos(theta), s1 = c1 - A cos(theta + dphi_i), A = eta / 2
+ *     (paper eq. 1 with the calibrated centre c and contrast eta);
+ *       w_i <- w_i exp(-d_i^2 / (2 sigma^2))                       (paper eq. 6)
+ *     then normalised. Candidates off the map get weight 0 (health MAP_MISS). If
+ *     every weight is 0 (or the sum is not finite) the weights are reset to
+ *     uniform and DEGENERATE is flagged (no NaN can reach the state);
+ *  4. N_eff = 1 / sum w_i^2; systematic resampling when N_eff < ess_frac N
+ *     (paper: N_eff < N/2);
+ *  5. mean x_bar = sum w_i x_i (paper eq. 7); corr <- corr + gain (x_bar - corr)
+ *     (the fixed-gain smoothing of paper eqs. 9-10).
+ *
+ * Distance to the ellipse without trigonometry of theta: with u = (c0 - s0)/A,
+ * v = (c1 - s1)/A, the rotation p = (u + v)/sqrt2, q = (u - v)/sqrt2 maps the
+ * ellipse to the axis-aligned one with semi-axes sqrt2 |cos(dphi/2)|,
+ * sqrt2 |sin(dphi/2)|; the distance to it is found by the trig-free iteration
+ * of the evolute (4 iterations, only sqrt), times A.
+ *
+ * Random numbers: xoshiro256** (Blackman & Vigna 2018) seeded by splitmix64;
+ * normals by Marsaglia's polar method with the module's own log (no libm).
+ * Deterministic: the same seed and inputs give bit-identical results.
+ * No heap: GG_PF_MAX particles held in the state (compile-time, default 500).
+ * Units SI, angles rad, lat/lon geodetic WGS-84, h metres above the ellipsoid.
+ */
+#ifndef GGINS_PF_H
+#define GGINS_PF_H
+
+#include <stdint.h>
+
+#include "ggins/status.h"
+
+#ifndef GG_PF_MAX
+#define GG_PF_MAX 500
+#endif
+
+/** Map ops: Gamma_zz = dG_D/dD (s^-2, NED, ~ +3.1e-6) at a geodetic position.
+ *  Returns GG_OK or an error (e.g. GG_ERR_RANGE off the map). */
+typedef struct {
+    gg_status_t (*gzz)(const void *ctx, double lat_rad, double lon_rad, double h_m, double *gzz);
+    const void *ctx;
+} gg_pf_map_t;
+
+typedef struct {
+    uint64_t s[4];
+} gg_pf_rng_t;
+
+typedef struct {
+    int n;                /**< particles, 1..GG_PF_MAX */
+    uint64_t seed;
+    double k_eff;         /**< rad/m */
+    double T;             /**< s */
+    double dz;            /**< m, vertical separation */
+    double contrast;      /**< eta, (0, 1] */
+    double c0, c1;        /**< calibrated ellipse centre (1/2 + bias), signal units */
+    double sigma;         /**< likelihood standard deviation, signal units (paper 0.003..0.010) */
+    double sigma0_pos;    /**< initial spread of the position corrections, m */
+    double sigma0_vel;    /**< initial spread of the velocity corrections, m/s */
+    double q_pos;         /**< process noise per step on dN, dE, m */
+    double q_vel;         /**< process noise per step on dvN, dvE, m/s */
+    double dt;            /**< s between shots */
+    double gain;          /**< smoothing gain, (0, 1] */
+    double ess_frac;      /**< resample when N_eff < ess_frac N (0.5) */
+    gg_pf_map_t map;
+} gg_pf_config_t;
+
+typedef struct {
+    double lat, lon, h;   /**< INS solution (rad, rad, m; h from the altimeter) */
+    int shot_ok;          /**< 0: failed shot, no update */
+    double s0, s1;        /**< the pair (signal units), used when shot_ok */
+} gg_pf_input_t;
+
+enum {
+    GG_PF_H_SKIPPED = 1u << 0,    /**< failed shot: predicted only */
+    GG_PF_H_RESAMPLED = 1u << 1,
+    GG_PF_H_DEGENERATE = 1u << 2, /**< all weights 0: reset to uniform */
+    GG_PF_H_MAP_MISS = 1u << 3    /**< some candidates were off the map */
+};
+
+typedef struct {
+    double corr[2];       /**< smoothed correction (dN, dE), m: corrected = INS + corr */
+    double mean[4];       /**< particle mean (dN, dE, dvN, dvE) */
+    double ess;           /**< effective sample size after the update */
+    double gzz_mean;      /**< weighted mean of the candidates' Gamma_zz (s^-2; 0 when skipped) */
+    uint32_t health;      /**< GG_PF_H_* of this step */
+} gg_pf_output_t;
+
+typedef struct {
+    double x[GG_PF_MAX][4];
+    double w[GG_PF_MAX];
+    double ll[GG_PF_MAX];        /**< scratch: log-likelihood */
+    double xs[GG_PF_MAX][4];     /**< scratch: resampling */
+    gg_pf_config_t cfg;
+    gg_pf_rng_t rng;
+    double corr[2];
+    uint32_t n_steps, n_updates, n_skipped, n_resampled, n_degenerate;
+    int initialized;
+} gg_pf_t;
+
+/** Validate cfg (GG_ERR_CONFIG), seed, draw the particles around zero correction. */
+gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg);
+
+/** One shot. GG_ERR_NONFINITE / GG_ERR_RANGE on bad input: state untouched. */
+gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out);
+
+/* Building blocks, exposed for tests. */
+gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed);
+gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v);
+gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u);  /**< [0, 1), 53 bits */
+gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z);   /**< N(0, 1) */
+gg_status_t gg_pf_exp(double x, double *y);                /**< x <= 709 */
+gg_status_t gg_pf_log(double x, double *y);                /**< x > 0 */
+gg_status_t gg_pf_sincos(double x, double *s, double *c);  /**< |x| <= 1e6 */
+/** Minimum distance of (s0, s1) to the ellipse s0 = c0 - A cos t, s1 = c1 - A cos(t + dphi). */
+gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, double amp, double dphi,
+                                   double *d);
+
+#endif /* GGINS_PF_H */

@@ -1,0 +1,548 @@
+/**
+ * @file pf.c
+ * @brief Bootstrap particle filter for cold-atom partial-gradient position fixing
+ *        (Phillips et al., section IV). See pf.h.
+ */
+#include "ggins/pf.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PF_PI 3.14159265358979323846
+#define PF_LN2_HI 6.93147180369123816490e-01 /* fdlibm split of ln 2 */
+#define PF_LN2_LO 1.90821492927058770002e-10
+#define PF_PIO2_HI 1.57079632673412561417e+00 /* pi/2 split */
+#define PF_PIO2_LO 6.07710050650619224932e-11
+#define PF_WGS84_A 6378137.0
+#define PF_WGS84_E2 6.69437999014e-3
+
+static double pf_sqrt(double x)
+{
+    return (double)sqrtl((long double)x);
+}
+
+static int pf_finite(double x)
+{
+    return (x == x) && (x - x == 0.0);
+}
+
+static double pf_round(double x)
+{
+    return (x >= 0.0) ? (double)(int64_t)(x + 0.5) : -(double)(int64_t)(0.5 - x);
+}
+
+/* 2^k for -1022 <= k <= 1023 from the bit pattern. */
+static double pf_pow2(int32_t k)
+{
+    uint64_t bits = ((uint64_t)(uint32_t)(k + 1023)) << 52;
+    double d;
+    memcpy(&d, &bits, sizeof d);
+    return d;
+}
+
+gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed)
+{
+    uint64_t z = seed;
+    int i;
+    if (r == NULL) {
+        return GG_ERR_NULL;
+    }
+    for (i = 0; i < 4; ++i) { /* splitmix64 */
+        uint64_t t;
+        z += 0x9E3779B97F4A7C15ull;
+        t = z;
+        t = (t ^ (t >> 30)) * 0xBF58476D1CE4E5B9ull;
+        t = (t ^ (t >> 27)) * 0x94D049BB133111EBull;
+        r->s[i] = t ^ (t >> 31);
+    }
+    return GG_OK;
+}
+
+static uint64_t rotl(uint64_t x, int k)
+{
+    return (x << k) | (x >> (64 - k));
+}
+
+gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v)
+{
+    uint64_t t;
+    if ((r == NULL) || (v == NULL)) {
+        return GG_ERR_NULL;
+    }
+    *v = rotl(r->s[1] * 5u, 7) * 9u; /* xoshiro256** */
+    t = r->s[1] << 17;
+    r->s[2] ^= r->s[0];
+    r->s[3] ^= r->s[1];
+    r->s[1] ^= r->s[2];
+    r->s[0] ^= r->s[3];
+    r->s[2] ^= t;
+    r->s[3] = rotl(r->s[3], 45);
+    return GG_OK;
+}
+
+gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u)
+{
+    uint64_t v = 0;
+    gg_status_t s;
+    if (u == NULL) {
+        return GG_ERR_NULL;
+    }
+    s = gg_pf_rng_u64(r, &v);
+    if (s != GG_OK) {
+        return s;
+    }
+    *u = (double)(v >> 11) * (1.0 / 9007199254740992.0);
+    return GG_OK;
+}
+
+gg_status_t gg_pf_exp(double x, double *y)
+{
+    double k, r, p;
+    int i;
+    if (y == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (!pf_finite(x)) {
+        return GG_ERR_NONFINITE;
+    }
+    if (x > 709.0) {
+        return GG_ERR_RANGE;
+    }
+    if (x < -745.0) {
+        *y = 0.0;
+        return GG_OK;
+    }
+    /* x = k ln2 + r, |r| <= ln2/2; Taylor to r^14 (error < 1e-17 relative) */
+    k = pf_round(x / (PF_LN2_HI + PF_LN2_LO));
+    r = (x - k * PF_LN2_HI) - k * PF_LN2_LO;
+    p = 1.0;
+    for (i = 14; i >= 1; --i) {
+        p = 1.0 + p * r / (double)i;
+    }
+    if (k < -1000.0) {
+        *y = p * pf_pow2((int32_t)k + 600) * pf_pow2(-600);
+    } else {
+        *y = p * pf_pow2((int32_t)k);
+    }
+    return GG_OK;
+}
+
+gg_status_t gg_pf_log(double x, double *y)
+{
+    uint64_t bits;
+    int32_t e;
+    double m, z, z2, s, t;
+    int i;
+    if (y == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (!pf_finite(x)) {
+        return GG_ERR_NONFINITE;
+    }
+    if (!(x > 0.0)) {
+        return GG_ERR_RANGE;
+    }
+    e = 0;
+    if (x < 2.2250738585072014e-308) { /* subnormal: scale by 2^54 */
+        x *= 18014398509481984.0;
+        e = -54;
+    }
+    memcpy(&bits, &x, sizeof bits);
+    e += (int32_t)((bits >> 52) & 0x7ffu) - 1023;
+    bits = (bits & 0x000fffffffffffffull) | 0x3ff0000000000000ull;
+    memcpy(&m, &bits, sizeof m);
+    if (m > 1.4142135623730951) {
+        m *= 0.5;
+        e += 1;
+    }
+    /* ln m = 2 atanh z, z = (m-1)/(m+1), |z| <= 0.1716: series to z^25 */
+    z = (m - 1.0) / (m + 1.0);
+    z2 = z * z;
+    s = 0.0;
+    for (i = 25; i >= 1; i -= 2) {
+        s = s * z2 + 1.0 / (double)i;
+    }
+    t = 2.0 * z * s;
+    *y = ((double)e * PF_LN2_HI + t) + (double)e * PF_LN2_LO;
+    return GG_OK;
+}
+
+gg_status_t gg_pf_sincos(double x, double *s, double *c)
+{
+    double j, r, r2, ps, pc, ss, cc;
+    int i;
+    int64_t q;
+    if ((s == NULL) || (c == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!pf_finite(x)) {
+        return GG_ERR_NONFINITE;
+    }
+    if ((x > 1e6) || (x < -1e6)) {
+        return GG_ERR_RANGE;
+    }
+    /* x = j pi/2 + r, |r| <= pi/4; Taylor to r^17 / r^16 */
+    j = pf_round(x / (PF_PIO2_HI + PF_PIO2_LO));
+    r = (x - j * PF_PIO2_HI) - j * PF_PIO2_LO;
+    r2 = r * r;
+    ps = 1.0;
+    for (i = 17; i >= 3; i -= 2) {
+        ps = 1.0 - ps * r2 / ((double)i * (double)(i - 1));
+    }
+    ps *= r;
+    pc = 1.0;
+    for (i = 16; i >= 2; i -= 2) {
+        pc = 1.0 - pc * r2 / ((double)i * (double)(i - 1));
+    }
+    q = (int64_t)j;
+    q = ((q % 4) + 4) % 4;
+    if (q == 0) {
+        ss = ps; cc = pc;
+    } else if (q == 1) {
+        ss = pc; cc = -ps;
+    } else if (q == 2) {
+        ss = -ps; cc = -pc;
+    } else {
+        ss = -pc; cc = ps;
+    }
+    *s = ss;
+    *c = cc;
+    return GG_OK;
+}
+
+gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
+{
+    int k;
+    if ((r == NULL) || (z == NULL)) {
+        return GG_ERR_NULL;
+    }
+    /* Marsaglia polar method; acceptance pi/4, so 64 tries fail with p < 1e-42 */
+    for (k = 0; k < 64; ++k) {
+        double u = 0.0, v = 0.0, q, lq = 0.0;
+        gg_status_t s = gg_pf_rng_uniform(r, &u);
+        if (s == GG_OK) {
+            s = gg_pf_rng_uniform(r, &v);
+        }
+        if (s != GG_OK) {
+            return s;
+        }
+        u = 2.0 * u - 1.0;
+        v = 2.0 * v - 1.0;
+        q = u * u + v * v;
+        if ((q > 0.0) && (q < 1.0)) {
+            s = gg_pf_log(q, &lq);
+            if (s != GG_OK) {
+                return s;
+            }
+            *z = u * pf_sqrt(-2.0 * lq / q);
+            return GG_OK;
+        }
+    }
+    return GG_ERR_RANGE;
+}
+
+/* Distance from (px, py) to the ellipse (a cos t, b sin t), a, b > 0: the
+ * trig-free evolute iteration (tangent-point update along the evolute, then
+ * renormalisation of (cos t, sin t)), 4 iterations. */
+static double ellipse_dist_axes(double px, double py, double a, double b)
+{
+    double tx = 0.70710678118654752, ty = 0.70710678118654752;
+    double ax = (px < 0.0) ? -px : px, ay = (py < 0.0) ? -py : py;
+    double x, y, dx, dy;
+    int it;
+    for (it = 0; it < 4; ++it) {
+        double ex, ey, rx, ry, qx, qy, rr, qq, t;
+        x = a * tx;
+        y = b * ty;
+        ex = (a * a - b * b) * tx * tx * tx / a;
+        ey = (b * b - a * a) * ty * ty * ty / b;
+        rx = x - ex;
+        ry = y - ey;
+        qx = ax - ex;
+        qy = ay - ey;
+        rr = pf_sqrt(rx * rx + ry * ry);
+        qq = pf_sqrt(qx * qx + qy * qy);
+        if (qq > 0.0) {
+            tx = (qx * rr / qq + ex) / a;
+            ty = (qy * rr / qq + ey) / b;
+        }
+        tx = (tx < 0.0) ? 0.0 : ((tx > 1.0) ? 1.0 : tx);
+        ty = (ty < 0.0) ? 0.0 : ((ty > 1.0) ? 1.0 : ty);
+        t = pf_sqrt(tx * tx + ty * ty);
+        if (t > 0.0) {
+            tx /= t;
+            ty /= t;
+        }
+    }
+    dx = ax - a * tx;
+    dy = ay - b * ty;
+    return pf_sqrt(dx * dx + dy * dy);
+}
+
+gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, double amp, double dphi,
+                                   double *d)
+{
+    double sh = 0.0, ch = 0.0, u, v, p, q, a, b;
+    gg_status_t st;
+    if (d == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (!pf_finite(s0) || !pf_finite(s1) || !pf_finite(c0) || !pf_finite(c1) || !pf_finite(amp) ||
+        !pf_finite(dphi)) {
+        return GG_ERR_NONFINITE;
+    }
+    if (!(amp > 0.0)) {
+        return GG_ERR_RANGE;
+    }
+    st = gg_pf_sincos(0.5 * dphi, &sh, &ch);
+    if (st != GG_OK) {
+        return st;
+    }
+    u = (c0 - s0) / amp;
+    v = (c1 - s1) / amp;
+    p = (u + v) * 0.70710678118654752;
+    q = (u - v) * 0.70710678118654752;
+    a = 1.4142135623730951 * ((ch < 0.0) ? -ch : ch);
+    b = 1.4142135623730951 * ((sh < 0.0) ? -sh : sh);
+    if (a < 1e-9) {
+        a = 1e-9; /* degenerate ellipse (a line): keep the iteration finite */
+    }
+    if (b < 1e-9) {
+        b = 1e-9;
+    }
+    *d = amp * ellipse_dist_axes(p, q, a, b);
+    return GG_OK;
+}
+
+static int cfg_ok(const gg_pf_config_t *c)
+{
+    const double v[] = {c->k_eff, c->T, c->dz, c->contrast, c->c0, c->c1, c->sigma, c->sigma0_pos,
+                        c->sigma0_vel, c->q_pos, c->q_vel, c->dt, c->gain, c->ess_frac};
+    unsigned i;
+    for (i = 0; i < sizeof v / sizeof v[0]; ++i) {
+        if (!pf_finite(v[i])) {
+            return 0;
+        }
+    }
+    return (c->n >= 1) && (c->n <= GG_PF_MAX) && (c->map.gzz != NULL) && (c->k_eff > 0.0) && (c->T > 0.0) &&
+           (c->dz > 0.0) && (c->contrast > 0.0) && (c->contrast <= 1.0) && (c->sigma > 0.0) &&
+           (c->sigma0_pos >= 0.0) && (c->sigma0_vel >= 0.0) && (c->q_pos >= 0.0) && (c->q_vel >= 0.0) &&
+           (c->dt > 0.0) && (c->gain > 0.0) && (c->gain <= 1.0) && (c->ess_frac >= 0.0) && (c->ess_frac <= 1.0);
+}
+
+gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
+{
+    gg_pf_rng_t rng;
+    int i, k;
+    gg_status_t s;
+    if ((st == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!cfg_ok(cfg)) {
+        return GG_ERR_CONFIG;
+    }
+    s = gg_pf_rng_seed(&rng, cfg->seed);
+    for (i = 0; (i < cfg->n) && (s == GG_OK); ++i) {
+        for (k = 0; (k < 4) && (s == GG_OK); ++k) {
+            double z = 0.0;
+            s = gg_pf_rng_normal(&rng, &z);
+            st->xs[i][k] = z * ((k < 2) ? cfg->sigma0_pos : cfg->sigma0_vel);
+        }
+    }
+    if (s != GG_OK) {
+        return s;
+    }
+    for (i = 0; i < cfg->n; ++i) {
+        for (k = 0; k < 4; ++k) {
+            st->x[i][k] = st->xs[i][k];
+        }
+        st->w[i] = 1.0 / (double)cfg->n;
+        st->ll[i] = 0.0;
+    }
+    st->cfg = *cfg;
+    st->rng = rng;
+    st->corr[0] = 0.0;
+    st->corr[1] = 0.0;
+    st->n_steps = 0u;
+    st->n_updates = 0u;
+    st->n_skipped = 0u;
+    st->n_resampled = 0u;
+    st->n_degenerate = 0u;
+    st->initialized = 1;
+    return GG_OK;
+}
+
+/* Systematic resampling (one uniform; particle i gets floor or ceil of N w_i copies). */
+static gg_status_t resample(gg_pf_t *st)
+{
+    const int n = st->cfg.n;
+    double u0 = 0.0, cum;
+    int i = 0, j, k;
+    gg_status_t s = gg_pf_rng_uniform(&st->rng, &u0);
+    if (s != GG_OK) {
+        return s;
+    }
+    cum = st->w[0];
+    for (j = 0; j < n; ++j) {
+        const double target = (u0 + (double)j) / (double)n;
+        while ((cum < target) && (i < n - 1)) {
+            ++i;
+            cum += st->w[i];
+        }
+        for (k = 0; k < 4; ++k) {
+            st->xs[j][k] = st->x[i][k];
+        }
+    }
+    for (j = 0; j < n; ++j) {
+        for (k = 0; k < 4; ++k) {
+            st->x[j][k] = st->xs[j][k];
+        }
+        st->w[j] = 1.0 / (double)n;
+    }
+    return GG_OK;
+}
+
+gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out)
+{
+    const gg_pf_config_t *c;
+    gg_pf_rng_t rng;
+    uint32_t health = 0u;
+    double mean[4] = {0.0, 0.0, 0.0, 0.0};
+    double ess, sw2, gzz_mean = 0.0, rm, rn;
+    int i, k, n;
+    gg_status_t s = GG_OK;
+    if ((st == NULL) || (in == NULL) || (out == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!st->initialized) {
+        return GG_ERR_NOT_INIT;
+    }
+    if (!pf_finite(in->lat) || !pf_finite(in->lon) || !pf_finite(in->h) ||
+        ((in->shot_ok != 0) && (!pf_finite(in->s0) || !pf_finite(in->s1)))) {
+        return GG_ERR_NONFINITE;
+    }
+    if ((in->lat > 1.55) || (in->lat < -1.55) || (in->lon > 7.0) || (in->lon < -7.0) || (in->h < -1e4) ||
+        (in->h > 1e5) || ((in->shot_ok != 0) && ((in->s0 > 10.0) || (in->s0 < -10.0) || (in->s1 > 10.0) ||
+                                                  (in->s1 < -10.0)))) {
+        return GG_ERR_RANGE;
+    }
+    c = &st->cfg;
+    n = c->n;
+    /* geometry first (the only failure mode after validation): state untouched on error */
+    {
+        double sl = 0.0, cl = 1.0, w2, nr;
+        s = gg_pf_sincos(in->lat, &sl, &cl);
+        if (s != GG_OK) {
+            return s;
+        }
+        w2 = 1.0 - PF_WGS84_E2 * sl * sl;
+        nr = PF_WGS84_A / pf_sqrt(w2);
+        rm = nr * (1.0 - PF_WGS84_E2) / w2 + in->h; /* meridian radius + h */
+        rn = (nr + in->h) * cl;                     /* (prime vertical + h) cos(lat) */
+    }
+    /* 1. predict: draw all noise first into the scratch buffer (state untouched on error) */
+    rng = st->rng;
+    for (i = 0; (i < n) && (s == GG_OK); ++i) {
+        for (k = 0; (k < 4) && (s == GG_OK); ++k) {
+            double z = 0.0;
+            s = gg_pf_rng_normal(&rng, &z);
+            st->xs[i][k] = z;
+        }
+    }
+    if (s != GG_OK) {
+        return s;
+    }
+    st->rng = rng;
+    for (i = 0; i < n; ++i) {
+        st->x[i][0] += st->x[i][2] * c->dt + c->q_pos * st->xs[i][0];
+        st->x[i][1] += st->x[i][3] * c->dt + c->q_pos * st->xs[i][1];
+        st->x[i][2] += c->q_vel * st->xs[i][2];
+        st->x[i][3] += c->q_vel * st->xs[i][3];
+    }
+    st->n_steps++;
+    if (in->shot_ok == 0) {
+        health |= GG_PF_H_SKIPPED;
+        st->n_skipped++;
+    } else {
+        /* 3. re-weight (paper eq. 6) */
+        double llmax = 0.0, sw = 0.0;
+        const double scale = c->k_eff * c->dz * c->T * c->T;
+        const double amp = 0.5 * c->contrast;
+        const double inv2s2 = 1.0 / (2.0 * c->sigma * c->sigma);
+        int have = 0;
+        for (i = 0; i < n; ++i) {
+            double g = 0.0, d = 0.0;
+            gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + st->x[i][0] / rm, in->lon + st->x[i][1] / rn,
+                                        in->h, &g);
+            if ((sm == GG_OK) && pf_finite(g)) {
+                sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, amp, scale * g, &d);
+            } else {
+                sm = GG_ERR_RANGE;
+            }
+            if (sm == GG_OK) {
+                st->ll[i] = -d * d * inv2s2;
+                st->xs[i][0] = g;
+                if ((have == 0) || (st->ll[i] > llmax)) {
+                    llmax = st->ll[i];
+                }
+                have = 1;
+            } else {
+                st->ll[i] = 1.0; /* marker: no likelihood (ll <= 0 otherwise) */
+                st->xs[i][0] = 0.0;
+                health |= GG_PF_H_MAP_MISS;
+            }
+        }
+        for (i = 0; (i < n) && (have != 0); ++i) {
+            double e = 0.0;
+            if (st->ll[i] <= 0.0) {
+                (void)gg_pf_exp(st->ll[i] - llmax, &e); /* argument <= 0: always GG_OK */
+            }
+            st->w[i] *= e;
+            sw += st->w[i];
+        }
+        if ((have == 0) || !(sw > 0.0) || !pf_finite(sw)) {
+            for (i = 0; i < n; ++i) {
+                st->w[i] = 1.0 / (double)n;
+            }
+            health |= GG_PF_H_DEGENERATE;
+            st->n_degenerate++;
+        } else {
+            for (i = 0; i < n; ++i) {
+                st->w[i] /= sw;
+                gzz_mean += st->w[i] * st->xs[i][0];
+            }
+        }
+        st->n_updates++;
+    }
+    /* 4. effective sample size, systematic resampling */
+    sw2 = 0.0;
+    for (i = 0; i < n; ++i) {
+        sw2 += st->w[i] * st->w[i];
+    }
+    ess = 1.0 / sw2;
+    if (ess < c->ess_frac * (double)n) {
+        s = resample(st);
+        if (s != GG_OK) {
+            return s; /* cannot happen: the generator has no failure mode */
+        }
+        health |= GG_PF_H_RESAMPLED;
+        st->n_resampled++;
+    }
+    /* 5. mean (paper eq. 7) and fixed-gain smoothing (eqs. 9-10) */
+    for (i = 0; i < n; ++i) {
+        for (k = 0; k < 4; ++k) {
+            mean[k] += st->w[i] * st->x[i][k];
+        }
+    }
+    st->corr[0] += c->gain * (mean[0] - st->corr[0]);
+    st->corr[1] += c->gain * (mean[1] - st->corr[1]);
+    out->corr[0] = st->corr[0];
+    out->corr[1] = st->corr[1];
+    for (k = 0; k < 4; ++k) {
+        out->mean[k] = mean[k];
+    }
+    out->ess = ess;
+    out->gzz_mean = gzz_mean;
+    out->health = health;
+    return GG_OK;
+}
