@@ -133,6 +133,25 @@ gg_status_t gg_mech_correct(gg_mech_t *st, const gg_real_t dr[3], const gg_real_
 
 gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3])
 {
+    gg_acc_t ra[3];
+    gg_acc_t va[3];
+    size_t j;
+    gg_status_t status;
+    if ((r == NULL) || (v == NULL)) {
+        return GG_ERR_NULL;
+    }
+    status = gg_mech_get_acc(st, ra, va);
+    if (status == GG_OK) {
+        for (j = 0U; j < 3U; ++j) {
+            r[j] = gg_acc_value(&ra[j]);
+            v[j] = gg_acc_value(&va[j]);
+        }
+    }
+    return status;
+}
+
+gg_status_t gg_mech_get_acc(const gg_mech_t *st, gg_acc_t r[3], gg_acc_t v[3])
+{
     size_t j;
     if ((st == NULL) || (r == NULL) || (v == NULL)) {
         return GG_ERR_NULL;
@@ -141,8 +160,8 @@ gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3])
         return GG_ERR_NOT_INIT;
     }
     for (j = 0U; j < 3U; ++j) {
-        r[j] = gg_acc_value(&st->r[j]);
-        v[j] = gg_acc_value(&st->v[j]);
+        r[j] = st->r[j];
+        v[j] = st->v[j];
     }
     return GG_OK;
 }

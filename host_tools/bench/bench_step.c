@@ -83,7 +83,7 @@ int main(int argc, char **argv)
     cfg.r_ref_m = T_RE;
     gg_nav2d_t nav;
     if (gg_nav2d_init(&nav, &cfg) != GG_OK) { fprintf(stderr, "bench_step: init failed\n"); return 1; }
-    const gg_hal_t hal = {NULL, NULL, NULL, mono_ns, 1000000000u};
+    const gg_hal_t hal = {NULL, NULL, NULL, mono_ns, 1000000000u, NULL};
     gg_nav_output_t out;
     long rejected = 0;
     for (long k = 0; k < steps; ++k) {

@@ -14,6 +14,8 @@
 #include "ggins/frame.h"
 #include "ggins/status.h"
 
+struct gg_nav3d_output_s; /* nav3d.h */
+
 typedef struct {
     void *ctx; /**< implementation's own state */
     /** Deliver the next sensor frame. GG_OK with *frame filled, or
@@ -26,6 +28,9 @@ typedef struct {
     uint32_t (*cycle_count)(void *ctx);
     /** Counter ticks per second (for deadline checks). */
     uint32_t cycles_per_second;
+    /** Publish one 3-D navigation output (gg_nav3d_output_t, nav3d.h); NULL
+     *  when the implementation serves the 2-D task only. */
+    gg_status_t (*write_output3d)(void *ctx, const struct gg_nav3d_output_s *out);
 } gg_hal_t;
 
 #endif /* GGINS_HAL_H */

@@ -62,4 +62,7 @@ gg_status_t gg_mech_correct(gg_mech_t *st, const gg_real_t dr[3], const gg_real_
 
 gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3]);
 
+/** Position and velocity as compensated values (hi + lo). */
+gg_status_t gg_mech_get_acc(const gg_mech_t *st, gg_acc_t r[3], gg_acc_t v[3]);
+
 #endif /* GGINS_MECH_H */

@@ -1,0 +1,211 @@
+/**
+ * @file nav3d.h
+ * @brief Navigation task of the 3-D gravity-gradiometer INS: six tri-axis
+ *        accelerometers, a rotating WGS-84 Earth, a space-stabilized or a
+ *        strapdown platform (issue 7; Welker, Pachter & Huffman section III,
+ *        Fig. 1; Gao et al. section 3, eqs. 15-30).
+ *
+ * Frames (DESIGN.md suffixes):
+ *  - _e  ECEF, WGS-84: z to the north pole, x to the Greenwich meridian.
+ *  - _i  ECI: coincides with _e at the first accepted frame (t = 0). The
+ *        Earth turns about z at omega_ie: r_i = R3(theta) r_e, theta = omega_ie t,
+ *        R3(theta) = [[c, -s, 0], [s, c, 0], [0, 0, 1]].
+ *  - _n  local level, north-east-down at the current position.
+ *  - _b  body / platform: x forward, y right, z down; accelerometer layout of
+ *        diff3d.h (sensor 0 at (+a,0,0), 1 (0,+b,0), 2 (0,0,+c), 3 (-a,0,0),
+ *        4 (0,-b,0), 5 (0,0,-c)); readings f = a - G in body axes.
+ * Quaternions are scalar first, q = (w, x, y, z); q_b_e rotates body vectors
+ * into ECEF (v_e = q_b_e (x) v_b (x) q_b_e*), i.e. C_b_e.
+ *
+ * Mechanization (why these frames: issue 7 item 2). In an inertial frame
+ * r''_i = f_i + G_i is free of Coriolis and centrifugal terms, so the third-
+ * order fixed-step integrator of mech.h is used as it is. The gravitation,
+ * however, is dead-reckoned in ECEF, where the field is static and
+ * dG_e = Gamma_e dr_e holds exactly (in ECI the field at a fixed point turns
+ * with the Earth: dG_i/dt = Gamma_i v_i + omega x G_i - Gamma_i (omega x r_i)):
+ *   dr_e = R3(-theta_{k+1}) dr_i + [R3(-theta_{k+1}) - R3(-theta_k)] r_i(k)
+ * (the rotation increment from sin/cos half-angle identities, no
+ * cancellation), Gamma_e = C_b_e Gamma_b C_e_b, G_e by gravdr.h, then
+ * G_i = R3(theta) G_e feeds the velocity half-step.
+ *
+ * Attitude. Stabilized platform: C_b_i constant (= C_b_e at t = 0); the
+ * gyros are not used (omega_b taken as 0). Strapdown: q_b_i integrated from
+ * the gyro rate samples (rad/s, at each frame time) by the classical
+ * fourth-order Runge-Kutta method on q' = 1/2 q (x) (0, w), with w at the
+ * mid-step interpolated through the samples k-2, k-1, k, k+1 (cubic;
+ * quadratic and linear on the first two steps). A quadratic left 1.7e-8 rad
+ * after 1 h of a 0.2 rad/s spin with 0.05 rad/s precession (its error
+ * h^3 w'''/16 in the rate is systematic); the cubic's is h^4 w''''/26. Integrating the quaternion ODE with a fourth-order method
+ * captures the non-commutativity (coning) terms that a single rotation
+ * vector sum Delta-theta misses: the classical coning correction
+ * 1/12 (w_k x w_{k+1}) h^2 is the leading term of the same series.
+ * q is renormalised each step.
+ * Rotating-body differencing (diff3d.h, Gao eqs. 24-27): Gamma_b = [w x]^2 -
+ * (M + M^T)/2 with the gyro rate; the antisymmetric part measures the angular
+ * acceleration omega_dot_b, published, and compared with the gyro-derived one
+ * (parity, see below).
+ *
+ * Gravity: gradiometer mode (dead reckoning from the known G(0)) or model
+ * mode (zonal WGS-84 normal field of gmodel.h evaluated at r_e).
+ *
+ * Vertical channel: optional barometric loop (vchan.h) on the geodetic
+ * height, corrections along the ellipsoid normal u (the up unit vector):
+ * position dh u, velocity dv u, G_e by Gamma_e dr_e, and the loop's integral
+ * state a_c subtracted from the up specific force. (u is orthogonal to
+ * omega x r, so u . v_i is the Earth-relative vertical speed.)
+ *
+ * Parity (health, GG_HEALTH_GAMMA_ASYM when above asym_max): stabilized
+ * platform - the antisymmetric part of M (3 residuals, should be 0) and
+ * trace(Gamma_b); strapdown - omega_dot_b minus the gyro-derived angular
+ * acceleration (3 w_{k+1} - 4 w_k + w_{k-1}) / (2h) (second-order backward
+ * difference: its own error is h^2/3 w''', 1.3e-8 rad/s^2 for a 0.2 rad/s
+ * spin with 0.05 rad/s precession at 100 Hz - set asym_max above that;
+ * 0 until two earlier gyro samples exist) and trace(Gamma_b).
+ *
+ * Validation: a frame with fewer than 6 accelerometers, a reading NaN/Inf,
+ * out of range or flagged bad, or (strapdown) a gyro sample NaN/Inf, above
+ * GG_LIM_W_MAX_RPS or flagged bad, is rejected and flagged; the state is left
+ * untouched. Seq/utime rules and bridging of up to GG_NAV3D_MAX_BRIDGE lost
+ * frames as in nav2d.h (the bridged steps interpolate f_b, Gamma_b and w).
+ *
+ * Position output: ECEF and geodetic latitude, longitude, height on WGS-84
+ * (Bowring's iteration, fixed 4 iterations: error < 1e-15 rad, 1e-9 m
+ * below 1e5 m altitude).
+ */
+#ifndef GGINS_NAV3D_H
+#define GGINS_NAV3D_H
+
+#include <stdint.h>
+#include "ggins/diff3d.h"
+#include "ggins/frame.h"
+#include "ggins/gmodel.h"
+#include "ggins/gravdr.h"
+#include "ggins/hal.h"
+#include "ggins/mech.h"
+#include "ggins/nav2d.h"
+#include "ggins/real.h"
+#include "ggins/status.h"
+#include "ggins/vchan.h"
+
+/** Platform kinds (gg_nav3d_config_t.platform). */
+#define GG_PLATFORM_STABILIZED 0 /**< space-stabilized: perfect inertial attitude reference */
+#define GG_PLATFORM_STRAPDOWN 1  /**< body-fixed sensors, attitude from the gyros */
+
+/** WGS-84 constants. */
+#define GG_WGS84_A_M 6378137.0L                   /**< semi-major axis, m */
+#define GG_WGS84_F (1.0L / 298.257223563L)        /**< flattening */
+#define GG_WGS84_OMEGA_IE 7.292115e-5L            /**< Earth rotation rate, rad/s */
+
+/** Gyro range: |w| above it is out of range, rad/s (~573 deg/s). */
+#define GG_LIM_W_MAX_RPS 10.0
+
+/** Lost frames a step may bridge (see nav2d.h). */
+#define GG_NAV3D_MAX_BRIDGE 100
+
+/** Health bits specific to the 3-D task (beyond frame.h). */
+#define GG_HEALTH_GYRO_INVALID 0x00080000u /**< gyro sample NaN/Inf, out of range or flagged bad */
+
+typedef struct {
+    gg_diff3d_config_t geometry; /**< half-baselines a, b, c, m */
+    int platform;                /**< GG_PLATFORM_STABILIZED or GG_PLATFORM_STRAPDOWN */
+    int64_t dt_us;               /**< fixed step, microseconds (> 0) */
+    int64_t dt_tol_us;           /**< tolerated |utime step - dt_us|, microseconds (>= 0, < dt_us) */
+    gg_real_t r0_e[3];           /**< initial position, ECEF, m */
+    gg_real_t v0_e[3];           /**< initial Earth-relative velocity, ECEF axes, m/s */
+    gg_real_t g0_e[3];           /**< initial gravitation G(0), ECEF axes, m/s^2 */
+    gg_real_t q0_b_e[4];         /**< initial attitude C_b_e as a unit quaternion (w, x, y, z) */
+    gg_real_t omega_ie;          /**< Earth rate, rad/s (0 selects GG_WGS84_OMEGA_IE; use a
+                                      negative value for a non-rotating Earth: it is taken as 0) */
+    double f_max;                /**< accelerometer range, m/s^2 (> 0) */
+    double asym_max;             /**< parity residual flag threshold, s^-2 (> 0) */
+    int gravity_mode;            /**< GG_GRAVITY_GRADIOMETER or GG_GRAVITY_MODEL (nav2d.h) */
+    gg_gmodel_config_t model;    /**< onboard gravity model (model mode only; zonal part used) */
+    int baro_enable;             /**< 1: barometric vertical channel on */
+    gg_vchan_config_t baro;      /**< vertical loop (baro_enable only) */
+} gg_nav3d_config_t;
+
+typedef struct {
+    gg_nav3d_config_t cfg;
+    gg_diff3d_t diff;
+    gg_gravdr_t gravdr;          /**< G_e, Gamma_e (ECEF) */
+    gg_mech_t mech;              /**< r_i, v_i (ECI) */
+    gg_gmodel_t gmodel;
+    gg_vchan_t vchan;
+    gg_real_t omega_ie;          /**< Earth rate in use, rad/s */
+    gg_real_t dt_s;
+    gg_real_t q_b_i[4];          /**< attitude, body to ECI */
+    gg_real_t w_k[3];            /**< gyro rate at the last accepted step, rad/s */
+    gg_real_t w_km1[3];          /**< gyro rate one step earlier, rad/s */
+    gg_real_t w_km2[3];          /**< two steps earlier, rad/s */
+    int n_w;                     /**< gyro samples held (1..3) */
+    int64_t n_steps;             /**< steps flown since t = 0 (theta = omega_ie n dt) */
+    gg_real_t sin_th;            /**< sin / cos of theta at the current step */
+    gg_real_t cos_th;
+    gg_real_t gamma_b[3][3];     /**< last accepted gradient, body axes, s^-2 */
+    gg_real_t gamma_e[3][3];     /**< same in ECEF, s^-2 */
+    gg_real_t f_b[3];            /**< last accepted centre specific force, body, m/s^2 */
+    gg_real_t omega_dot_b[3];    /**< angular acceleration from differencing, rad/s^2 */
+    gg_real_t parity[4];         /**< 3 antisymmetric residuals (rad/s^2) + trace (s^-2) */
+    gg_real_t a_c;               /**< vertical loop's integral state in use, m/s^2 */
+    gg_real_t h_ins;             /**< geodetic height, m */
+    gg_real_t baro_innov;
+    int64_t last_seq;
+    int64_t last_utime;
+    int configured;
+    int started;
+} gg_nav3d_t;
+
+/** Navigation output of one 3-D step. */
+typedef struct gg_nav3d_output_s {
+    int64_t utime;               /**< time of the frame this output answers, microseconds */
+    int64_t seq;
+    int32_t status;              /**< gg_status_t of the step */
+    uint32_t health;             /**< GG_HEALTH_* bits */
+    double r_e[3];               /**< position, ECEF, m */
+    double r_e_lo[3];            /**< residual below double resolution, m (r = r_e + r_e_lo) */
+    double v_e[3];               /**< Earth-relative velocity, ECEF axes, m/s */
+    double lat_rad;              /**< geodetic latitude, WGS-84, rad */
+    double lon_rad;              /**< longitude, rad, (-pi, pi] */
+    double h_m;                  /**< height above the ellipsoid, m */
+    double v_n[3];               /**< Earth-relative velocity, NED, m/s */
+    double g_e[3];               /**< gravitation at the estimated position, ECEF, m/s^2 */
+    double g_e_lo[3];
+    double gamma_e[3][3];        /**< gradient dG_j/dx_k, ECEF axes, s^-2 */
+    double gamma_b[3][3];        /**< gradient, body axes, s^-2 */
+    double f_b[3];               /**< centre specific force, body axes, m/s^2 */
+    double q_b_e[4];             /**< attitude C_b_e (w, x, y, z) */
+    double rpy_rad[3];           /**< roll, pitch, yaw of the body w.r.t. NED, rad */
+    double omega_b[3];           /**< gyro rate used, body axes, rad/s */
+    double omega_dot_b[3];       /**< angular acceleration from the antisymmetric part, rad/s^2 */
+    double parity[4];            /**< antisymmetric residuals (3, rad/s^2) and trace Gamma_b (s^-2) */
+    double h_ins_m;              /**< inertial (geodetic) height used by the loop, m */
+    double baro_innov_m;         /**< last barometer innovation h_ins - h_baro, m */
+    double g_up_corr;            /**< vertical loop's integral state a_c, m/s^2 */
+    double t_s;                  /**< time since t = 0, s */
+    uint32_t cycles[GG_MOD_COUNT]; /**< cycle-counter ticks per module (GG_MOD_*) */
+} gg_nav3d_output_t;
+
+/** Validate and store the configuration. GG_ERR_CONFIG on a non-finite or
+ *  inconsistent value, GG_ERR_RANGE beyond the GG_LIM_* limits of nav2d.h. */
+gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg);
+
+/** Process one frame. Fills *out whenever nav, frame and out are non-NULL;
+ *  GG_OK when the frame was used, an error code when it was rejected (state
+ *  untouched). hal may be NULL; when given, its cycle counter times the modules. */
+gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
+                          gg_nav3d_output_t *out);
+
+/** Geodetic latitude, longitude (rad) and height (m) of an ECEF point (WGS-84).
+ *  GG_ERR_RANGE within 1e5 m of the Earth's centre. */
+gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg_real_t *lon,
+                                      gg_real_t *h);
+
+/** ECEF point of geodetic latitude, longitude (rad) and height (m). */
+gg_status_t gg_nav3d_geodetic_to_ecef(gg_real_t lat, gg_real_t lon, gg_real_t h,
+                                      gg_real_t r_e[3]);
+
+/** One cycle of the 3-D task: read a frame through the HAL, step, publish
+ *  through hal->write_output3d. GG_ERR_NO_DATA when the HAL had no frame. */
+gg_status_t gg_nav3d_task_cycle(gg_nav3d_t *nav, const gg_hal_t *hal);
+
+#endif /* GGINS_NAV3D_H */
