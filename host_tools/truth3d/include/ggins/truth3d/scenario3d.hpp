@@ -1,0 +1,93 @@
+// 3-D scenario (TOML, toml++): a flight or a tumbling body over the rotating
+// WGS-84 Earth, the sensor errors, and what the firmware (nav3d.h) is
+// configured with. Built-ins: scenarios/3d-*.toml (compiled in). Unknown keys
+// and out-of-range values are errors.
+//
+// Layout (defaults in brackets):
+//   name, description
+//   [trajectory] type = "flight" | "circle" | "tumble"
+//     lat_deg [45], lon_deg [10], height_m [5000]     (flight: start; circle: centre; tumble: the fixed point)
+//     flight: velocity_ned_mps [[200, 0, 0]],
+//             [[trajectory.maneuver]] t_s, duration_s [60], dv_ned_mps [[0, 0, 0]]  (trajectory3d.hpp)
+//     circle: radius_m [5000], speed_mps [200]
+//     tumble: spin_radps [1], precession_radps [0.2], nutation_deg [30], nutation_amp_deg [5],
+//             nutation_radps [0.05], psi0_deg [0], phi0_deg [0]
+//   [platform] kind = "stabilized" | "strapdown" [strapdown], a_m [0.5], b_m [0.5], c_m [0.5]
+//   [gravity]  model = "wgs84-normal" [default] | "point-mass" | "rw-anomaly" (as in 2-D:
+//              normal field + Rubenstein & Winter point masses on the fast path),
+//              gm_m3ps2 (point-mass), [gravity.anomaly] as in 2-D (centre [trajectory lat/lon])
+//   [time]     duration_s [3600], rate_hz [100]
+//   [accel]    seed [1], bias_sigma_mps2 [0], noise_sigma_mps2 [0], scale_sigma [0],
+//              bias_mps2 = [[bx,by,bz] x 6] [0]
+//   [gyro]     seed [2], bias_sigma_radps [0], noise_sigma_radps [0], scale_sigma [0],
+//              bias_radps = [bx, by, bz] [0], scale = [sx, sy, sz] [0]
+//   [baro]     truth barometer on the geodetic height: enable [false], seed [1], rate_hz [1],
+//              bias_m [0], gm_sigma_m [0], gm_tau_s [600], noise_sigma_m [0]
+//   [navigation] gravity = "gradiometer" | "model" [gradiometer] (model: the WGS-84 zonal series, J2..J8)
+//   [navigation.baro] enable [= baro.enable], poles_radps [[0.01, 0.02, 0.03]],
+//              period_s [1 / baro.rate_hz], omega_s2 [|G(r0)| / |r0|], max_age_s [0.5], coast_s [10],
+//              alt_min_m [-1000], alt_max_m [30000], gate_m [50], max_rejects [5]
+//   [firmware] f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0]
+//   [output]   csv_rate_hz [1]
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ggins/truth/scenario.hpp"
+
+namespace ggins::truth3d {
+
+struct ManeuverParams {
+  double t_s = 0, duration_s = 60;
+  std::array<double, 3> dv_ned_mps{0, 0, 0};
+};
+
+struct Trajectory3Params {
+  std::string type = "flight";
+  double lat_deg = 45, lon_deg = 10, height_m = 5000;
+  std::array<double, 3> velocity_ned_mps{200, 0, 0};
+  std::vector<ManeuverParams> maneuvers;
+  double radius_m = 5000, speed_mps = 200;
+  double spin_radps = 1, precession_radps = 0.2, nutation_deg = 30, nutation_amp_deg = 5, nutation_radps = 0.05,
+         psi0_deg = 0, phi0_deg = 0;
+};
+
+struct GyroErrorParams {
+  uint64_t seed = 2;
+  double bias_sigma_radps = 0, noise_sigma_radps = 0, scale_sigma = 0;
+  std::array<double, 3> bias_radps{0, 0, 0};
+  std::array<double, 3> scale{0, 0, 0};
+};
+
+struct Scenario3 {
+  std::string name, description, source, text;
+  Trajectory3Params trajectory;
+  std::string platform = "strapdown";  // or "stabilized"
+  double a_m = 0.5, b_m = 0.5, c_m = 0.5;
+  truth::GravityParams gravity;  // model default "wgs84-normal" here
+  double duration_s = 3600, rate_hz = 100;
+  truth::AccelErrorParams accel;
+  GyroErrorParams gyro;
+  truth::BaroParams baro;  // enable, seed, rate_hz, bias_m, gm_sigma_m, gm_tau_s, noise_sigma_m
+  std::string nav_gravity = "gradiometer";
+  truth::BaroLoopParams nav_baro;
+  truth::FirmwareParams firmware;  // f_max_mps2, asym_max_ps2, dt_tol_us
+  double csv_rate_hz = 1;
+
+  bool strapdown() const { return platform == "strapdown"; }
+  int64_t dt_us() const;
+  int64_t n_steps() const;  // frames seq 0 .. n_steps-1 (t = 0 .. duration)
+  int64_t baro_every() const;
+  bool baro_loop_enabled() const { return nav_baro.enable < 0 ? baro.enable : nav_baro.enable != 0; }
+  double baro_period_s() const { return nav_baro.period_s > 0 ? nav_baro.period_s : 1.0 / baro.rate_hz; }
+};
+
+Scenario3 parse_scenario3(const std::string& toml_text, const std::string& fallback_name, const std::string& source);
+// A file path, <dir>/<name>.toml in search_dirs, or a built-in (scenarios/3d-*.toml).
+Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std::string>& search_dirs);
+std::vector<std::string> builtin_scenario3_names();
+
+}  // namespace ggins::truth3d

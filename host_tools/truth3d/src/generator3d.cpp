@@ -1,0 +1,242 @@
+#include "ggins/truth3d/generator3d.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+#include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/wgs84.hpp"
+
+namespace ggins::truth3d {
+
+namespace {
+constexpr Real kDeg = kPi / 180.0L;
+// counter-based streams (distinct from the 2-D generator's 1..3, 20..24)
+constexpr uint64_t kStreamABias = 31, kStreamAScale = 32, kStreamANoise = 33;
+constexpr uint64_t kStreamGBias = 41, kStreamGScale = 42, kStreamGNoise = 43;
+constexpr uint64_t kStreamBaroGm = 20, kStreamBaroNoise = 21;  // as in 2-D
+}  // namespace
+
+std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s) {
+  const auto& t = s.trajectory;
+  const Attitude att = s.strapdown() ? Attitude::Coordinated : Attitude::Stabilized;
+  if (t.type == "flight") {
+    FlightParams p;
+    p.lat0 = static_cast<Real>(t.lat_deg) * kDeg;
+    p.lon0 = static_cast<Real>(t.lon_deg) * kDeg;
+    p.h0 = t.height_m;
+    for (int i = 0; i < 3; ++i) p.v_ned0[i] = t.velocity_ned_mps[static_cast<size_t>(i)];
+    for (const auto& m : t.maneuvers) {
+      Maneuver x;
+      x.t_s = m.t_s;
+      x.duration_s = m.duration_s;
+      for (int i = 0; i < 3; ++i) x.dv_ned[i] = m.dv_ned_mps[static_cast<size_t>(i)];
+      p.maneuvers.push_back(x);
+    }
+    return std::make_unique<Flight3>(p, att);
+  }
+  if (t.type == "circle") {
+    CircleParams p;
+    p.lat_c = static_cast<Real>(t.lat_deg) * kDeg;
+    p.lon_c = static_cast<Real>(t.lon_deg) * kDeg;
+    p.h = t.height_m;
+    p.radius_m = t.radius_m;
+    p.speed_mps = t.speed_mps;
+    return std::make_unique<Circle3>(p, att);
+  }
+  if (t.type == "tumble") {
+    TumbleParams p;
+    p.lat = static_cast<Real>(t.lat_deg) * kDeg;
+    p.lon = static_cast<Real>(t.lon_deg) * kDeg;
+    p.h = t.height_m;
+    p.spin_radps = t.spin_radps;
+    p.precession_radps = t.precession_radps;
+    p.nutation0 = static_cast<Real>(t.nutation_deg) * kDeg;
+    p.nutation_amp = static_cast<Real>(t.nutation_amp_deg) * kDeg;
+    p.nutation_radps = t.nutation_radps;
+    p.psi0 = static_cast<Real>(t.psi0_deg) * kDeg;
+    p.phi0 = static_cast<Real>(t.phi0_deg) * kDeg;
+    return std::make_unique<Tumble3>(p);
+  }
+  throw std::invalid_argument("unknown 3-D trajectory type " + t.type);
+}
+
+std::unique_ptr<gravity::Field> make_field3(const Scenario3& s) {
+  // the 2-D generator's field factory (normal field, point mass, R&W anomalies
+  // on the fast path); the anomaly region is centred on the 3-D trajectory
+  truth::Scenario s2;
+  s2.gravity = s.gravity;
+  s2.trajectory.lat0_deg = s.trajectory.lat_deg;
+  s2.trajectory.height_m = s.trajectory.height_m;
+  s2.duration_s = s.duration_s;
+  return truth::make_field(s2);
+}
+
+std::array<Real, 4> quat_from_dcm(const Mat3& C) {
+  // Shepperd (1978): pick the largest of 4w^2, 4x^2, 4y^2, 4z^2
+  const Real tr = C.trace();
+  const Real v[4] = {1 + tr, 1 + 2 * C(0, 0) - tr, 1 + 2 * C(1, 1) - tr, 1 + 2 * C(2, 2) - tr};
+  int k = 0;
+  for (int i = 1; i < 4; ++i)
+    if (v[i] > v[k]) k = i;
+  const Real s = 2 * std::sqrt(v[k]);  // 4 * component k
+  std::array<Real, 4> q{};
+  switch (k) {
+    case 0:
+      q = {s / 4, (C(2, 1) - C(1, 2)) / s, (C(0, 2) - C(2, 0)) / s, (C(1, 0) - C(0, 1)) / s};
+      break;
+    case 1:
+      q = {(C(2, 1) - C(1, 2)) / s, s / 4, (C(0, 1) + C(1, 0)) / s, (C(0, 2) + C(2, 0)) / s};
+      break;
+    case 2:
+      q = {(C(0, 2) - C(2, 0)) / s, (C(0, 1) + C(1, 0)) / s, s / 4, (C(1, 2) + C(2, 1)) / s};
+      break;
+    default:
+      q = {(C(1, 0) - C(0, 1)) / s, (C(0, 2) + C(2, 0)) / s, (C(1, 2) + C(2, 1)) / s, s / 4};
+      break;
+  }
+  if (q[0] < 0)
+    for (auto& x : q) x = -x;
+  return q;
+}
+
+Generator3::Generator3(const Scenario3& s) : traj_(make_trajectory3(s)), field_(make_field3(s)) {
+  opt_.half_base = {static_cast<Real>(s.a_m), static_cast<Real>(s.b_m), static_cast<Real>(s.c_m)};
+  opt_.dt_us = s.dt_us();
+  opt_.n_steps = s.n_steps();
+  opt_.accel = s.accel;
+  opt_.gyro = s.gyro;
+  opt_.baro = s.baro;
+  init_errors();
+}
+
+Generator3::Generator3(std::shared_ptr<const Trajectory3> traj, std::shared_ptr<const gravity::Field> field,
+                       const Generator3Options& opt)
+    : traj_(std::move(traj)), field_(std::move(field)), opt_(opt) {
+  init_errors();
+}
+
+void Generator3::init_errors() {
+  const auto& hb = opt_.half_base;
+  d_[0] = Vec3(hb[0], 0, 0);
+  d_[1] = Vec3(0, hb[1], 0);
+  d_[2] = Vec3(0, 0, hb[2]);
+  d_[3] = Vec3(-hb[0], 0, 0);
+  d_[4] = Vec3(0, -hb[1], 0);
+  d_[5] = Vec3(0, 0, -hb[2]);
+  const auto& a = opt_.accel;
+  for (size_t i = 0; i < 6; ++i)
+    for (size_t j = 0; j < 3; ++j) {
+      abias_[i][j] = a.bias_mps2[i][j];
+      ascale_[i][j] = a.scale[i][j];
+      if (a.bias_sigma_mps2 > 0) abias_[i][j] += a.bias_sigma_mps2 * truth::counter_normal(a.seed, kStreamABias, 0, i, j);
+      if (a.scale_sigma > 0) ascale_[i][j] += a.scale_sigma * truth::counter_normal(a.seed, kStreamAScale, 0, i, j);
+    }
+  const auto& g = opt_.gyro;
+  for (size_t j = 0; j < 3; ++j) {
+    gbias_[j] = g.bias_radps[j];
+    gscale_[j] = g.scale[j];
+    if (g.bias_sigma_radps > 0) gbias_[j] += g.bias_sigma_radps * truth::counter_normal(g.seed, kStreamGBias, 0, 0, j);
+    if (g.scale_sigma > 0) gscale_[j] += g.scale_sigma * truth::counter_normal(g.seed, kStreamGScale, 0, 0, j);
+  }
+  if (opt_.baro.enable) {  // Gauss-Markov sequence of every sample (exact discrete recursion, stationary start)
+    const auto& b = opt_.baro;
+    baro_every_ = std::max<int64_t>(1, std::llround(1e6 / b.rate_hz / static_cast<double>(opt_.dt_us)));
+    const int64_t n = (opt_.n_steps - 1) / baro_every_ + 1;
+    const double T = static_cast<double>(baro_every_ * opt_.dt_us) * 1e-6;
+    const double phi = std::exp(-T / b.gm_tau_s), q = std::sqrt(1.0 - phi * phi);
+    baro_gm_.resize(static_cast<size_t>(n));
+    double m = b.gm_sigma_m * truth::counter_normal(b.seed, kStreamBaroGm, 0, 0, 0);
+    for (int64_t j = 0; j < n; ++j) {
+      if (j > 0) m = phi * m + b.gm_sigma_m * q * truth::counter_normal(b.seed, kStreamBaroGm, static_cast<uint64_t>(j), 0, 0);
+      baro_gm_[static_cast<size_t>(j)] = m;
+    }
+  }
+}
+
+Truth3 Generator3::truth_at(Real t) const {
+  Truth3 r;
+  r.t_s = t;
+  r.s = traj_->at(t);
+  const gravity::FieldSample c = field_->eval(r.s.r_e);
+  r.g_e = c.g;
+  r.g_i = r.s.C_e_i * c.g;
+  r.gamma_e = c.gamma;
+  r.gamma_b = r.s.C_b_e.transpose() * c.gamma * r.s.C_b_e;
+  r.f_b = r.s.C_b_i.transpose() * r.s.a_i - r.s.C_b_e.transpose() * c.g;
+  return r;
+}
+
+Truth3 Generator3::truth(int64_t k) const {
+  Truth3 r = truth_at(time_of(k));
+  r.seq = k;
+  r.utime = k * opt_.dt_us;
+  return r;
+}
+
+Vec3 Generator3::accel_true(const Truth3& t, int j) const {
+  const Vec3& d = d_[static_cast<size_t>(j)];
+  const Vec3 a_j = t.s.a_i + t.s.C_b_i_ddot * d;
+  const Vec3 g_j = field_->eval(t.s.r_e + t.s.C_b_e * d).g;
+  return t.s.C_b_i.transpose() * a_j - t.s.C_b_e.transpose() * g_j;
+}
+
+truth::BaroSample Generator3::baro(int64_t k, const Truth3& t) const {
+  truth::BaroSample b;
+  b.true_alt_m = static_cast<double>(t.s.h);
+  const auto& p = opt_.baro;
+  if (!p.enable || k % baro_every_ != 0) return b;
+  const auto j = static_cast<uint64_t>(k / baro_every_);
+  b.due = true;
+  b.gm_m = baro_gm_[static_cast<size_t>(j)];
+  b.error_m = p.bias_m + b.gm_m;
+  if (p.noise_sigma_m > 0) b.error_m += p.noise_sigma_m * truth::counter_normal(p.seed, kStreamBaroNoise, j, 0, 0);
+  b.status = GG_SENSOR_OK;
+  b.alt_m = b.true_alt_m + b.error_m;
+  return b;
+}
+
+void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
+  std::memset(&out, 0, sizeof out);
+  const Truth3 t = truth(k);
+  out.utime = t.utime;
+  out.seq = k;
+  out.n_acc = 6;
+  const auto& ae = opt_.accel;
+  for (int i = 0; i < 6; ++i) {
+    const auto si = static_cast<size_t>(i);
+    const Vec3 fi = accel_true(t, i);
+    for (int j = 0; j < 3; ++j) {
+      const auto sj = static_cast<size_t>(j);
+      Real f = fi(j) * (1.0L + static_cast<Real>(ascale_[si][sj])) + static_cast<Real>(abias_[si][sj]);
+      if (ae.noise_sigma_mps2 > 0)
+        f += static_cast<Real>(ae.noise_sigma_mps2 * truth::counter_normal(ae.seed, kStreamANoise, static_cast<uint64_t>(k), si, sj));
+      out.f[i][j] = static_cast<double>(f);
+      out.f_lo[i][j] = static_cast<double>(f - static_cast<Real>(out.f[i][j]));
+    }
+    out.acc_status[i] = GG_SENSOR_OK;
+  }
+  const auto& ge = opt_.gyro;
+  for (int j = 0; j < 3; ++j) {
+    const auto sj = static_cast<size_t>(j);
+    Real w = t.s.omega_b(j) * (1.0L + static_cast<Real>(gscale_[sj])) + static_cast<Real>(gbias_[sj]);
+    if (ge.noise_sigma_radps > 0)
+      w += static_cast<Real>(ge.noise_sigma_radps * truth::counter_normal(ge.seed, kStreamGNoise, static_cast<uint64_t>(k), 0, sj));
+    out.omega_b[j] = static_cast<double>(w);
+  }
+  out.gyro_status = GG_SENSOR_OK;
+  out.baro_status = GG_SENSOR_ABSENT;
+  out.baro_alt_m = 0;
+  if (opt_.baro.enable) {
+    const truth::BaroSample b = baro(k, t);
+    if (b.status == GG_SENSOR_OK) {
+      out.baro_alt_m = b.alt_m;
+      out.baro_utime = t.utime;
+      out.baro_status = GG_SENSOR_OK;
+    }
+  }
+  if (truth_out) *truth_out = t;
+}
+
+}  // namespace ggins::truth3d

@@ -1,0 +1,327 @@
+#include "ggins/truth3d/scenario3d.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <toml++/toml.h>
+
+namespace ggins::truth3d {
+
+struct BuiltinScenario3 {
+  const char* name;
+  const char* text;
+};
+extern const BuiltinScenario3 kBuiltinScenarios3[];
+extern const int kBuiltinScenario3Count;
+
+namespace {
+
+struct P {
+  std::string src;
+  [[noreturn]] void fail(const std::string& what) const { throw std::runtime_error("scenario " + src + ": " + what); }
+  void keys(const toml::table& t, const std::string& where, const std::set<std::string>& allowed) const {
+    for (const auto& [k, v] : t) {
+      (void)v;
+      const std::string key(k.str());
+      if (!allowed.count(key)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail("unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
+      }
+    }
+  }
+  const toml::table* sub(const toml::table& root, const char* name) const {
+    const toml::node* n = root.get(name);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(std::string("'") + name + "' must be a table");
+    return n->as_table();
+  }
+  double num(const toml::table& t, const std::string& w, const char* key, double d) const {
+    const toml::node* n = t.get(key);
+    if (!n) return d;
+    if (auto v = n->value<double>()) {
+      if (!std::isfinite(*v)) fail(w + "." + key + " must be finite");
+      return *v;
+    }
+    fail(w + "." + key + " must be a number");
+  }
+  int64_t integer(const toml::table& t, const std::string& w, const char* key, int64_t d) const {
+    const toml::node* n = t.get(key);
+    if (!n) return d;
+    if (n->is_integer()) return n->as_integer()->get();
+    fail(w + "." + key + " must be an integer");
+  }
+  bool boolean(const toml::table& t, const std::string& w, const char* key, bool d) const {
+    const toml::node* n = t.get(key);
+    if (!n) return d;
+    if (n->is_boolean()) return n->as_boolean()->get();
+    fail(w + "." + key + " must be true or false");
+  }
+  std::string str(const toml::table& t, const std::string& w, const char* key, const std::string& d) const {
+    const toml::node* n = t.get(key);
+    if (!n) return d;
+    if (n->is_string()) return n->as_string()->get();
+    fail(w + "." + key + " must be a string");
+  }
+  template <size_t K>
+  std::array<double, K> vec(const toml::table& t, const std::string& w, const char* key, std::array<double, K> d) const {
+    const toml::node* n = t.get(key);
+    if (!n) return d;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != K) fail(w + "." + key + " must be an array of " + std::to_string(K) + " numbers");
+    for (size_t i = 0; i < K; ++i) {
+      auto v = (*a)[i].value<double>();
+      if (!v || !std::isfinite(*v)) fail(w + "." + key + " must hold finite numbers");
+      d[i] = *v;
+    }
+    return d;
+  }
+  void positive(double v, const std::string& what) const {
+    if (!(v > 0)) fail(what + " must be > 0");
+  }
+  void nonneg(double v, const std::string& what) const {
+    if (!(v >= 0)) fail(what + " must be >= 0");
+  }
+};
+
+}  // namespace
+
+int64_t Scenario3::dt_us() const { return std::llround(1e6 / rate_hz); }
+int64_t Scenario3::n_steps() const { return std::llround(duration_s * rate_hz) + 1; }
+int64_t Scenario3::baro_every() const {
+  const int64_t e = std::llround(rate_hz / baro.rate_hz);
+  return e < 1 ? 1 : e;
+}
+
+Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_name, const std::string& source) {
+  P p{source};
+  toml::table root;
+  try {
+    root = toml::parse(text);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << e.description() << " at line " << e.source().begin.line;
+    p.fail(os.str());
+  }
+  Scenario3 s;
+  s.source = source;
+  s.text = text;
+  s.gravity.model = "wgs84-normal";
+  p.keys(root, "", {"name", "description", "trajectory", "platform", "gravity", "time", "accel", "gyro", "baro",
+                    "navigation", "firmware", "output"});
+  s.name = p.str(root, "", "name", fallback_name);
+  s.description = p.str(root, "", "description", "");
+  if (const auto* t = p.sub(root, "trajectory")) {
+    const std::string w = "trajectory";
+    p.keys(*t, w, {"type", "lat_deg", "lon_deg", "height_m", "velocity_ned_mps", "maneuver", "radius_m", "speed_mps",
+                   "spin_radps", "precession_radps", "nutation_deg", "nutation_amp_deg", "nutation_radps", "psi0_deg",
+                   "phi0_deg"});
+    auto& r = s.trajectory;
+    r.type = p.str(*t, w, "type", r.type);
+    if (r.type != "flight" && r.type != "circle" && r.type != "tumble")
+      p.fail("trajectory.type must be \"flight\", \"circle\" or \"tumble\"");
+    r.lat_deg = p.num(*t, w, "lat_deg", r.lat_deg);
+    r.lon_deg = p.num(*t, w, "lon_deg", r.lon_deg);
+    r.height_m = p.num(*t, w, "height_m", r.height_m);
+    if (std::fabs(r.lat_deg) > 85) p.fail("trajectory.lat_deg must be within +-85");
+    if (r.height_m < -1000 || r.height_m > 1e5) p.fail("trajectory.height_m must be in [-1000, 1e5]");
+    r.velocity_ned_mps = p.vec<3>(*t, w, "velocity_ned_mps", r.velocity_ned_mps);
+    if (const toml::node* mn = t->get("maneuver")) {
+      const toml::array* a = mn->as_array();
+      if (!a) p.fail("trajectory.maneuver must be an array of tables ([[trajectory.maneuver]])");
+      for (const auto& e : *a) {
+        const toml::table* mt = e.as_table();
+        if (!mt) p.fail("trajectory.maneuver entries must be tables");
+        p.keys(*mt, "trajectory.maneuver", {"t_s", "duration_s", "dv_ned_mps"});
+        ManeuverParams m;
+        m.t_s = p.num(*mt, "trajectory.maneuver", "t_s", m.t_s);
+        m.duration_s = p.num(*mt, "trajectory.maneuver", "duration_s", m.duration_s);
+        p.positive(m.duration_s, "trajectory.maneuver.duration_s");
+        m.dv_ned_mps = p.vec<3>(*mt, "trajectory.maneuver", "dv_ned_mps", m.dv_ned_mps);
+        r.maneuvers.push_back(m);
+      }
+    }
+    r.radius_m = p.num(*t, w, "radius_m", r.radius_m);
+    r.speed_mps = p.num(*t, w, "speed_mps", r.speed_mps);
+    p.positive(r.radius_m, "trajectory.radius_m");
+    r.spin_radps = p.num(*t, w, "spin_radps", r.spin_radps);
+    r.precession_radps = p.num(*t, w, "precession_radps", r.precession_radps);
+    r.nutation_deg = p.num(*t, w, "nutation_deg", r.nutation_deg);
+    r.nutation_amp_deg = p.num(*t, w, "nutation_amp_deg", r.nutation_amp_deg);
+    r.nutation_radps = p.num(*t, w, "nutation_radps", r.nutation_radps);
+    r.psi0_deg = p.num(*t, w, "psi0_deg", r.psi0_deg);
+    r.phi0_deg = p.num(*t, w, "phi0_deg", r.phi0_deg);
+  }
+  if (const auto* t = p.sub(root, "platform")) {
+    p.keys(*t, "platform", {"kind", "a_m", "b_m", "c_m"});
+    s.platform = p.str(*t, "platform", "kind", s.platform);
+    if (s.platform != "stabilized" && s.platform != "strapdown")
+      p.fail("platform.kind must be \"stabilized\" or \"strapdown\"");
+    s.a_m = p.num(*t, "platform", "a_m", s.a_m);
+    s.b_m = p.num(*t, "platform", "b_m", s.b_m);
+    s.c_m = p.num(*t, "platform", "c_m", s.c_m);
+    p.positive(s.a_m, "platform.a_m");
+    p.positive(s.b_m, "platform.b_m");
+    p.positive(s.c_m, "platform.c_m");
+  }
+  if (const auto* t = p.sub(root, "gravity")) {
+    p.keys(*t, "gravity", {"model", "gm_m3ps2", "anomaly"});
+    s.gravity.model = p.str(*t, "gravity", "model", s.gravity.model);
+    if (s.gravity.model != "point-mass" && s.gravity.model != "wgs84-normal" && s.gravity.model != "rw-anomaly")
+      p.fail("gravity.model must be \"point-mass\", \"wgs84-normal\" or \"rw-anomaly\"");
+    s.gravity.gm_m3ps2 = p.num(*t, "gravity", "gm_m3ps2", s.gravity.gm_m3ps2);
+    if (const auto* a = p.sub(*t, "anomaly")) {
+      const std::string w = "gravity.anomaly";
+      p.keys(*a, w, {"seed", "lat_deg", "lon_deg", "half_size_m", "ref_height_m", "rms_arcsec", "corr_length_m",
+                     "ewald_sigma_m", "lattice_spacing_m", "lattice_points"});
+      auto& g = s.gravity.anomaly;
+      g.seed = static_cast<uint64_t>(p.integer(*a, w, "seed", static_cast<int64_t>(g.seed)));
+      g.lat_deg = p.num(*a, w, "lat_deg", g.lat_deg);
+      g.lon_deg = p.num(*a, w, "lon_deg", NAN);
+      g.half_size_m = p.num(*a, w, "half_size_m", g.half_size_m);
+      g.ref_height_m = p.num(*a, w, "ref_height_m", g.ref_height_m);
+      g.rms_arcsec = p.num(*a, w, "rms_arcsec", g.rms_arcsec);
+      g.corr_length_m = p.num(*a, w, "corr_length_m", g.corr_length_m);
+      g.ewald_sigma_m = p.num(*a, w, "ewald_sigma_m", g.ewald_sigma_m);
+      g.lattice_spacing_m = p.num(*a, w, "lattice_spacing_m", g.lattice_spacing_m);
+      g.lattice_points = p.integer(*a, w, "lattice_points", g.lattice_points);
+    } else {
+      s.gravity.anomaly.lon_deg = NAN;
+    }
+  } else {
+    s.gravity.anomaly.lon_deg = NAN;
+  }
+  // anomaly region centred on the trajectory's (start) point unless given
+  if (std::isnan(s.gravity.anomaly.lat_deg)) s.gravity.anomaly.lat_deg = s.trajectory.lat_deg;
+  if (std::isnan(s.gravity.anomaly.lon_deg)) s.gravity.anomaly.lon_deg = s.trajectory.lon_deg;
+  if (std::isnan(s.gravity.anomaly.ref_height_m)) s.gravity.anomaly.ref_height_m = s.trajectory.height_m;
+  if (const auto* t = p.sub(root, "time")) {
+    p.keys(*t, "time", {"duration_s", "rate_hz"});
+    s.duration_s = p.num(*t, "time", "duration_s", s.duration_s);
+    s.rate_hz = p.num(*t, "time", "rate_hz", s.rate_hz);
+  }
+  p.positive(s.duration_s, "time.duration_s");
+  p.positive(s.rate_hz, "time.rate_hz");
+  if (std::fabs(1e6 / s.rate_hz - static_cast<double>(s.dt_us())) > 1e-9)
+    p.fail("time.rate_hz must give an integer number of microseconds per step");
+  if (const auto* t = p.sub(root, "accel")) {
+    const std::string w = "accel";
+    p.keys(*t, w, {"seed", "bias_sigma_mps2", "noise_sigma_mps2", "scale_sigma", "bias_mps2"});
+    s.accel.seed = static_cast<uint64_t>(p.integer(*t, w, "seed", 1));
+    s.accel.bias_sigma_mps2 = p.num(*t, w, "bias_sigma_mps2", 0);
+    s.accel.noise_sigma_mps2 = p.num(*t, w, "noise_sigma_mps2", 0);
+    s.accel.scale_sigma = p.num(*t, w, "scale_sigma", 0);
+    p.nonneg(s.accel.bias_sigma_mps2, "accel.bias_sigma_mps2");
+    p.nonneg(s.accel.noise_sigma_mps2, "accel.noise_sigma_mps2");
+    p.nonneg(s.accel.scale_sigma, "accel.scale_sigma");
+    if (const toml::node* n = t->get("bias_mps2")) {
+      const toml::array* a = n->as_array();
+      if (!a || a->size() != 6) p.fail("accel.bias_mps2 must be 6 arrays of 3 numbers");
+      for (size_t i = 0; i < 6; ++i) {
+        const toml::array* r = (*a)[i].as_array();
+        if (!r || r->size() != 3) p.fail("accel.bias_mps2 must be 6 arrays of 3 numbers");
+        for (size_t j = 0; j < 3; ++j) {
+          auto v = (*r)[j].value<double>();
+          if (!v || !std::isfinite(*v)) p.fail("accel.bias_mps2 must hold finite numbers");
+          s.accel.bias_mps2[i][j] = *v;
+        }
+      }
+    }
+  }
+  if (const auto* t = p.sub(root, "gyro")) {
+    const std::string w = "gyro";
+    p.keys(*t, w, {"seed", "bias_sigma_radps", "noise_sigma_radps", "scale_sigma", "bias_radps", "scale"});
+    s.gyro.seed = static_cast<uint64_t>(p.integer(*t, w, "seed", static_cast<int64_t>(s.gyro.seed)));
+    s.gyro.bias_sigma_radps = p.num(*t, w, "bias_sigma_radps", 0);
+    s.gyro.noise_sigma_radps = p.num(*t, w, "noise_sigma_radps", 0);
+    s.gyro.scale_sigma = p.num(*t, w, "scale_sigma", 0);
+    p.nonneg(s.gyro.bias_sigma_radps, "gyro.bias_sigma_radps");
+    p.nonneg(s.gyro.noise_sigma_radps, "gyro.noise_sigma_radps");
+    p.nonneg(s.gyro.scale_sigma, "gyro.scale_sigma");
+    s.gyro.bias_radps = p.vec<3>(*t, w, "bias_radps", s.gyro.bias_radps);
+    s.gyro.scale = p.vec<3>(*t, w, "scale", s.gyro.scale);
+  }
+  if (const auto* t = p.sub(root, "baro")) {
+    const std::string w = "baro";
+    p.keys(*t, w, {"enable", "seed", "rate_hz", "bias_m", "gm_sigma_m", "gm_tau_s", "noise_sigma_m"});
+    s.baro.enable = p.boolean(*t, w, "enable", true);
+    s.baro.seed = static_cast<uint64_t>(p.integer(*t, w, "seed", 1));
+    s.baro.rate_hz = p.num(*t, w, "rate_hz", s.baro.rate_hz);
+    s.baro.bias_m = p.num(*t, w, "bias_m", 0);
+    s.baro.gm_sigma_m = p.num(*t, w, "gm_sigma_m", 0);
+    s.baro.gm_tau_s = p.num(*t, w, "gm_tau_s", s.baro.gm_tau_s);
+    s.baro.noise_sigma_m = p.num(*t, w, "noise_sigma_m", 0);
+    p.positive(s.baro.rate_hz, "baro.rate_hz");
+    p.positive(s.baro.gm_tau_s, "baro.gm_tau_s");
+    p.nonneg(s.baro.gm_sigma_m, "baro.gm_sigma_m");
+    p.nonneg(s.baro.noise_sigma_m, "baro.noise_sigma_m");
+    if (s.baro.rate_hz > s.rate_hz) p.fail("baro.rate_hz must not exceed time.rate_hz");
+  }
+  if (const auto* t = p.sub(root, "navigation")) {
+    p.keys(*t, "navigation", {"gravity", "baro"});
+    s.nav_gravity = p.str(*t, "navigation", "gravity", s.nav_gravity);
+    if (s.nav_gravity != "gradiometer" && s.nav_gravity != "model")
+      p.fail("navigation.gravity must be \"gradiometer\" or \"model\"");
+    if (const auto* b = p.sub(*t, "baro")) {
+      const std::string w = "navigation.baro";
+      p.keys(*b, w, {"enable", "poles_radps", "period_s", "omega_s2", "max_age_s", "coast_s", "alt_min_m",
+                     "alt_max_m", "gate_m", "max_rejects"});
+      auto& l = s.nav_baro;
+      if (b->get("enable")) l.enable = p.boolean(*b, w, "enable", false) ? 1 : 0;
+      l.poles_radps = p.vec<3>(*b, w, "poles_radps", l.poles_radps);
+      l.period_s = p.num(*b, w, "period_s", l.period_s);
+      l.omega_s2 = p.num(*b, w, "omega_s2", l.omega_s2);
+      l.max_age_s = p.num(*b, w, "max_age_s", l.max_age_s);
+      l.coast_s = p.num(*b, w, "coast_s", l.coast_s);
+      l.alt_min_m = p.num(*b, w, "alt_min_m", l.alt_min_m);
+      l.alt_max_m = p.num(*b, w, "alt_max_m", l.alt_max_m);
+      l.gate_m = p.num(*b, w, "gate_m", l.gate_m);
+      l.max_rejects = p.integer(*b, w, "max_rejects", l.max_rejects);
+    }
+  }
+  if (const auto* t = p.sub(root, "firmware")) {
+    p.keys(*t, "firmware", {"f_max_mps2", "asym_max_ps2", "dt_tol_us"});
+    s.firmware.f_max_mps2 = p.num(*t, "firmware", "f_max_mps2", s.firmware.f_max_mps2);
+    s.firmware.asym_max_ps2 = p.num(*t, "firmware", "asym_max_ps2", s.firmware.asym_max_ps2);
+    s.firmware.dt_tol_us = p.integer(*t, "firmware", "dt_tol_us", s.firmware.dt_tol_us);
+  }
+  if (const auto* t = p.sub(root, "output")) {
+    p.keys(*t, "output", {"csv_rate_hz"});
+    s.csv_rate_hz = p.num(*t, "output", "csv_rate_hz", s.csv_rate_hz);
+    p.positive(s.csv_rate_hz, "output.csv_rate_hz");
+  }
+  return s;
+}
+
+std::vector<std::string> builtin_scenario3_names() {
+  std::vector<std::string> v;
+  for (int i = 0; i < kBuiltinScenario3Count; ++i) v.emplace_back(kBuiltinScenarios3[i].name);
+  return v;
+}
+
+Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {
+  namespace fs = std::filesystem;
+  auto read = [](const fs::path& f) {
+    std::ifstream in(f);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  if (fs::is_regular_file(name_or_path))
+    return parse_scenario3(read(name_or_path), fs::path(name_or_path).stem().string(), name_or_path);
+  for (const auto& d : search_dirs) {
+    const fs::path f = fs::path(d) / (name_or_path + ".toml");
+    if (fs::is_regular_file(f)) return parse_scenario3(read(f), name_or_path, f.string());
+  }
+  for (int i = 0; i < kBuiltinScenario3Count; ++i)
+    if (name_or_path == kBuiltinScenarios3[i].name)
+      return parse_scenario3(kBuiltinScenarios3[i].text, name_or_path, "built-in:" + name_or_path);
+  std::string known;
+  for (const auto& n : builtin_scenario3_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::runtime_error("unknown scenario '" + name_or_path + "' (built-in 3-D: " + known + ")");
+}
+
+}  // namespace ggins::truth3d
