@@ -203,8 +203,9 @@ static gg_status_t current_state(const gg_nav2d_t *nav, gg_real_t r[3], gg_real_
     if (nav->started != 0) {
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
-            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) ? gg_gmodel_eval(&nav->gmodel, r, g, NULL)
-                                                              : gg_gravdr_get(&nav->gravdr, g);
+            st = (nav->cfg.gravity_mode == GG_GRAVITY_MODEL)
+                     ? gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, r, g, NULL)
+                     : gg_gravdr_get(&nav->gravdr, g);
         }
     }
     if (st != GG_OK) {
@@ -275,7 +276,7 @@ static gg_status_t current_g(const gg_nav2d_t *nav, gg_acc_t g[3], uint32_t *mfl
         gg_real_t gm[3];
         st = gg_mech_get(&nav->mech, r, v);
         if (st == GG_OK) {
-            st = gg_gmodel_eval(&nav->gmodel, r, gm, mflags);
+            st = gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, r, gm, mflags);
         }
         if (st == GG_OK) {
             size_t j;
@@ -302,7 +303,7 @@ static gg_status_t start(gg_nav2d_t *nav, const gg_diff2d_output_t *d)
         g0[j] = nav->cfg.g0[j];
     }
     if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
-        st = gg_gmodel_eval(&nav->gmodel, nav->cfg.r0, g0, NULL);
+        st = gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, nav->cfg.r0, g0, NULL);
     }
     for (j = 0U; j < 3U; ++j) {
         gc.g0[j] = g0[j];

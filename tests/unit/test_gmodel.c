@@ -29,7 +29,7 @@ static void test_point_mass_when_no_zonals(void **state)
     for (int i = 0; i < 3; ++i) {
         gg_real_t g[3];
         long double gt[3];
-        assert_int_equal(gg_gmodel_eval(&m, pts[i], g, NULL), GG_OK);
+        assert_int_equal(gg_gmodel_eval(&m, &cfg, pts[i], g, NULL), GG_OK);
         t_point_mass_g(pts[i], gt);
         for (int j = 0; j < 3; ++j) assert_near(g[j], gt[j], 1e-15L);
     }
@@ -58,7 +58,7 @@ static void test_j2_j4_against_potential_gradient(void **state)
     long double worst = 0;
     for (int i = 0; i < 5; ++i) {
         gg_real_t g[3];
-        assert_int_equal(gg_gmodel_eval(&m, pts[i], g, NULL), GG_OK);
+        assert_int_equal(gg_gmodel_eval(&m, &cfg, pts[i], g, NULL), GG_OK);
         for (int j = 0; j < 3; ++j) {
             long double p[4][3];
             const long double k[4] = {-2, -1, 1, 2};
@@ -96,8 +96,8 @@ static void test_bad_config_and_input(void **state)
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
     gg_real_t g[3] = {1, 2, 3};
     const gg_real_t centre[3] = {0, 0, 0}, bad[3] = {NAN, 0, 0};
-    assert_int_equal(gg_gmodel_eval(&m, centre, g, NULL), GG_ERR_RANGE);
-    assert_int_equal(gg_gmodel_eval(&m, bad, g, NULL), GG_ERR_NONFINITE);
+    assert_int_equal(gg_gmodel_eval(&m, &cfg, centre, g, NULL), GG_ERR_RANGE);
+    assert_int_equal(gg_gmodel_eval(&m, &cfg, bad, g, NULL), GG_ERR_NONFINITE);
     assert_true(g[0] == 1 && g[1] == 2 && g[2] == 3);
 }
 
@@ -121,7 +121,7 @@ static void test_programmed_point_masses(void **state)
     const long double r[3] = {T_RE + 2000.0L, 0, 500.0L};
     gg_real_t g[3];
     uint32_t fl = 99;
-    assert_int_equal(gg_gmodel_eval(&m, r, g, &fl), GG_OK);
+    assert_int_equal(gg_gmodel_eval(&m, &cfg, r, g, &fl), GG_OK);
     assert_int_equal(fl, 0);
     long double want[3];
     t_point_mass_g(r, want);
@@ -137,11 +137,39 @@ static void test_programmed_point_masses(void **state)
     t_point_mass_g(r, g0);
     assert_true(fabsl(g[0] - g0[0]) > 1e-6L && fabsl(g[0] - g0[0]) < 1e-3L);
     /* at a programmed mass: refused */
-    assert_int_equal(gg_gmodel_eval(&m, p0, g, NULL), GG_ERR_RANGE);
+    assert_int_equal(gg_gmodel_eval(&m, &cfg, p0, g, NULL), GG_ERR_RANGE);
 }
 
-/* Anomaly grid: bilinear interpolation reproduces a bilinear field exactly,
- * and outside the grid contributes nothing, flagged. */
+/* atan by half-angle reductions + series against libm's atanl (test side only). */
+static void test_atan_against_libm(void **state)
+{
+    (void)state;
+    long double worst = 0;
+    for (int i = -1000; i <= 1000; ++i) {
+        const long double t = (long double)i / 1000.0L;
+        gg_real_t a = 0;
+        assert_int_equal(gg_gmodel_atan(t, &a), GG_OK);
+        const long double e = fabsl(a - atanl(t));
+        if (e > worst) worst = e;
+    }
+    const long double tiny = 1e-30L;
+    gg_real_t a = 0;
+    assert_int_equal(gg_gmodel_atan(tiny, &a), GG_OK);
+    assert_true(a == tiny);
+    printf("worst |atan - atanl| on [-1, 1] = %.3Lg rad\n", worst);
+    assert_true(worst < 1e-18L);
+    a = 5;
+    assert_int_equal(gg_gmodel_atan(1.0001L, &a), GG_ERR_RANGE);
+    assert_int_equal(gg_gmodel_atan(NAN, &a), GG_ERR_NONFINITE);
+    assert_true(a == 5);
+    assert_int_equal(gg_gmodel_atan(0.5L, NULL), GG_ERR_NULL);
+}
+
+/* Polar anomaly grid: a disturbance bilinear in (theta, rho) with
+ * (tangential, radial) components is reproduced exactly; theta and the
+ * rotation into x-z computed here independently with atan2l/cosl/sinl.
+ * Outside (in angle, in radius, behind the Earth's centre) contributes
+ * nothing, flagged. */
 static void test_programmed_grid(void **state)
 {
     (void)state;
@@ -150,51 +178,93 @@ static void test_programmed_grid(void **state)
     cfg.gm = T_GM;
     cfg.a_m = T_RE;
     gg_gmodel_grid_t *gr = &cfg.grid;
-    gr->nx = 8;
-    gr->nz = 5;
-    gr->x0_m = T_RE - 10000.0L;
-    gr->z0_m = -20000.0L;
-    gr->dx_m = 5000.0L;
-    gr->dz_m = 10000.0L;
-    /* dG = (A + B u + C w + D u w) with u, w in km from the first node */
-    for (int j = 0; j < gr->nz; ++j)
-        for (int i = 0; i < gr->nx; ++i) {
-            const double u = i * 5.0, w = j * 10.0;
-            gr->dg[j * gr->nx + i][0] = 1e-5 + 2e-7 * u - 3e-7 * w + 1e-9 * u * w;
-            gr->dg[j * gr->nx + i][1] = -2e-5 + 1e-7 * w + 4e-9 * u * w;
+    const long double lat0 = 0.6L; /* e0 at 34.4 deg */
+    gr->n_th = 40;
+    gr->n_rho = 3;
+    gr->c0 = cosl(lat0);
+    gr->s0 = sinl(lat0);
+    gr->th0_rad = -0.01L;
+    gr->dth_rad = 1e-3L;
+    gr->rho0_m = T_RE + 2000.0L;
+    gr->drho_m = 1000.0L;
+    /* dG_t = A + B i + C k + D i k, dG_r = E + F k + H i k (i, k: node indices) */
+    for (int k = 0; k < gr->n_rho; ++k)
+        for (int i = 0; i < gr->n_th; ++i) {
+            gr->dg[k * gr->n_th + i][0] = 1e-5 + 2e-7 * i - 3e-7 * k + 1e-8 * i * k;
+            gr->dg[k * gr->n_th + i][1] = -2e-5 + 1e-7 * k + 4e-9 * i * k;
         }
     static gg_gmodel_t m;
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
-    const long double pts[3][2] = {{12.3L, 7.7L}, {0.0L, 0.0L}, {35.0L, 40.0L}}; /* km */
-    for (int n = 0; n < 3; ++n) {
-        const long double r[3] = {gr->x0_m + pts[n][0] * 1e3L, 0, gr->z0_m + pts[n][1] * 1e3L};
+    /* (theta from e0 in rad, height above rho0 in m) */
+    const long double pts[5][2] = {{0.0123L, 700.0L}, {-0.0099999L, 1e-6L}, {0.0289999L, 1999.999L},
+                                   {0.0L, 1500.0L}, {0.02L, 1999.0L}};
+    long double worst = 0;
+    for (int n = 0; n < 5; ++n) {
+        const long double th = lat0 + pts[n][0], rho = gr->rho0_m + pts[n][1];
+        const long double r[3] = {rho * cosl(th), 0, rho * sinl(th)};
         gg_real_t g[3];
         long double g0[3];
         uint32_t fl = 99;
-        assert_int_equal(gg_gmodel_eval(&m, r, g, &fl), GG_OK);
+        assert_int_equal(gg_gmodel_eval(&m, &cfg, r, g, &fl), GG_OK);
         assert_int_equal(fl, 0);
         t_point_mass_g(r, g0);
-        const long double u = pts[n][0], w = pts[n][1];
-        assert_near(g[0] - g0[0], 1e-5L + 2e-7L * u - 3e-7L * w + 1e-9L * u * w, 1e-17L);
-        assert_near(g[2] - g0[2], -2e-5L + 1e-7L * w + 4e-9L * u * w, 1e-17L);
+        const long double thr = atan2l(r[2], r[0]) - lat0; /* independent angle */
+        const long double u = (thr + 0.01L) / 1e-3L, w = (sqrtl(r[0] * r[0] + r[2] * r[2]) - gr->rho0_m) / 1000.0L;
+        const long double dgt = 1e-5L + 2e-7L * u - 3e-7L * w + 1e-8L * u * w;
+        const long double dgr = -2e-5L + 1e-7L * w + 4e-9L * u * w;
+        const long double want_x = dgr * cosl(th) - dgt * sinl(th);
+        const long double want_z = dgr * sinl(th) + dgt * cosl(th);
+        const long double ex = fabsl((g[0] - g0[0]) - want_x), ez = fabsl((g[2] - g0[2]) - want_z);
+        if (ex > worst) worst = ex;
+        if (ez > worst) worst = ez;
+        assert_true(g[1] == (gg_real_t)g0[1]);
     }
-    const long double out[3] = {gr->x0_m - 1.0L, 0, 0};
-    gg_real_t g[3];
-    long double g0[3];
-    uint32_t fl = 0;
-    assert_int_equal(gg_gmodel_eval(&m, out, g, &fl), GG_OK);
-    assert_int_equal(fl, GG_GMODEL_OUTSIDE_GRID);
-    t_point_mass_g(out, g0);
-    assert_near(g[0], g0[0], 1e-15L);
+    printf("polar grid: worst error against the bilinear field %.3Lg m/s^2\n", worst);
+    assert_true(worst < 1e-17L);
+    /* outside: before the first node, above the last radius, behind the centre */
+    const long double outs[3][3] = {
+        {(T_RE + 3000.0L) * cosl(lat0 - 0.0101L), 0, (T_RE + 3000.0L) * sinl(lat0 - 0.0101L)},
+        {(T_RE + 4001.0L) * cosl(lat0), 0, (T_RE + 4001.0L) * sinl(lat0)},
+        {-(T_RE + 3000.0L) * cosl(lat0), 0, -(T_RE + 3000.0L) * sinl(lat0)}};
+    for (int n = 0; n < 3; ++n) {
+        gg_real_t g[3];
+        long double g0[3];
+        uint32_t fl = 0;
+        assert_int_equal(gg_gmodel_eval(&m, &cfg, outs[n], g, &fl), GG_OK);
+        assert_int_equal(fl, GG_GMODEL_OUTSIDE_GRID);
+        t_point_mass_g(outs[n], g0);
+        for (int j = 0; j < 3; ++j) assert_near(g[j], g0[j], 1e-15L);
+    }
     /* bad grids */
-    gr->nz = 1;
+    gr->n_rho = 1;
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
-    gr->nz = 5;
+    gr->n_rho = 3;
     gr->dg[3][1] = NAN;
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
     gr->dg[3][1] = 0;
-    gr->nx = 600;
+    gr->dg[5][0] = 2.0;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_RANGE);
+    gr->dg[5][0] = 0;
+    gr->n_th = 600; /* 600 x 3 > GG_GMODEL_GRID_MAX */
     assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
+    gr->n_th = 40;
+    gr->c0 = 1.0L; /* |e0| != 1 */
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
+    gr->c0 = cosl(lat0);
+    gr->dth_rad = 0.1L; /* the grid would reach beyond 45 deg */
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_RANGE);
+    gr->dth_rad = 1e-3L;
+    gr->drho_m = -1.0L;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_ERR_CONFIG);
+    gr->drho_m = 1000.0L;
+    assert_int_equal(gg_gmodel_init(&m, &cfg), GG_OK);
+    /* eval before init / with NULL config */
+    static gg_gmodel_t fresh;
+    memset(&fresh, 0, sizeof fresh);
+    const long double r[3] = {T_RE, 0, 0};
+    gg_real_t g[3];
+    assert_int_equal(gg_gmodel_eval(&fresh, &cfg, r, g, NULL), GG_ERR_NOT_INIT);
+    assert_int_equal(gg_gmodel_eval(&m, NULL, r, g, NULL), GG_ERR_NULL);
 }
 
 int main(void)
@@ -204,6 +274,7 @@ int main(void)
         cmocka_unit_test(test_j2_j4_against_potential_gradient),
         cmocka_unit_test(test_bad_config_and_input),
         cmocka_unit_test(test_programmed_point_masses),
+        cmocka_unit_test(test_atan_against_libm),
         cmocka_unit_test(test_programmed_grid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -19,10 +19,26 @@
  * zonal field when configured:
  *  - up to GG_GMODEL_MAX_PM buried point masses: G += -gm_i (r - p_i)/|r - p_i|^3
  *    (negative gm_i for a mass deficit);
- *  - a regular grid of gravitation disturbance vectors over the x-z plane of
- *    the 2-D system (nodes x0 + i dx, z0 + j dz; values dG_x, dG_z), bilinear
- *    interpolation; outside the grid its contribution is zero and
- *    GG_GMODEL_OUTSIDE_GRID is reported.
+ *  - an anomaly grid over the flight plane (x-z) in polar coordinates about
+ *    the Earth's centre: nodes at angle theta_i = th0 + i dth (rad, measured
+ *    in the x-z plane from the unit vector e0 = (c0, s0), positive from x
+ *    towards z) and radius rho_k = rho0 + k drho (m, the in-plane distance
+ *    sqrt(x^2 + z^2)); each node holds the disturbance's tangential and
+ *    radial components (dG_t along t^ = (-z, x)/rho, i.e. towards increasing
+ *    theta - north on a north flight; dG_r along r^ = (x, z)/rho, outward),
+ *    bilinear interpolation in (theta, rho), then
+ *      dG_x = dG_r x/rho - dG_t z/rho,  dG_z = dG_r z/rho + dG_t x/rho.
+ *    A constant-height arc is a line of constant rho, so a grid a few nodes
+ *    deep in rho covers it (an x-z grid would need a square of nodes).
+ *    theta = atan2(z', x') with (x', z') = (c0 x + s0 z, -s0 x + c0 z), by
+ *    two half-angle reductions and the atan Taylor series (no libm); only
+ *    |theta| <= 45 deg (x' > 0, |z'| <= x') can be inside a grid.
+ *    Outside the grid its contribution is zero and GG_GMODEL_OUTSIDE_GRID is
+ *    reported.
+ * The model's state holds no copy of the configuration (the grid is large):
+ * gg_gmodel_init validates a configuration, gg_gmodel_eval reads the same
+ * configuration, which the caller keeps unchanged in between (nav2d keeps it
+ * in its own configuration copy).
  */
 #ifndef GGINS_GMODEL_H
 #define GGINS_GMODEL_H
@@ -34,19 +50,21 @@
 
 #define GG_GMODEL_MAX_DEGREE 8
 #define GG_GMODEL_MAX_PM 32      /**< programmed point-mass anomalies */
-#define GG_GMODEL_GRID_MAX 512   /**< anomaly grid nodes (nx * nz); 8 KiB of doubles */
+#define GG_GMODEL_GRID_MAX 1024  /**< anomaly grid nodes (n_th * n_rho); 16 KiB of doubles */
 
 /** gg_gmodel_eval flags */
 #define GG_GMODEL_OUTSIDE_GRID 0x01u
 
 typedef struct {
-    int32_t nx;                            /**< nodes along x (0: no grid; else >= 2) */
-    int32_t nz;                            /**< nodes along z (>= 2 with nx) */
-    gg_real_t x0_m;                        /**< first node, m */
-    gg_real_t z0_m;
-    gg_real_t dx_m;                        /**< node spacing, m (> 0) */
-    gg_real_t dz_m;
-    double dg[GG_GMODEL_GRID_MAX][2];      /**< node (i, j) at index j * nx + i: dG_x, dG_z, m/s^2 */
+    int32_t n_th;                          /**< nodes in angle (0: no grid; else >= 2) */
+    int32_t n_rho;                         /**< nodes in radius (>= 2 with n_th) */
+    gg_real_t c0;                          /**< e0 = (c0, s0): direction of theta = 0 in the */
+    gg_real_t s0;                          /**< x-z plane (|e0| = 1 within 1e-9) */
+    gg_real_t th0_rad;                     /**< first node's angle from e0, rad (|.| < pi/4) */
+    gg_real_t dth_rad;                     /**< node spacing in angle, rad (> 0) */
+    gg_real_t rho0_m;                      /**< first node's radius, m */
+    gg_real_t drho_m;                      /**< node spacing in radius, m (> 0) */
+    double dg[GG_GMODEL_GRID_MAX][2];      /**< node (i, k) at index k * n_th + i: dG_t, dG_r, m/s^2 */
 } gg_gmodel_grid_t;
 
 typedef struct {
@@ -60,15 +78,23 @@ typedef struct {
 } gg_gmodel_config_t;
 
 typedef struct {
-    gg_gmodel_config_t cfg;
-    int initialized;
+    int initialized;                       /**< a configuration was validated */
 } gg_gmodel_t;
 
+/** Validate cfg (GG_ERR_CONFIG / GG_ERR_RANGE); on success *st is marked
+ *  initialized. cfg must then stay unchanged while it is evaluated. */
 gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg);
 
-/** Gravitation at r (m) -> g (m/s^2). GG_ERR_RANGE inside 0.5 a or within
- *  1 m of a programmed point mass. flags (may be NULL): GG_GMODEL_*. */
-gg_status_t gg_gmodel_eval(const gg_gmodel_t *st, const gg_real_t r[3], gg_real_t g[3],
-                           uint32_t *flags);
+/** Gravitation of the configuration cfg (the one gg_gmodel_init validated)
+ *  at r (m) -> g (m/s^2). GG_ERR_RANGE inside 0.5 a or within 1 m of a
+ *  programmed point mass. flags (may be NULL): GG_GMODEL_*. */
+gg_status_t gg_gmodel_eval(const gg_gmodel_t *st, const gg_gmodel_config_t *cfg,
+                           const gg_real_t r[3], gg_real_t g[3], uint32_t *flags);
+
+/** atan(t) for |t| <= 1 (no libm): two half-angle reductions
+ *  atan t = 2 atan(t / (1 + sqrt(1 + t^2))) to |t| <= tan(pi/16), then the
+ *  Taylor series sum (-1)^k t^(2k+1)/(2k+1) to k = 15 (truncation below
+ *  1e-22 relative). GG_ERR_RANGE for |t| > 1, GG_ERR_NONFINITE for NaN. */
+gg_status_t gg_gmodel_atan(gg_real_t t, gg_real_t *a);
 
 #endif /* GGINS_GMODEL_H */

@@ -104,13 +104,14 @@ Generator::Generator(const Scenario& s)
   n_axes_ = 2;
   {  // the onboard zonal model (Scenario::nav_model), for the gravimeter's truth
     const NavModelParams m = s.nav_model();
-    auto c = std::make_unique<gg_gmodel_config_t>();
+    auto c = std::make_shared<gg_gmodel_config_t>();
     std::memset(c.get(), 0, sizeof *c);
     c->gm = m.gm_m3ps2;
     c->a_m = m.a_m;
     for (size_t n = 0; n <= GG_GMODEL_MAX_DEGREE && n < m.j.size(); ++n) c->j[n] = m.j[n];
     model_ = std::make_shared<gg_gmodel_t>();
     if (gg_gmodel_init(model_.get(), c.get()) != GG_OK) model_.reset();
+    model_cfg_ = c;
   }
   if (s.baro.enable) {  // the Gauss-Markov sequence of every sample of the run (exact discrete recursion)
     baro_every_ = s.baro_every();
@@ -149,7 +150,7 @@ Real Generator::altitude(const Vec3& r) const { return r.norm() - static_cast<Re
 
 Vec3 Generator::model_g(const Vec3& r) const {
   gg_real_t rr[3] = {r(0), r(1), r(2)}, gg[3] = {0, 0, 0};
-  if (!model_ || gg_gmodel_eval(model_.get(), rr, gg, nullptr) != GG_OK)
+  if (!model_ || gg_gmodel_eval(model_.get(), model_cfg_.get(), rr, gg, nullptr) != GG_OK)
     return Vec3::Constant(std::numeric_limits<Real>::quiet_NaN());
   return Vec3(gg[0], gg[1], gg[2]);
 }

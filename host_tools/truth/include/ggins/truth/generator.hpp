@@ -116,6 +116,7 @@ class Generator {
   int n_axes_ = 0;
   std::vector<double> baro_gm_;  // m_j per barometer sample j
   std::shared_ptr<gg_gmodel_t> model_;  // onboard model (null if it does not initialise)
+  std::shared_ptr<gg_gmodel_config_t> model_cfg_;  // its configuration (zonal part only)
   int64_t baro_every_ = 1;
 };
 
