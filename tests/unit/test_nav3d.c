@@ -1,0 +1,595 @@
+/* 3-D navigation task (nav3d) against closed-form truth on a rotating Earth:
+ * a platform moving along a circle of latitude at constant height (uniform
+ * circular motion in the inertial frame), in the field of a central point
+ * mass plus buried anomaly masses fixed to the Earth (so the field turns
+ * with the Earth), with a body that precesses and spins (closed-form
+ * attitude, rates and angular accelerations). Every accelerometer reading is
+ * built from rigid-body kinematics at the sensor's own position in long
+ * double; nothing is integrated numerically on the truth side. */
+#include "test_common.h"
+#include "truth2d.h"
+#include "ggins/nav3d.h"
+
+#include <float.h>
+
+#define W_IE 7.292115e-5L
+#define A_WGS 6378137.0L
+#define F_WGS (1.0L / 298.257223563L)
+
+typedef struct {
+    long double lat0, lon0, h0; /* path: circle of latitude lat0 at height h0 */
+    long double lon_rate;       /* Earth-relative longitude rate, rad/s */
+    long double p, s;           /* body precession (about inertial z) and spin (about body x), rad/s */
+    long double c0[3][3];       /* C_b_i at t = 0 (= C_b_e) */
+    long double hb[3];          /* half-baselines, m */
+    int n_anom;
+    long double anom_e[3][3];   /* anomaly mass positions, ECEF, m */
+    long double anom_gm[3];     /* their GM, m^3/s^2 */
+    double bias[6][3];          /* accelerometer faults added to the readings, m/s^2 */
+} truth3_t;
+
+static void rz(long double a, long double m[3][3])
+{
+    const long double c = cosl(a), s = sinl(a);
+    const long double r[3][3] = {{c, -s, 0}, {s, c, 0}, {0, 0, 1}};
+    memcpy(m, r, sizeof r);
+}
+
+static void rx(long double a, long double m[3][3])
+{
+    const long double c = cosl(a), s = sinl(a);
+    const long double r[3][3] = {{1, 0, 0}, {0, c, -s}, {0, s, c}};
+    memcpy(m, r, sizeof r);
+}
+
+static void matmul(const long double a[3][3], const long double b[3][3], long double o[3][3])
+{
+    long double t[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            t[i][j] = 0;
+            for (int k = 0; k < 3; ++k) t[i][j] += a[i][k] * b[k][j];
+        }
+    memcpy(o, t, sizeof t);
+}
+
+static void matvec(const long double a[3][3], const long double x[3], long double y[3])
+{
+    for (int i = 0; i < 3; ++i) y[i] = a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2];
+}
+
+static void mattvec(const long double a[3][3], const long double x[3], long double y[3])
+{
+    for (int i = 0; i < 3; ++i) y[i] = a[0][i] * x[0] + a[1][i] * x[1] + a[2][i] * x[2];
+}
+
+static void cross(const long double a[3], const long double b[3], long double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* closed-form geodetic -> ECEF (an independent copy: libm trig) */
+static void geo2ecef(long double lat, long double lon, long double h, long double r[3])
+{
+    const long double e2 = F_WGS * (2.0L - F_WGS);
+    const long double n = A_WGS / sqrtl(1.0L - e2 * sinl(lat) * sinl(lat));
+    r[0] = (n + h) * cosl(lat) * cosl(lon);
+    r[1] = (n + h) * cosl(lat) * sinl(lon);
+    r[2] = (n * (1.0L - e2) + h) * sinl(lat);
+}
+
+/* gravitation in ECEF: central point mass + anomalies */
+static void field_e(const truth3_t *T, const long double r[3], long double g[3])
+{
+    t_point_mass_g(r, g);
+    for (int a = 0; a < T->n_anom; ++a) {
+        long double d[3], dd = 0;
+        for (int j = 0; j < 3; ++j) {
+            d[j] = r[j] - T->anom_e[a][j];
+            dd += d[j] * d[j];
+        }
+        const long double k = T->anom_gm[a] / (dd * sqrtl(dd));
+        for (int j = 0; j < 3; ++j) g[j] -= k * d[j];
+    }
+}
+
+/* truth at time t: r_e, v_e (Earth-relative), r_i, a_i, C_b_i = C0 Rz(pt) Rx(st)
+ * and the body rate and angular acceleration (C0 is fixed in the inertial
+ * frame, so C^T C' = (Rz Rx)^T (Rz Rx)' = p [(Rx^T e_z) x] + s [e_x x]) */
+static void truth_pose(const truth3_t *T, long double t, long double r_e[3], long double v_e[3],
+                       long double r_i[3], long double a_i[3], long double cbi[3][3],
+                       long double w[3], long double wd[3])
+{
+    long double base[3], m[3][3], m2[3][3];
+    geo2ecef(T->lat0, 0.0L, T->h0, base);
+    const long double lon = T->lon0 + T->lon_rate * t;
+    rz(lon, m);
+    matvec(m, base, r_e);
+    v_e[0] = -T->lon_rate * r_e[1];
+    v_e[1] = T->lon_rate * r_e[0];
+    v_e[2] = 0.0L;
+    const long double lam = lon + W_IE * t, rate = W_IE + T->lon_rate;
+    rz(lam, m);
+    matvec(m, base, r_i);
+    a_i[0] = -rate * rate * r_i[0];
+    a_i[1] = -rate * rate * r_i[1];
+    a_i[2] = 0.0L;
+    rz(T->p * t, m);
+    rx(T->s * t, m2);
+    matmul(m, m2, m);
+    matmul(T->c0, m, cbi);
+    const long double st = sinl(T->s * t), ct = cosl(T->s * t);
+    w[0] = T->s;
+    w[1] = T->p * st;
+    w[2] = T->p * ct;
+    wd[0] = 0.0L;
+    wd[1] = T->p * T->s * ct;
+    wd[2] = -T->p * T->s * st;
+}
+
+static void make_frame(const truth3_t *T, long long k, int64_t dt_us, gg_frame_t *fr)
+{
+    const long double t = (long double)k * (long double)dt_us * 1e-6L;
+    long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3], th[3][3];
+    truth_pose(T, t, r_e, v_e, r_i, a_i, cbi, w, wd);
+    rz(W_IE * t, th);
+    memset(fr, 0, sizeof *fr);
+    fr->utime = k * dt_us;
+    fr->seq = k;
+    fr->n_acc = 6;
+    for (int sidx = 0; sidx < 6; ++sidx) {
+        long double d[3] = {0, 0, 0}, dd[3], p_i[3], p_e[3], g_e[3], g_i[3], g_b[3], a_b[3];
+        long double t1[3], t2[3], t3[3];
+        d[sidx % 3] = (sidx < 3 ? 1.0L : -1.0L) * T->hb[sidx % 3];
+        matvec(cbi, d, dd);
+        for (int j = 0; j < 3; ++j) p_i[j] = r_i[j] + dd[j];
+        mattvec(th, p_i, p_e);
+        field_e(T, p_e, g_e);
+        matvec(th, g_e, g_i);
+        mattvec(cbi, g_i, g_b);
+        mattvec(cbi, a_i, a_b);
+        cross(wd, d, t1);
+        cross(w, d, t2);
+        cross(w, t2, t3);
+        for (int j = 0; j < 3; ++j) {
+            const long double f = a_b[j] + t1[j] + t3[j] - g_b[j] + (long double)T->bias[sidx][j];
+            fr->f[sidx][j] = (double)f;
+            fr->f_lo[sidx][j] = (double)(f - (long double)fr->f[sidx][j]);
+        }
+        fr->acc_status[sidx] = GG_SENSOR_OK;
+    }
+    for (int j = 0; j < 3; ++j) fr->omega_b[j] = (double)w[j];
+    fr->gyro_status = GG_SENSOR_OK;
+    fr->baro_alt_m = (double)T->h0;
+    fr->baro_utime = fr->utime;
+    fr->baro_status = (k % 10 == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
+}
+
+static void dcm_to_quat(const long double c[3][3], long double q[4])
+{
+    /* c is close to a rotation; Shepperd's method (largest diagonal term) */
+    const long double tr = c[0][0] + c[1][1] + c[2][2];
+    if (tr > 0) {
+        const long double s = 2.0L * sqrtl(1.0L + tr);
+        q[0] = 0.25L * s;
+        q[1] = (c[2][1] - c[1][2]) / s;
+        q[2] = (c[0][2] - c[2][0]) / s;
+        q[3] = (c[1][0] - c[0][1]) / s;
+    } else if (c[0][0] > c[1][1] && c[0][0] > c[2][2]) {
+        const long double s = 2.0L * sqrtl(1.0L + c[0][0] - c[1][1] - c[2][2]);
+        q[0] = (c[2][1] - c[1][2]) / s;
+        q[1] = 0.25L * s;
+        q[2] = (c[0][1] + c[1][0]) / s;
+        q[3] = (c[0][2] + c[2][0]) / s;
+    } else if (c[1][1] > c[2][2]) {
+        const long double s = 2.0L * sqrtl(1.0L + c[1][1] - c[0][0] - c[2][2]);
+        q[0] = (c[0][2] - c[2][0]) / s;
+        q[1] = (c[0][1] + c[1][0]) / s;
+        q[2] = 0.25L * s;
+        q[3] = (c[1][2] + c[2][1]) / s;
+    } else {
+        const long double s = 2.0L * sqrtl(1.0L + c[2][2] - c[0][0] - c[1][1]);
+        q[0] = (c[1][0] - c[0][1]) / s;
+        q[1] = (c[0][2] + c[2][0]) / s;
+        q[2] = (c[1][2] + c[2][1]) / s;
+        q[3] = 0.25L * s;
+    }
+}
+
+static void make_config(const truth3_t *T, int platform, int baro, int64_t dt_us,
+                        gg_nav3d_config_t *cfg)
+{
+    long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3], g[3];
+    truth_pose(T, 0.0L, r_e, v_e, r_i, a_i, cbi, w, wd);
+    field_e(T, r_e, g);
+    memset(cfg, 0, sizeof *cfg);
+    for (int j = 0; j < 3; ++j) {
+        cfg->geometry.half_base_m[j] = T->hb[j];
+        cfg->r0_e[j] = r_e[j];
+        cfg->v0_e[j] = v_e[j];
+        cfg->g0_e[j] = g[j];
+    }
+    dcm_to_quat(cbi, cfg->q0_b_e);
+    cfg->platform = platform;
+    cfg->dt_us = dt_us;
+    cfg->dt_tol_us = dt_us / 100;
+    cfg->omega_ie = 0.0L; /* WGS-84 default */
+    cfg->f_max = 100.0;
+    cfg->asym_max = 1e-9;
+    cfg->gravity_mode = GG_GRAVITY_GRADIOMETER;
+    cfg->baro_enable = baro;
+    if (baro) {
+        cfg->baro.poles[0] = 0.01L;
+        cfg->baro.poles[1] = 0.012L;
+        cfg->baro.poles[2] = 0.014L;
+        cfg->baro.omega_s2 = 9.8L / 6.4e6L;
+        cfg->baro.period_us = 10 * dt_us;
+        cfg->baro.max_age_us = 10 * dt_us;
+        cfg->baro.coast_us = 100 * dt_us;
+        cfg->baro.alt_min_m = -1000.0;
+        cfg->baro.alt_max_m = 30000.0;
+        cfg->baro.gate_m = 50.0;
+        cfg->baro.max_rejects = 10;
+    }
+}
+
+static void default_truth(truth3_t *T)
+{
+    memset(T, 0, sizeof *T);
+    T->lat0 = 0.7L;
+    T->lon0 = 0.2L;
+    T->h0 = 3000.0L;
+    T->hb[0] = 0.5L;
+    T->hb[1] = 0.4L;
+    T->hb[2] = 0.6L;
+    for (int i = 0; i < 3; ++i) T->c0[i][i] = 1.0L;
+    /* two buried masses near the start (~1e-5 m/s^2, ~5 E at the path) */
+    long double p[3];
+    geo2ecef(0.7L, 0.2015L, -4000.0L, p);
+    memcpy(T->anom_e[0], p, sizeof p);
+    T->anom_gm[0] = 800.0L;
+    geo2ecef(0.7005L, 0.2060L, -6000.0L, p);
+    memcpy(T->anom_e[1], p, sizeof p);
+    T->anom_gm[1] = -500.0L;
+    T->n_anom = 2;
+}
+
+typedef struct {
+    long double pos_err, vel_err, g_err, att_err, gam_err, h_err;
+} run_result_t;
+
+/* fly n steps, return the errors at the end (and the worst Gamma_b error) */
+static run_result_t fly(const truth3_t *T, int platform, int baro, int64_t dt_us, long long n)
+{
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    run_result_t res = {0};
+    make_config(T, platform, baro, dt_us, &cfg);
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    for (long long k = 0; k <= n; ++k) {
+        make_frame(T, k, dt_us, &fr);
+        const gg_status_t st = gg_nav3d_step(&nav, &fr, NULL, &out);
+        if (st != GG_OK) fail_msg("step %lld: status %d health 0x%x", k, st, out.health);
+    }
+    const long double t = (long double)n * (long double)dt_us * 1e-6L;
+    long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3], g[3], th[3][3], cbe[3][3];
+    truth_pose(T, t, r_e, v_e, r_i, a_i, cbi, w, wd);
+    field_e(T, r_e, g);
+    long double re_hat[3], ve_hat[3], ge_hat[3];
+    for (int j = 0; j < 3; ++j) {
+        re_hat[j] = (long double)out.r_e[j] + (long double)out.r_e_lo[j];
+        ve_hat[j] = out.v_e[j];
+        ge_hat[j] = (long double)out.g_e[j] + (long double)out.g_e_lo[j];
+    }
+    res.pos_err = norm3l(re_hat, r_e);
+    res.vel_err = norm3l(ve_hat, v_e);
+    res.g_err = norm3l(ge_hat, g);
+    res.h_err = fabsl((long double)out.h_m - T->h0);
+    /* attitude: C_b_e = R3(-theta) C_b_i; compare with the output quaternion */
+    rz(-W_IE * t, th);
+    matmul(th, cbi, cbe);
+    long double q[4];
+    dcm_to_quat(cbe, q);
+    /* rotation angle of q_true^* (x) q_hat: 2 |vector part| (acos of the dot
+     * product would lose everything below 1e-9 rad) */
+    {
+        const long double a0 = q[0], a1 = -q[1], a2 = -q[2], a3 = -q[3];
+        const long double b0 = out.q_b_e[0], b1 = out.q_b_e[1], b2 = out.q_b_e[2], b3 = out.q_b_e[3];
+        const long double x = a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2;
+        const long double y = a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1;
+        const long double z = a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0;
+        res.att_err = 2.0L * sqrtl(x * x + y * y + z * z);
+    }
+    return res;
+}
+
+/* Space-stabilized platform parked on the rotating Earth, 1 h at 100 Hz,
+ * with Earth-fixed anomalies: the field turns with the Earth under the
+ * inertial platform, which the ECEF gravity dead reckoning must follow. */
+static void test_stabilized_parked_1h(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    const run_result_t r = fly(&T, GG_PLATFORM_STABILIZED, 0, 10000, 360000);
+    print_message("stabilized parked 1 h: |dr| %.3Lg m, |dv| %.3Lg m/s, |dG| %.3Lg m/s^2, att %.3Lg rad\n",
+                  r.pos_err, r.vel_err, r.g_err, r.att_err);
+    assert_true(r.pos_err < 0.01L); /* issue 7: better than 1 cm */
+    assert_true(r.g_err < 1e-11L);
+    assert_true(r.att_err < 1e-15L);
+}
+
+/* Strapdown body flying east at ~200 m/s along a circle of latitude, spinning
+ * at 0.2 rad/s about x while precessing at 0.05 rad/s, with the barometer
+ * loop, 1 h at 100 Hz. */
+static void test_strapdown_tumbling_flight_1h(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    T.lon_rate = 200.0L / (6.4e6L * cosl(T.lat0));
+    T.p = 0.05L;
+    T.s = 0.2L;
+    rx(0.3L, T.c0);
+    const run_result_t r = fly(&T, GG_PLATFORM_STRAPDOWN, 1, 10000, 360000);
+    print_message("strapdown tumbling 200 m/s 1 h (baro): |dr| %.3Lg m, |dv| %.3Lg m/s, |dG| %.3Lg m/s^2, "
+                  "att %.3Lg rad, |dh| %.3Lg m\n",
+                  r.pos_err, r.vel_err, r.g_err, r.att_err, r.h_err);
+    assert_true(r.pos_err < 0.01L);
+    assert_true(r.att_err < 1e-9L);
+}
+
+/* The same flight with the rotation terms of the Earth switched off in the
+ * firmware (omega_ie < 0) must fail badly: proves the test sees the Earth rate. */
+static void test_earth_rate_matters(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    make_config(&T, GG_PLATFORM_STABILIZED, 0, 10000, &cfg);
+    cfg.omega_ie = -1.0L;
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    for (long long k = 0; k <= 6000; ++k) {
+        make_frame(&T, k, 10000, &fr);
+        assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    }
+    long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3];
+    truth_pose(&T, 60.0L, r_e, v_e, r_i, a_i, cbi, w, wd);
+    long double re_hat[3] = {out.r_e[0], out.r_e[1], out.r_e[2]};
+    print_message("non-rotating firmware on a rotating Earth, 60 s: |dr| %.3Lg m\n", norm3l(re_hat, r_e));
+    assert_true(norm3l(re_hat, r_e) > 10.0L);
+}
+
+/* Geodetic conversion: Bowring's iteration against the closed-form forward map. */
+static void test_geodetic(void **state)
+{
+    (void)state;
+    long double worst_ang = 0, worst_h = 0;
+    for (int i = -90; i <= 90; i += 5) {
+        for (int hh = 0; hh < 4; ++hh) {
+            const long double hs[] = {-4000.0L, 0.0L, 12000.0L, 90000.0L};
+            const long double lat = (long double)i * 3.14159265358979323846L / 180.0L;
+            const long double lon = -3.0L + 0.13L * (long double)(i + 90) / 5.0L;
+            long double r[3], la, lo, h;
+            geo2ecef(lat, lon, hs[hh], r);
+            assert_int_equal(gg_nav3d_ecef_to_geodetic(r, &la, &lo, &h), GG_OK);
+            worst_ang = fmaxl(worst_ang, fabsl(la - lat));
+            if (i != 90 && i != -90) worst_ang = fmaxl(worst_ang, fabsl(remainderl(lo - lon, 2 * 3.14159265358979323846L)));
+            worst_h = fmaxl(worst_h, fabsl(h - hs[hh]));
+            long double r2[3];
+            assert_int_equal(gg_nav3d_geodetic_to_ecef(lat, lon, hs[hh], r2), GG_OK);
+            assert_true(norm3l(r, r2) < 1e-8L);
+        }
+    }
+    print_message("geodetic: worst angle error %.3Lg rad, height %.3Lg m\n", worst_ang, worst_h);
+    assert_true(worst_ang < 1e-15L);
+    assert_true(worst_h < 1e-8L);
+    long double la, lo, h;
+    const long double centre[3] = {10.0L, 0.0L, 0.0L};
+    assert_int_equal(gg_nav3d_ecef_to_geodetic(centre, &la, &lo, &h), GG_ERR_RANGE);
+}
+
+/* Bad input is rejected, flagged, and leaves the state untouched. */
+static void test_rejections(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    T.p = 0.05L;
+    T.s = 0.2L;
+    static gg_nav3d_t nav, before;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    make_config(&T, GG_PLATFORM_STRAPDOWN, 1, 10000, &cfg);
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    for (long long k = 0; k < 50; ++k) {
+        make_frame(&T, k, 10000, &fr);
+        assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    }
+    make_frame(&T, 50, 10000, &fr);
+    struct {
+        const char *what;
+        gg_status_t want;
+        uint32_t bit;
+    } cases[] = {{"nan acc", GG_ERR_NONFINITE, GG_HEALTH_ACC_NONFINITE},
+                 {"range acc", GG_ERR_RANGE, GG_HEALTH_ACC_RANGE},
+                 {"bad acc", GG_ERR_SENSOR, GG_HEALTH_ACC_SENSOR},
+                 {"nan gyro", GG_ERR_SENSOR, GG_HEALTH_GYRO_INVALID},
+                 {"gyro range", GG_ERR_SENSOR, GG_HEALTH_GYRO_INVALID},
+                 {"bad gyro", GG_ERR_SENSOR, GG_HEALTH_GYRO_INVALID},
+                 {"five acc", GG_ERR_SENSOR, GG_HEALTH_ACC_SENSOR},
+                 {"repeat", GG_ERR_SEQUENCE, GG_HEALTH_SEQ_REPEAT},
+                 {"time jump", GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        gg_frame_t bad = fr;
+        switch (c) {
+        case 0: bad.f[2][1] = NAN; break;
+        case 1: bad.f[4][0] = 1e5; break;
+        case 2: bad.acc_status[3] = GG_SENSOR_BAD; break;
+        case 3: bad.omega_b[1] = NAN; break;
+        case 4: bad.omega_b[2] = 50.0; break;
+        case 5: bad.gyro_status = GG_SENSOR_BAD; break;
+        case 6: bad.n_acc = 5; break;
+        case 7: bad.seq = 49; bad.utime = 490000; break;
+        default: bad.utime += 5000; break;
+        }
+        before = nav;
+        const gg_status_t st = gg_nav3d_step(&nav, &bad, NULL, &out);
+        if (st != cases[c].want || (out.health & cases[c].bit) == 0U ||
+            (out.health & GG_HEALTH_FRAME_REJECTED) == 0U)
+            fail_msg("%s: status %d health 0x%x", cases[c].what, st, out.health);
+        assert_memory_equal(&nav, &before, sizeof nav);
+    }
+    /* the good frame is then accepted */
+    assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    assert_int_equal(out.health & GG_HEALTH_FRAME_REJECTED, 0);
+}
+
+/* On the stabilized platform the gyros are not used: a NaN gyro is ignored. */
+static void test_stabilized_ignores_gyro(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    make_config(&T, GG_PLATFORM_STABILIZED, 0, 10000, &cfg);
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    make_frame(&T, 0, 10000, &fr);
+    fr.omega_b[0] = NAN;
+    fr.gyro_status = GG_SENSOR_BAD;
+    assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+}
+
+/* Lost frames are bridged (flagged) and the flight still closes. */
+static void test_bridge(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    T.lon_rate = 200.0L / (6.4e6L * cosl(T.lat0));
+    T.p = 0.05L;
+    T.s = 0.2L;
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    make_config(&T, GG_PLATFORM_STRAPDOWN, 0, 10000, &cfg);
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    for (long long k = 0; k <= 6000; ++k) {
+        if (k >= 3000 && k < 3005) continue; /* five frames lost */
+        make_frame(&T, k, 10000, &fr);
+        assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+        if (k == 3005) assert_true((out.health & GG_HEALTH_SEQ_GAP) != 0U);
+    }
+    long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3];
+    truth_pose(&T, 60.0L, r_e, v_e, r_i, a_i, cbi, w, wd);
+    long double re_hat[3];
+    for (int j = 0; j < 3; ++j) re_hat[j] = (long double)out.r_e[j] + (long double)out.r_e_lo[j];
+    print_message("5 lost frames bridged, 60 s: |dr| %.3Lg m\n", norm3l(re_hat, r_e));
+    assert_true(norm3l(re_hat, r_e) < 1e-3L);
+}
+
+/* Parity: zero (to the curvature terms) for a healthy platform; a step on
+ * the y axis of accelerometer 0 (at +a on x) shows in the antisymmetric
+ * residual as (Gao eq. 27) step / (2 * 2a) on z and raises the health flag.
+ * Stabilized: 1e-8 m/s^2 step, threshold 1e-9; strapdown: the gyro-derived
+ * angular acceleration has its own 1.3e-8 rad/s^2 error (nav3d.h), so a
+ * 1e-6 m/s^2 step against a 1e-7 threshold. */
+static void test_parity(void **state)
+{
+    (void)state;
+    for (int fault = 0; fault < 2; ++fault) {
+        for (int platform = 0; platform < 2; ++platform) {
+            const int sd = (platform == GG_PLATFORM_STRAPDOWN);
+            const double step = sd ? 1e-6 : 1e-8;
+            truth3_t T;
+            default_truth(&T);
+            if (sd) {
+                T.p = 0.05L;
+                T.s = 0.2L;
+            }
+            static gg_nav3d_t nav;
+            gg_nav3d_config_t cfg;
+            gg_nav3d_output_t out;
+            gg_frame_t fr;
+            make_config(&T, platform, 0, 10000, &cfg);
+            cfg.asym_max = sd ? 1e-7 : 1e-9;
+            assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+            for (long long k = 0; k <= 100; ++k) {
+                if (fault && k == 50) T.bias[0][1] = step;
+                make_frame(&T, k, 10000, &fr);
+                assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+                if (k < 50 || !fault) {
+                    if ((out.health & GG_HEALTH_GAMMA_ASYM) != 0U)
+                        fail_msg("platform %d step %lld: parity %g %g %g %g", platform, k, out.parity[0],
+                                 out.parity[1], out.parity[2], out.parity[3]);
+                } else {
+                    assert_true((out.health & GG_HEALTH_GAMMA_ASYM) != 0U);
+                    /* M[1][0] = (f0y - f3y)/(2a) gains step/(2a); omega_dot_z = (M10 - M01)/2 */
+                    assert_near(out.parity[2], step / (2.0 * 2.0 * 0.5), sd ? 2e-8 : 1e-11);
+                }
+            }
+        }
+    }
+}
+
+static void test_config(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg, bad;
+    make_config(&T, GG_PLATFORM_STRAPDOWN, 1, 10000, &cfg);
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    bad = cfg; bad.q0_b_e[0] = 0.9L;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_CONFIG);
+    bad = cfg; bad.geometry.half_base_m[2] = 0.0L;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_CONFIG);
+    bad = cfg; bad.platform = 7;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_CONFIG);
+    bad = cfg; bad.dt_us = 0;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_CONFIG);
+    bad = cfg; bad.r0_e[1] = NAN;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_CONFIG);
+    bad = cfg; bad.v0_e[0] = 1e6L;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_RANGE);
+    bad = cfg; bad.r0_e[0] = 1.0L; bad.r0_e[1] = 0.0L; bad.r0_e[2] = 0.0L;
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_RANGE);
+    assert_int_equal(gg_nav3d_init(NULL, &cfg), GG_ERR_NULL);
+    /* not configured: a step is refused and flagged */
+    gg_frame_t fr;
+    gg_nav3d_output_t out;
+    make_frame(&T, 0, 10000, &fr);
+    assert_int_equal(gg_nav3d_init(&nav, &bad), GG_ERR_RANGE);
+    assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_ERR_NOT_INIT);
+    assert_true((out.health & GG_HEALTH_NOT_INIT) != 0U);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_geodetic),
+        cmocka_unit_test(test_config),
+        cmocka_unit_test(test_rejections),
+        cmocka_unit_test(test_stabilized_ignores_gyro),
+        cmocka_unit_test(test_parity),
+        cmocka_unit_test(test_bridge),
+        cmocka_unit_test(test_earth_rate_matters),
+        cmocka_unit_test(test_stabilized_parked_1h),
+        cmocka_unit_test(test_strapdown_tumbling_flight_1h),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
