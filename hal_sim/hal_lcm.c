@@ -24,6 +24,8 @@ void ggins_frame_from_lcm(const ggins_sensor_frame_t *m, gg_frame_t *f)
 }
 
 _Static_assert(GG_GMODEL_MAX_DEGREE + 1 == 9, "ggins_nav2d_config_t.model_j holds J_0..J_8");
+_Static_assert(GG_GMODEL_MAX_PM == 32, "ggins_nav2d_config_t.model_pm_* hold GG_GMODEL_MAX_PM masses");
+_Static_assert(GG_GMODEL_GRID_MAX == 1024, "ggins_nav2d_config_t.grid_dg holds GG_GMODEL_GRID_MAX nodes");
 
 void ggins_config_from_lcm(const ggins_nav2d_config_t *m, gg_nav2d_config_t *c)
 {
@@ -57,6 +59,32 @@ void ggins_config_from_lcm(const ggins_nav2d_config_t *m, gg_nav2d_config_t *c)
     c->baro.gate_m = m->baro_gate_m;
     c->baro.max_rejects = m->baro_max_rejects;
     c->r_ref_m = (gg_real_t)m->r_ref_hi + (gg_real_t)m->r_ref_lo;
+    /* programmed anomalies: a point-mass count beyond the firmware's array
+     * becomes an invalid configuration (n_pm = -1: gg_gmodel_init refuses it) */
+    if ((m->model_n_pm < 0) || (m->model_n_pm > GG_GMODEL_MAX_PM)) {
+        c->model.n_pm = -1;
+    } else {
+        c->model.n_pm = m->model_n_pm;
+        for (int i = 0; i < m->model_n_pm; ++i) {
+            for (int j = 0; j < 3; ++j) c->model.pm_pos[i][j] = (gg_real_t)m->model_pm_pos[i][j];
+            c->model.pm_gm[i] = (gg_real_t)m->model_pm_gm[i];
+        }
+    }
+    c->model.grid.n_th = m->grid_n_th;
+    c->model.grid.n_rho = m->grid_n_rho;
+    c->model.grid.c0 = (gg_real_t)m->grid_c0;
+    c->model.grid.s0 = (gg_real_t)m->grid_s0;
+    c->model.grid.th0_rad = (gg_real_t)m->grid_th0_rad;
+    c->model.grid.dth_rad = (gg_real_t)m->grid_dth_rad;
+    c->model.grid.rho0_m = (gg_real_t)m->grid_rho0_m;
+    c->model.grid.drho_m = (gg_real_t)m->grid_drho_m;
+    /* the node array is copied whole; gg_gmodel_init checks n_th * n_rho against it */
+    {
+        for (int i = 0; i < GG_GMODEL_GRID_MAX; ++i) {
+            c->model.grid.dg[i][0] = m->grid_dg[i][0];
+            c->model.grid.dg[i][1] = m->grid_dg[i][1];
+        }
+    }
 }
 
 void ggins_output_to_lcm(const gg_nav_output_t *o, int64_t run_id, ggins_nav_output_t *m)

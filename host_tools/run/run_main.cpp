@@ -43,6 +43,7 @@
 #include "ggins/run_control_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth/generator.hpp"
+#include "ggins/truth/survey.hpp"
 #include "ggins/truth_t.hpp"
 
 extern char** environ;
@@ -345,7 +346,8 @@ class Runner {
     if (rec_) rec_->write(ch, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
   }
   std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_, ch_ping_;
-  std::vector<uint8_t> buf_ = std::vector<uint8_t>(8192);
+  json survey_;  // the programmed anomaly grid sent (model mode with [navigation.survey])
+  std::vector<uint8_t> buf_ = std::vector<uint8_t>(65536);  // the configuration carries the anomaly grid (~18 KB)
 
   int64_t n_ = 0;
   int64_t truth_every_ = 1, csv_every_ = 1;
@@ -747,6 +749,27 @@ void Runner::configure_hal() {
     c.model_a_m = nm.a_m;
     for (int n = 0; n < 9; ++n) c.model_j[n] = nm.j[static_cast<size_t>(n)];
   }
+  if (c.gravity_mode == 1 && sc_.navigation.survey.enable) {  // programmed anomaly grid (issue 6; truth/survey.hpp)
+    const ggins::truth::SurveyGrid g = ggins::truth::make_survey_grid(gen_);
+    c.grid_n_th = g.n_th;
+    c.grid_n_rho = g.n_rho;
+    c.grid_c0 = g.c0;
+    c.grid_s0 = g.s0;
+    c.grid_th0_rad = g.th0_rad;
+    c.grid_dth_rad = g.dth_rad;
+    c.grid_rho0_m = g.rho0_m;
+    c.grid_drho_m = g.drho_m;
+    for (size_t i = 0; i < g.dg.size() && i < 1024; ++i) {
+      c.grid_dg[i][0] = g.dg[i][0];
+      c.grid_dg[i][1] = g.dg[i][1];
+    }
+    survey_ = {{"nodes_theta", g.n_th}, {"nodes_rho", g.n_rho}, {"spacing_m", sc_.navigation.survey.spacing_m},
+               {"drho_m", g.drho_m}, {"seed", sc_.navigation.survey.seed},
+               {"noise_gravity_mgal", sc_.navigation.survey.noise_gravity_mgal},
+               {"noise_deflection_arcsec", sc_.navigation.survey.noise_deflection_arcsec},
+               {"rms_noise_tangential_mps2", g.rms_noise_t}, {"rms_noise_radial_mps2", g.rms_noise_r},
+               {"rms_true_tangential_mps2", g.rms_true_t}, {"rms_true_radial_mps2", g.rms_true_r}};
+  }
   c.baro_enable = sc_.baro_loop_enabled() ? 1 : 0;
   {
     const auto& l = sc_.navigation.baro;
@@ -1110,6 +1133,7 @@ json Runner::run() {
                        std::to_string(1.0 / sc_.navigation.baro.poles_radps[0] + 1.0 / sc_.navigation.baro.poles_radps[1] +
                                       1.0 / sc_.navigation.baro.poles_radps[2]) + " s";
     s["gravimeter"] = g;
+    if (!survey_.is_null()) s["survey_grid"] = survey_;
     json hc = json::object();
     for (int b = 0; b < 32; ++b)
       if (health_count_[static_cast<size_t>(b)] > 0) {

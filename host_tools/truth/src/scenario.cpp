@@ -296,7 +296,7 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
   }
   if (const auto* t = sub(root, "navigation", source)) {
     const std::string w = "navigation";
-    check_keys(*t, w, {"gravity", "r_ref_m", "model", "baro"}, source);
+    check_keys(*t, w, {"gravity", "r_ref_m", "model", "baro", "survey"}, source);
     auto& n = s.navigation;
     n.gravity = get_str(*t, w, "gravity", n.gravity, source);
     if (n.gravity != "gradiometer" && n.gravity != "model")
@@ -312,6 +312,28 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
       const std::vector<double> j = get_num_array(*m, wm, "j", 0, 7, source);
       for (size_t i = 0; i < j.size(); ++i) n.model.j[i + 2] = j[i];
       if (!(n.model.gm_m3ps2 > 0) || !(n.model.a_m > 0)) fail(source, wm + ": gm_m3ps2 and a_m must be > 0");
+    }
+    if (const auto* v = sub(*t, "survey", source)) {
+      const std::string wv = "navigation.survey";
+      check_keys(*v, wv,
+                 {"enable", "seed", "spacing_m", "margin_m", "n_rho", "drho_m", "noise_gravity_mgal",
+                  "noise_deflection_arcsec"},
+                 source);
+      auto& g = n.survey;
+      g.enable = get_bool(*v, wv, "enable", true, source);
+      g.seed = get_seed(*v, wv, source);
+      g.spacing_m = get_num(*v, wv, "spacing_m", g.spacing_m, source);
+      g.margin_m = get_num(*v, wv, "margin_m", g.margin_m, source);
+      g.n_rho = get_int(*v, wv, "n_rho", g.n_rho, source);
+      g.drho_m = get_num(*v, wv, "drho_m", g.drho_m, source);
+      g.noise_gravity_mgal = get_num(*v, wv, "noise_gravity_mgal", g.noise_gravity_mgal, source);
+      g.noise_deflection_arcsec = get_num(*v, wv, "noise_deflection_arcsec", g.noise_deflection_arcsec, source);
+      if (!(g.spacing_m >= 10 && g.spacing_m <= 1e6) || !(g.margin_m >= 0 && g.margin_m <= 1e6) || g.n_rho < 2 ||
+          g.n_rho > 64 || !(g.drho_m >= 1 && g.drho_m <= 1e5) || !(g.noise_gravity_mgal >= 0) ||
+          !(g.noise_deflection_arcsec >= 0) || !std::isfinite(g.noise_gravity_mgal) ||
+          !std::isfinite(g.noise_deflection_arcsec))
+        fail(source, wv + ": spacing_m in [10, 1e6], margin_m in [0, 1e6], n_rho in [2, 64], drho_m in [1, 1e5], "
+                          "noise_* >= 0 and finite");
     }
     if (const auto* b = sub(*t, "baro", source)) {
       const std::string wb = "navigation.baro";

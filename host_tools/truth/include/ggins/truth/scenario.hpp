@@ -19,6 +19,9 @@
 //                 (altitude h = |r| - r_ref_m, for the barometer and the firmware)
 //   [navigation.model] onboard zonal model (model mode): gm_m3ps2, a_m, j = [J2, ..., J8]
 //                 [the truth field's normal part: point mass GM (J = 0), or WGS-84 GM, a, J2..J8]
+//   [navigation.survey] programmed anomaly grid (model mode; truth/survey.hpp): enable [true when the
+//                 table is present], seed [1], spacing_m [2000], margin_m [20000], n_rho [2], drho_m [1000],
+//                 noise_gravity_mgal [1.0] (radial), noise_deflection_arcsec [0.5] (tangential, x g)
 //   [navigation.baro] firmware vertical loop (vchan.h): enable [= baro.enable],
 //                 poles_radps [[0.01, 0.02, 0.03]], period_s [1 / baro.rate_hz],
 //                 omega_s2 [|G(r0)| / |r0| from the truth], max_age_s [0.5], coast_s [10],
@@ -102,10 +105,25 @@ struct BaroLoopParams {  // vchan.h
   int64_t max_rejects = 5;
 };
 
+// [navigation.survey]: the anomaly grid programmed into the onboard model
+// (gmodel.h polar grid; truth/survey.hpp): the truth disturbance at the nodes
+// plus seeded independent Gaussian "survey" noise.
+struct SurveyParams {
+  bool enable = false;
+  uint64_t seed = 1;
+  double spacing_m = 2000.0;       // along-track node spacing at the flight radius
+  double margin_m = 20000.0;       // grid extends this far before the start and after the end
+  int64_t n_rho = 2;               // nodes in radius, centred on the flight radius
+  double drho_m = 1000.0;          // their spacing
+  double noise_gravity_mgal = 1.0;       // radial component noise, 1 sigma, mGal (1e-5 m/s^2)
+  double noise_deflection_arcsec = 0.5;  // tangential component noise, 1 sigma, as g * deflection
+};
+
 struct NavigationParams {
   std::string gravity = "gradiometer";  // or "model"
   double r_ref_m = 0;                   // 0: trajectory.radius_m
   NavModelParams model;
+  SurveyParams survey;
   BaroLoopParams baro;
 };
 
