@@ -162,8 +162,21 @@ static gg_real_t wgs84_e2(void)
     return GG_WGS84_F * (2.0L - GG_WGS84_F);
 }
 
-gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg_real_t *lon,
-                                      gg_real_t *h)
+/* Geodetic latitude as (sin, cos), longitude as (sin, cos) and height of an
+ * ECEF point, without trigonometric functions: Bowring's iteration on the
+ * parametric latitude beta (tan beta = (1 - f) tan phi), carried as the
+ * vector (cos beta, sin beta), BOWRING_ITER times. */
+typedef struct {
+    gg_real_t sphi;
+    gg_real_t cphi;
+    gg_real_t slam;
+    gg_real_t clam;
+    gg_real_t h;
+    gg_real_t pp;   /* (pp, zz): direction of the normal, for atan2 */
+    gg_real_t zz;
+} geo_t;
+
+static gg_status_t geodetic_core(const gg_real_t r_e[3], geo_t *g)
 {
     const gg_real_t a = GG_WGS84_A_M;
     const gg_real_t f = GG_WGS84_F;
@@ -176,15 +189,7 @@ gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg
     gg_real_t pp;
     gg_real_t zz;
     gg_real_t n;
-    gg_real_t sphi;
-    gg_real_t cphi;
-    gg_real_t la;
-    gg_real_t lo;
-    gg_status_t st;
     unsigned it;
-    if ((r_e == NULL) || (lat == NULL) || (lon == NULL) || (h == NULL)) {
-        return GG_ERR_NULL;
-    }
     if (gg_finite3(r_e) == 0) {
         return GG_ERR_NONFINITE;
     }
@@ -192,8 +197,6 @@ gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg
         return GG_ERR_RANGE;
     }
     p = sqrtl((r_e[0] * r_e[0]) + (r_e[1] * r_e[1]));
-    /* Bowring's iteration on the parametric latitude beta, tan beta = (1 - f) tan phi,
-     * carried as the unit vector (cos beta, sin beta) */
     cb = p * (1.0L - f);
     sb = r_e[2];
     pp = p;
@@ -208,16 +211,42 @@ gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg
         sb = (1.0L - f) * zz;
     }
     n = sqrtl((pp * pp) + (zz * zz));
-    cphi = pp / n;
-    sphi = zz / n;
-    st = gg_atan2(zz, pp, &la);
+    g->cphi = pp / n;
+    g->sphi = zz / n;
+    g->pp = pp;
+    g->zz = zz;
+    if (p > 0.0L) {
+        g->clam = r_e[0] / p;
+        g->slam = r_e[1] / p;
+    } else {
+        g->clam = 1.0L; /* on the axis: longitude 0 by convention */
+        g->slam = 0.0L;
+    }
+    g->h = (p * g->cphi) + (r_e[2] * g->sphi) - (a * sqrtl(1.0L - (e2 * g->sphi * g->sphi)));
+    return GG_OK;
+}
+
+gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg_real_t *lon,
+                                      gg_real_t *h)
+{
+    geo_t g;
+    gg_real_t la = 0.0L;
+    gg_real_t lo = 0.0L;
+    gg_status_t st;
+    if ((r_e == NULL) || (lat == NULL) || (lon == NULL) || (h == NULL)) {
+        return GG_ERR_NULL;
+    }
+    st = geodetic_core(r_e, &g);
+    if (st == GG_OK) {
+        st = gg_atan2(g.zz, g.pp, &la);
+    }
     if (st == GG_OK) {
         st = gg_atan2(r_e[1], r_e[0], &lo);
     }
     if (st == GG_OK) {
         *lat = la;
         *lon = lo;
-        *h = (p * cphi) + (r_e[2] * sphi) - (a * sqrtl(1.0L - (e2 * sphi * sphi)));
+        *h = g.h;
     }
     return st;
 }
@@ -249,23 +278,18 @@ gg_status_t gg_nav3d_geodetic_to_ecef(gg_real_t lat, gg_real_t lon, gg_real_t h,
     return st;
 }
 
-/* Unit normal of the ellipsoid (up) at r_e, geodetic height, and the
- * north/east/down axes in ECEF (rows of C_e_n). */
-static gg_status_t local_frame(const gg_real_t r_e[3], gg_real_t *lat, gg_real_t *lon,
-                               gg_real_t *h, gg_real_t c_e_n[3][3])
+/* Geodetic height and the north/east/down axes in ECEF (rows of C_e_n) at
+ * r_e; the up unit vector (the ellipsoid normal) is minus the third row. */
+static gg_status_t local_frame(const gg_real_t r_e[3], gg_real_t *h, gg_real_t c_e_n[3][3])
 {
-    gg_real_t sl;
-    gg_real_t cl;
-    gg_real_t so;
-    gg_real_t co;
-    gg_status_t st = gg_nav3d_ecef_to_geodetic(r_e, lat, lon, h);
+    geo_t g;
+    const gg_status_t st = geodetic_core(r_e, &g);
     if (st == GG_OK) {
-        st = gg_sincos(*lat, &sl, &cl);
-    }
-    if (st == GG_OK) {
-        st = gg_sincos(*lon, &so, &co);
-    }
-    if (st == GG_OK) {
+        const gg_real_t sl = g.sphi;
+        const gg_real_t cl = g.cphi;
+        const gg_real_t so = g.slam;
+        const gg_real_t co = g.clam;
+        *h = g.h;
         c_e_n[0][0] = -sl * co; /* north */
         c_e_n[0][1] = -sl * so;
         c_e_n[0][2] = cl;
@@ -740,14 +764,12 @@ static gg_status_t baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t *he
     gg_real_t r_i[3];
     gg_real_t v_i[3];
     gg_real_t cen[3][3];
-    gg_real_t lat;
-    gg_real_t lon;
     gg_real_t h;
     gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
     if (st == GG_OK) {
         gg_real_t r_e[3];
         rot3(nav->sin_th, nav->cos_th, -1, r_i, r_e);
-        st = local_frame(r_e, &lat, &lon, &h, cen);
+        st = local_frame(r_e, &h, cen);
     }
     if (st == GG_OK) {
         nav->h_ins = h;
@@ -805,14 +827,12 @@ static gg_status_t up_i(const gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_real
     gg_real_t r_i[3];
     gg_real_t v_i[3];
     gg_real_t cen[3][3];
-    gg_real_t lat;
-    gg_real_t lon;
     gg_real_t h;
     gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
     if (st == GG_OK) {
         gg_real_t r_e[3];
         rot3(s, c, -1, r_i, r_e);
-        st = local_frame(r_e, &lat, &lon, &h, cen);
+        st = local_frame(r_e, &h, cen);
     }
     if (st == GG_OK) {
         const gg_real_t u_e[3] = {-cen[2][0], -cen[2][1], -cen[2][2]};
@@ -1109,7 +1129,8 @@ static void fill_output(const gg_nav3d_t *nav, const gg_frame_t *fr, gg_status_t
             v_rel[1] -= w * r0;
         }
         rot3(s, c, -1, v_rel, v_e);
-        if (local_frame(r_e, &lat, &lon, &h, cen) != GG_OK) {
+        if ((local_frame(r_e, &h, cen) != GG_OK) ||
+            (gg_nav3d_ecef_to_geodetic(r_e, &lat, &lon, &h) != GG_OK)) {
             out->health |= GG_HEALTH_NOT_INIT;
         }
         out->lat_rad = (double)lat;

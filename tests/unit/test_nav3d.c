@@ -390,8 +390,8 @@ static void test_geodetic(void **state)
         }
     }
     print_message("geodetic: worst angle error %.3Lg rad, height %.3Lg m\n", worst_ang, worst_h);
-    assert_true(worst_ang < 1e-15L);
-    assert_true(worst_h < 1e-8L);
+    assert_true(worst_ang < 1e-17L);
+    assert_true(worst_h < 1e-10L);
     long double la, lo, h;
     const long double centre[3] = {10.0L, 0.0L, 0.0L};
     assert_int_equal(gg_nav3d_ecef_to_geodetic(centre, &la, &lo, &h), GG_ERR_RANGE);
