@@ -20,6 +20,12 @@
  *
  * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
  * takes differences modulo 2^32), cycles_per_second = 1e9.
+ *
+ * 3-D mode (issue 7): a configuration on GGINS_CONFIG3D (nav3d_config_t)
+ * instead of GGINS_CONFIG selects the 3-D task: gg_nav3d_init, then
+ * gg_nav3d_task_cycle per frame, outputs (nav3d_output_t) on GGINS_NAV3D
+ * through the HAL's write_output3d. Frames, control, status, transport and
+ * duplicate handling are the same as in 2-D.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -37,6 +43,8 @@
 #include "ggins/hal.h"
 #include "ggins/nav2d.h"
 #include "hal_lcm.h"
+#include "hal_lcm3d.h"
+#include "ggins/nav3d.h"
 #include "ggins_hal_status_t.h"
 #include "ggins_nav2d_config_t.h"
 #include "ggins_nav_output_t.h"
@@ -60,6 +68,7 @@ typedef struct {
     const char *url;     /* inbound: configuration, control, frames */
     const char *url_out; /* outbound: outputs, status, requests (NULL: same as url) */
     char ch_frame[96], ch_nav[96], ch_config[96], ch_control[96], ch_request[96], ch_hal[96];
+    char ch_nav3d[96], ch_config3d[96];
     int64_t run_id;
     int gap_timeout_ms;
     int max_resend;
@@ -71,6 +80,8 @@ typedef struct {
     lcm_t *lcm;     /* inbound (subscribed) */
     lcm_t *lcm_out; /* outbound (publish only; == lcm in single-URL mode) */
     gg_nav2d_t nav;
+    gg_nav3d_t nav3d;
+    int mode3d; /* 1: configured by GGINS_CONFIG3D (3-D task) */
     gg_hal_t hal;
 
     int32_t state;
@@ -91,6 +102,7 @@ typedef struct {
     int have_last_out;
     ggins_nav_output_t out_ring[WINDOW];
     uint8_t out_valid[WINDOW];
+    ggins_nav3d_output_t out3_ring[WINDOW]; /* 3-D mode */
 
     ggins_hal_status_t st;
     int64_t status_seq, request_seq;
@@ -111,6 +123,17 @@ static uint64_t mix64(uint64_t x)
 }
 
 static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt);
+
+static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_t attempt)
+{
+    if (inject_drop(h, m->seq, attempt)) {
+        h->st.outputs_dropped_injected++;
+        return 0;
+    }
+    int n = ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m);
+    if (n < 0 || lcm_publish(h->lcm_out, h->ch_nav3d, h->buf, (unsigned)n) != 0) return -1;
+    return 0;
+}
 
 static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t attempt)
 {
@@ -174,6 +197,18 @@ static gg_status_t hal_write_output(void *ctx, const gg_nav_output_t *o)
     return publish_output(h, m, 0) == 0 ? GG_OK : GG_ERR_IO;
 }
 
+static gg_status_t hal_write_output3d(void *ctx, const struct gg_nav3d_output_s *o)
+{
+    hal_sim_t *h = ctx;
+    ggins_nav3d_output_t *m = &h->out3_ring[o->seq & (WINDOW - 1)];
+    ggins_output3d_to_lcm(o, h->run_id, m); /* hal_lcm3d.c */
+    h->out_valid[o->seq & (WINDOW - 1)] = 1;
+    h->st.steps++;
+    if (o->status != GG_OK) h->st.steps_rejected++;
+    if (o->health & GG_HEALTH_DEADLINE) h->st.deadline_overruns++;
+    return publish_output3d(h, m, 0) == 0 ? GG_OK : GG_ERR_IO;
+}
+
 static uint32_t hal_cycle_count(void *ctx)
 {
     (void)ctx;
@@ -234,6 +269,15 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     const int64_t s = m.seq;
     if (s < h->next) {
         h->st.frames_duplicate++;
+        if (h->mode3d) {
+            ggins_nav3d_output_t *o3 = &h->out3_ring[s & (WINDOW - 1)];
+            if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o3->seq == s) {
+                if (o3->republished < 127) o3->republished++;
+                publish_output3d(h, o3, (uint64_t)o3->republished);
+                h->st.outputs_republished++;
+            }
+            return;
+        }
         ggins_nav_output_t *o = &h->out_ring[s & (WINDOW - 1)];
         if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o->seq == s) { /* the sender probably lost our answer */
             if (o->republished < 127) o->republished++;
@@ -292,6 +336,38 @@ static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *use
         h->state = GGINS_HAL_STATUS_T_CONFIGURED;
     } else if (!h->quiet) {
         fprintf(stderr, "hal_sim: gg_nav2d_init refused the configuration (status %d)\n", (int)rc);
+    }
+    publish_status(h);
+}
+
+static void on_config3d(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    hal_sim_t *h = user;
+    ggins_nav3d_config_t m;
+    h->last_rx_wall = now_s();
+    if (ggins_nav3d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+        h->st.decode_errors++;
+        return;
+    }
+    if (m.run_id != h->run_id) {
+        h->st.foreign_messages++;
+        return;
+    }
+    if (h->state != GGINS_HAL_STATUS_T_IDLE) { /* as on_config: repeat answered, new one refused */
+        publish_status(h);
+        return;
+    }
+    gg_nav3d_config_t c;
+    ggins_config3d_from_lcm(&m, &c); /* hal_lcm3d.c */
+    gg_status_t rc = gg_nav3d_init(&h->nav3d, &c);
+    h->init_status = (int32_t)rc;
+    h->config_seq = m.seq;
+    if (rc == GG_OK) {
+        h->state = GGINS_HAL_STATUS_T_CONFIGURED;
+        h->mode3d = 1;
+    } else if (!h->quiet) {
+        fprintf(stderr, "hal_sim: gg_nav3d_init refused the configuration (status %d)\n", (int)rc);
     }
     publish_status(h);
 }
@@ -366,13 +442,15 @@ static void usage(FILE *out)
             "usage: hal_sim --run-id N [options]\n\n"
             "The ggins firmware's HAL over LCM: receives the configuration and sensor\n"
             "frames of one run, steps the firmware (gg_nav2d_task_cycle) once per frame in\n"
-            "seq order, publishes every navigation output. Normally started by `ggins run`.\n\n"
+            "seq order, publishes every navigation output. Normally started by `ggins run`.\n"
+            "A configuration on P+CONFIG3D instead of P+CONFIG selects the 3-D task\n"
+            "(gg_nav3d_task_cycle, outputs on P+NAV3D; started by `ggins run3d`).\n\n"
             "options:\n"
             "  --lcm-url URL          LCM URL hal_sim listens on (default: LCM_DEFAULT_URL or LCM's default)\n"
             "  --lcm-url-out URL      LCM URL for what hal_sim publishes (default: the same); a second\n"
             "                         URL spares each process receiving its own traffic\n"
             "  --prefix P             channel prefix (default GGINS_): P+FRAME, P+NAV, P+CONFIG,\n"
-            "                         P+CONTROL, P+REQUEST, P+HAL\n"
+            "                         P+CONTROL, P+REQUEST, P+HAL, P+CONFIG3D, P+NAV3D\n"
             "  --run-id N             run nonce; messages with another run_id are ignored (required)\n"
             "  --gap-timeout-ms MS    re-request a missing frame every MS ms (default 20)\n"
             "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"
@@ -438,6 +516,8 @@ int main(int argc, char **argv)
     snprintf(h.ch_control, sizeof h.ch_control, "%sCONTROL", prefix);
     snprintf(h.ch_request, sizeof h.ch_request, "%sREQUEST", prefix);
     snprintf(h.ch_hal, sizeof h.ch_hal, "%sHAL", prefix);
+    snprintf(h.ch_nav3d, sizeof h.ch_nav3d, "%sNAV3D", prefix);
+    snprintf(h.ch_config3d, sizeof h.ch_config3d, "%sCONFIG3D", prefix);
 
     prctl(PR_SET_PDEATHSIG, SIGTERM); /* do not outlive the run tool */
     signal(SIGINT, on_signal);
@@ -461,6 +541,7 @@ int main(int argc, char **argv)
     }
     lcm_subscription_t *sf = lcm_subscribe(h.lcm, h.ch_frame, on_frame, &h);
     lcm_subscribe(h.lcm, h.ch_config, on_config, &h);
+    lcm_subscribe(h.lcm, h.ch_config3d, on_config3d, &h);
     lcm_subscribe(h.lcm, h.ch_control, on_control, &h);
     lcm_subscription_set_queue_capacity(sf, 100000);
 
@@ -468,6 +549,7 @@ int main(int argc, char **argv)
     h.hal.read_frame = hal_read_frame;
     h.hal.write_output = hal_write_output;
     h.hal.cycle_count = hal_cycle_count;
+    h.hal.write_output3d = hal_write_output3d;
     h.hal.cycles_per_second = 1000000000u;
     h.state = GGINS_HAL_STATUS_T_IDLE;
     h.init_status = -1;
@@ -494,7 +576,11 @@ int main(int argc, char **argv)
             for (;;) {
                 const slot_t *s = &h.slots[h.next & (WINDOW - 1)];
                 if (!s->valid || s->frame.seq != h.next) break;
-                gg_nav2d_task_cycle(&h.nav, &h.hal);
+                if (h.mode3d) {
+                    gg_nav3d_task_cycle(&h.nav3d, &h.hal);
+                } else {
+                    gg_nav2d_task_cycle(&h.nav, &h.hal);
+                }
             }
             handle_gaps(&h);
         }

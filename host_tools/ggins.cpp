@@ -15,6 +15,7 @@ static const struct {
   const char* what;
 } kCommands[] = {
     {"run", "host-in-the-loop run of a scenario over LCM; writes summary.json, CSV, plots"},
+    {"run3d", "3-D system (issue 7): fly a 3-D scenario over LCM (or --direct); summary.json, CSV, plots"},
     {"covariance", "covariance propagation of the linear error model (Table I of Welker et al.)"},
     {"montecarlo", "Monte Carlo host-in-the-loop runs against the covariance prediction"},
     {"profile", "per-module firmware step timing for a scenario"},

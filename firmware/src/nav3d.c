@@ -391,6 +391,10 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
     nav->omega_ie = (cfg->omega_ie == 0.0L) ? GG_WGS84_OMEGA_IE
                                             : ((cfg->omega_ie < 0.0L) ? 0.0L : cfg->omega_ie);
     nav->dt_s = (gg_real_t)cfg->dt_us * 1.0e-6L;
+    st = gg_sincos(0.5L * nav->omega_ie * nav->dt_s, &nav->sin_hstep, &nav->cos_hstep);
+    if (st != GG_OK) {
+        return GG_ERR_CONFIG;
+    }
     nav->gravdr.initialized = 0;
     nav->mech.initialized = 0;
     nav->last_seq = 0;
@@ -852,14 +856,14 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
         st = start(nav, in);
     } else {
         const int64_t n1 = nav->n_steps + 1;
-        const gg_real_t th0 = nav->omega_ie * ((gg_real_t)nav->n_steps * nav->dt_s);
         const gg_real_t th1 = nav->omega_ie * ((gg_real_t)n1 * nav->dt_s);
+        /* half-step angle and mid-step angle (addition theorem from theta_k) */
+        const gg_real_t sh = nav->sin_hstep;
+        const gg_real_t ch = nav->cos_hstep;
+        const gg_real_t sm = (nav->sin_th * ch) + (nav->cos_th * sh);
+        const gg_real_t cm = (nav->cos_th * ch) - (nav->sin_th * sh);
         gg_real_t s1 = 0.0L;
         gg_real_t c1 = 1.0L;
-        gg_real_t sm = 0.0L;
-        gg_real_t cm = 1.0L;
-        gg_real_t sh = 0.0L;
-        gg_real_t ch = 1.0L;
         gg_real_t gamma_i[3][3];
         gg_real_t f_i[3];
         gg_real_t r_k[3];
@@ -869,12 +873,6 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
         size_t j;
         t0 = cycles_now(hal);
         st = gg_sincos(th1, &s1, &c1);
-        if (st == GG_OK) {
-            st = gg_sincos(0.5L * (th0 + th1), &sm, &cm);
-        }
-        if (st == GG_OK) {
-            st = gg_sincos(0.5L * (th1 - th0), &sh, &ch);
-        }
         if ((st == GG_OK) && (nav->cfg.platform == GG_PLATFORM_STRAPDOWN)) {
             st = attitude_step(nav, in->w);
         }

@@ -141,6 +141,8 @@ typedef struct {
     int64_t n_steps;             /**< steps flown since t = 0 (theta = omega_ie n dt) */
     gg_real_t sin_th;            /**< sin / cos of theta at the current step */
     gg_real_t cos_th;
+    gg_real_t sin_hstep;         /**< sin / cos of omega_ie dt / 2 */
+    gg_real_t cos_hstep;
     gg_real_t gamma_b[3][3];     /**< last accepted gradient, body axes, s^-2 */
     gg_real_t gamma_e[3][3];     /**< same in ECEF, s^-2 */
     gg_real_t f_b[3];            /**< last accepted centre specific force, body, m/s^2 */

@@ -1,0 +1,75 @@
+#include "hal_lcm3d.h"
+
+#include <string.h>
+
+void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c)
+{
+    memset(c, 0, sizeof *c);
+    for (int i = 0; i < 3; ++i) {
+        c->geometry.half_base_m[i] = (gg_real_t)m->half_base_m[i];
+        c->r0_e[i] = (gg_real_t)m->r0_hi[i] + (gg_real_t)m->r0_lo[i];
+        c->v0_e[i] = (gg_real_t)m->v0_hi[i] + (gg_real_t)m->v0_lo[i];
+        c->g0_e[i] = (gg_real_t)m->g0_hi[i] + (gg_real_t)m->g0_lo[i];
+    }
+    for (int i = 0; i < 4; ++i) c->q0_b_e[i] = (gg_real_t)m->q0_hi[i] + (gg_real_t)m->q0_lo[i];
+    c->platform = m->platform;
+    c->dt_us = m->dt_us;
+    c->dt_tol_us = m->dt_tol_us;
+    c->omega_ie = (gg_real_t)m->omega_ie_hi + (gg_real_t)m->omega_ie_lo;
+    c->f_max = m->f_max;
+    c->asym_max = m->asym_max;
+    c->gravity_mode = m->gravity_mode;
+    c->model.gm = (gg_real_t)m->model_gm_hi + (gg_real_t)m->model_gm_lo;
+    c->model.a_m = (gg_real_t)m->model_a_m;
+    for (int n = 0; n < 9 && n <= GG_GMODEL_MAX_DEGREE; ++n) c->model.j[n] = (gg_real_t)m->model_j[n];
+    c->baro_enable = m->baro_enable;
+    for (int i = 0; i < 3; ++i) c->baro.poles[i] = (gg_real_t)m->baro_poles[i];
+    c->baro.omega_s2 = (gg_real_t)m->baro_omega_s2;
+    c->baro.period_us = m->baro_period_us;
+    c->baro.max_age_us = m->baro_max_age_us;
+    c->baro.coast_us = m->baro_coast_us;
+    c->baro.alt_min_m = m->baro_alt_min_m;
+    c->baro.alt_max_m = m->baro_alt_max_m;
+    c->baro.gate_m = m->baro_gate_m;
+    c->baro.max_rejects = m->baro_max_rejects;
+}
+
+void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav3d_output_t *m)
+{
+    memset(m, 0, sizeof *m);
+    m->utime = o->utime;
+    m->seq = o->seq;
+    m->run_id = run_id;
+    m->status = o->status;
+    m->health = (int64_t)o->health;
+    for (int i = 0; i < 3; ++i) {
+        m->r_e[i] = o->r_e[i];
+        m->r_e_lo[i] = o->r_e_lo[i];
+        m->v_e[i] = o->v_e[i];
+        m->v_n[i] = o->v_n[i];
+        m->g_e[i] = o->g_e[i];
+        m->g_e_lo[i] = o->g_e_lo[i];
+        m->f_b[i] = o->f_b[i];
+        m->rpy_rad[i] = o->rpy_rad[i];
+        m->omega_b[i] = o->omega_b[i];
+        m->omega_dot_b[i] = o->omega_dot_b[i];
+        for (int j = 0; j < 3; ++j) {
+            m->gamma_e[i][j] = o->gamma_e[i][j];
+            m->gamma_b[i][j] = o->gamma_b[i][j];
+        }
+    }
+    for (int i = 0; i < 4; ++i) {
+        m->q_b_e[i] = o->q_b_e[i];
+        m->parity[i] = o->parity[i];
+    }
+    m->lat_rad = o->lat_rad;
+    m->lon_rad = o->lon_rad;
+    m->h_m = o->h_m;
+    m->h_ins_m = o->h_ins_m;
+    m->baro_innov_m = o->baro_innov_m;
+    m->g_up_corr = o->g_up_corr;
+    m->t_s = o->t_s;
+    m->n_cycles = GG_MOD_COUNT;
+    for (int i = 0; i < GG_MOD_COUNT && i < 8; ++i) m->cycles[i] = (int64_t)o->cycles[i];
+    m->republished = 0;
+}

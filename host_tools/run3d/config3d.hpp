@@ -1,0 +1,62 @@
+// The firmware configuration (gg_nav3d_config_t, nav3d.h) of a 3-D scenario:
+// geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
+// position, known as in Welker et al.), q0_b_e from the truth at t = 0, gravity
+// mode and onboard model (the WGS-84 normal field's zonal series J2..J8, or
+// the point mass), barometric loop. Shared by ggins run3d and the tests.
+#pragma once
+
+#include <cmath>
+#include <cstring>
+
+extern "C" {
+#include "ggins/nav3d.h"
+}
+#include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth3d/generator3d.hpp"
+
+namespace ggins::truth3d {
+
+inline void nav3d_config(const Scenario3& s, const Generator3& g, gg_nav3d_config_t& c) {
+  std::memset(&c, 0, sizeof c);
+  c.geometry.half_base_m[0] = s.a_m;
+  c.geometry.half_base_m[1] = s.b_m;
+  c.geometry.half_base_m[2] = s.c_m;
+  c.platform = s.strapdown() ? GG_PLATFORM_STRAPDOWN : GG_PLATFORM_STABILIZED;
+  c.dt_us = s.dt_us();
+  c.dt_tol_us = s.firmware.dt_tol_us;
+  const Truth3 t0 = g.truth(0);
+  for (int i = 0; i < 3; ++i) {
+    c.r0_e[i] = t0.s.r_e(i);
+    c.v0_e[i] = t0.s.v_e(i);
+    c.g0_e[i] = t0.g_e(i);
+  }
+  const auto q = quat_from_dcm(t0.s.C_b_e);
+  for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[static_cast<size_t>(i)];
+  c.omega_ie = kOmegaIe;
+  c.f_max = s.firmware.f_max_mps2;
+  c.asym_max = s.firmware.asym_max_ps2;
+  c.gravity_mode = s.nav_gravity == "model" ? GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER;
+  if (s.gravity.model == "point-mass") {
+    c.model.gm = s.gravity.gm_m3ps2;
+    c.model.a_m = gravity::wgs84::kA;
+  } else {  // the WGS-84 normal field's zonal series J2..J8
+    const gravity::NormalField n;
+    c.model.gm = n.params().gm;
+    c.model.a_m = n.params().a;
+    for (int k = 1; 2 * k <= 8 && 2 * k <= GG_GMODEL_MAX_DEGREE; ++k) c.model.j[2 * k] = n.j2n(k);
+  }
+  c.baro_enable = s.baro_loop_enabled() ? 1 : 0;
+  const auto& l = s.nav_baro;
+  for (int i = 0; i < 3; ++i) c.baro.poles[i] = l.poles_radps[static_cast<size_t>(i)];
+  c.baro.omega_s2 = l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm();
+  c.baro.period_us = std::llround(s.baro_period_s() * 1e6);
+  c.baro.max_age_us = std::llround(l.max_age_s * 1e6);
+  c.baro.coast_us = std::llround(l.coast_s * 1e6);
+  c.baro.alt_min_m = l.alt_min_m;
+  c.baro.alt_max_m = l.alt_max_m;
+  c.baro.gate_m = l.gate_m;
+  c.baro.max_rejects = static_cast<int32_t>(l.max_rejects);
+}
+
+}  // namespace ggins::truth3d
