@@ -1,0 +1,221 @@
+// ggins-montecarlo3d: N runs of the real 3-D firmware (gg_nav3d_step, direct
+// calls, no LCM) along the analytic great-circle flight of ggins-covariance3d
+// with seeded random sensor errors (18 accelerometer biases, gyro biases,
+// optional white noise), against the covariance of the same scenario
+// (issue 7 item 5). The sample one-sigma s = sqrt(sum e^2 / N) of each NED
+// component is compared with the covariance sigma; N s^2/sigma^2 ~ chi^2_N,
+// band at +-3 standard-normal quantiles (Wilson-Hilferty).
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <thread>
+
+#include "ggins/covariance/propagate.hpp"
+#include "sim3d.hpp"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using namespace ggins::covariance;
+using namespace ggins::montecarlo3d;
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ggins montecarlo3d: N runs of the 3-D firmware (gg_nav3d_step, direct calls) along the analytic\n"
+      "great-circle flight of ggins covariance3d with seeded sensor errors, against the covariance;\n"
+      "chi-square band for N. Writes montecarlo3d.json/.csv to --out. docs/error-analysis.md.",
+      "ggins-montecarlo3d"};
+  std::string scen = "gc3d-stabilized", out_dir, platform_s, field_s;
+  int runs = 100, jobs = 0;
+  uint64_t seed = 1;
+  double rate = 100.0, output_dt = 60.0;
+  std::optional<double> duration, omega_ie, speed, lat0, acc_bias, gyro_bias, acc_noise, gyro_noise;
+  bool want_json = false;
+  app.add_option("-s,--scenario", scen, "built-in 3-D scenario (ggins covariance3d --help)")->capture_default_str();
+  app.add_option("-n,--runs", runs, "number of runs N")->capture_default_str()->check(CLI::Range(2, 100000));
+  app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str();
+  app.add_option("--rate-hz", rate, "firmware step rate, Hz")->capture_default_str();
+  app.add_option("--duration", duration, "s");
+  app.add_option("--output-dt", output_dt, "comparison spacing, s")->capture_default_str();
+  app.add_option("-j,--jobs", jobs, "threads (default: all cores)");
+  app.add_option("--platform", platform_s, "stabilized | strapdown")->check(CLI::IsMember({"stabilized", "strapdown"}));
+  app.add_option("--field", field_s, "normal | point-mass")->check(CLI::IsMember({"normal", "point-mass"}));
+  app.add_option("--omega-ie", omega_ie, "Earth rate, rad/s (0: non-rotating)");
+  app.add_option("--speed", speed, "m/s");
+  app.add_option("--lat0-deg", lat0, "deg");
+  app.add_option("--acc-bias-sigma", acc_bias, "m/s^2");
+  app.add_option("--gyro-bias-sigma", gyro_bias, "rad/s");
+  app.add_option("--acc-noise-sigma", acc_noise, "per sample, m/s^2");
+  app.add_option("--gyro-noise-sigma", gyro_noise, "per sample, rad/s");
+  app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo3d/<scenario>)");
+  app.add_flag("--json", want_json, "print the JSON summary");
+  CLI11_PARSE(app, argc, argv);
+
+  auto b = builtin_scenario3d(scen);
+  if (!b) {
+    std::fprintf(stderr, "ggins-montecarlo3d: unknown scenario '%s'\n", scen.c_str());
+    return 2;
+  }
+  Cov3DScenario s = *b;
+  if (s.model.baro.on) {
+    std::fprintf(stderr, "ggins-montecarlo3d: the barometric loop is not simulated here (no truth barometer)\n");
+    return 2;
+  }
+  if (!platform_s.empty()) s.platform = platform_s == "strapdown" ? Platform::kStrapdown : Platform::kStabilized;
+  if (!field_s.empty()) s.field = field_s;
+  if (duration) s.duration_s = *duration;
+  if (omega_ie) s.omega_ie = *omega_ie;
+  if (speed) s.speed_mps = *speed;
+  if (lat0) s.lat0_deg = *lat0;
+  if (acc_bias) s.acc_bias_sigma_mps2 = *acc_bias;
+  if (gyro_bias) s.gyro_bias_sigma_radps = *gyro_bias;
+  if (acc_noise) s.model.acc_noise_sigma_mps2 = *acc_noise;
+  if (gyro_noise) s.model.gyro_noise_sigma_radps = *gyro_noise;
+  s.model.rate_hz = rate;
+  if (out_dir.empty()) out_dir = "out/montecarlo3d/" + s.name;
+  if (jobs <= 0) jobs = int(std::max(1u, std::thread::hardware_concurrency()));
+  const bool sd = s.platform == Platform::kStrapdown;
+
+  // Covariance of the same scenario.
+  const auto model = make_model3d(s);
+  PropagationOptions opt;
+  opt.t_end = s.duration_s;
+  opt.dt = 1.0;
+  opt.output_dt = output_dt;
+  opt.method = model->has_process_noise() ? Method::kLyapunov : Method::kTransition;
+  const auto cov = propagate(*model, initial_covariance3d(s, *model), opt);
+
+  const Sim3D sim(s, rate);
+  std::vector<std::vector<ErrSample>> res(size_t(runs) + 1);
+  std::atomic<int> next{0};
+  std::mutex err_mu;
+  std::string err;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto worker = [&]() {
+    for (;;) {
+      const int i = next++;
+      if (i > runs) return;
+      SensorErrors e;
+      if (i > 0) {  // run 0: perfect sensors (the deterministic floor)
+        std::mt19937_64 g(seed + uint64_t(i) - 1);
+        std::normal_distribution<double> nd(0.0, 1.0);
+        for (auto& x : e.acc_bias) x = s.acc_bias_sigma_mps2 * nd(g);
+        if (sd)
+          for (auto& x : e.gyro_bias) x = s.gyro_bias_sigma_radps * nd(g);
+        e.acc_noise = s.model.acc_noise_sigma_mps2;
+        e.gyro_noise = sd ? s.model.gyro_noise_sigma_radps : 0.0;
+        e.noise_seed = g();
+      }
+      try {
+        res[size_t(i)] = sim.fly(e, s.duration_s, output_dt);
+      } catch (const std::exception& ex) {
+        std::lock_guard<std::mutex> l(err_mu);
+        err = ex.what();
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> th;
+  for (int j = 0; j < jobs; ++j) th.emplace_back(worker);
+  for (auto& t : th) t.join();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!err.empty()) {
+    std::fprintf(stderr, "ggins-montecarlo3d: %s\n", err.c_str());
+    return 1;
+  }
+
+  // Sample sigma in NED at each output time vs the covariance.
+  const char* blk[4] = {"r", "v", "g", "psi"};
+  const char* unit[4] = {"m", "mps", "mps2", "rad"};
+  const char* ned[3] = {"n", "e", "d"};
+  const int nblk = sd ? 4 : 3;
+  const size_t nt = res[0].size();
+  if (cov.size() != nt) {
+    std::fprintf(stderr, "ggins-montecarlo3d: %zu covariance samples vs %zu run samples\n", cov.size(), nt);
+    return 1;
+  }
+  const auto band = chi_band(runs);
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  std::ofstream csv(fs::path(out_dir) / "montecarlo3d.csv");
+  csv << "t_s";
+  std::vector<std::string> keys;
+  for (int bk = 0; bk < nblk; ++bk)
+    for (int i = 0; i < 3; ++i) keys.push_back(std::string(blk[bk]) + ned[i] + "_" + unit[bk]);
+  for (const auto& k : keys) csv << ",mc_" << k << ",cov_" << k << ",perfect_" << k;
+  csv << '\n';
+  csv.precision(10);
+  json fin, ratios_all = json::object();
+  bool all_in = true;
+  double rmin = 1e9, rmax = 0;
+  for (size_t k = 0; k < nt; ++k) {
+    const double t = res[0][k].t;
+    const Eigen::Matrix3d Cne = model->ned_to_ecef(t);
+    csv << t;
+    for (int bk = 0; bk < nblk; ++bk) {
+      const Eigen::Vector3d cs = ned_sigma(cov[k].P, 3 * bk, Cne);
+      Eigen::Vector3d ss = Eigen::Vector3d::Zero();
+      auto pick = [bk](const ErrSample& e) { return bk == 0 ? e.dr : bk == 1 ? e.dv : bk == 2 ? e.dg : e.psi; };
+      for (int i = 1; i <= runs; ++i) {
+        const Eigen::Vector3d en = Cne.transpose() * pick(res[size_t(i)][k]);
+        ss += en.cwiseProduct(en);
+      }
+      ss = (ss / runs).cwiseSqrt();
+      const Eigen::Vector3d pf = Cne.transpose() * pick(res[0][k]);
+      for (int i = 0; i < 3; ++i) {
+        csv << ',' << ss(i) << ',' << cs(i) << ',' << pf(i);
+        if (k + 1 == nt) {
+          const std::string key = keys[size_t(3 * bk + i)];
+          const double r = ss(i) / cs(i);
+          const bool in = r >= band.first && r <= band.second;
+          all_in = all_in && in;
+          rmin = std::min(rmin, r);
+          rmax = std::max(rmax, r);
+          fin[key] = {{"mc", ss(i)}, {"cov", cs(i)}, {"ratio", r}, {"in_band", in}, {"perfect_run_error", pf(i)}};
+        }
+      }
+    }
+    csv << '\n';
+  }
+  json j;
+  j["scenario"] = s.name;
+  j["platform"] = sd ? "strapdown" : "stabilized";
+  j["field"] = s.field;
+  j["omega_ie_radps"] = s.omega_ie;
+  j["runs"] = runs;
+  j["seed"] = seed;
+  j["rate_hz"] = rate;
+  j["t_s"] = res[0].back().t;
+  j["acc_bias_sigma_mps2"] = s.acc_bias_sigma_mps2;
+  j["gyro_bias_sigma_radps"] = sd ? s.gyro_bias_sigma_radps : 0.0;
+  j["acc_noise_sigma_mps2"] = s.model.acc_noise_sigma_mps2;
+  j["gyro_noise_sigma_radps"] = sd ? s.model.gyro_noise_sigma_radps : 0.0;
+  j["chi2_band_3sigma"] = {band.first, band.second};
+  j["ratio_min"] = rmin;
+  j["ratio_max"] = rmax;
+  j["all_in_band"] = all_in;
+  j["final"] = fin;
+  j["wall_s"] = wall;
+  j["jobs"] = jobs;
+  std::ofstream(fs::path(out_dir) / "montecarlo3d.json") << j.dump(2) << '\n';
+  if (want_json) {
+    std::cout << j.dump(2) << '\n';
+  } else {
+    std::printf("scenario %s (%s, %s field), N = %d, %.0f Hz, t = %.0f s, wall %.1f s (%d threads)\n", s.name.c_str(),
+                sd ? "strapdown" : "stabilized", s.field.c_str(), runs, rate, res[0].back().t, wall, jobs);
+    std::printf("chi-square band (+-3 sigma) for s/sigma: [%.4f, %.4f]\n", band.first, band.second);
+    for (const auto& k : keys)
+      std::printf("  %-10s MC %.6g  cov %.6g  ratio %.4f %s  (perfect-sensor run %.3g)\n", k.c_str(),
+                  fin[k]["mc"].get<double>(), fin[k]["cov"].get<double>(), fin[k]["ratio"].get<double>(),
+                  fin[k]["in_band"].get<bool>() ? "in" : "OUT", fin[k]["perfect_run_error"].get<double>());
+    std::printf("%s\n", all_in ? "all inside the band" : "NOT all inside the band");
+  }
+  return all_in ? 0 : 3;
+}
