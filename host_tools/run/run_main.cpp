@@ -346,6 +346,7 @@ class Runner {
     if (rec_) rec_->write(ch, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
   }
   std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_, ch_ping_;
+  std::optional<ggins::truth::SurveyGrid> survey_grid_;  // [navigation.survey], built before hal_sim starts
   json survey_;  // the programmed anomaly grid sent (model mode with [navigation.survey])
   std::vector<uint8_t> buf_ = std::vector<uint8_t>(65536);  // the configuration carries the anomaly grid (~18 KB)
 
@@ -749,8 +750,8 @@ void Runner::configure_hal() {
     c.model_a_m = nm.a_m;
     for (int n = 0; n < 9; ++n) c.model_j[n] = nm.j[static_cast<size_t>(n)];
   }
-  if (c.gravity_mode == 1 && sc_.navigation.survey.enable) {  // programmed anomaly grid (issue 6; truth/survey.hpp)
-    const ggins::truth::SurveyGrid g = ggins::truth::make_survey_grid(gen_);
+  if (c.gravity_mode == 1 && survey_grid_) {  // programmed anomaly grid (issue 6; truth/survey.hpp)
+    const ggins::truth::SurveyGrid& g = *survey_grid_;
     c.grid_n_th = g.n_th;
     c.grid_n_rho = g.n_rho;
     c.grid_c0 = g.c0;
@@ -1043,6 +1044,8 @@ json Runner::run() {
   lcm_subscription_set_queue_capacity(s_nav, 100000);
   lcm_subscription_set_queue_capacity(s_hal, 1000);
   lcm_subscription_set_queue_capacity(s_req, 100000);
+  if (sc_.navigation.gravity == "model" && sc_.navigation.survey.enable)  // before hal_sim: it may take a while
+    survey_grid_ = ggins::truth::make_survey_grid(gen_);                   // (truth field at every node)
   start_hal_sim();
   configure_hal();
   if (!opt_.quiet)
