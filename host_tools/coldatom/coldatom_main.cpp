@@ -1,0 +1,183 @@
+// ggins-coldatom: flights Liverpool -> Toulouse with the cold-atom gradiometer
+// and the firmware particle filter (Phillips et al. section V). docs/cold-atom-pf.md
+//
+//   ggins-coldatom --flights 50 --sweep none            # Fig. 4: error vs time, aided/unaided
+//   ggins-coldatom --flights 50 --sweep phase           # Fig. 5: mean error vs phase noise 0..15 mrad
+//   ggins-coldatom --flights 50 --sweep fail            # Fig. 6: mean error vs failure probability 0..40 %
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "ggins/coldatom/flight.hpp"
+#include "ggins/coldatom/route_map.hpp"
+
+using namespace ggins::coldatom;
+using json = nlohmann::json;
+
+namespace {
+struct Setting {
+  std::string tag;
+  double phase_mrad, p_fail;
+};
+
+double mean(const std::vector<double>& v) {
+  double s = 0; int n = 0;
+  for (double x : v) if (std::isfinite(x)) { s += x; ++n; }
+  return n ? s / n : NAN;
+}
+double stdev(const std::vector<double>& v) {
+  const double m = mean(v);
+  double s = 0; int n = 0;
+  for (double x : v) if (std::isfinite(x)) { s += (x - m) * (x - m); ++n; }
+  return n > 1 ? std::sqrt(s / (n - 1)) : NAN;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Cold-atom partial-gradient position fixing: flights Liverpool -> Toulouse (issue 11)"};
+  std::string egm96 = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt";
+  std::string out = "out/coldatom";
+  std::string cache;
+  std::string sweep = "none";
+  int flights = 10, threads = 2, particles = 500;
+  double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = 2.0, q_vel = 0.02;
+  double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
+  unsigned long seed = 1;
+  bool no_topo = false, no_egm = false;
+  app.add_option("--egm96", egm96, "EGM96 coefficient file");
+  app.add_option("--out", out, "output folder");
+  app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
+  app.add_option("--sweep", sweep, "none | phase | fail")->check(CLI::IsMember({"none", "phase", "fail"}));
+  app.add_option("--flights", flights, "flights per setting");
+  app.add_option("--threads", threads, "worker threads");
+  app.add_option("--particles", particles, "particles (<= GG_PF_MAX)");
+  app.add_option("--duration", duration, "seconds per flight (0: the whole route, 11,370 s)");
+  app.add_option("--phase-noise", phase_mrad, "phase noise, mrad (sweep none)");
+  app.add_option("--p-fail", p_fail, "failure probability (sweep none / phase)");
+  app.add_option("--cloud-rw", cloud_rw, "atom-cloud horizontal random walk, m/sqrt(s)");
+  app.add_option("--gain", gain, "PF smoothing gain");
+  app.add_option("--q-pos", q_pos, "PF process noise, m per shot");
+  app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot");
+  app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m");
+  app.add_option("--dz", dz, "interferometer separation, m");
+  app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)");
+  app.add_option("--atoms", n_atoms, "mean atoms per shot");
+  app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)");
+  app.add_option("--seed", seed, "first flight's seed");
+  app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
+  app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
+  CLI11_PARSE(app, argc, argv);
+  if (cache.empty()) cache = out + "/cache";
+  std::filesystem::create_directories(cache);
+
+  RouteMapParams mp;
+  mp.with_topo = !no_topo;
+  mp.with_egm96 = !no_egm;
+  const auto tm0 = std::chrono::steady_clock::now();
+  RouteMap map(mp, egm96, cache);
+  const double map_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm0).count();
+  std::printf("route %.1f km, map built in %.1f s; synthetic terrain: height rms %.0f m, Gamma_zz rms at %.0f m: %.2f E\n",
+              map.length() / 1e3, map_s, map.topo_height_rms(), mp.h, map.topo_gzz_rms() * 1e9);
+  {  // the map along the route (Fig. 1)
+    std::ofstream f(out + "/route_gzz.csv");
+    f << "s_km,lat_deg,lon_deg,land,gzz_E\n";
+    for (double s = 0; s <= map.length(); s += 250.0) {
+      double lat, lon, g = NAN;
+      map.route_point(s, 0, &lat, &lon);
+      map.gzz(lat, lon, mp.h, &g);
+      f << s / 1e3 << "," << lat * 180 / M_PI << "," << lon * 180 / M_PI << "," << map.land(lat) << "," << g * 1e9
+        << "\n";
+    }
+  }
+
+  std::vector<Setting> settings;
+  if (sweep == "none") settings.push_back({"base", phase_mrad, p_fail});
+  if (sweep == "phase")
+    for (double p : {0.0, 2.5, 5.0, 7.5, 10.0, 12.5, 15.0}) settings.push_back({"phase" + std::to_string(int(p * 10)), p, p_fail});
+  if (sweep == "fail")
+    for (double p : {0.0, 0.1, 0.2, 0.3, 0.4}) settings.push_back({"fail" + std::to_string(int(p * 100)), 5.0, p});
+
+  json summary = json::array();
+  for (const Setting& st : settings) {
+    std::vector<FlightResult> res(static_cast<std::size_t>(flights));
+    std::atomic<int> next{0};
+    auto worker = [&]() {
+      for (int i; (i = next++) < flights;) {
+        FlightConfig fc;
+        fc.grad.phase_noise = st.phase_mrad * 1e-3;
+        fc.grad.p_fail = st.p_fail;
+        fc.grad.cloud_rw = cloud_rw;
+        fc.grad.dz = dz;
+        fc.grad.n_atoms = n_atoms;
+        fc.sigma_like = sigma_like;
+        fc.ins.acc_bias_g *= ins_scale; fc.ins.acc_nonorth *= ins_scale; fc.ins.acc_scale *= ins_scale;
+        fc.ins.acc_noise_g *= ins_scale; fc.ins.gyro_bias *= ins_scale; fc.ins.gyro_nonorth *= ins_scale;
+        fc.ins.gyro_scale *= ins_scale; fc.ins.gyro_noise *= ins_scale;
+        fc.particles = particles;
+        fc.gain = gain; fc.q_pos = q_pos; fc.q_vel = q_vel; fc.sigma0_pos = sigma0_pos;
+        fc.duration = duration;
+        fc.seed = seed + static_cast<unsigned long>(i);
+        res[static_cast<std::size_t>(i)] = fly(map, fc);
+      }
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::thread> pool;
+    for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
+    for (auto& th : pool) th.join();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // mean error against time over the flights
+    const std::size_t nt = res[0].t.size();
+    std::ofstream f(out + "/error_vs_time_" + st.tag + ".csv");
+    f << "t_s,unaided_mean_m,aided_mean_m,aided_p90_m\n";
+    for (std::size_t j = 0; j < nt; ++j) {
+      std::vector<double> a, u;
+      for (const auto& r : res) { a.push_back(r.err_aided[j]); u.push_back(r.err_unaided[j]); }
+      std::sort(a.begin(), a.end());
+      f << res[0].t[j] << "," << mean(u) << "," << mean(a) << "," << a[static_cast<std::size_t>(0.9 * (a.size() - 1))] << "\n";
+    }
+    // gradient estimates (all flights): error of ellipse fit and PF against the batch-mean truth
+    std::vector<double> efit, epf, mean_a, mean_u, fin_u, step;
+    int shots = 0, failed = 0, degen = 0;
+    for (const auto& r : res) {
+      for (std::size_t j = 0; j < r.g_true.size(); ++j) {
+        efit.push_back((r.g_fit[j] - r.g_true[j]) * 1e9);
+        epf.push_back((r.g_pf[j] - r.g_true[j]) * 1e9);
+      }
+      mean_a.push_back(r.mean_aided); mean_u.push_back(r.mean_unaided); fin_u.push_back(r.final_unaided);
+      step.push_back(r.pf_step_ns_median);
+      shots += r.shots; failed += r.failed; degen += r.degenerate;
+    }
+    {
+      std::ofstream g(out + "/gradient_" + st.tag + "_flight0.csv");
+      g << "t_s,true_E,ellipse_fit_E,pf_E\n";
+      for (std::size_t j = 0; j < res[0].g_true.size(); ++j)
+        g << res[0].batch_t[j] << "," << res[0].g_true[j] * 1e9 << "," << res[0].g_fit[j] * 1e9 << ","
+          << res[0].g_pf[j] * 1e9 << "\n";
+    }
+    std::sort(step.begin(), step.end());
+    json js = {{"setting", st.tag}, {"phase_noise_mrad", st.phase_mrad}, {"p_fail", st.p_fail},
+               {"flights", flights}, {"duration_s", res[0].t.empty() ? 0.0 : res[0].t.back()},
+               {"mean_aided_m", mean(mean_a)}, {"std_over_flights_aided_m", stdev(mean_a)},
+               {"mean_unaided_m", mean(mean_u)}, {"final_unaided_mean_m", mean(fin_u)},
+               {"ellipse_fit_err_mean_E", mean(efit)}, {"ellipse_fit_err_std_E", stdev(efit)},
+               {"pf_err_mean_E", mean(epf)}, {"pf_err_std_E", stdev(epf)},
+               {"shots", shots}, {"failed_shots", failed}, {"degenerate_steps", degen},
+               {"pf_step_ns_median", step[step.size() / 2]}, {"wall_s", wall}};
+    std::printf("%s\n", js.dump().c_str());
+    std::fflush(stdout);
+    summary.push_back(js);
+  }
+  std::ofstream(out + "/summary_" + sweep + ".json") << summary.dump(2) << "\n";
+  std::printf("report: %s\n", out.c_str());
+  return 0;
+}

@@ -1,0 +1,70 @@
+// Flight simulation of Phillips et al. section V: an aviation-grade INS (paper
+// Table I) flying Liverpool -> Toulouse at 3000 m, 100 m/s, unaided and aided by
+// the firmware particle filter (firmware/include/ggins/pf.h) fed with single
+// pairs of the cold-atom gradiometer; the ellipse-fitting baseline on batches.
+//
+// INS: a simplified horizontal error model driven by the Table I errors (the
+// lead's 3-D firmware was not ready): psi-angle error equations (Benson 1975;
+// Titterton & Weston 2004 ch. 12) in NED, level flight, body x along the route
+// heading:
+//   dr'  = dv                                    (N, E; vertical held by the altimeter)
+//   dv'  = -(psi x f_n) - w_s^2 dr - 2 Omega x dv + C_b^n df_b
+//   psi' = -(Omega + rho) x psi + C_b^n eps_b
+//   df_b  = b_a + (S_a + N_a) f_b + n_a,   eps_b = b_g + (S_g + N_g) w_b + n_g
+// with f_n = (0, 0, -g), w_b the Earth + transport rate in body axes, integrated
+// at 10 Hz. Perfect initial alignment (as the paper). Altimeter: true height +
+// white noise (alt_noise), used for the candidates' height.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ggins/coldatom/gradiometer.hpp"
+#include "ggins/coldatom/route_map.hpp"
+
+namespace ggins::coldatom {
+
+// Table I of Phillips et al. (1 sigma). The units the text lost: gyro bias read as
+// 0.05 urad/s (0.01 deg/h, aviation grade), gyro noise as 2.0 urad/s/sqrt(Hz),
+// accelerometer noise 15 ug/sqrt(Hz).
+struct InsErrorParams {
+  double acc_bias_g = 30e-6;
+  double acc_nonorth = 10e-6;   // rad
+  double acc_scale = 10e-6;
+  double acc_noise_g = 15e-6;   // g / sqrt(Hz)
+  double gyro_bias = 0.05e-6;   // rad/s
+  double gyro_nonorth = 10e-6;  // rad
+  double gyro_scale = 10e-6;
+  double gyro_noise = 2.0e-6;   // rad/s / sqrt(Hz)
+  double dt = 0.1;              // s, error-model step
+};
+
+struct FlightConfig {
+  GradiometerParams grad;
+  InsErrorParams ins;
+  int particles = 500;
+  double sigma_like = 0;   // 0: max(0.001, gradiometer expected_sigma)
+  double sigma0_pos = 50, sigma0_vel = 0.05;
+  double q_pos = 2.0, q_vel = 0.02;
+  double gain = 0.05;
+  double alt_noise = 5.0;  // m
+  int batch = 20;          // pairs per ellipse fit
+  double duration = 0;     // s, 0: the whole route
+  int record_every = 10;   // s
+  bool run_pf = true;
+  std::uint64_t seed = 1;
+};
+
+struct FlightResult {
+  std::vector<double> t, err_unaided, err_aided;  // every record_every s, metres
+  // gradient estimates per batch (s^-2): truth mean over the batch, ellipse fit, PF (map at the corrected position)
+  std::vector<double> batch_t, g_true, g_fit, g_pf;
+  double pf_step_ns_median = 0;
+  int shots = 0, failed = 0, degenerate = 0, resampled = 0;
+  double mean_aided = 0, mean_unaided = 0, final_unaided = 0, final_aided = 0;
+};
+
+FlightResult fly(const RouteMap& map, const FlightConfig& cfg);
+
+}  // namespace ggins::coldatom

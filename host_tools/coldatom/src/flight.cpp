@@ -1,0 +1,180 @@
+#include "ggins/coldatom/flight.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "ggins/coldatom/ellipse_fit.hpp"
+
+extern "C" {
+#include "ggins/pf.h"
+}
+
+namespace ggins::coldatom {
+
+namespace {
+constexpr double kOmega = 7.292115e-5;
+constexpr double kG0 = 9.80665;
+constexpr double kWgsA = 6378137.0, kWgsE2 = 6.69437999014e-3;
+using V3 = Eigen::Vector3d;
+using M3 = Eigen::Matrix3d;
+
+gg_status_t map_gzz(const void* ctx, double lat, double lon, double h, double* g) {
+  return static_cast<const RouteMap*>(ctx)->gzz(lat, lon, h, g) ? GG_OK : GG_ERR_RANGE;
+}
+M3 skew_offdiag(std::mt19937_64& rng, double sd) {
+  std::normal_distribution<double> n(0, sd);
+  M3 m = M3::Zero();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i != j) m(i, j) = n(rng);
+  return m;
+}
+}  // namespace
+
+FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
+  FlightResult res;
+  std::mt19937_64 rng(cfg.seed * 7919u + 17u);
+  std::normal_distribution<double> n01(0, 1);
+  const InsErrorParams& e = cfg.ins;
+  // --- per-flight sensor errors (Table I) ---
+  V3 ba, bg;
+  for (int i = 0; i < 3; ++i) { ba(i) = e.acc_bias_g * kG0 * n01(rng); bg(i) = e.gyro_bias * n01(rng); }
+  M3 Ka = skew_offdiag(rng, e.acc_nonorth), Kg = skew_offdiag(rng, e.gyro_nonorth);
+  for (int i = 0; i < 3; ++i) { Ka(i, i) = e.acc_scale * n01(rng); Kg(i, i) = e.gyro_scale * n01(rng); }
+  Gradiometer grad(cfg.grad, cfg.seed * 104729u + 3u);
+
+  // --- particle filter ---
+  static thread_local gg_pf_t pf;
+  gg_pf_config_t pc{};
+  pc.n = cfg.particles;
+  pc.seed = cfg.seed * 1299709u + 5u;
+  pc.k_eff = cfg.grad.k_eff();
+  pc.T = cfg.grad.T;
+  pc.dz = cfg.grad.dz;
+  pc.contrast = cfg.grad.contrast;
+  pc.c0 = 0.5 + cfg.grad.bias0;  // calibrated ellipse (known biases)
+  pc.c1 = 0.5 + cfg.grad.bias1;
+  pc.sigma = cfg.sigma_like > 0 ? cfg.sigma_like : std::max(1e-3, grad.expected_sigma());
+  pc.sigma0_pos = cfg.sigma0_pos;
+  pc.sigma0_vel = cfg.sigma0_vel;
+  pc.q_pos = cfg.q_pos;
+  pc.q_vel = cfg.q_vel;
+  pc.dt = 1.0 / cfg.grad.rate_hz;
+  pc.gain = cfg.gain;
+  pc.ess_frac = 0.5;
+  pc.map.gzz = map_gzz;
+  pc.map.ctx = &map;
+  if (cfg.run_pf && gg_pf_init(&pf, &pc) != GG_OK) return res;
+
+  const double v = 100.0, h = map.params().h;
+  const double T = cfg.duration > 0 ? std::min(cfg.duration, map.length() / v) : map.length() / v;
+  const double dt = e.dt;
+  const long nsteps = static_cast<long>(std::floor(T / dt + 1e-9));
+  const long shot_every = static_cast<long>(std::lround(1.0 / (cfg.grad.rate_hz * dt)));
+  const long rec_every = static_cast<long>(std::lround(cfg.record_every / dt));
+  V3 dr = V3::Zero(), dv = V3::Zero(), psi = V3::Zero();
+  double corr[2] = {0, 0};
+  std::vector<double> bx, by, bg_true, bg_pf;
+  std::vector<double> step_ns;
+  double sum_a = 0, sum_u = 0;
+  long nrec = 0;
+  for (long k = 1; k <= nsteps; ++k) {
+    const double t = k * dt;
+    // truth at t
+    double lat, lon;
+    map.route_point(v * t, 0, &lat, &lon);
+    const double hd = map.heading(v * t);
+    const double sl = std::sin(lat), cl = std::cos(lat);
+    const double w2 = 1 - kWgsE2 * sl * sl, RN = kWgsA / std::sqrt(w2), RM = RN * (1 - kWgsE2) / w2;
+    const double vN = v * std::cos(hd), vE = v * std::sin(hd);
+    const V3 Om(kOmega * cl, 0, -kOmega * sl);
+    const V3 rho(vE / (RN + h), -vN / (RM + h), -vE * sl / cl / (RN + h));
+    M3 Cbn;
+    Cbn << std::cos(hd), -std::sin(hd), 0, std::sin(hd), std::cos(hd), 0, 0, 0, 1;
+    const V3 fn(0, 0, -kG0);
+    const V3 fb = Cbn.transpose() * fn, wb = Cbn.transpose() * (Om + rho);
+    V3 na, ng;
+    for (int i = 0; i < 3; ++i) {
+      na(i) = e.acc_noise_g * kG0 / std::sqrt(dt) * n01(rng);
+      ng(i) = e.gyro_noise / std::sqrt(dt) * n01(rng);
+    }
+    const V3 dfn = Cbn * (ba + Ka * fb + na);
+    const V3 epn = Cbn * (bg + Kg * wb + ng);
+    const double ws2 = kG0 / (std::sqrt(RM * RN) + h);
+    V3 acc = -psi.cross(fn) - ws2 * dr - 2 * Om.cross(dv) + dfn;
+    acc(2) = 0;
+    dv += acc * dt;
+    dr += dv * dt;
+    psi += (-(Om + rho).cross(psi) + epn) * dt;
+
+    if (k % shot_every == 0) {
+      double gtrue = 0;
+      map.gzz(lat, lon, h, &gtrue);
+      const Shot s = grad.shot(gtrue);
+      ++res.shots;
+      const bool ok = s.status == ShotStatus::kOk;
+      if (!ok) ++res.failed;
+      // INS position (truth + error) and altimeter
+      const double lat_i = lat + dr(0) / (RM + h), lon_i = lon + dr(1) / ((RN + h) * cl);
+      const double h_alt = h + cfg.alt_noise * n01(rng);
+      if (cfg.run_pf) {
+        gg_pf_input_t in{lat_i, lon_i, h_alt, ok ? 1 : 0, s.s0, s.s1};
+        gg_pf_output_t out{};
+        const auto t0 = std::chrono::steady_clock::now();
+        const gg_status_t st = gg_pf_step(&pf, &in, &out);
+        const auto t1 = std::chrono::steady_clock::now();
+        if (step_ns.size() < 4000 && ok)
+          step_ns.push_back(static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()));
+        if (st == GG_OK) {
+          corr[0] = out.corr[0]; corr[1] = out.corr[1];
+          if (out.health & GG_PF_H_DEGENERATE) ++res.degenerate;
+          if (out.health & GG_PF_H_RESAMPLED) ++res.resampled;
+        }
+      }
+      if (ok) {
+        // ellipse-fitting baseline on batches; PF estimate = map at the corrected position
+        bx.push_back(s.s0);
+        by.push_back(s.s1);
+        bg_true.push_back(gtrue);
+        double gpf = 0;
+        const double lat_c = lat_i + corr[0] / (RM + h), lon_c = lon_i + corr[1] / ((RN + h) * cl);
+        if (!map.gzz(lat_c, lon_c, h, &gpf)) gpf = NAN;
+        bg_pf.push_back(gpf);
+        if (static_cast<int>(bx.size()) == cfg.batch) {
+          const EllipseFit f = fit_ellipse(bx, by);
+          double mt = 0, mp = 0;
+          for (int i = 0; i < cfg.batch; ++i) { mt += bg_true[static_cast<std::size_t>(i)]; mp += bg_pf[static_cast<std::size_t>(i)]; }
+          res.batch_t.push_back(t);
+          res.g_true.push_back(mt / cfg.batch);
+          res.g_fit.push_back(f.ok ? f.dphi / cfg.grad.scale() : NAN);
+          res.g_pf.push_back(mp / cfg.batch);
+          bx.clear(); by.clear(); bg_true.clear(); bg_pf.clear();
+        }
+      }
+    }
+    if (k % rec_every == 0) {
+      const double eu = std::hypot(dr(0), dr(1));
+      const double ea = std::hypot(dr(0) + corr[0], dr(1) + corr[1]);
+      res.t.push_back(t);
+      res.err_unaided.push_back(eu);
+      res.err_aided.push_back(ea);
+      sum_a += ea; sum_u += eu; ++nrec;
+    }
+  }
+  if (nrec) {
+    res.mean_aided = sum_a / nrec; res.mean_unaided = sum_u / nrec;
+    res.final_aided = res.err_aided.back(); res.final_unaided = res.err_unaided.back();
+  }
+  if (!step_ns.empty()) {
+    std::nth_element(step_ns.begin(), step_ns.begin() + static_cast<long>(step_ns.size() / 2), step_ns.end());
+    res.pf_step_ns_median = step_ns[step_ns.size() / 2];
+  }
+  return res;
+}
+
+}  // namespace ggins::coldatom
