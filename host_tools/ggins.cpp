@@ -21,6 +21,7 @@ static const struct {
     {"profile", "per-module firmware step timing for a scenario"},
     {"replay", "replay a recorded LCM log through the firmware, bit for bit"},
     {"gmap", "onboard gravity-gradient map tile from EGM96 (binary/JSON) for the map-matching filters"},
+    {"mapnav", "gravity-gradient map matching UKF (Gao et al.) voyage vs pure inertial, Monte Carlo, NEES/NIS"},
 };
 
 static void usage(FILE* out) {

@@ -200,10 +200,10 @@ gg_status_t gg_gmap_eval(const gg_gmap_t *st, gg_real_t lat, gg_real_t lon, gg_r
     const gg_real_t tl = (lat - (gg_real_t)t->lat0_rad) / (gg_real_t)t->dlat_rad;
     const gg_real_t tn = (lon - (gg_real_t)t->lon0_rad) / (gg_real_t)t->dlon_rad;
     const gg_real_t dh = h - (gg_real_t)t->h0_m;
+    const gg_real_t hr = ((mask & GG_GMAP_H_EXTRAPOLATE) != 0u) ? 1.0e5L : (gg_real_t)t->h_range_m;
     /* edges inclusive, with 1e-9 cell of slack for the rounding of lat0 + i dlat */
     if ((tl < -GMAP_EDGE_EPS) || (tl > ((gg_real_t)(t->nlat - 1) + GMAP_EDGE_EPS)) ||
-        (tn < -GMAP_EDGE_EPS) || (tn > ((gg_real_t)(t->nlon - 1) + GMAP_EDGE_EPS)) || (dh > (gg_real_t)t->h_range_m) ||
-        (dh < -(gg_real_t)t->h_range_m)) {
+        (tn < -GMAP_EDGE_EPS) || (tn > ((gg_real_t)(t->nlon - 1) + GMAP_EDGE_EPS)) || (dh > hr) || (dh < -hr)) {
         return GG_ERR_RANGE;
     }
     int32_t i0, j0;

@@ -45,7 +45,9 @@ gg_status_t gg_ukf_cholesky(int32_t n, const double A[NX][NX], double L[NX][NX])
         for (int32_t k = 0; k < j; ++k) {
             d -= T[j][k] * T[j][k];
         }
-        if (!finite_d(d) || (d <= (GG_UKF_PIVOT_MIN * dmax))) {
+        /* pivot relative to its own diagonal element: the states may differ in
+         * scale by many orders (bias variances ~1e-15 beside position ~1e2) */
+        if (!finite_d(d) || !(A[j][j] > 0.0) || (d <= (GG_UKF_PIVOT_MIN * A[j][j]))) {
             return GG_ERR_RANGE;
         }
         const double ljj = usqrt(d);
@@ -458,5 +460,25 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
     if (info != NULL) {
         info->accepted = 1;
     }
+    return GG_OK;
+}
+
+gg_status_t gg_ukf_set_mean(gg_ukf_t *st, const double *x)
+{
+    if ((st == NULL) || (x == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    for (int32_t k = 0; k < st->cfg.nx; ++k) {
+        if (!finite_d(x[k])) {
+            return GG_ERR_NONFINITE;
+        }
+    }
+    for (int32_t k = 0; k < st->cfg.nx; ++k) {
+        st->x[k] = x[k];
+    }
+    st->sigma_ready = 0;
     return GG_OK;
 }

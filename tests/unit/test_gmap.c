@@ -175,6 +175,12 @@ static void test_rejects(void **state)
     assert_int_equal(gg_gmap_eval(&g_map, NAN, kLon0, kH0, GG_GMAP_MASK_ALL, 1, &s), GG_ERR_NONFINITE);
     assert_int_equal(gg_gmap_eval(&g_map, kLat0, kLon0, INFINITY, GG_GMAP_MASK_ALL, 1, &s), GG_ERR_NONFINITE);
     assert_memory_equal(&s, &s0, sizeof s);
+    /* beyond the band with GG_GMAP_H_EXTRAPOLATE: the linear height term continued */
+    assert_int_equal(gg_gmap_eval(&g_map, kLat0 + 5 * kD, kLon0 + 5 * kD, kH0 + 2500,
+                                  GG_GMAP_MASK_ALL | GG_GMAP_H_EXTRAPOLATE, 0, &s), GG_OK);
+    assert_near(s.gamma[2], g_tile.node[35][2] + 2500.0 * g_tile.node[35][8], 1e-19L);
+    assert_int_equal(gg_gmap_eval(&g_map, kLat0, kLon0, kH0 + 2e5, GG_GMAP_MASK_ALL | GG_GMAP_H_EXTRAPOLATE, 0, &s),
+                     GG_ERR_RANGE);
     /* the corners themselves are inside */
     assert_int_equal(gg_gmap_eval(&g_map, kLat0 + 5 * kD, kLon0 + 5 * kD, kH0 + 500, GG_GMAP_MASK_ALL, 1, &s), GG_OK);
     assert_near(s.gamma[1], g_tile.node[35][1] + 500.0 * g_tile.node[35][7], 1e-20L); /* coordinate rounding ~5e-14 cell */

@@ -271,6 +271,19 @@ static void test_cholesky_known(void **state)
     assert_true(L[0][0] == 42.0);
     A[2][2] = NAN;
     assert_int_equal(gg_ukf_cholesky(3, (const double(*)[N])A, L), GG_ERR_RANGE);
+    /* badly scaled but well conditioned after scaling (position 1e2 m^2 beside a
+     * gyro-bias variance 2e-15): accepted, L exact; the pivot test is per row */
+    memset(A, 0, sizeof A);
+    A[0][0] = 100.0;
+    A[1][1] = 2.0e-15;
+    A[0][1] = A[1][0] = 0.5 * sqrt(100.0 * 2.0e-15);
+    assert_int_equal(gg_ukf_cholesky(2, (const double(*)[N])A, L), GG_OK);
+    assert_near(L[0][0], 10.0, 1e-14);
+    assert_near(L[1][0], 0.5 * sqrt(2.0e-15), 1e-22);
+    assert_near(L[1][1], sqrt(0.75 * 2.0e-15), 1e-22);
+    /* the same with a correlation of 1 - 1e-17: singular to working precision, refused */
+    A[0][1] = A[1][0] = sqrt(100.0 * 2.0e-15);
+    assert_int_equal(gg_ukf_cholesky(2, (const double(*)[N])A, L), GG_ERR_RANGE);
 }
 
 static gg_status_t nan_h(void *ctx, const double *x, double *z)

@@ -73,6 +73,11 @@
 #define GG_GMAP_MASK_ALL 0x3Fu
 #define GG_GMAP_MASK_DD (1u << GG_GMAP_C_DD)
 
+/** Mask flag for gg_gmap_eval: accept heights beyond h_range_m and continue
+ *  the first-order height term linearly (error grows as (h - h0)^2; for
+ *  filters whose sigma points or particles spread beyond the band). */
+#define GG_GMAP_H_EXTRAPOLATE (1u << 8)
+
 /** Tile flag: values are total minus the WGS-84 normal gravitation gradient. */
 #define GG_GMAP_ANOMALY 0x1u
 
@@ -115,7 +120,8 @@ gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len);
 /** Interpolate at geodetic (lat, lon) rad, height h m. mask selects the
  *  components computed (others set to 0; GG_GMAP_MASK_DD for the particle
  *  filter); want_grad != 0 fills dgamma. GG_ERR_RANGE outside the tile or
- *  beyond h_range_m, GG_ERR_NONFINITE for NaN/Inf input, GG_ERR_NOT_INIT
+ *  beyond h_range_m (unless mask has GG_GMAP_H_EXTRAPOLATE; |h - h0| <= 1e5 m
+ *  always), GG_ERR_NONFINITE for NaN/Inf input, GG_ERR_NOT_INIT
  *  before init (out untouched on error). */
 gg_status_t gg_gmap_eval(const gg_gmap_t *st, gg_real_t lat, gg_real_t lon, gg_real_t h,
                          uint32_t mask, int want_grad, gg_gmap_sample_t *out);

@@ -32,7 +32,8 @@
  *
  * Robustness: every new covariance (predicted or updated) is Cholesky
  * factorised before it is accepted; if the factorisation fails (a pivot
- * <= GG_UKF_PIVOT_MIN times the largest diagonal element, or not finite) the
+ * <= GG_UKF_PIVOT_MIN times its own diagonal element A_jj, or not finite; a
+ * per-row test because the states may differ in scale by many orders) the
  * operation is rejected: x, P and L keep their previous values, the function
  * returns GG_ERR_RANGE and GG_UKF_H_CHOL_FAIL is set in health. The same holds
  * for S. Innovation gating: the normalised innovation squared
@@ -123,6 +124,11 @@ gg_status_t gg_ukf_predict(gg_ukf_t *st, gg_ukf_fx_t f, void *ctx,
 gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z,
                           const double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX], gg_ukf_hx_t h, void *ctx,
                           gg_ukf_update_info_t *info);
+
+/** Replace the mean (nx finite values) keeping P, e.g. the reset of an
+ *  error-state filter after the estimate was injected into the nominal state.
+ *  Invalidates drawn sigma points. */
+gg_status_t gg_ukf_set_mean(gg_ukf_t *st, const double *x);
 
 /** Cholesky factor L (lower) of the symmetric n x n matrix A (A = L L^T), with
  *  the pivot test above. GG_ERR_RANGE when A is not positive definite (L

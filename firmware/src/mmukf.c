@@ -1,0 +1,611 @@
+/* Gravity-gradient map matching UKF (see mmukf.h). */
+#include "ggins/mmukf.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "ggins/ggmath.h"
+
+/* WGS-84 (NIMA TR8350.2 Table 3.1 and derived constants) */
+#define MM_A 6378137.0
+#define MM_F (1.0 / 298.257223563)
+#define MM_E2 6.69437999014e-3
+#define MM_W 7.292115e-5
+#define MM_GE 9.7803253359      /* normal gravity at the equator */
+#define MM_K 0.00193185265241   /* Somigliana constant */
+#define MM_M 0.00344978650684   /* w^2 a^2 b / GM */
+#define MM_LAT_MAX 1.5533430342749532 /* 89 deg */
+
+static double msqrt(double v)
+{
+    return (double)sqrtl((long double)v);
+}
+
+static int fin(double v)
+{
+    return isfinite(v) ? 1 : 0;
+}
+
+static gg_status_t sc(double x, double *s, double *c)
+{
+    gg_real_t ls, lc;
+    const gg_status_t st = gg_sincos((gg_real_t)x, &ls, &lc);
+    if (st != GG_OK) {
+        return st;
+    }
+    *s = (double)ls;
+    *c = (double)lc;
+    return GG_OK;
+}
+
+static void qmul(const double a[4], const double b[4], double r[4])
+{
+    double t[4];
+    t[0] = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3];
+    t[1] = a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2];
+    t[2] = a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1];
+    t[3] = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0];
+    (void)memcpy(r, t, sizeof t);
+}
+
+static gg_status_t qexp(const double th[3], double q[4])
+{
+    const double a2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2];
+    if (a2 < 1.0e-16) {
+        const double k = 0.5 * (1.0 - a2 / 24.0);
+        q[0] = 1.0 - a2 / 8.0;
+        q[1] = k * th[0];
+        q[2] = k * th[1];
+        q[3] = k * th[2];
+        return GG_OK;
+    }
+    const double a = msqrt(a2);
+    double s, c;
+    const gg_status_t st = sc(0.5 * a, &s, &c);
+    if (st != GG_OK) {
+        return st;
+    }
+    q[0] = c;
+    q[1] = s * th[0] / a;
+    q[2] = s * th[1] / a;
+    q[3] = s * th[2] / a;
+    return GG_OK;
+}
+
+static gg_status_t qlog(const double qin[4], double th[3])
+{
+    double q[4];
+    const double sg = (qin[0] < 0.0) ? -1.0 : 1.0;
+    for (int k = 0; k < 4; ++k) {
+        q[k] = sg * qin[k];
+    }
+    const double n = msqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (n < 1.0e-9) {
+        const double k = 2.0 / q[0];
+        th[0] = k * q[1];
+        th[1] = k * q[2];
+        th[2] = k * q[3];
+        return GG_OK;
+    }
+    gg_real_t ang;
+    const gg_status_t st = gg_atan2((gg_real_t)n, (gg_real_t)q[0], &ang);
+    if (st != GG_OK) {
+        return st;
+    }
+    const double k = 2.0 * (double)ang / n;
+    th[0] = k * q[1];
+    th[1] = k * q[2];
+    th[2] = k * q[3];
+    return GG_OK;
+}
+
+static void qnorm(double q[4])
+{
+    const double n = msqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; ++k) {
+        q[k] /= n;
+    }
+}
+
+/* C_b_n of q (body to NED) */
+static void qdcm(const double q[4], double C[3][3])
+{
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    C[0][0] = 1.0 - 2.0 * (y * y + z * z);
+    C[0][1] = 2.0 * (x * y - w * z);
+    C[0][2] = 2.0 * (x * z + w * y);
+    C[1][0] = 2.0 * (x * y + w * z);
+    C[1][1] = 1.0 - 2.0 * (x * x + z * z);
+    C[1][2] = 2.0 * (y * z - w * x);
+    C[2][0] = 2.0 * (x * z - w * y);
+    C[2][1] = 2.0 * (y * z + w * x);
+    C[2][2] = 1.0 - 2.0 * (x * x + y * y);
+}
+
+static void mv(double C[3][3], const double v[3], double r[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        r[i] = C[i][0] * v[0] + C[i][1] * v[1] + C[i][2] * v[2];
+    }
+}
+
+/* meridian and prime-vertical radii (Gao eqs. 9-10) */
+static void radii(double s, double *rm, double *rn)
+{
+    const double d = 1.0 - MM_E2 * s * s;
+    const double sd = msqrt(d);
+    *rn = MM_A / sd;
+    *rm = MM_A * (1.0 - MM_E2) / (d * sd);
+}
+
+gg_status_t gg_mm_normal_gravity(double lat, double h, double *g)
+{
+    if (g == NULL) {
+        return GG_ERR_NULL;
+    }
+    double s, c;
+    const gg_status_t st = sc(lat, &s, &c);
+    if (st != GG_OK) {
+        return st;
+    }
+    const double s2 = s * s;
+    const double g0 = MM_GE * (1.0 + MM_K * s2) / msqrt(1.0 - MM_E2 * s2);
+    *g = g0 * (1.0 - 2.0 / MM_A * (1.0 + MM_F + MM_M - 2.0 * MM_F * s2) * h + 3.0 / (MM_A * MM_A) * h * h);
+    return GG_OK;
+}
+
+static int nav_ok(const gg_mm_nav_t *x)
+{
+    for (int k = 0; k < 4; ++k) {
+        if (!fin(x->q[k])) {
+            return 0;
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (!fin(x->v[k]) || !fin(x->bg[k]) || !fin(x->ba[k])) {
+            return 0;
+        }
+    }
+    if (!fin(x->lat) || !fin(x->lon) || !fin(x->h) || (x->lat > MM_LAT_MAX) ||
+        (x->lat < -MM_LAT_MAX) || (x->h < -1.0e5) || (x->h > 1.0e6)) {
+        return 0;
+    }
+    return 1;
+}
+
+gg_status_t gg_mm_mech(gg_mm_nav_t *xio, const gg_mm_imu_t *imu, double dt, int32_t vertical_hold,
+                       double h_hold, double vd_hold)
+{
+    if ((xio == NULL) || (imu == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!fin(dt) || (dt <= 0.0) || (dt > 1.0) || (nav_ok(xio) == 0)) {
+        return GG_ERR_RANGE;
+    }
+    gg_mm_nav_t x = *xio;
+    double s, c;
+    gg_status_t st = sc(x.lat, &s, &c);
+    if (st != GG_OK) {
+        return st;
+    }
+    double rm, rn, g;
+    radii(s, &rm, &rn);
+    st = gg_mm_normal_gravity(x.lat, x.h, &g);
+    if (st != GG_OK) {
+        return st;
+    }
+    const double w_ie[3] = {MM_W * c, 0.0, -MM_W * s};
+    const double w_en[3] = {x.v[1] / (rn + x.h), -x.v[0] / (rm + x.h), -x.v[1] * s / (c * (rn + x.h))};
+    double w[3], f[3], th[3], thh[3], thn[3];
+    for (int k = 0; k < 3; ++k) {
+        w[k] = imu->omega_b[k] - x.bg[k];
+        f[k] = imu->f_b[k] - x.ba[k];
+        th[k] = w[k] * dt;
+        thh[k] = 0.5 * th[k];
+        thn[k] = -(w_ie[k] + w_en[k]) * dt;
+    }
+    double qb[4], qh[4], qn[4], qnh[4], qm[4], qt[4], C[3][3], fn[3], thnh[3];
+    for (int k = 0; k < 3; ++k) {
+        thnh[k] = 0.5 * thn[k];
+    }
+    if ((qexp(th, qb) != GG_OK) || (qexp(thh, qh) != GG_OK) || (qexp(thn, qn) != GG_OK) ||
+        (qexp(thnh, qnh) != GG_OK)) {
+        return GG_ERR_RANGE;
+    }
+    /* mid-step attitude for the specific force (body AND navigation frame
+     * rotated by half a step) */
+    qmul(x.q, qh, qt);
+    qmul(qnh, qt, qm);
+    qdcm(qm, C);
+    mv(C, f, fn);
+    double q1[4];
+    qmul(x.q, qb, q1);
+    qmul(qn, q1, x.q);
+    qnorm(x.q);
+    const double a[3] = {2.0 * w_ie[0] + w_en[0], 2.0 * w_ie[1] + w_en[1], 2.0 * w_ie[2] + w_en[2]};
+    const double cor[3] = {a[1] * x.v[2] - a[2] * x.v[1], a[2] * x.v[0] - a[0] * x.v[2],
+                           a[0] * x.v[1] - a[1] * x.v[0]};
+    double vn[3];
+    vn[0] = x.v[0] + (fn[0] - cor[0]) * dt;
+    vn[1] = x.v[1] + (fn[1] - cor[1]) * dt;
+    vn[2] = x.v[2] + (fn[2] + g - cor[2]) * dt;
+    if (vertical_hold != 0) {
+        vn[2] = vd_hold;
+    }
+    x.lat += 0.5 * (x.v[0] + vn[0]) / (rm + x.h) * dt;
+    x.lon += 0.5 * (x.v[1] + vn[1]) / ((rn + x.h) * c) * dt;
+    x.h -= 0.5 * (x.v[2] + vn[2]) * dt;
+    if (vertical_hold != 0) {
+        x.h = h_hold;
+    }
+    x.v[0] = vn[0];
+    x.v[1] = vn[1];
+    x.v[2] = vn[2];
+    if (nav_ok(&x) == 0) {
+        return GG_ERR_RANGE;
+    }
+    *xio = x;
+    return GG_OK;
+}
+
+gg_status_t gg_mm_error(const gg_mm_nav_t *a, const gg_mm_nav_t *b, double d[GG_MM_NX])
+{
+    if ((a == NULL) || (b == NULL) || (d == NULL)) {
+        return GG_ERR_NULL;
+    }
+    double s, c, rm, rn, qi[4], qe[4], phi[3];
+    gg_status_t st = sc(b->lat, &s, &c);
+    if (st != GG_OK) {
+        return st;
+    }
+    radii(s, &rm, &rn);
+    qi[0] = b->q[0];
+    qi[1] = -b->q[1];
+    qi[2] = -b->q[2];
+    qi[3] = -b->q[3];
+    qmul(a->q, qi, qe); /* C_a = Exp(phi) C_b */
+    st = qlog(qe, phi);
+    if (st != GG_OK) {
+        return st;
+    }
+    for (int k = 0; k < 3; ++k) {
+        d[k] = phi[k];
+        d[3 + k] = a->v[k] - b->v[k];
+        d[9 + k] = a->bg[k] - b->bg[k];
+        d[12 + k] = a->ba[k] - b->ba[k];
+    }
+    d[6] = (a->lat - b->lat) * (rm + b->h);
+    d[7] = (a->lon - b->lon) * (rn + b->h) * c;
+    d[8] = -(a->h - b->h);
+    return GG_OK;
+}
+
+/* a = b (+) d */
+static gg_status_t apply(const gg_mm_nav_t *b, const double *d, gg_mm_nav_t *a)
+{
+    for (int k = 0; k < GG_MM_NX; ++k) {
+        if (!fin(d[k])) {
+            return GG_ERR_NONFINITE;
+        }
+    }
+    double s, c, rm, rn, qe[4];
+    gg_status_t st = sc(b->lat, &s, &c);
+    if (st != GG_OK) {
+        return st;
+    }
+    radii(s, &rm, &rn);
+    st = qexp(d, qe);
+    if (st != GG_OK) {
+        return st;
+    }
+    gg_mm_nav_t r = *b;
+    qmul(qe, b->q, r.q);
+    qnorm(r.q);
+    for (int k = 0; k < 3; ++k) {
+        r.v[k] = b->v[k] + d[3 + k];
+        r.bg[k] = b->bg[k] + d[9 + k];
+        r.ba[k] = b->ba[k] + d[12 + k];
+    }
+    r.lat = b->lat + d[6] / (rm + b->h);
+    r.lon = b->lon + d[7] / ((rn + b->h) * c);
+    r.h = b->h - d[8];
+    if (nav_ok(&r) == 0) {
+        return GG_ERR_RANGE;
+    }
+    *a = r;
+    return GG_OK;
+}
+
+gg_status_t gg_mm_apply(const gg_mm_nav_t *b, const double d[GG_MM_NX], gg_mm_nav_t *a)
+{
+    if ((b == NULL) || (d == NULL) || (a == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (nav_ok(b) == 0) {
+        return GG_ERR_RANGE;
+    }
+    return apply(b, d, a);
+}
+
+gg_status_t gg_mm_predict_gradient(const gg_gmap_t *map, const gg_mm_nav_t *x, double g6[6])
+{
+    if ((map == NULL) || (x == NULL) || (g6 == NULL)) {
+        return GG_ERR_NULL;
+    }
+    gg_gmap_sample_t smp;
+    const gg_status_t st = gg_gmap_eval(map, (gg_real_t)x->lat, (gg_real_t)x->lon, (gg_real_t)x->h,
+                                        GG_GMAP_MASK_ALL | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
+    if (st != GG_OK) {
+        return st;
+    }
+    gg_real_t gm[3][3];
+    (void)gg_gmap_to_matrix(smp.gamma, gm);
+    double Gn[3][3], C[3][3], T[3][3], Gb[3][3];
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            Gn[i][j] = (double)gm[i][j];
+        }
+    }
+    qdcm(x->q, C); /* C_b_n; Gamma_b = C^T Gamma_n C (Gao eq. 30 / A4) */
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            T[i][j] = Gn[i][0] * C[0][j] + Gn[i][1] * C[1][j] + Gn[i][2] * C[2][j];
+        }
+    }
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            Gb[i][j] = C[0][i] * T[0][j] + C[1][i] * T[1][j] + C[2][i] * T[2][j];
+        }
+    }
+    g6[0] = Gb[0][0];
+    g6[1] = Gb[1][1];
+    g6[2] = Gb[2][2];
+    g6[3] = Gb[0][1];
+    g6[4] = Gb[0][2];
+    g6[5] = Gb[1][2];
+    return GG_OK;
+}
+
+static gg_status_t cfg_ok(const gg_mm_config_t *c)
+{
+    const double v[] = {c->dt_s, c->update_period_s, c->sigma_meas_s2, c->sigma_db_s2,
+                        c->sig0_att_rad, c->sig0_vel_mps, c->sig0_pos_m, c->sig0_bg_rps,
+                        c->sig0_ba_mps2, c->arw_rad_rts, c->vrw_mps_rts, c->bg_rw, c->ba_rw,
+                        c->lambda, c->gate_nis};
+    for (size_t k = 0; k < (sizeof v / sizeof v[0]); ++k) {
+        if (!fin(v[k]) || (v[k] < 0.0)) {
+            return GG_ERR_CONFIG;
+        }
+    }
+    if ((c->dt_s <= 0.0) || (c->dt_s > 1.0) || (c->update_period_s < c->dt_s) ||
+        ((c->sigma_meas_s2 + c->sigma_db_s2) <= 0.0) || (c->sig0_att_rad <= 0.0) ||
+        (c->sig0_att_rad > 0.5) || (c->sig0_vel_mps <= 0.0) || (c->sig0_pos_m <= 0.0) ||
+        (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (nav_ok(&c->init) == 0)) {
+        return GG_ERR_CONFIG;
+    }
+    return GG_OK;
+}
+
+/* sigma states = nominal (+) chi_i, from freshly drawn UKF sigma points */
+static gg_status_t redraw(gg_mm_t *st, const gg_mm_nav_t *nominal, gg_mm_nav_t sig[GG_MM_NSIG])
+{
+    int32_t ns = 0;
+    gg_status_t s = gg_ukf_sigma_points(&st->ukf, &ns);
+    if (s != GG_OK) {
+        return s;
+    }
+    for (int32_t i = 0; i < ns; ++i) {
+        s = apply(nominal, st->ukf.chi[i], &sig[i]);
+        if (s != GG_OK) {
+            return s;
+        }
+    }
+    return GG_OK;
+}
+
+gg_status_t gg_mm_init(gg_mm_t *st, const gg_mm_config_t *cfg, const gg_gmap_t *map)
+{
+    if ((st == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    gg_status_t s = cfg_ok(cfg);
+    if (s != GG_OK) {
+        return s;
+    }
+    if ((map != NULL) && ((map->initialized == 0) || ((map->tile.flags & GG_GMAP_ANOMALY) != 0u))) {
+        return GG_ERR_CONFIG; /* the filter needs a TOTAL-field tile */
+    }
+    static const double zero[GG_UKF_NX_MAX] = {0};
+    double P0[GG_UKF_NX_MAX][GG_UKF_NX_MAX];
+    (void)memset(P0, 0, sizeof P0);
+    const double sd[5] = {cfg->sig0_att_rad, cfg->sig0_vel_mps, cfg->sig0_pos_m, cfg->sig0_bg_rps,
+                          cfg->sig0_ba_mps2};
+    for (int k = 0; k < GG_MM_NX; ++k) {
+        P0[k][k] = sd[k / 3] * sd[k / 3];
+    }
+    gg_ukf_t u;
+    const gg_ukf_config_t uc = {GG_MM_NX, cfg->lambda, cfg->gate_nis};
+    s = gg_ukf_init(&u, &uc, zero, (const double(*)[GG_UKF_NX_MAX])P0);
+    if (s != GG_OK) {
+        return s;
+    }
+    (void)memset(st, 0, sizeof *st);
+    st->ukf = u;
+    st->cfg = *cfg;
+    st->map = map;
+    st->h_hold = cfg->init.h;
+    st->vd_hold = cfg->init.v[2];
+    s = redraw(st, &cfg->init, st->sig);
+    if (s != GG_OK) {
+        return s;
+    }
+    st->initialized = 1;
+    return GG_OK;
+}
+
+typedef struct {
+    const gg_gmap_t *map;
+    const gg_mm_nav_t *nominal;
+    int off_map;
+} hctx_t;
+
+static gg_status_t meas_model(void *ctx, const double *x, double *z)
+{
+    hctx_t *c = (hctx_t *)ctx;
+    gg_mm_nav_t s;
+    gg_status_t st = apply(c->nominal, x, &s);
+    if (st != GG_OK) {
+        return st;
+    }
+    st = gg_mm_predict_gradient(c->map, &s, z);
+    if (st == GG_ERR_RANGE) {
+        c->off_map = 1;
+    }
+    return st;
+}
+
+static void fill_out(const gg_mm_t *st, int32_t updated, double nis, gg_mm_output_t *out)
+{
+    out->nav = st->sig[0];
+    for (int i = 0; i < GG_MM_NX; ++i) {
+        out->sigma[i] = msqrt(st->ukf.P[i][i]);
+        for (int j = 0; j < GG_MM_NX; ++j) {
+            out->P[i][j] = st->ukf.P[i][j];
+        }
+    }
+    out->t_s = st->t_s;
+    out->updated = updated;
+    out->nis = nis;
+    out->health = st->health;
+    out->n_updates = st->n_updates;
+    out->n_gated = st->n_gated;
+    out->n_offmap = st->n_offmap;
+    out->n_fail = st->n_fail;
+}
+
+/* Measurement epoch: recombine the propagated sigma states, update, inject, redraw. */
+static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated, double *nis)
+{
+    const double T = st->t_since_update_s;
+    const gg_mm_nav_t nominal0 = st->sig[0];
+    gg_mm_nav_t nominal = nominal0;
+    int ok = 1;
+    for (int32_t i = 0; (i < GG_MM_NSIG) && (ok != 0); ++i) {
+        if (gg_mm_error(&st->sig[i], &nominal0, st->ukf.chi[i]) != GG_OK) {
+            ok = 0;
+        }
+    }
+    double Q[GG_UKF_NX_MAX][GG_UKF_NX_MAX];
+    (void)memset(Q, 0, sizeof Q);
+    const double q[5] = {st->cfg.arw_rad_rts * st->cfg.arw_rad_rts * T,
+                         st->cfg.vrw_mps_rts * st->cfg.vrw_mps_rts * T, 0.0,
+                         st->cfg.bg_rw * st->cfg.bg_rw * T, st->cfg.ba_rw * st->cfg.ba_rw * T};
+    for (int k = 0; k < GG_MM_NX; ++k) {
+        Q[k][k] = q[k / 3];
+    }
+    if ((ok == 0) || (gg_ukf_predict_finish(&st->ukf, (const double(*)[GG_UKF_NX_MAX])Q) != GG_OK)) {
+        st->health |= GG_MM_H_UKF_FAIL;
+        st->n_fail++;
+    } else if ((meas != NULL) && (st->map != NULL)) {
+        hctx_t hc = {st->map, &nominal0, 0};
+        double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
+        (void)memset(R, 0, sizeof R);
+        const double r = st->cfg.sigma_meas_s2 * st->cfg.sigma_meas_s2 +
+                         st->cfg.sigma_db_s2 * st->cfg.sigma_db_s2;
+        for (int k = 0; k < 6; ++k) {
+            R[k][k] = r;
+        }
+        gg_ukf_update_info_t info;
+        const gg_status_t s = gg_ukf_update(&st->ukf, 6, meas->gamma_b,
+                                            (const double(*)[GG_UKF_NZ_MAX])R, meas_model, &hc, &info);
+        if (s != GG_OK) {
+            if (hc.off_map != 0) {
+                st->health |= GG_MM_H_OFF_MAP;
+                st->n_offmap++;
+            } else {
+                st->health |= GG_MM_H_UKF_FAIL;
+                st->n_fail++;
+            }
+        } else if (info.accepted == 0) {
+            st->health |= GG_MM_H_GATED;
+            st->n_gated++;
+            *nis = info.nis;
+        } else {
+            st->n_updates++;
+            *updated = 1;
+            *nis = info.nis;
+        }
+    } else {
+        /* no measurement: prediction only */
+    }
+    /* inject the estimated error into the nominal state, reset the mean */
+    static const double zero[GG_UKF_NX_MAX] = {0};
+    gg_mm_nav_t injected;
+    if (apply(&nominal0, st->ukf.x, &injected) == GG_OK) {
+        nominal = injected;
+    } else {
+        st->health |= GG_MM_H_UKF_FAIL;
+        st->n_fail++;
+    }
+    (void)gg_ukf_set_mean(&st->ukf, zero);
+    gg_mm_nav_t sig[GG_MM_NSIG];
+    if (redraw(st, &nominal, sig) == GG_OK) {
+        (void)memcpy(st->sig, sig, sizeof sig);
+    } else {
+        st->health |= GG_MM_H_UKF_FAIL;
+        st->n_fail++;
+        for (int32_t i = 0; i < GG_MM_NSIG; ++i) {
+            st->sig[i] = nominal;
+        }
+    }
+    st->t_since_update_s = 0.0;
+}
+
+gg_status_t gg_mm_step(gg_mm_t *st, const gg_mm_imu_t *imu, const gg_mm_meas_t *meas,
+                       gg_mm_output_t *out)
+{
+    if ((st == NULL) || (imu == NULL) || (out == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (!fin(imu->omega_b[k]) || !fin(imu->f_b[k]) || (imu->omega_b[k] > 10.0) ||
+            (imu->omega_b[k] < -10.0) || (imu->f_b[k] > 200.0) || (imu->f_b[k] < -200.0)) {
+            st->health = GG_MM_H_BAD_INPUT;
+            return GG_ERR_RANGE;
+        }
+    }
+    if (meas != NULL) {
+        for (int k = 0; k < 6; ++k) {
+            if (!fin(meas->gamma_b[k]) || (meas->gamma_b[k] > 1.0e-4) || (meas->gamma_b[k] < -1.0e-4)) {
+                st->health = GG_MM_H_BAD_INPUT;
+                return GG_ERR_RANGE;
+            }
+        }
+    }
+    gg_mm_nav_t sig[GG_MM_NSIG];
+    for (int32_t i = 0; i < GG_MM_NSIG; ++i) {
+        sig[i] = st->sig[i];
+        const gg_status_t s = gg_mm_mech(&sig[i], imu, st->cfg.dt_s, st->cfg.vertical_hold,
+                                         st->h_hold, st->vd_hold);
+        if (s != GG_OK) {
+            st->health = GG_MM_H_UKF_FAIL;
+            return s;
+        }
+    }
+    (void)memcpy(st->sig, sig, sizeof sig);
+    st->health = 0u;
+    st->t_s += st->cfg.dt_s;
+    st->t_since_update_s += st->cfg.dt_s;
+    int32_t updated = 0;
+    double nis = 0.0;
+    if ((meas != NULL) && (st->t_since_update_s >= (st->cfg.update_period_s - 0.5 * st->cfg.dt_s))) {
+        update_epoch(st, meas, &updated, &nis);
+        st->last_nis = nis;
+    }
+    fill_out(st, updated, nis, out);
+    return GG_OK;
+}
