@@ -45,6 +45,7 @@ gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg)
     if (cfg->grid.n_th != 0) {
         const gg_gmodel_grid_t *gr = &cfg->grid;
         gg_real_t e2;
+        int32_t last_node;
         if ((gr->n_th < 2) || (gr->n_rho < 2) || (gr->n_th > GG_GMODEL_GRID_MAX) ||
             (gr->n_rho > (GG_GMODEL_GRID_MAX / gr->n_th)) || !GG_ISFINITE(gr->c0) ||
             !GG_ISFINITE(gr->s0) || !GG_ISFINITE(gr->th0_rad) || !GG_ISFINITE(gr->dth_rad) ||
@@ -58,8 +59,9 @@ gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg)
         }
         /* the grid within +-45 deg of e0 (atan range), nodes 0.01 m .. 1000 km
          * apart, radii of the Earth's neighbourhood */
+        last_node = gr->n_th - 1;
         if ((gr->th0_rad < -0.785L) ||
-            ((gr->th0_rad + (gr->dth_rad * (gg_real_t)(gr->n_th - 1))) > 0.785L) ||
+            ((gr->th0_rad + (gr->dth_rad * (gg_real_t)last_node)) > 0.785L) ||
             (gr->dth_rad < 1.0e-9L) || (gr->drho_m < 0.01L) || (gr->drho_m > 1.0e6L) ||
             (gr->rho0_m < (0.5L * cfg->a_m)) || (gr->rho0_m > 1.0e8L)) {
             return GG_ERR_RANGE;
@@ -128,8 +130,9 @@ gg_status_t gg_gmodel_atan(gg_real_t t, gg_real_t *a)
     term = x;
     sum = x;
     for (k = 1U; k <= 15U; ++k) {
+        const size_t odd = (2U * k) + 1U;
         term = -term * x2;
-        sum += term / (gg_real_t)((2U * k) + 1U);
+        sum += term / (gg_real_t)odd;
     }
     *a = 4.0L * sum;
     return GG_OK;
