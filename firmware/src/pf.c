@@ -314,6 +314,34 @@ gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, d
     return GG_OK;
 }
 
+static gg_status_t gmap_gzz(const void *ctx, double lat, double lon, double h, double *gzz)
+{
+    gg_gmap_sample_t smp;
+    gg_status_t s;
+    if ((ctx == NULL) || (gzz == NULL)) {
+        return GG_ERR_NULL;
+    }
+    s = gg_gmap_eval((const gg_gmap_t *)ctx, (gg_real_t)lat, (gg_real_t)lon, (gg_real_t)h,
+                     GG_GMAP_MASK_DD | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
+    if (s == GG_OK) {
+        *gzz = (double)smp.gamma[GG_GMAP_C_DD];
+    }
+    return s;
+}
+
+gg_status_t gg_pf_map_from_gmap(const gg_gmap_t *gm, gg_pf_map_t *map)
+{
+    if ((gm == NULL) || (map == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!gm->initialized) {
+        return GG_ERR_NOT_INIT;
+    }
+    map->gzz = gmap_gzz;
+    map->ctx = gm;
+    return GG_OK;
+}
+
 static int cfg_ok(const gg_pf_config_t *c)
 {
     const double v[] = {c->k_eff, c->T, c->dz, c->contrast, c->c0, c->c1, c->sigma, c->sigma0_pos,

@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = 2.0, q_vel = 0.02;
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
-  bool no_topo = false, no_egm = false;
+  bool no_topo = false, no_egm = false, direct_map = false;
   app.add_option("--egm96", egm96, "EGM96 coefficient file");
   app.add_option("--out", out, "output folder");
   app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
   app.add_option("--atoms", n_atoms, "mean atoms per shot");
   app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)");
   app.add_option("--seed", seed, "first flight's seed");
+  app.add_flag("--direct-map", direct_map, "candidates from the route map directly instead of paged gmap tiles");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
   CLI11_PARSE(app, argc, argv);
@@ -126,6 +127,7 @@ int main(int argc, char** argv) {
         fc.particles = particles;
         fc.gain = gain; fc.q_pos = q_pos; fc.q_vel = q_vel; fc.sigma0_pos = sigma0_pos;
         fc.duration = duration;
+        fc.use_gmap = !direct_map;
         fc.seed = seed + static_cast<unsigned long>(i);
         res[static_cast<std::size_t>(i)] = fly(map, fc);
       }
@@ -147,7 +149,7 @@ int main(int argc, char** argv) {
     }
     // gradient estimates (all flights): error of ellipse fit and PF against the batch-mean truth
     std::vector<double> efit, epf, mean_a, mean_u, fin_u, step;
-    int shots = 0, failed = 0, degen = 0;
+    int shots = 0, failed = 0, degen = 0, tiles = 0;
     for (const auto& r : res) {
       for (std::size_t j = 0; j < r.g_true.size(); ++j) {
         efit.push_back((r.g_fit[j] - r.g_true[j]) * 1e9);
@@ -155,7 +157,7 @@ int main(int argc, char** argv) {
       }
       mean_a.push_back(r.mean_aided); mean_u.push_back(r.mean_unaided); fin_u.push_back(r.final_unaided);
       step.push_back(r.pf_step_ns_median);
-      shots += r.shots; failed += r.failed; degen += r.degenerate;
+      shots += r.shots; failed += r.failed; degen += r.degenerate; tiles += r.tiles;
     }
     {
       std::ofstream g(out + "/gradient_" + st.tag + "_flight0.csv");
@@ -171,7 +173,7 @@ int main(int argc, char** argv) {
                {"mean_unaided_m", mean(mean_u)}, {"final_unaided_mean_m", mean(fin_u)},
                {"ellipse_fit_err_mean_E", mean(efit)}, {"ellipse_fit_err_std_E", stdev(efit)},
                {"pf_err_mean_E", mean(epf)}, {"pf_err_std_E", stdev(epf)},
-               {"shots", shots}, {"failed_shots", failed}, {"degenerate_steps", degen},
+               {"shots", shots}, {"failed_shots", failed}, {"degenerate_steps", degen}, {"gmap_tiles", tiles}, {"map", direct_map ? "route map (direct)" : "gmap tiles"},
                {"pf_step_ns_median", step[step.size() / 2]}, {"wall_s", wall}};
     std::printf("%s\n", js.dump().c_str());
     std::fflush(stdout);

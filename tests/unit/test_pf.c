@@ -358,6 +358,42 @@ static void test_resampling_counts(void **state)
     }
 }
 
+/* The gmap adapter: a tile holding a cubic polynomial in (lat, lon) as DD (bicubic
+ * Lagrange is exact for it) and a linear height term; values vs the polynomial. */
+static void test_gmap_adapter(void **state)
+{
+    (void)state;
+    static gg_gmap_t gm;
+    static gg_gmap_tile_t tile;
+    memset(&tile, 0, sizeof tile);
+    tile.nlat = 20; tile.nlon = 20; tile.lat0_rad = 0.8; tile.lon0_rad = -0.03;
+    tile.dlat_rad = 1e-4; tile.dlon_rad = 1e-4; tile.h0_m = 3000.0; tile.h_range_m = 500.0;
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 20; ++j) {
+            const double a = i * 1e-4, b = j * 1e-4;
+            tile.node[i * 20 + j][GG_GMAP_C_DD] = 3.08e-6 + 1e-5 * a - 2e-5 * b + 3e-3 * a * a * b + 1e-1 * b * b * b;
+            tile.node[i * 20 + j][GG_GMAP_NCOMP + GG_GMAP_C_DD] = -1.45e-12;
+        }
+    assert_int_equal(gg_gmap_init(&gm, &tile), GG_OK);
+    gg_pf_map_t m;
+    assert_int_equal(gg_pf_map_from_gmap(&gm, &m), GG_OK);
+    double worst = 0;
+    for (int k = 0; k < 100; ++k) {
+        const double a = 3e-4 + 1.2e-3 * (k % 10) / 10.0, b = 2e-4 + 1.3e-3 * (k / 10) / 10.0, h = 3000.0 + 7.0 * k;
+        double g = 0;
+        assert_int_equal(m.gzz(m.ctx, 0.8 + a, -0.03 + b, h, &g), GG_OK);
+        const double ref = 3.08e-6 + 1e-5 * a - 2e-5 * b + 3e-3 * a * a * b + 1e-1 * b * b * b - 1.45e-12 * (h - 3000.0);
+        worst = fmax(worst, fabs(g - ref));
+    }
+    printf("gmap adapter: worst |DD - polynomial| %.2e s^-2\n", worst);
+    assert_true(worst < 1e-18);
+    double g = 0;
+    assert_int_equal(m.gzz(m.ctx, 0.9, -0.03, 3000.0, &g), GG_ERR_RANGE);
+    static gg_gmap_t empty;
+    memset(&empty, 0, sizeof empty);
+    assert_int_equal(gg_pf_map_from_gmap(&empty, &m), GG_ERR_NOT_INIT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -368,6 +404,7 @@ int main(void)
         cmocka_unit_test(test_determinism_and_skip),
         cmocka_unit_test(test_degenerate_and_bad_input),
         cmocka_unit_test(test_resampling_counts),
+        cmocka_unit_test(test_gmap_adapter),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -46,6 +46,7 @@
 
 #include <stdint.h>
 
+#include "ggins/gmap.h"
 #include "ggins/status.h"
 
 #ifndef GG_PF_MAX
@@ -114,6 +115,12 @@ typedef struct {
     uint32_t n_steps, n_updates, n_skipped, n_resampled, n_degenerate;
     int initialized;
 } gg_pf_t;
+
+/** Map ops backed by the onboard gradient map (gmap.h): Gamma_zz = the tile's
+ *  GG_GMAP_C_DD component at (lat, lon, h) (height continued linearly beyond
+ *  the tile's band, GG_GMAP_H_EXTRAPOLATE); GG_ERR_RANGE off the tile.
+ *  The tile must outlive the filter (map->ctx points to it). */
+gg_status_t gg_pf_map_from_gmap(const gg_gmap_t *gm, gg_pf_map_t *map);
 
 /** Validate cfg (GG_ERR_CONFIG), seed, draw the particles around zero correction. */
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg);

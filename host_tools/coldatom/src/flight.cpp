@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cstring>
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -11,6 +12,7 @@
 #include "ggins/coldatom/ellipse_fit.hpp"
 
 extern "C" {
+#include "ggins/gmap.h"
 #include "ggins/pf.h"
 }
 
@@ -33,6 +35,28 @@ M3 skew_offdiag(std::mt19937_64& rng, double sd) {
     for (int j = 0; j < 3; ++j)
       if (i != j) m(i, j) = n(rng);
   return m;
+}
+// Fill a gmap tile (DD and its height derivative) from the route map around (lat_c, lon_c).
+bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile) {
+  const int n = 50;
+  const double sl = std::sin(lat_c), w2 = 1 - kWgsE2 * sl * sl, RN = kWgsA / std::sqrt(w2);
+  const double RM = RN * (1 - kWgsE2) / w2;
+  std::memset(tile, 0, sizeof *tile);
+  tile->nlat = n; tile->nlon = n;
+  tile->dlat_rad = step / (RM + h);
+  tile->dlon_rad = step / ((RN + h) * std::cos(lat_c));
+  tile->lat0_rad = lat_c - 0.5 * (n - 1) * tile->dlat_rad;
+  tile->lon0_rad = lon_c - 0.5 * (n - 1) * tile->dlon_rad;
+  tile->h0_m = h;
+  tile->h_range_m = 1000.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double g = 0;
+      if (!map.gzz(tile->lat0_rad + i * tile->dlat_rad, tile->lon0_rad + j * tile->dlon_rad, h, &g)) return false;
+      tile->node[i * n + j][GG_GMAP_C_DD] = g;
+      tile->node[i * n + j][GG_GMAP_NCOMP + GG_GMAP_C_DD] = -3.0 * g / (6371000.0 + h);
+    }
+  return true;
 }
 }  // namespace
 
@@ -69,6 +93,18 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   pc.ess_frac = 0.5;
   pc.map.gzz = map_gzz;
   pc.map.ctx = &map;
+  static thread_local gg_gmap_t gm;
+  static thread_local gg_gmap_tile_t tile;
+  double tile_lat = 0, tile_lon = 0;
+  bool have_tile = false;
+  if (cfg.use_gmap) {
+    double lat0, lon0;
+    map.route_point(0, 0, &lat0, &lon0);
+    if (!build_tile(map, lat0, lon0, map.params().h, cfg.tile_step, &tile) || gg_gmap_init(&gm, &tile) != GG_OK)
+      return res;
+    tile_lat = lat0; tile_lon = lon0; have_tile = true; ++res.tiles;
+    if (gg_pf_map_from_gmap(&gm, &pc.map) != GG_OK) return res;
+  }
   if (cfg.run_pf && gg_pf_init(&pf, &pc) != GG_OK) return res;
 
   const double v = 100.0, h = map.params().h;
@@ -122,6 +158,13 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
       // INS position (truth + error) and altimeter
       const double lat_i = lat + dr(0) / (RM + h), lon_i = lon + dr(1) / ((RN + h) * cl);
       const double h_alt = h + cfg.alt_noise * n01(rng);
+      if (have_tile) {  // page the tile: re-centre on the INS position
+        const double dn = (lat_i - tile_lat) * (RM + h), de = (lon_i - tile_lon) * (RN + h) * cl;
+        if (std::hypot(dn, de) > cfg.tile_recentre && build_tile(map, lat_i, lon_i, h, cfg.tile_step, &tile) &&
+            gg_gmap_init(&gm, &tile) == GG_OK) {
+          tile_lat = lat_i; tile_lon = lon_i; ++res.tiles;
+        }
+      }
       if (cfg.run_pf) {
         gg_pf_input_t in{lat_i, lon_i, h_alt, ok ? 1 : 0, s.s0, s.s1};
         gg_pf_output_t out{};

@@ -53,6 +53,12 @@ struct FlightConfig {
   double duration = 0;     // s, 0: the whole route
   int record_every = 10;   // s
   bool run_pf = true;
+  // Candidates' Gamma_zz through the firmware map module (gmap.h): a 50 x 50 tile
+  // at 250 m spacing (12 km square) around the INS position, re-centred when the
+  // INS is more than tile_recentre metres from its centre (the host pages tiles,
+  // as a flight would). false: the route map directly (host double precision).
+  bool use_gmap = true;
+  double tile_step = 250.0, tile_recentre = 3000.0;
   std::uint64_t seed = 1;
 };
 
@@ -61,7 +67,7 @@ struct FlightResult {
   // gradient estimates per batch (s^-2): truth mean over the batch, ellipse fit, PF (map at the corrected position)
   std::vector<double> batch_t, g_true, g_fit, g_pf;
   double pf_step_ns_median = 0;
-  int shots = 0, failed = 0, degenerate = 0, resampled = 0;
+  int shots = 0, failed = 0, degenerate = 0, resampled = 0, tiles = 0;
   double mean_aided = 0, mean_unaided = 0, final_unaided = 0, final_aided = 0;
 };
 
