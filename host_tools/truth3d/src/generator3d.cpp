@@ -5,7 +5,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "ggins/gravity/lattice.hpp"
 #include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/spherical_harmonic.hpp"
 #include "ggins/gravity/wgs84.hpp"
 
 namespace ggins::truth3d {
@@ -63,6 +65,22 @@ std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s) {
 }
 
 std::unique_ptr<gravity::Field> make_field3(const Scenario3& s) {
+  if (s.gravity.model == "egm96") {
+    // WGS-84 normal field exactly + the EGM96 disturbing field (coefficients minus
+    // the normal zonal series, double-precision synthesis) on a lattice centred
+    // on the trajectory's start point (the 2-D fast path, gravity/lattice.hpp)
+    const std::string path = s.sh.path.empty() ? std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt" : s.sh.path;
+    const int n = static_cast<int>(s.sh.nmax);
+    const gravity::ShCoefficients c = gravity::read_nasa_ascii(path, gravity::kEgm96Gm, gravity::kEgm96A, n);
+    auto anomaly = std::make_shared<gravity::SphericalHarmonicField>(gravity::subtract_normal(c), n, 2,
+                                                                     gravity::ShPrecision::Double);
+    gravity::LatticeOptions o;
+    o.spacing = s.sh.lattice_spacing_m;
+    o.points = static_cast<int>(s.sh.lattice_points);
+    o.origin = gravity::wgs84::geodetic_to_ecef(static_cast<Real>(s.trajectory.lat_deg) * kDeg,
+                                                static_cast<Real>(s.trajectory.lon_deg) * kDeg, s.trajectory.height_m);
+    return std::make_unique<gravity::FastField>(std::make_shared<gravity::NormalField>(), anomaly, o);
+  }
   // the 2-D generator's field factory (normal field, point mass, R&W anomalies
   // on the fast path); the anomaly region is centred on the 3-D trajectory
   truth::Scenario s2;

@@ -168,10 +168,23 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
     p.positive(s.c_m, "platform.c_m");
   }
   if (const auto* t = p.sub(root, "gravity")) {
-    p.keys(*t, "gravity", {"model", "gm_m3ps2", "anomaly"});
+    p.keys(*t, "gravity", {"model", "gm_m3ps2", "anomaly", "sh"});
     s.gravity.model = p.str(*t, "gravity", "model", s.gravity.model);
-    if (s.gravity.model != "point-mass" && s.gravity.model != "wgs84-normal" && s.gravity.model != "rw-anomaly")
-      p.fail("gravity.model must be \"point-mass\", \"wgs84-normal\" or \"rw-anomaly\"");
+    if (s.gravity.model != "point-mass" && s.gravity.model != "wgs84-normal" && s.gravity.model != "rw-anomaly" &&
+        s.gravity.model != "egm96")
+      p.fail("gravity.model must be \"point-mass\", \"wgs84-normal\", \"rw-anomaly\" or \"egm96\"");
+    if (const auto* h = p.sub(*t, "sh")) {
+      const std::string w = "gravity.sh";
+      p.keys(*h, w, {"path", "nmax", "lattice_spacing_m", "lattice_points"});
+      s.sh.path = p.str(*h, w, "path", s.sh.path);
+      s.sh.nmax = p.integer(*h, w, "nmax", s.sh.nmax);
+      s.sh.lattice_spacing_m = p.num(*h, w, "lattice_spacing_m", s.sh.lattice_spacing_m);
+      s.sh.lattice_points = p.integer(*h, w, "lattice_points", s.sh.lattice_points);
+      if (s.sh.nmax < 2 || s.sh.nmax > 360) p.fail("gravity.sh.nmax must be in [2, 360]");
+      p.positive(s.sh.lattice_spacing_m, "gravity.sh.lattice_spacing_m");
+      if (s.sh.lattice_points < 2 || s.sh.lattice_points > 16 || s.sh.lattice_points % 2)
+        p.fail("gravity.sh.lattice_points must be even, 2..16");
+    }
     s.gravity.gm_m3ps2 = p.num(*t, "gravity", "gm_m3ps2", s.gravity.gm_m3ps2);
     if (const auto* a = p.sub(*t, "anomaly")) {
       const std::string w = "gravity.anomaly";

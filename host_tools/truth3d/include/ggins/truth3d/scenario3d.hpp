@@ -14,8 +14,12 @@
 //             nutation_radps [0.05], psi0_deg [0], phi0_deg [0]
 //   [platform] kind = "stabilized" | "strapdown" [strapdown], a_m [0.5], b_m [0.5], c_m [0.5]
 //   [gravity]  model = "wgs84-normal" [default] | "point-mass" | "rw-anomaly" (as in 2-D:
-//              normal field + Rubenstein & Winter point masses on the fast path),
-//              gm_m3ps2 (point-mass), [gravity.anomaly] as in 2-D (centre [trajectory lat/lon])
+//              normal field + Rubenstein & Winter point masses on the fast path) | "egm96"
+//              (normal field exactly + the EGM96 disturbing potential, spherical harmonics to
+//              degree nmax, on the lattice fast path: gravity/lattice.hpp FastField),
+//              gm_m3ps2 (point-mass), [gravity.anomaly] as in 2-D (centre [trajectory lat/lon]),
+//              [gravity.sh] path [<source>/data/egm96_to360.ascii.txt], nmax [360],
+//              lattice_spacing_m [2500], lattice_points [8]
 //   [time]     duration_s [3600], rate_hz [100]
 //   [accel]    seed [1], bias_sigma_mps2 [0], noise_sigma_mps2 [0], scale_sigma [0],
 //              bias_mps2 = [[bx,by,bz] x 6] [0]
@@ -62,12 +66,20 @@ struct GyroErrorParams {
   std::array<double, 3> scale{0, 0, 0};
 };
 
+struct ShFieldParams {  // [gravity.sh], model = "egm96"
+  std::string path;      // empty: GGINS_DATA_DIR/egm96_to360.ascii.txt
+  int64_t nmax = 360;
+  double lattice_spacing_m = 2500;
+  int64_t lattice_points = 8;
+};
+
 struct Scenario3 {
   std::string name, description, source, text;
   Trajectory3Params trajectory;
   std::string platform = "strapdown";  // or "stabilized"
   double a_m = 0.5, b_m = 0.5, c_m = 0.5;
   truth::GravityParams gravity;  // model default "wgs84-normal" here
+  ShFieldParams sh;
   double duration_s = 3600, rate_hz = 100;
   truth::AccelErrorParams accel;
   GyroErrorParams gyro;
