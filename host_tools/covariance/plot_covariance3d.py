@@ -36,9 +36,14 @@ def main():
         if keys[0] not in col:
             axis.axis("off")
             continue
+        top = 0.0
         for k, name in zip(keys, ["north", "east", "down"]):
-            vals = [v * scale for v in col[k]]
-            axis.semilogy(t, [max(v, 1e-30) for v in vals], label=name)
+            pts = [(x, v * scale) for x, v in zip(t, col[k]) if v > 0]
+            if pts:
+                axis.semilogy([p[0] for p in pts], [p[1] for p in pts], label=name)
+                top = max(top, max(p[1] for p in pts))
+        if top > 0:
+            axis.set_ylim(top * 1e-6, top * 3)  # the first minutes start from zero
         axis.set_xlabel("time [min]")
         axis.set_ylabel(label)
         axis.grid(True, which="both", alpha=0.3)

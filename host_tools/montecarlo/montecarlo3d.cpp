@@ -26,6 +26,10 @@ using json = nlohmann::json;
 using namespace ggins::covariance;
 using namespace ggins::montecarlo3d;
 
+#ifndef GGINS_MC3D_PLOT_SCRIPT
+#define GGINS_MC3D_PLOT_SCRIPT ""
+#endif
+
 int main(int argc, char** argv) {
   CLI::App app{
       "ggins montecarlo3d: N runs of the 3-D firmware (gg_nav3d_step, direct calls) along the analytic\n"
@@ -37,7 +41,8 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   double rate = 100.0, output_dt = 60.0;
   std::optional<double> duration, omega_ie, speed, lat0, acc_bias, gyro_bias, acc_noise, gyro_noise;
-  bool want_json = false;
+  bool want_json = false, no_plot = false;
+  std::string python;
   app.add_option("-s,--scenario", scen, "built-in 3-D scenario (ggins covariance3d --help)")->capture_default_str();
   app.add_option("-n,--runs", runs, "number of runs N")->capture_default_str()->check(CLI::Range(2, 100000));
   app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str();
@@ -56,6 +61,8 @@ int main(int argc, char** argv) {
   app.add_option("--gyro-noise-sigma", gyro_noise, "per sample, rad/s");
   app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo3d/<scenario>)");
   app.add_flag("--json", want_json, "print the JSON summary");
+  app.add_flag("--no-plot", no_plot, "no matplotlib plot");
+  app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
   CLI11_PARSE(app, argc, argv);
 
   auto b = builtin_scenario3d(scen);
@@ -205,6 +212,23 @@ int main(int argc, char** argv) {
   j["wall_s"] = wall;
   j["jobs"] = jobs;
   std::ofstream(fs::path(out_dir) / "montecarlo3d.json") << j.dump(2) << '\n';
+  csv.close();
+  if (!no_plot) {
+    std::vector<std::string> cands;
+    if (!python.empty()) cands.push_back(python);
+    if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
+    cands.emplace_back("/usr/bin/python3");
+    std::string py;
+    for (const auto& c : cands)
+      if (std::system(("'" + c + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0) {
+        py = c;
+        break;
+      }
+    const std::string cmd = "'" + py + "' '" GGINS_MC3D_PLOT_SCRIPT "' '" + (fs::path(out_dir) / "montecarlo3d.csv").string() +
+                            "' '" + (fs::path(out_dir) / "montecarlo3d.png").string() + "' --title '" + s.name +
+                            " N=" + std::to_string(runs) + "' 1>&2";
+    if (py.empty() || std::system(cmd.c_str()) != 0) std::fprintf(stderr, "ggins-montecarlo3d: no plot\n");
+  }
   if (want_json) {
     std::cout << j.dump(2) << '\n';
   } else {
