@@ -14,6 +14,8 @@
 #include <cstring>
 #include <string>
 
+#include <unistd.h>
+
 #include "compare3d.hpp"
 #include "config3d.hpp"
 
@@ -39,6 +41,11 @@ int main(int argc, char** argv) {
   }
   truth3d::Scenario3 sc = truth3d::load_scenario3(argv[1], {GGINS_SCENARIO_DIR});
   if (duration > 0) sc.duration_s = duration;
+  if (sc.gravity.model == "egm96" && sc.sh.path.empty() &&
+      access((std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt").c_str(), R_OK) != 0) {
+    std::printf("SKIP: %s/egm96_to360.ascii.txt missing (scripts/fetch-egm96)\n", GGINS_DATA_DIR);
+    return 77;
+  }
   const truth3d::Generator3 gen(sc);
   gg_nav3d_config_t cfg;
   truth3d::nav3d_config(sc, gen, cfg);

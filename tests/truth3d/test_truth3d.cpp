@@ -464,6 +464,48 @@ static void test_egm96() {
   CHECK(anom > 1e-5L, "the disturbing field is there: %Lg m/s^2", anom);
 }
 
+// Accelerometer error model: f_meas = (1 + s) f + b + n per sensor axis
+// (fixed bias and scale from the scenario, white noise statistics); the R&W
+// anomaly field (2-D factory) centred on the 3-D trajectory.
+static void test_accel_errors_and_fields() {
+  Scenario3 s = parse_scenario3(
+      "[trajectory]\ntype = \"tumble\"\n[time]\nduration_s = 100\n"
+      "[accel]\nnoise_sigma_mps2 = 1e-9\nbias_mps2 = [[1e-8, 0, 0], [0, 2e-8, 0], [0, 0, 3e-8], [0, 0, 0], [0, 0, 0], "
+      "[-1e-8, 0, 0]]\n",
+      "acc", "test");
+  const Generator3 g(s);
+  Real sum = 0, sum2 = 0;
+  int n = 0;
+  for (int64_t k = 0; k < 10001; k += 5) {
+    gg_frame_t fr;
+    Truth3 t;
+    g.frame(k, fr, &t);
+    for (int j = 0; j < 6; ++j) {
+      const Vec3 f = g.accel_true(t, j);
+      for (int ax = 0; ax < 3; ++ax) {
+        const Real e = static_cast<Real>(fr.f[j][ax]) + static_cast<Real>(fr.f_lo[j][ax]) - f(ax) -
+                       static_cast<Real>(s.accel.bias_mps2[static_cast<size_t>(j)][static_cast<size_t>(ax)]);
+        sum += e;
+        sum2 += e * e;
+        ++n;
+      }
+    }
+  }
+  const Real m = sum / n, sd = std::sqrt(sum2 / n - m * m);
+  CHECK(std::fabs(m) < 4e-9L / std::sqrt(static_cast<Real>(n)), "accel noise mean %Lg (bias removed)", m);
+  CHECK(std::fabs(sd / 1e-9L - 1) < 0.03L, "accel noise sigma %Lg", sd);
+  // R&W anomaly field at the trajectory: differs from the normal field by a deflection-sized amount
+  Scenario3 r = parse_scenario3(
+      "[trajectory]\ntype = \"tumble\"\nlat_deg = 35\nlon_deg = -80\nheight_m = 1000\n"
+      "[gravity]\nmodel = \"rw-anomaly\"\n[time]\nduration_s = 1\n",
+      "rw", "test");
+  const Generator3 gr(r);
+  const Truth3 t = gr.truth(0);
+  const Vec3 gn = ggins::gravity::NormalField().eval(t.s.r_e).g;
+  const Real d = (t.g_e - gn).norm();
+  CHECK(d > 1e-6L && d < 1e-2L, "R&W anomaly at the trajectory: |G - G_normal| = %Lg m/s^2", d);
+}
+
 int main() {
   test_jet();
   test_geodetic();
@@ -474,6 +516,7 @@ int main() {
   test_errors_and_baro();
   test_scenarios();
   test_egm96();
+  test_accel_errors_and_fields();
   if (g_fail) std::printf("%d check(s) failed\n", g_fail);
   else std::printf("all truth3d checks passed\n");
   return g_fail ? 1 : 0;
