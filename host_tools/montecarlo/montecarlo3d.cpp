@@ -20,6 +20,9 @@
 
 #include "ggins/covariance/propagate.hpp"
 #include "sim3d.hpp"
+#ifdef GGINS_HAVE_TRUTH3D
+#include "ggins/covariance/cov3d_truth3d.hpp"
+#endif
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -41,9 +44,9 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   double rate = 100.0, output_dt = 60.0;
   std::optional<double> duration, omega_ie, speed, lat0, acc_bias, gyro_bias, acc_noise, gyro_noise;
-  bool want_json = false, no_plot = false;
+  bool want_json = false, no_plot = false, no_baro = false;
   std::string python;
-  app.add_option("-s,--scenario", scen, "built-in 3-D scenario (ggins covariance3d --help)")->capture_default_str();
+  app.add_option("-s,--scenario", scen, "3-D scenario: gc3d-* built-in or a 3-D truth-generator scenario (ggins covariance3d --help)")->capture_default_str();
   app.add_option("-n,--runs", runs, "number of runs N")->capture_default_str()->check(CLI::Range(2, 100000));
   app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str();
   app.add_option("--rate-hz", rate, "firmware step rate, Hz")->capture_default_str();
@@ -62,19 +65,34 @@ int main(int argc, char** argv) {
   app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo3d/<scenario>)");
   app.add_flag("--json", want_json, "print the JSON summary");
   app.add_flag("--no-plot", no_plot, "no matplotlib plot");
+  app.add_flag("--no-baro", no_baro, "fly (and analyse) a scenario that has the barometric loop without it");
   app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
   CLI11_PARSE(app, argc, argv);
 
   auto b = builtin_scenario3d(scen);
+#ifdef GGINS_HAVE_TRUTH3D
+  if (!b) {
+    try {
+      std::vector<std::string> um;
+      b = load_truth3d_scenario(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"}, &um);
+      for (const auto& u : um) std::fprintf(stderr, "ggins-montecarlo3d: NOTE not modelled: %s\n", u.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ggins-montecarlo3d: %s\n", e.what());
+      return 2;
+    }
+  }
+#endif
   if (!b) {
     std::fprintf(stderr, "ggins-montecarlo3d: unknown scenario '%s'\n", scen.c_str());
     return 2;
   }
   Cov3DScenario s = *b;
-  if (s.model.baro.on) {
-    std::fprintf(stderr, "ggins-montecarlo3d: the barometric loop is not simulated here (no truth barometer)\n");
+  if (s.model.baro.on && !no_baro) {
+    std::fprintf(stderr, "ggins-montecarlo3d: the barometric loop is not simulated here (no truth barometer); "
+                         "--no-baro flies the scenario without it\n");
     return 2;
   }
+  s.model.baro.on = false;
   if (!platform_s.empty()) s.platform = platform_s == "strapdown" ? Platform::kStrapdown : Platform::kStabilized;
   if (!field_s.empty()) s.field = field_s;
   if (duration) s.duration_s = *duration;

@@ -55,7 +55,7 @@ class Sim3D {
  private:
   Cov3DScenario s_;
   std::shared_ptr<const gravity::Field> field_;
-  std::shared_ptr<const covariance::GreatCircle3D> traj_;
+  std::shared_ptr<const covariance::Trajectory3D> traj_;
   std::shared_ptr<const covariance::Nav3DModel> model_;
   int64_t dt_us_;
 };

@@ -43,12 +43,14 @@ std::optional<Cov3DScenario> builtin_scenario3d(const std::string& name) {
 }
 
 std::shared_ptr<const gravity::Field> make_field3d(const Cov3DScenario& s) {
+  if (s.field_override) return s.field_override;
   if (s.field == "point-mass") return std::make_shared<gravity::PointMassField>();
   if (s.field == "normal") return std::make_shared<gravity::NormalField>();
   throw std::invalid_argument("unknown field '" + s.field + "' (point-mass, normal)");
 }
 
-std::shared_ptr<const GreatCircle3D> make_trajectory3d(const Cov3DScenario& s) {
+std::shared_ptr<const Trajectory3D> make_trajectory3d(const Cov3DScenario& s) {
+  if (s.traj_override) return s.traj_override;
   return std::make_shared<GreatCircle3D>(s.radius_m, s.height_m, s.lat0_deg * kDeg, s.lon0_deg * kDeg,
                                          s.heading_deg * kDeg, s.speed_mps, s.platform, s.omega_ie);
 }

@@ -16,6 +16,9 @@
 #include "ggins/covariance/cov3d.hpp"
 #include "ggins/covariance/modes.hpp"
 #include "ggins/covariance/propagate.hpp"
+#ifdef GGINS_HAVE_TRUTH3D
+#include "ggins/covariance/cov3d_truth3d.hpp"
+#endif
 
 #ifndef GGINS_COV3D_PLOT_SCRIPT
 #define GGINS_COV3D_PLOT_SCRIPT ""
@@ -80,7 +83,9 @@ int main(int argc, char** argv) {
       gyro_noise, rate, g0, psi0;
   std::vector<double> half_base;
   std::optional<bool> baro;
-  app.add_option("-s,--scenario", scen, "built-in 3-D scenario: gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro")
+  app.add_option("-s,--scenario", scen,
+                 "built-in great-circle scenario (gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro) "
+                 "or a 3-D truth-generator scenario (scenarios/3d-*.toml name or a TOML file path)")
       ->capture_default_str();
   app.add_option("--platform", platform_s, "stabilized | strapdown (overrides the scenario)")
       ->check(CLI::IsMember({"stabilized", "strapdown"}));
@@ -114,11 +119,23 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   auto b = builtin_scenario3d(scen);
+  std::vector<std::string> unmodelled;
+#ifdef GGINS_HAVE_TRUTH3D
+  if (!b) {
+    try {
+      b = load_truth3d_scenario(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"}, &unmodelled);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ggins-covariance3d: %s\n", e.what());
+      return 2;
+    }
+  }
+#endif
   if (!b) {
     std::fprintf(stderr, "ggins-covariance3d: unknown scenario '%s'\n", scen.c_str());
     return 2;
   }
   Cov3DScenario s = *b;
+  for (const auto& u : unmodelled) std::fprintf(stderr, "ggins-covariance3d: NOTE not modelled: %s\n", u.c_str());
   if (!platform_s.empty()) s.platform = platform_s == "strapdown" ? Platform::kStrapdown : Platform::kStabilized;
   if (!field_s.empty()) s.field = field_s;
   if (omega_ie) s.omega_ie = *omega_ie;
@@ -265,7 +282,9 @@ int main(int argc, char** argv) {
     for (int i = 0; i < n; ++i) ecef[keys[size_t(i)]] = std::sqrt(std::max(0.0, run.back().P(i, i)));
     j["ecef"] = ecef;
   }
-  j["parameters"] = {{"platform", sd ? "strapdown" : "stabilized"}, {"field", s.field}, {"omega_ie_radps", s.omega_ie},
+  j["parameters"] = {{"source", s.source}, {"unmodelled", unmodelled},
+                     {"trajectory", s.traj_override ? "truth3d scenario" : "great circle (trajectory3d.hpp)"},
+                     {"platform", sd ? "strapdown" : "stabilized"}, {"field", s.field}, {"omega_ie_radps", s.omega_ie},
                      {"radius_m", s.radius_m}, {"height_m", s.height_m}, {"lat0_deg", s.lat0_deg},
                      {"lon0_deg", s.lon0_deg}, {"heading_deg", s.heading_deg}, {"speed_mps", s.speed_mps},
                      {"duration_s", s.duration_s}, {"half_base_m", s.model.half_base_m},

@@ -32,9 +32,9 @@ Nav3DModel::Nav3DModel(std::shared_ptr<const gravity::Field> field, std::shared_
     const auto& p = cfg_.baro.poles_radps;
     double ws2 = cfg_.baro.omega_s2;
     if (!(ws2 > 0)) {
+      // the firmware's default (truth generators): |G(r0)| / |r0|
       const Vec3 r0 = traj_->at(0).r_e;
-      const Real rn = r0.norm();
-      ws2 = double(gravity::wgs84::kGm / (rn * rn * rn));
+      ws2 = double(field_->eval(r0).g.norm() / r0.norm());
     }
     // vchan.h: k1 = p1+p2+p3, k2 = p1p2+p1p3+p2p3 + 2 w_s^2, k3 = p1p2p3.
     k1_ = p[0] + p[1] + p[2];

@@ -26,13 +26,18 @@ struct Cov3DScenario {
   double gyro_bias_sigma_radps = 0.0;     // each gyro axis (strapdown)
   double g0_sigma_mps2 = 0.0;             // initial dG, each ECEF axis
   double r0_sigma_m = 0.0, v0_sigma_mps = 0.0, psi0_sigma_rad = 0.0;
+  // Set when the scenario comes from the 3-D truth generator (cov3d_truth3d.hpp):
+  // its trajectory and field replace the great circle and the field above.
+  std::shared_ptr<const Trajectory3D> traj_override;
+  std::shared_ptr<const gravity::Field> field_override;
+  std::string source = "built-in";
 };
 
 std::optional<Cov3DScenario> builtin_scenario3d(const std::string& name);
 std::vector<std::string> builtin_names3d();
 
 std::shared_ptr<const gravity::Field> make_field3d(const Cov3DScenario& s);
-std::shared_ptr<const GreatCircle3D> make_trajectory3d(const Cov3DScenario& s);
+std::shared_ptr<const Trajectory3D> make_trajectory3d(const Cov3DScenario& s);
 std::shared_ptr<const Nav3DModel> make_model3d(const Cov3DScenario& s);
 MatrixXd initial_covariance3d(const Cov3DScenario& s, const Nav3DModel& m);
 

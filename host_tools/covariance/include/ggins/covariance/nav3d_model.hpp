@@ -41,7 +41,7 @@ namespace ggins::covariance {
 struct Nav3DBaro {
   bool on = false;
   std::array<double, 3> poles_radps{0.01, 0.02, 0.03};
-  double omega_s2 = 0;         // w_s^2 in k2 (firmware's configured value); 0: GM/r0^3 from the field
+  double omega_s2 = 0;         // w_s^2 in k2 (firmware's configured value); 0: |G(r0)|/|r0| from the field
   double gm_tau_s = 600.0;     // baro Gauss-Markov correlation time
   double gm_sigma_m = 0.0;
   double noise_sigma_m = 0.0;  // white noise per sample
