@@ -56,21 +56,31 @@ def main():
     ap.add_argument("--bin", default=os.path.join(ROOT, "build", "bin"))
     ap.add_argument("--out", default=None)
     ap.add_argument("--only", default="a,b,b0,b5,c")
+    ap.add_argument("--survey-seeds", type=int, default=5,
+                    help="fly (b) with this many survey-noise seeds (11, 12, ...) for its spread")
+    ap.add_argument("--reuse", action="store_true", help="do not re-fly runs whose folder already has a summary.json")
     a = ap.parse_args()
     out = a.out or os.path.join("out", "rw-compare-" + datetime.datetime.utcnow().strftime("%Y%m%dT%H%M%SZ"))
     os.makedirs(out, exist_ok=True)
     keys = a.only.split(",")
     res = {}
-    for key, label, scen, ov in RUNS:
+    runs = list(RUNS)
+    if "b" in keys:
+        for seed in range(12, 11 + a.survey_seeds):
+            runs.append(("b_s%d" % seed, "(b) survey-noise seed %d" % seed, "rw-compare-survey", {"seed": seed}))
+            keys.append("b_s%d" % seed)
+    for key, label, scen, ov in runs:
         if key not in keys:
             continue
         folder = os.path.join(out, key)
         toml = os.path.join(out, key + ".toml")
         open(toml, "w").write(scenario_text(scen, ov))
         cmd = [os.path.join(a.bin, "ggins"), "run", "-s", toml, "--no-log", "-o", folder]
-        print("rw-compare:", " ".join(cmd), flush=True)
-        with open(os.path.join(out, key + ".log"), "w") as log:
-            rc = subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT)
+        rc = 0
+        if not (a.reuse and os.path.exists(os.path.join(folder, "summary.json"))):
+            print("rw-compare:", " ".join(cmd), flush=True)
+            with open(os.path.join(out, key + ".log"), "w") as log:
+                rc = subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT)
         if rc != 0:
             sys.exit("rw-compare: run %s failed (rc %d), see %s.log" % (key, rc, os.path.join(out, key)))
         m = metrics(folder)
@@ -78,6 +88,8 @@ def main():
         m["scenario"] = scen
         m["overrides"] = ov
         res[key] = m
+    seeds = {k: m for k, m in res.items() if k == "b" or k.startswith("b_s")}
+    res = {k: m for k, m in res.items() if not k.startswith("b_s")}
     lines = ["| at 1 h | " + " | ".join(res[k]["label"] for k in res) + " |",
              "|---|" + "---|" * len(res)]
     def row(name, k, fmt):
@@ -88,22 +100,33 @@ def main():
     row("in-plane gravitation error, final (m/s^2)", "gravitation_in_plane_final_mps2", "%.2e")
     row("in-plane gravitation error, rms over the hour (m/s^2)", "gravitation_in_plane_rms_mps2", "%.2e")
     table = "\n".join(lines) + "\n"
+    if len(seeds) > 1:
+        fin = [m["along_track_final_m"] for m in seeds.values()]
+        mx = [m["along_track_max_abs_m"] for m in seeds.values()]
+        rms = lambda v: math.sqrt(sum(x * x for x in v) / len(v))
+        table += ("\n(b) over %d survey-noise seeds (%s): along-track error at 1 h rms %.2f m (values %s m); "
+                  "max over the hour rms %.2f m\n" % (len(fin), ", ".join(str(11 + i) for i in range(len(fin))), rms(fin),
+                                                       ", ".join("%.2f" % x for x in fin), rms(mx)))
+        res_seeds = {"finals_m": fin, "max_m": mx, "rms_final_m": rms(fin), "rms_max_m": rms(mx)}
+    else:
+        res_seeds = None
     open(os.path.join(out, "table.md"), "w").write(table)
-    json.dump({k: {x: v for x, v in m.items() if x not in ("t", "along")} for k, m in res.items()},
-              open(os.path.join(out, "table.json"), "w"), indent=2)
+    tj = {k: {x: v for x, v in m.items() if x not in ("t", "along")} for k, m in res.items()}
+    tj["b_survey_seeds"] = res_seeds
+    json.dump(tj, open(os.path.join(out, "table.json"), "w"), indent=2)
     print(table)
     try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(8, 4.8))
+        fig, ax = plt.subplots(figsize=(11, 4.8))
         for k, m in res.items():
             ax.semilogy([t / 60 for t in m["t"]], [max(abs(x), 1e-3) for x in m["along"]], label=m["label"])
         ax.set_xlabel("time (min)")
         ax.set_ylabel("|along-track position error| (m)")
         ax.set_title("Rubenstein & Winter anomaly field, 100 m/s at 3 km, perfect accelerometers")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.tight_layout()
         fig.savefig(os.path.join(out, "comparison.png"), dpi=110)
     except ImportError:
