@@ -2,7 +2,7 @@
 // field's rms at 3000 m against the continuous spectral integral of the model
 // (Parseval, polar coordinates, not the FFT grid); the normal field's vertical
 // gradient at 3000 m against 2 GM / r^3 (spherical approximation, 0.5 %); then
-// behaviour: with a perfect INS and a near-noise-free sensor the filter holds
+// the INS error model against the Schuler closed forms; behaviour: with a perfect INS and a near-noise-free sensor the filter holds
 // the position (< 100 m mean over 1500 s); with the Table I INS the aided
 // error is below the unaided error over 3000 s.
 #include <cmath>
@@ -44,6 +44,33 @@ int main() {
   const double r = 6371000.0 + mp.h, g2 = 2 * 3.986004418e14 / (r * r * r);
   CHECK(std::fabs(g / g2 - 1) < 5e-3, "normal gradient %g vs 2GM/r^3 %g", g, g2);
   CHECK(!map.gzz(lat + 1.0 * M_PI / 180, lon + 1.0 * M_PI / 180, mp.h, &g), "off the corridor must fail");
+
+  // INS error model against closed forms (Earth rate 0, no noise, no PF):
+  // accelerometer bias b on every body axis -> horizontal |df| = sqrt2 b for any heading,
+  //   |dr| = sqrt2 b / w_s^2 (1 - cos w_s t)                     (Schuler, psi stays 0)
+  // gyro bias e on every body axis -> horizontal |eps| = sqrt2 e,
+  //   |dr| = sqrt2 e R (t - sin(w_s t) / w_s)                   (psi = eps t through the Schuler loop)
+  {
+    const double R = 6371000.0 + mp.h, ws = std::sqrt(9.80665 / R);
+    FlightConfig f0;
+    f0.duration = 3600; f0.run_pf = false; f0.use_gmap = false; f0.alt_noise = 0;
+    f0.ins = InsErrorParams{30e-6, 0, 0, 0, 0, 0, 0, 0, 0.1, false, 0.0};
+    const FlightResult ra = fly(map, f0);
+    f0.ins = InsErrorParams{0, 0, 0, 0, 0.05e-6, 0, 0, 0, 0.1, false, 0.0};
+    const FlightResult rg = fly(map, f0);
+    double wa = 0, wg = 0;
+    for (std::size_t j = 0; j < ra.t.size(); ++j) {
+      const double t = ra.t[j];
+      const double da = std::sqrt(2.0) * 30e-6 * 9.80665 / (ws * ws) * (1 - std::cos(ws * t));
+      const double dg = std::sqrt(2.0) * 0.05e-6 * R * (t - std::sin(ws * t) / ws);
+      wa = std::fmax(wa, std::fabs(ra.err_unaided[j] - da) / (std::sqrt(2.0) * 30e-6 * 9.80665 / (ws * ws)));
+      if (t > 600) wg = std::fmax(wg, std::fabs(rg.err_unaided[j] / dg - 1));
+    }
+    std::printf("INS model vs closed form over 1 h: accelerometer bias worst %.2f %% of b/w_s^2, gyro bias worst %.2f %%\n",
+                100 * wa, 100 * wg);
+    CHECK(wa < 0.02, "accelerometer-bias response off the Schuler closed form by %g", wa);
+    CHECK(wg < 0.03, "gyro-bias response off the closed form by %g", wg);
+  }
 
   FlightConfig fc;
   fc.duration = 1500;

@@ -19,7 +19,6 @@ extern "C" {
 namespace ggins::coldatom {
 
 namespace {
-constexpr double kOmega = 7.292115e-5;
 constexpr double kG0 = 9.80665;
 constexpr double kWgsA = 6378137.0, kWgsE2 = 6.69437999014e-3;
 using V3 = Eigen::Vector3d;
@@ -70,6 +69,13 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   for (int i = 0; i < 3; ++i) { ba(i) = e.acc_bias_g * kG0 * n01(rng); bg(i) = e.gyro_bias * n01(rng); }
   M3 Ka = skew_offdiag(rng, e.acc_nonorth), Kg = skew_offdiag(rng, e.gyro_nonorth);
   for (int i = 0; i < 3; ++i) { Ka(i, i) = e.acc_scale * n01(rng); Kg(i, i) = e.gyro_scale * n01(rng); }
+  if (!e.random) {
+    ba = V3::Constant(e.acc_bias_g * kG0);
+    bg = V3::Constant(e.gyro_bias);
+    Ka = M3::Identity() * e.acc_scale;
+    Kg = M3::Identity() * e.gyro_scale;
+  }
+  const double kOm = e.earth_rate;
   Gradiometer grad(cfg.grad, cfg.seed * 104729u + 3u);
 
   // --- particle filter ---
@@ -128,7 +134,7 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
     const double sl = std::sin(lat), cl = std::cos(lat);
     const double w2 = 1 - kWgsE2 * sl * sl, RN = kWgsA / std::sqrt(w2), RM = RN * (1 - kWgsE2) / w2;
     const double vN = v * std::cos(hd), vE = v * std::sin(hd);
-    const V3 Om(kOmega * cl, 0, -kOmega * sl);
+    const V3 Om(kOm * cl, 0, -kOm * sl);
     const V3 rho(vE / (RN + h), -vN / (RM + h), -vE * sl / cl / (RN + h));
     M3 Cbn;
     Cbn << std::cos(hd), -std::sin(hd), 0, std::sin(hd), std::cos(hd), 0, 0, 0, 1;

@@ -38,6 +38,8 @@ struct InsErrorParams {
   double gyro_scale = 10e-6;
   double gyro_noise = 2.0e-6;   // rad/s / sqrt(Hz)
   double dt = 0.1;              // s, error-model step
+  bool random = true;           // false: biases = +value on every body axis (tests), no scale/non-orthogonality draw
+  double earth_rate = 7.292115e-5;  // rad/s (0 in the closed-form tests)
 };
 
 struct FlightConfig {
