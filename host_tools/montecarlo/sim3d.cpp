@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "ggins/gravity/wgs84.hpp"
+
 namespace ggins::montecarlo3d {
 
 using covariance::skew;
@@ -82,6 +84,19 @@ gg_nav3d_config_t Sim3D::config(const SensorErrors& e) const {
   c.asym_max = 1.0;
   c.gravity_mode = GG_GRAVITY_GRADIOMETER;
   c.baro_enable = 0;
+  if (s_.model.baro.on) {
+    c.baro_enable = 1;
+    for (int i = 0; i < 3; ++i) c.baro.poles[i] = s_.model.baro.poles_radps[size_t(i)];
+    const double ws2 = s_.model.baro.omega_s2 > 0 ? s_.model.baro.omega_s2 : double(fs.g.norm() / p.r_e.norm());
+    c.baro.omega_s2 = ws2;  // the model's default too (nav3d_model.cpp)
+    c.baro.period_us = std::llround(s_.model.baro.period_s * 1e6);
+    c.baro.max_age_us = c.baro.period_us;
+    c.baro.coast_us = 10 * c.baro.period_us;
+    c.baro.alt_min_m = -1000;
+    c.baro.alt_max_m = 30000;
+    c.baro.gate_m = 1e4;
+    c.baro.max_rejects = 5;
+  }
   return c;
 }
 
@@ -121,6 +136,16 @@ void Sim3D::frame(int64_t k, const SensorErrors& e, std::mt19937_64* rng, gg_fra
   }
   fr->gyro_status = GG_SENSOR_OK;
   fr->baro_status = GG_SENSOR_ABSENT;
+  if (s_.model.baro.on) {
+    const int64_t every = std::max<int64_t>(1, std::llround(s_.model.baro.period_s * 1e6 / double(dt_us_)));
+    if (k % every == 0) {
+      Real lat, lon, h;
+      gravity::wgs84::ecef_to_geodetic(p.r_e, lat, lon, h);
+      fr->baro_alt_m = double(h) + e.baro_bias_m;
+      fr->baro_utime = fr->utime;
+      fr->baro_status = GG_SENSOR_OK;
+    }
+  }
 }
 
 std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, double output_dt_s) const {
@@ -152,6 +177,7 @@ std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, doub
       const Mat3 A = dcm_from_quat(o.q_b_e) * p.C_b_e.transpose();  // = I - [psi x]
       const Mat3 Psi = (A.transpose() - A) / 2;
       s.psi = Eigen::Vector3d(double(Psi(2, 1)), double(Psi(0, 2)), double(Psi(1, 0)));
+      s.a_c = o.g_up_corr;
       out.push_back(s);
     }
   }

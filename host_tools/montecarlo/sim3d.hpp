@@ -6,7 +6,8 @@
 //   f_s = C_e_b (a_i,e - G_e(r_e + C_b_e d_s)) + ([wdot x] + [w x]^2) d_s   (Gao et al. eq. 22)
 // with a_i,e = a_e + 2 W v_e + W^2 r_e the inertial acceleration of the
 // centre resolved in ECEF, plus the constant biases and white noise;
-// gyros (strapdown) w_ib_b + bias + noise.
+// gyros (strapdown) w_ib_b + bias + noise; with the scenario's barometric loop
+// on, a barometer sample every baro period: the true geodetic height + bias.
 #pragma once
 
 #include <array>
@@ -35,12 +36,15 @@ struct SensorErrors {
   uint64_t noise_seed = 0;
   // Initial-state errors handed to the firmware configuration (ECEF; psi: C^ = (I - [psi x]) C).
   std::array<double, 3> dr0{}, dv0{}, dg0{}, dpsi0{};
+  // Barometer (when the scenario's loop is on): constant bias, m (the model's baro_bias_m column).
+  double baro_bias_m = 0;
 };
 
 // Errors of the firmware against the truth at one time (ECEF).
 struct ErrSample {
   double t = 0;
   Eigen::Vector3d dr, dv, dg, psi;
+  double a_c = 0;  // the vertical loop's integral state (g_up_corr), m/s^2
 };
 
 class Sim3D {

@@ -16,7 +16,7 @@
 // Gauss-Markov (baro loop).
 //
 //   dr'   = dv                                                     (- k1 e u)
-//   dv'   = -W^2 dr - 2 W dv + dG + [f_e x] psi + C_b_e df_c       (- k2 e u - a_c u)
+//   dv'   = -W^2 dr - 2 W dv + dG + [f_e x] psi + C_b_e df_c       (- k2 e u + k1 e W u - a_c u)
 //   dG'   = Gamma_e dv + ([(Gamma_e v) x] - Gamma_e [v x]) psi
 //           + C_b_e dGamma_b C_e_b v                              (- k1 e Gamma_e u)
 //   psi'  = -W psi - C_b_e dw
@@ -25,7 +25,9 @@
 // specific force, df_c = (1/6) sum_k b_k (diff3d.h: mean of the six),
 // dM[:, k] = (b_k - b_{k+3}) / (2 d_k),
 // dGamma_b = [w x][dw x] + [dw x][w x] - (dM + dM^T)/2,
-// u the up unit vector (ellipsoid normal). Welker et al. eq. (9)-(10) is the
+// u the up unit vector (ellipsoid normal). The k1 e W u term: nav3d applies
+// the loop's position correction to r_i at fixed v_i (nav3d.c baro_step), which
+// changes the Earth-relative velocity by -w x dr. Welker et al. eq. (9)-(10) is the
 // non-rotating, planar, stabilized special case (tests/covariance).
 // Derivation: docs/error-analysis.md, "3-D".
 #pragma once
