@@ -381,7 +381,8 @@ static gg_status_t cfg_ok(const gg_mm_config_t *c)
     if ((c->dt_s <= 0.0) || (c->dt_s > 1.0) || (c->update_period_s < c->dt_s) ||
         ((c->sigma_meas_s2 + c->sigma_db_s2) <= 0.0) || (c->sig0_att_rad <= 0.0) ||
         (c->sig0_att_rad > 0.5) || (c->sig0_vel_mps <= 0.0) || (c->sig0_pos_m <= 0.0) ||
-        (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (nav_ok(&c->init) == 0)) {
+        (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (nav_ok(&c->init) == 0) ||
+        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES)) {
         return GG_ERR_CONFIG;
     }
     return GG_OK;
@@ -504,50 +505,108 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
     for (int k = 0; k < GG_MM_NX; ++k) {
         Q[k][k] = q[k / 3];
     }
+    static const double zero[GG_UKF_NX_MAX] = {0};
     if ((ok == 0) || (gg_ukf_predict_finish(&st->ukf, (const double(*)[GG_UKF_NX_MAX])Q) != GG_OK)) {
         st->health |= GG_MM_H_UKF_FAIL;
         st->n_fail++;
-    } else if ((meas != NULL) && (st->map != NULL)) {
-        hctx_t hc = {st->map, &nominal0, 0};
+    } else {
+        /* inject the predicted mean, so the update is linearised about it */
+        gg_mm_nav_t injected;
+        if (apply(&nominal0, st->ukf.x, &injected) == GG_OK) {
+            nominal = injected;
+        } else {
+            st->health |= GG_MM_H_UKF_FAIL;
+            st->n_fail++;
+        }
+        (void)gg_ukf_set_mean(&st->ukf, zero);
+    }
+    if ((meas != NULL) && (st->map != NULL) && ((st->health & GG_MM_H_UKF_FAIL) == 0u)) {
         double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
         (void)memset(R, 0, sizeof R);
         const double r = st->cfg.sigma_meas_s2 * st->cfg.sigma_meas_s2 +
                          st->cfg.sigma_db_s2 * st->cfg.sigma_db_s2;
-        for (int k = 0; k < 6; ++k) {
-            R[k][k] = r;
-        }
-        gg_ukf_update_info_t info;
-        const gg_status_t s = gg_ukf_update(&st->ukf, 6, meas->gamma_b,
-                                            (const double(*)[GG_UKF_NZ_MAX])R, meas_model, &hc, &info);
-        if (s != GG_OK) {
-            if (hc.off_map != 0) {
-                st->health |= GG_MM_H_OFF_MAP;
-                st->n_offmap++;
-            } else {
+        /* progressive update: pass k uses R / w_k with sum w_k = 1 (for a linear
+         * model exactly one update with R: the information adds up); w_k is
+         * chosen so that R / w_k equals the largest predicted measurement
+         * spread, i.e. each pass at most about halves the variance along the
+         * measured directions and the next pass is linearised about the new
+         * estimate (sigma points redrawn). max_passes = 1: Gao's single update. */
+        double remaining = 1.0;
+        int32_t accepted_any = 0;
+        for (int32_t pass = 0; (pass < st->cfg.max_passes) && (remaining > 0.0); ++pass) {
+            hctx_t hc = {st->map, &nominal, 0};
+            double spread[GG_UKF_NZ_MAX], nis0 = 0.0;
+            for (int k = 0; k < 6; ++k) {
+                R[k][k] = r;
+            }
+            double w = remaining;
+            const gg_status_t s0 = gg_ukf_meas_spread(&st->ukf, 6, meas_model, &hc, spread, meas->gamma_b,
+                                                      (const double(*)[GG_UKF_NZ_MAX])R, &nis0);
+            if (s0 != GG_OK) {
+                if (hc.off_map != 0) {
+                    st->health |= GG_MM_H_OFF_MAP;
+                    st->n_offmap++;
+                } else {
+                    st->health |= GG_MM_H_UKF_FAIL;
+                    st->n_fail++;
+                }
+                break;
+            }
+            if (pass == 0) {
+                *nis = nis0; /* the NIS of a single update with R (consistency statistic) */
+            }
+            if (pass < (st->cfg.max_passes - 1)) {
+                double smax = 0.0;
+                for (int k = 0; k < 6; ++k) {
+                    if (spread[k] > smax) {
+                        smax = spread[k];
+                    }
+                }
+                if ((smax > r) && ((r / smax) < w)) {
+                    w = r / smax;
+                }
+            }
+            for (int k = 0; k < 6; ++k) {
+                R[k][k] = r / w;
+            }
+            gg_ukf_update_info_t info;
+            const gg_status_t s = gg_ukf_update(&st->ukf, 6, meas->gamma_b,
+                                                (const double(*)[GG_UKF_NZ_MAX])R, meas_model, &hc, &info);
+            if (s != GG_OK) {
+                if (hc.off_map != 0) {
+                    st->health |= GG_MM_H_OFF_MAP;
+                    st->n_offmap++;
+                } else {
+                    st->health |= GG_MM_H_UKF_FAIL;
+                    st->n_fail++;
+                }
+                break;
+            }
+            if (info.accepted == 0) {
+                st->health |= GG_MM_H_GATED;
+                st->n_gated++;
+                break;
+            }
+            accepted_any = 1;
+            gg_mm_nav_t injected;
+            if (apply(&nominal, st->ukf.x, &injected) != GG_OK) {
                 st->health |= GG_MM_H_UKF_FAIL;
                 st->n_fail++;
+                break;
             }
-        } else if (info.accepted == 0) {
-            st->health |= GG_MM_H_GATED;
-            st->n_gated++;
-            *nis = info.nis;
-        } else {
+            nominal = injected;
+            (void)gg_ukf_set_mean(&st->ukf, zero);
+            remaining -= w;
+            if (remaining < 1.0e-12) {
+                remaining = 0.0;
+            }
+        }
+        if (accepted_any != 0) {
             st->n_updates++;
             *updated = 1;
-            *nis = info.nis;
         }
-    } else {
-        /* no measurement: prediction only */
     }
-    /* inject the estimated error into the nominal state, reset the mean */
-    static const double zero[GG_UKF_NX_MAX] = {0};
-    gg_mm_nav_t injected;
-    if (apply(&nominal0, st->ukf.x, &injected) == GG_OK) {
-        nominal = injected;
-    } else {
-        st->health |= GG_MM_H_UKF_FAIL;
-        st->n_fail++;
-    }
+    /* reset the mean (already injected), redraw the sigma states */
     (void)gg_ukf_set_mean(&st->ukf, zero);
     gg_mm_nav_t sig[GG_MM_NSIG];
     if (redraw(st, &nominal, sig) == GG_OK) {

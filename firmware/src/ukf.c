@@ -482,3 +482,82 @@ gg_status_t gg_ukf_set_mean(gg_ukf_t *st, const double *x)
     st->sigma_ready = 0;
     return GG_OK;
 }
+
+gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ctx, double *spread,
+                               const double *z, const double R[NZ][NZ], double *nis)
+{
+    if ((st == NULL) || (h == NULL) || (spread == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    if ((nz < 1) || (nz > NZ)) {
+        return GG_ERR_CONFIG;
+    }
+    const int32_t n = st->cfg.nx, ns = 2 * n + 1;
+    double w0, wi, c, zmean[NZ];
+    (void)memset(zmean, 0, sizeof zmean);
+    weights(&st->cfg, &w0, &wi, &c);
+    draw(st, st->chi);
+    st->sigma_ready = 0;
+    for (int32_t i = 0; i < ns; ++i) {
+        double zz[NZ];
+        (void)memset(zz, 0, sizeof zz);
+        const gg_status_t s = h(ctx, st->chi[i], zz);
+        int ok = (s == GG_OK) ? 1 : 0;
+        for (int32_t k = 0; k < nz; ++k) {
+            if (!finite_d(zz[k])) {
+                ok = 0;
+            }
+        }
+        if (ok == 0) {
+            st->health = GG_UKF_H_MODEL;
+            st->n_model_fail++;
+            return (s != GG_OK) ? s : GG_ERR_NONFINITE;
+        }
+        (void)memcpy(st->zeta[i], zz, sizeof zz);
+    }
+    for (int32_t k = 0; k < nz; ++k) {
+        double m = 0.0;
+        for (int32_t i = 1; i < ns; ++i) {
+            m += st->zeta[i][k];
+        }
+        m = w0 * st->zeta[0][k] + wi * m;
+        double v = 0.0;
+        for (int32_t i = 0; i < ns; ++i) {
+            const double d = st->zeta[i][k] - m;
+            v += ((i == 0) ? w0 : wi) * d * d;
+        }
+        spread[k] = v;
+        zmean[k] = m;
+    }
+    if ((z != NULL) && (R != NULL) && (nis != NULL)) {
+        double S[NZ][NZ], LS[NZ][NZ], nu[NZ], y[NZ];
+        (void)memset(S, 0, sizeof S);
+        for (int32_t i = 0; i < ns; ++i) {
+            const double w = (i == 0) ? w0 : wi;
+            for (int32_t a = 0; a < nz; ++a) {
+                for (int32_t b = 0; b < nz; ++b) {
+                    S[a][b] += w * (st->zeta[i][a] - zmean[a]) * (st->zeta[i][b] - zmean[b]);
+                }
+            }
+        }
+        for (int32_t a = 0; a < nz; ++a) {
+            for (int32_t b = 0; b < nz; ++b) {
+                S[a][b] += R[a][b];
+            }
+            nu[a] = z[a] - zmean[a];
+        }
+        if (chol_nz(nz, (const double(*)[NZ])S, LS) != GG_OK) {
+            return GG_ERR_RANGE;
+        }
+        fwd(nz, (const double(*)[NZ])LS, nu, y);
+        double q = 0.0;
+        for (int32_t k = 0; k < nz; ++k) {
+            q += y[k] * y[k];
+        }
+        *nis = q;
+    }
+    return GG_OK;
+}

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -38,7 +39,7 @@ struct Opt {
   double hours = 10, dt = 0.1, update = 60, meas_e = 0.01, db_e = 0.001, att_deg = 0.5, vel = 1, pos = 10;
   double gyro_dph = 0.01, acc_ug = 10, arw_dprh = 0.001, vrw_ug_rhz = 1;
   double lat0 = 30.0, lon0 = 140.0, depth = 100, speed = 10, spacing = 0.05, lambda = 0, gate = 0;
-  int runs = 1, threads = 2, seed = 1;
+  int runs = 1, threads = 2, seed = 1, first_run = 0, passes = 40;
   bool fixed_errors = false, plot = true;
   std::string egm = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt", out = "out/mapnav", tile;
 };
@@ -118,7 +119,7 @@ std::array<double, 9> table_errors(const gg_mm_nav_t& a, const gg_mm_nav_t& t) {
 }
 
 struct RunResult {
-  std::array<double, 9> ggan_final{}, ins_final{}, ggan_rms2h{}, ins_rms2h{};
+  std::array<double, 9> ggan_final{}, ins_final{}, ins0_final{}, ggan_rms2h{}, ins_rms2h{};
   std::vector<double> nees, nees_pos, nis;  // per update epoch
   std::vector<std::array<double, 5>> nees_blk;  // per 3-state block: att, vel, pos, bg, ba
   std::vector<std::array<double, 24>> series;  // t, 9 ggan, 9 ins, 3 pos sigma, nis, nees
@@ -164,10 +165,11 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
   cfg.ba_rw = 1e-9;
   cfg.lambda = o.lambda;
   cfg.gate_nis = o.gate;
+  cfg.max_passes = o.passes;
   cfg.init = est0;
   auto mm = std::make_unique<gg_mm_t>();
   if (gg_mm_init(mm.get(), &cfg, map) != GG_OK) throw std::runtime_error("gg_mm_init failed");
-  gg_mm_nav_t truth = start, ins = est0;
+  gg_mm_nav_t truth = start, ins = est0, ins0 = start;  // ins0: pure inertial without initial errors
   RunResult R;
   std::vector<double> step_ns, upd_us;
   const long per_upd = std::lround(o.update / dt);
@@ -182,6 +184,7 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
     }
     if (gg_mm_mech(&truth, &ideal, dt, 0, 0, 0) != GG_OK) throw std::runtime_error("truth mech");
     if (gg_mm_mech(&ins, &meas, dt, 1, est0.h, 0.0) != GG_OK) throw std::runtime_error("ins mech");
+    if (gg_mm_mech(&ins0, &meas, dt, 1, start.h, 0.0) != GG_OK) throw std::runtime_error("ins mech");
     gg_mm_meas_t gm;
     const bool have = (k % per_upd) == 0;
     if (have) {  // gradiometer at the true position, body axes, + noise
@@ -202,8 +205,10 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
     if (s != GG_OK) throw std::runtime_error("gg_mm_step failed: status " + std::to_string(s) + " health " + std::to_string(mm->health) + " t " + std::to_string(t));
     if (have) upd_us.push_back(ns * 1e-3); else if (k % 97 == 0) step_ns.push_back(ns);
     if (have) {
+      gg_mm_nav_t tb = truth;  // truth with the actual sensor biases in the bias fields
+      for (int j = 0; j < 3; ++j) { tb.bg[j] = bg[j]; tb.ba[j] = ba[j]; }
       double d[GG_MM_NX];
-      gg_mm_error(&truth, &out.nav, d);  // truth (-) estimate, the filter's error coordinates
+      gg_mm_error(&tb, &out.nav, d);  // truth (-) estimate, the filter's error coordinates
       Eigen::Matrix<double, GG_MM_NX, GG_MM_NX> P;
       for (int i = 0; i < GG_MM_NX; ++i)
         for (int j = 0; j < GG_MM_NX; ++j) P(i, j) = out.P[i][j];
@@ -231,6 +236,7 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
       if (t + dt > (o.hours - 2) * 3600) { last2h_g.push_back(eg); last2h_i.push_back(ei); }
       R.ggan_final = eg;
       R.ins_final = ei;
+      R.ins0_final = table_errors(ins0, truth);
     }
     R.n_updates = out.n_updates; R.n_gated = out.n_gated; R.n_offmap = out.n_offmap; R.n_fail = out.n_fail;
   }
@@ -271,9 +277,11 @@ int main(int argc, char** argv) {
   app.add_option("--spacing", o.spacing, "map node spacing, deg")->capture_default_str();
   app.add_option("--lambda", o.lambda, "UT spread (0 = Gao)")->capture_default_str();
   app.add_option("--gate", o.gate, "NIS gate (0 = none)")->capture_default_str();
+  app.add_option("--passes", o.passes, "max progressive update passes (1 = Gao's single UKF update)")->capture_default_str();
   app.add_option("--runs", o.runs, "Monte Carlo runs")->capture_default_str();
   app.add_option("--threads", o.threads, "parallel runs")->capture_default_str();
   app.add_option("--seed", o.seed, "seed")->capture_default_str();
+  app.add_option("--first-run", o.first_run, "index of the first run (to repeat one run of a Monte Carlo set)")->capture_default_str();
   app.add_flag("--fixed-errors", o.fixed_errors, "initial errors and biases = +1 sigma on every axis (no draw)");
   app.add_flag("!--no-plot", o.plot, "skip the plots");
   app.add_option("--egm96", o.egm, "EGM96 coefficients")->capture_default_str();
@@ -327,7 +335,7 @@ int main(int argc, char** argv) {
           int r;
           { std::lock_guard<std::mutex> l(mu); r = next++; }
           if (r >= o.runs) return;
-          res[r] = run_one(o, r, map.get(), *truth_field, start);
+          res[r] = run_one(o, o.first_run + r, map.get(), *truth_field, start);
         }
       });
     for (auto& th : pool) th.join();
@@ -347,6 +355,7 @@ int main(int argc, char** argv) {
     };
     J["ggan_final"] = stats([](const RunResult& r) { return r.ggan_final; });
     J["ins_final"] = stats([](const RunResult& r) { return r.ins_final; });
+    J["ins_sensor_errors_only_final"] = stats([](const RunResult& r) { return r.ins0_final; });
     J["ggan_rms_last2h"] = stats([](const RunResult& r) { return r.ggan_rms2h; });
     J["ins_rms_last2h"] = stats([](const RunResult& r) { return r.ins_rms2h; });
     // consistency: NEES (15 states) and position NEES (3) averaged over runs and epochs after the first hour,
@@ -362,13 +371,21 @@ int main(int argc, char** argv) {
       for (double v : r.nis) { sni += v; ++cni; }
     }
     for (int b = 0; b < 5; ++b) J["nees_block_mean"][std::vector<std::string>{"att", "vel", "pos", "bg", "ba"}[b]] = cn ? sb[b] / cn : 0;
+    for (int r = 0; r < o.runs; ++r) {
+      const auto& x = res[r];
+      double a = 0, b = 0, c2 = 0; long n = 0;
+      for (std::size_t i = 0; i < x.nees.size(); ++i) if (x.series[i][0] > 3600 || o.hours <= 1) { a += x.nees[i]; b += x.nees_pos[i]; ++n; }
+      for (double v : x.nis) c2 += v;
+      J["per_run"].push_back({{"run", o.first_run + r}, {"nees_mean", n ? a / n : 0}, {"nees_pos_mean", n ? b / n : 0},
+                              {"nis_mean", x.nis.empty() ? 0 : c2 / x.nis.size()}, {"final", x.ggan_final}, {"rms_last2h", x.ggan_rms2h}});
+    }
     J["nees_mean"] = cn ? sn / cn : 0; J["nees_dof"] = GG_MM_NX;
     J["nees_pos_mean"] = cn ? snp / cn : 0; J["nees_pos_dof"] = 3;
     J["nis_mean"] = cni ? sni / cni : 0; J["nis_dof"] = 6; J["nees_samples"] = cn; J["nis_samples"] = cni;
     J["updates"] = res[0].n_updates; J["gated"] = res[0].n_gated; J["offmap"] = res[0].n_offmap; J["fail"] = res[0].n_fail;
     J["filter_step_ns_median"] = res[0].step_ns_median;
     J["filter_update_step_us_median"] = res[0].update_us_median;
-    J["runs"] = o.runs; J["hours"] = o.hours; J["dt"] = o.dt; J["update_s"] = o.update;
+    J["runs"] = o.runs; J["hours"] = o.hours; J["dt"] = o.dt; J["update_s"] = o.update; J["passes"] = o.passes;
     J["meas_noise_e"] = o.meas_e; J["db_noise_e"] = o.db_e; J["att0_deg"] = o.att_deg; J["vel0_mps"] = o.vel;
     J["pos0_m"] = o.pos; J["gyro_bias_dph"] = o.gyro_dph; J["acc_bias_ug"] = o.acc_ug; J["seed"] = o.seed;
     J["tile_nodes"] = map->tile.nlat * map->tile.nlon; J["tile_s"] = t_tile; J["wall_s"] = wall;
@@ -384,10 +401,10 @@ int main(int argc, char** argv) {
     }
     std::printf("mapnav: %d run(s), %.1f h, update %.0f s, meas %.3g E, db %.3g E; wall %.1f s (tile %.1f s, %d nodes)\n",
                 o.runs, o.hours, o.update, o.meas_e, o.db_e, wall, t_tile, map->tile.nlat * map->tile.nlon);
-    std::printf("%-22s %8s %8s %8s | %7s %7s %7s | %8s %8s %8s\n", "mean |error| at end", "pitch'", "roll'", "yaw'", "vE", "vN",
+    std::printf("%-28s %8s %8s %8s | %7s %7s %7s | %8s %8s %8s\n", "mean |error| at end", "pitch'", "roll'", "yaw'", "vE", "vN",
                 "vU", "lat m", "lon m", "h m");
-    for (const char* k : {"ins_final", "ggan_final", "ggan_rms_last2h"}) {
-      std::printf("%-22s", k);
+    for (const char* k : {"ins_final", "ins_sensor_errors_only_final", "ggan_final", "ggan_rms_last2h"}) {
+      std::printf("%-28s", k);
       for (int c = 0; c < 9; ++c) std::printf(c == 3 || c == 6 ? " | %7.3g" : " %8.3g", J[k][names[c]]["mean_abs"].get<double>());
       std::printf("\n");
     }
@@ -397,6 +414,12 @@ int main(int argc, char** argv) {
     std::printf("NEES per block (dof 3 each): %s\n", J["nees_block_mean"].dump().c_str());
     std::printf("filter step %.0f ns (median, no update), update step %.0f us (median, host)\n", res[0].step_ns_median,
                 res[0].update_us_median);
+#ifdef GGINS_PLOT_SCRIPT
+    if (o.plot) {
+      const std::string cmd = std::string("/usr/bin/python3 ") + GGINS_PLOT_SCRIPT + " '" + o.out + "' > /dev/null 2>&1";
+      if (std::system(cmd.c_str()) != 0) std::printf("(plot failed: %s)\n", cmd.c_str());
+    }
+#endif
     std::printf("report: %s\n", o.out.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ggins mapnav: %s\n", e.what());

@@ -149,6 +149,7 @@ static void test_filter_pulls_position_in(void **state)
     c.sig0_pos_m = 100;
     c.sig0_bg_rps = 1e-9;
     c.sig0_ba_mps2 = 1e-5;
+    c.max_passes = 8;
     c.init.q[0] = 1;
     c.init.lat = 0.5 + 50.0 / 6.36e6; /* 50 m north, 50 m east of the truth */
     c.init.lon = -1.0 + 50.0 / 5.6e6;

@@ -125,6 +125,15 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z,
                           const double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX], gg_ukf_hx_t h, void *ctx,
                           gg_ukf_update_info_t *info);
 
+/** Diagonal of the predicted measurement spread sum W_i (zeta_i - z^)^2 (S
+ *  without R) of the model h at the current (x, P); x, P untouched. If z, R
+ *  and nis are all non-NULL, *nis = nu^T S^-1 nu with S = spread + R (the NIS
+ *  a single update with R would have). Used to schedule progressive
+ *  (multi-pass) updates. */
+gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ctx, double *spread,
+                               const double *z, const double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX],
+                               double *nis);
+
 /** Replace the mean (nx finite values) keeping P, e.g. the reset of an
  *  error-state filter after the estimate was injected into the nominal state.
  *  Invalidates drawn sigma points. */
