@@ -87,12 +87,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   Cov3DScenario s = *b;
-  if (s.model.baro.on && !no_baro) {
-    std::fprintf(stderr, "ggins-montecarlo3d: the barometric loop is not simulated here (no truth barometer); "
-                         "--no-baro flies the scenario without it\n");
-    return 2;
-  }
-  s.model.baro.on = false;
+  if (no_baro) s.model.baro.on = false;
   if (!platform_s.empty()) s.platform = platform_s == "strapdown" ? Platform::kStrapdown : Platform::kStabilized;
   if (!field_s.empty()) s.field = field_s;
   if (duration) s.duration_s = *duration;
@@ -137,6 +132,12 @@ int main(int argc, char** argv) {
         e.acc_noise = s.model.acc_noise_sigma_mps2;
         e.gyro_noise = sd ? s.model.gyro_noise_sigma_radps : 0.0;
         e.noise_seed = g();
+        if (s.model.baro.on) {
+          e.baro_bias_m = s.baro_bias_sigma_m * nd(g);
+          e.baro_gm_sigma_m = s.model.baro.gm_sigma_m;
+          e.baro_gm_tau_s = s.model.baro.gm_tau_s;
+          e.baro_noise_m = s.model.baro.noise_sigma_m;
+        }
       }
       try {
         res[size_t(i)] = sim.fly(e, s.duration_s, output_dt);
@@ -222,6 +223,10 @@ int main(int argc, char** argv) {
   j["gyro_bias_sigma_radps"] = sd ? s.gyro_bias_sigma_radps : 0.0;
   j["acc_noise_sigma_mps2"] = s.model.acc_noise_sigma_mps2;
   j["gyro_noise_sigma_radps"] = sd ? s.model.gyro_noise_sigma_radps : 0.0;
+  j["baro"] = s.model.baro.on ? json{{"bias_sigma_m", s.baro_bias_sigma_m}, {"gm_sigma_m", s.model.baro.gm_sigma_m},
+                                     {"gm_tau_s", s.model.baro.gm_tau_s}, {"noise_sigma_m", s.model.baro.noise_sigma_m},
+                                     {"period_s", s.model.baro.period_s}}
+                              : json(false);
   j["chi2_band_3sigma"] = {band.first, band.second};
   j["ratio_min"] = rmin;
   j["ratio_max"] = rmax;

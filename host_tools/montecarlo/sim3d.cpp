@@ -100,7 +100,7 @@ gg_nav3d_config_t Sim3D::config(const SensorErrors& e) const {
   return c;
 }
 
-void Sim3D::frame(int64_t k, const SensorErrors& e, std::mt19937_64* rng, gg_frame_t* fr) const {
+void Sim3D::frame(int64_t k, const SensorErrors& e, std::mt19937_64* rng, gg_frame_t* fr, double baro_extra_m) const {
   const Real t = Real(k) * Real(dt_us_) * 1e-6L;
   const covariance::Traj3DPoint p = traj_->at(t);
   const Real wie = traj_->omega_ie();
@@ -141,7 +141,7 @@ void Sim3D::frame(int64_t k, const SensorErrors& e, std::mt19937_64* rng, gg_fra
     if (k % every == 0) {
       Real lat, lon, h;
       gravity::wgs84::ecef_to_geodetic(p.r_e, lat, lon, h);
-      fr->baro_alt_m = double(h) + e.baro_bias_m;
+      fr->baro_alt_m = double(h) + e.baro_bias_m + baro_extra_m;
       fr->baro_utime = fr->utime;
       fr->baro_status = GG_SENSOR_OK;
     }
@@ -152,15 +152,25 @@ std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, doub
   gg_nav3d_t nav;
   const gg_nav3d_config_t cfg = config(e);
   if (gg_nav3d_init(&nav, &cfg) != GG_OK) throw std::runtime_error("gg_nav3d_init failed");
-  std::mt19937_64 rng(e.noise_seed);
+  std::mt19937_64 rng(e.noise_seed), brng(e.noise_seed ^ 0x9e3779b97f4a7c15ULL);
   const bool noisy = e.acc_noise > 0 || e.gyro_noise > 0;
+  std::normal_distribution<double> nd(0.0, 1.0);
+  const int64_t baro_every =
+      s_.model.baro.on ? std::max<int64_t>(1, std::llround(s_.model.baro.period_s * 1e6 / double(dt_us_))) : 0;
+  const double phi = std::exp(-s_.model.baro.period_s / e.baro_gm_tau_s);
+  double gm = e.baro_gm_sigma_m > 0 ? e.baro_gm_sigma_m * nd(brng) : 0.0;  // stationary start
   const int64_t K = std::llround(duration_s * 1e6 / double(dt_us_));
   const int64_t every = std::max<int64_t>(1, std::llround(output_dt_s * 1e6 / double(dt_us_)));
   std::vector<ErrSample> out;
   gg_frame_t fr;
   gg_nav3d_output_t o;
   for (int64_t k = 0; k <= K; ++k) {
-    frame(k, e, noisy ? &rng : nullptr, &fr);
+    double extra = 0;
+    if (baro_every > 0 && k % baro_every == 0) {
+      if (k > 0 && e.baro_gm_sigma_m > 0) gm = phi * gm + std::sqrt(1 - phi * phi) * e.baro_gm_sigma_m * nd(brng);
+      extra = gm + (e.baro_noise_m > 0 ? e.baro_noise_m * nd(brng) : 0.0);
+    }
+    frame(k, e, noisy ? &rng : nullptr, &fr, extra);
     const gg_status_t st = gg_nav3d_step(&nav, &fr, nullptr, &o);
     if (st != GG_OK) throw std::runtime_error("gg_nav3d_step failed at step " + std::to_string(k));
     if (k % every == 0 || k == K) {

@@ -7,7 +7,8 @@
 // with a_i,e = a_e + 2 W v_e + W^2 r_e the inertial acceleration of the
 // centre resolved in ECEF, plus the constant biases and white noise;
 // gyros (strapdown) w_ib_b + bias + noise; with the scenario's barometric loop
-// on, a barometer sample every baro period: the true geodetic height + bias.
+// on, a barometer sample every baro period: the true geodetic height + bias
+// + first-order Gauss-Markov (exact recursion, stationary start) + white noise.
 #pragma once
 
 #include <array>
@@ -38,6 +39,7 @@ struct SensorErrors {
   std::array<double, 3> dr0{}, dv0{}, dg0{}, dpsi0{};
   // Barometer (when the scenario's loop is on): constant bias, m (the model's baro_bias_m column).
   double baro_bias_m = 0;
+  double baro_gm_sigma_m = 0, baro_gm_tau_s = 600, baro_noise_m = 0;  // Gauss-Markov, white noise per sample
 };
 
 // Errors of the firmware against the truth at one time (ECEF).
@@ -53,7 +55,8 @@ class Sim3D {
   // Flies [0, duration] and returns the errors every output_dt. Throws on a firmware error.
   std::vector<ErrSample> fly(const SensorErrors& e, double duration_s, double output_dt_s) const;
   gg_nav3d_config_t config(const SensorErrors& e) const;
-  void frame(int64_t k, const SensorErrors& e, std::mt19937_64* rng, gg_frame_t* fr) const;
+  // baro_extra_m: the Gauss-Markov + noise part of this step's barometer sample (fly() draws it).
+  void frame(int64_t k, const SensorErrors& e, std::mt19937_64* rng, gg_frame_t* fr, double baro_extra_m = 0) const;
   const covariance::Nav3DModel& model() const { return *model_; }
 
  private:

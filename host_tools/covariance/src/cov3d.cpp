@@ -35,6 +35,7 @@ std::optional<Cov3DScenario> builtin_scenario3d(const std::string& name) {
   }
   if (name == "gc3d-baro") {
     s.model.baro.on = true;
+    s.baro_bias_sigma_m = 2.0;
     s.model.baro.gm_sigma_m = 1.0;
     s.model.baro.noise_sigma_m = 0.5;
     return s;
@@ -73,8 +74,8 @@ MatrixXd initial_covariance3d(const Cov3DScenario& s, const Nav3DModel& m) {
     for (int j = 0; j < 3; ++j)
       P0(n + m.idx_gyro() + j, n + m.idx_gyro() + j) = s.gyro_bias_sigma_radps * s.gyro_bias_sigma_radps;
   if (m.baro()) {
-    // the constant barometer bias is not modelled separately here (0); Gauss-Markov stationary
-    const int g = n + m.idx_baro_bias() + 1;
+    const int b = n + m.idx_baro_bias(), g = b + 1;  // constant bias; Gauss-Markov (stationary)
+    P0(b, b) = s.baro_bias_sigma_m * s.baro_bias_sigma_m;
     P0(g, g) = s.model.baro.gm_sigma_m * s.model.baro.gm_sigma_m;
   }
   return P0;

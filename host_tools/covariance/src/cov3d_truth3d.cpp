@@ -1,5 +1,6 @@
 #include "ggins/covariance/cov3d_truth3d.hpp"
 
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 
@@ -73,7 +74,7 @@ Cov3DScenario load_truth3d_scenario(const std::string& name_or_path, const std::
     s.model.baro.gm_sigma_m = t.baro.gm_sigma_m;
     s.model.baro.gm_tau_s = t.baro.gm_tau_s;
     s.model.baro.noise_sigma_m = t.baro.noise_sigma_m;
-    if (t.baro.bias_m != 0) um.emplace_back("baro.bias_m (a constant offset of the height)");
+    s.baro_bias_sigma_m = std::abs(t.baro.bias_m);  // the constant bias as a random one of that size (as in 2-D)
   }
   if (unmodelled) *unmodelled = um;
   return s;

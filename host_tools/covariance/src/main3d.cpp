@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
       gyro_noise, rate, g0, psi0;
   std::vector<double> half_base;
   std::optional<bool> baro;
+  std::optional<double> baro_bias;
   app.add_option("-s,--scenario", scen,
                  "built-in great-circle scenario (gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro) "
                  "or a 3-D truth-generator scenario (scenarios/3d-*.toml name or a TOML file path)")
@@ -107,6 +108,7 @@ int main(int argc, char** argv) {
   app.add_option("--g0-sigma", g0, "initial gravity error per ECEF axis, 1 sigma, m/s^2");
   app.add_option("--psi0-sigma", psi0, "initial attitude error per axis, 1 sigma, rad (strapdown)");
   app.add_option("--baro", baro, "barometric vertical loop on/off (true/false)");
+  app.add_option("--baro-bias-sigma", baro_bias, "constant barometer bias, 1 sigma, m");
   app.add_option("--dt", dt, "RK4 step, s")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--output-dt", output_dt, "CSV spacing, s")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--method", method_s, "transition | lyapunov")->capture_default_str()
@@ -154,6 +156,7 @@ int main(int argc, char** argv) {
   if (g0) s.g0_sigma_mps2 = *g0;
   if (psi0) s.psi0_sigma_rad = *psi0;
   if (baro) s.model.baro.on = *baro;
+  if (baro_bias) s.baro_bias_sigma_m = *baro_bias;
   if (out_dir.empty()) out_dir = "out/covariance3d/" + s.name;
 
   std::shared_ptr<const Nav3DModel> model;
@@ -295,7 +298,7 @@ int main(int argc, char** argv) {
                      {"baro", s.model.baro.on}, {"n_states", n}, {"n_dist", model->n_dist()}};
   if (model->baro())
     j["baro_loop"] = {{"poles_radps", s.model.baro.poles_radps}, {"k1", model->k1()}, {"k2", model->k2()},
-                      {"k3", model->k3()}, {"gm_sigma_m", s.model.baro.gm_sigma_m},
+                      {"k3", model->k3()}, {"bias_sigma_m", s.baro_bias_sigma_m}, {"gm_sigma_m", s.model.baro.gm_sigma_m},
                       {"gm_tau_s", s.model.baro.gm_tau_s}, {"noise_sigma_m", s.model.baro.noise_sigma_m}};
   j["integration"] = {{"method", method_s}, {"dt_s", dt}, {"max_rel_diff_half_step", rel_half},
                       {"max_rel_diff_other_method", other.empty() ? json(nullptr) : json(rel_other)}};

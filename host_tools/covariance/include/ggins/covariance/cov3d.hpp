@@ -26,6 +26,7 @@ struct Cov3DScenario {
   double gyro_bias_sigma_radps = 0.0;     // each gyro axis (strapdown)
   double g0_sigma_mps2 = 0.0;             // initial dG, each ECEF axis
   double r0_sigma_m = 0.0, v0_sigma_mps = 0.0, psi0_sigma_rad = 0.0;
+  double baro_bias_sigma_m = 0.0;         // constant barometer bias, 1 sigma (baro loop)
   // Set when the scenario comes from the 3-D truth generator (cov3d_truth3d.hpp):
   // its trajectory and field replace the great circle and the field above.
   std::shared_ptr<const Trajectory3D> traj_override;
