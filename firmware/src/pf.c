@@ -6,9 +6,7 @@
 #include "ggins/pf.h"
 
 #include <math.h>
-#include <string.h>
 
-#define PF_PI 3.14159265358979323846
 #define PF_LN2_HI 6.93147180369123816490e-01 /* fdlibm split of ln 2 */
 #define PF_LN2_LO 1.90821492927058770002e-10
 #define PF_PIO2_HI 1.57079632673412561417e+00 /* pi/2 split */
@@ -23,7 +21,7 @@ static double pf_sqrt(double x)
 
 static int pf_finite(double x)
 {
-    return (x == x) && (x - x == 0.0);
+    return (x == x) && ((x - x) == 0.0);
 }
 
 static double pf_round(double x)
@@ -31,13 +29,28 @@ static double pf_round(double x)
     return (x >= 0.0) ? (double)(int64_t)(x + 0.5) : -(double)(int64_t)(0.5 - x);
 }
 
-/* 2^k for -1022 <= k <= 1023 from the bit pattern. */
-static double pf_pow2(int32_t k)
+/* Powers 2^(2^j) and 2^-(2^j), j = 9..0 (exact binary values). */
+static const double k_p2[10] = {1.3407807929942597e+154, 1.157920892373162e+77, 3.402823669209385e+38,
+                                1.8446744073709552e+19, 4294967296.0, 65536.0, 256.0, 16.0, 4.0, 2.0};
+static const int32_t k_p2exp[10] = {512, 256, 128, 64, 32, 16, 8, 4, 2, 1};
+static const double k_p2inv[10] = {7.458340731200207e-155, 8.636168555094445e-78, 2.938735877055719e-39,
+                                   5.421010862427522e-20, 2.3283064365386963e-10, 1.52587890625e-05,
+                                   0.00390625, 0.0625, 0.25, 0.5};
+
+/* y 2^k for |k| <= 1023 by binary decomposition of k (each factor exact). */
+static double pf_ldexp(double y, int32_t k)
 {
-    uint64_t bits = ((uint64_t)(uint32_t)(k + 1023)) << 52;
-    double d;
-    memcpy(&d, &bits, sizeof d);
-    return d;
+    double r = y;
+    int32_t a = (k < 0) ? -k : k;
+    int32_t j;
+    for (j = 0; j < 10; ++j) {
+        const int32_t b = k_p2exp[j];
+        if (a >= b) {
+            r *= (k < 0) ? k_p2inv[j] : k_p2[j];
+            a -= b;
+        }
+    }
+    return r;
 }
 
 gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed)
@@ -58,9 +71,10 @@ gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed)
     return GG_OK;
 }
 
-static uint64_t rotl(uint64_t x, int k)
+static uint64_t rotl(uint64_t x, uint32_t k)
 {
-    return (x << k) | (x >> (64 - k));
+    const uint32_t rk = 64u - k;
+    return (x << k) | (x >> rk);
 }
 
 gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v)
@@ -69,14 +83,14 @@ gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v)
     if ((r == NULL) || (v == NULL)) {
         return GG_ERR_NULL;
     }
-    *v = rotl(r->s[1] * 5u, 7) * 9u; /* xoshiro256** */
+    *v = rotl(r->s[1] * 5u, 7u) * 9u; /* xoshiro256** */
     t = r->s[1] << 17;
     r->s[2] ^= r->s[0];
     r->s[3] ^= r->s[1];
     r->s[1] ^= r->s[2];
     r->s[0] ^= r->s[3];
     r->s[2] ^= t;
-    r->s[3] = rotl(r->s[3], 45);
+    r->s[3] = rotl(r->s[3], 45u);
     return GG_OK;
 }
 
@@ -97,7 +111,9 @@ gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u)
 
 gg_status_t gg_pf_exp(double x, double *y)
 {
-    double k, r, p;
+    double k;
+    double r;
+    double p;
     int i;
     if (y == NULL) {
         return GG_ERR_NULL;
@@ -114,24 +130,28 @@ gg_status_t gg_pf_exp(double x, double *y)
     }
     /* x = k ln2 + r, |r| <= ln2/2; Taylor to r^14 (error < 1e-17 relative) */
     k = pf_round(x / (PF_LN2_HI + PF_LN2_LO));
-    r = (x - k * PF_LN2_HI) - k * PF_LN2_LO;
+    r = (x - (k * PF_LN2_HI)) - (k * PF_LN2_LO);
     p = 1.0;
     for (i = 14; i >= 1; --i) {
-        p = 1.0 + p * r / (double)i;
+        p = 1.0 + ((p * r) / (double)i);
     }
-    if (k < -1000.0) {
-        *y = p * pf_pow2((int32_t)k + 600) * pf_pow2(-600);
+    if (k < -1000.0) { /* result subnormal: two steps keep the factors in range */
+        *y = pf_ldexp(pf_ldexp(p, (int32_t)k + 600), -600);
     } else {
-        *y = p * pf_pow2((int32_t)k);
+        *y = pf_ldexp(p, (int32_t)k);
     }
     return GG_OK;
 }
 
 gg_status_t gg_pf_log(double x, double *y)
 {
-    uint64_t bits;
+    int32_t j;
     int32_t e;
-    double m, z, z2, s, t;
+    double m;
+    double z;
+    double z2;
+    double s;
+    double t;
     int i;
     if (y == NULL) {
         return GG_ERR_NULL;
@@ -142,15 +162,27 @@ gg_status_t gg_pf_log(double x, double *y)
     if (!(x > 0.0)) {
         return GG_ERR_RANGE;
     }
+    /* x = m 2^e, m in [1, 2): greedy binary search on the exponent (exact scalings) */
     e = 0;
-    if (x < 2.2250738585072014e-308) { /* subnormal: scale by 2^54 */
-        x *= 18014398509481984.0;
+    m = x;
+    if (m < 2.2250738585072014e-308) { /* subnormal: scale by 2^54 first */
+        m *= 18014398509481984.0;
         e = -54;
     }
-    memcpy(&bits, &x, sizeof bits);
-    e += (int32_t)((bits >> 52) & 0x7ffu) - 1023;
-    bits = (bits & 0x000fffffffffffffull) | 0x3ff0000000000000ull;
-    memcpy(&m, &bits, sizeof m);
+    for (j = 0; j < 10; ++j) {
+        const int32_t b = k_p2exp[j];
+        if (m >= k_p2[j]) {
+            m *= k_p2inv[j];
+            e += b;
+        }
+    }
+    for (j = 0; j < 10; ++j) {
+        const int32_t b = k_p2exp[j];
+        if ((m * k_p2[j]) < 2.0) {
+            m *= k_p2[j];
+            e -= b;
+        }
+    }
     if (m > 1.4142135623730951) {
         m *= 0.5;
         e += 1;
@@ -160,16 +192,22 @@ gg_status_t gg_pf_log(double x, double *y)
     z2 = z * z;
     s = 0.0;
     for (i = 25; i >= 1; i -= 2) {
-        s = s * z2 + 1.0 / (double)i;
+        s = (s * z2) + (1.0 / (double)i);
     }
     t = 2.0 * z * s;
-    *y = ((double)e * PF_LN2_HI + t) + (double)e * PF_LN2_LO;
+    *y = (((double)e * PF_LN2_HI) + t) + ((double)e * PF_LN2_LO);
     return GG_OK;
 }
 
 gg_status_t gg_pf_sincos(double x, double *s, double *c)
 {
-    double j, r, r2, ps, pc, ss, cc;
+    double j;
+    double r;
+    double r2;
+    double ps;
+    double pc;
+    double ss;
+    double cc;
     int i;
     int64_t q;
     if ((s == NULL) || (c == NULL)) {
@@ -183,16 +221,18 @@ gg_status_t gg_pf_sincos(double x, double *s, double *c)
     }
     /* x = j pi/2 + r, |r| <= pi/4; Taylor to r^17 / r^16 */
     j = pf_round(x / (PF_PIO2_HI + PF_PIO2_LO));
-    r = (x - j * PF_PIO2_HI) - j * PF_PIO2_LO;
+    r = (x - (j * PF_PIO2_HI)) - (j * PF_PIO2_LO);
     r2 = r * r;
     ps = 1.0;
     for (i = 17; i >= 3; i -= 2) {
-        ps = 1.0 - ps * r2 / ((double)i * (double)(i - 1));
+        const int im1 = i - 1;
+        ps = 1.0 - ((ps * r2) / ((double)i * (double)im1));
     }
     ps *= r;
     pc = 1.0;
     for (i = 16; i >= 2; i -= 2) {
-        pc = 1.0 - pc * r2 / ((double)i * (double)(i - 1));
+        const int im1 = i - 1;
+        pc = 1.0 - ((pc * r2) / ((double)i * (double)im1));
     }
     q = (int64_t)j;
     q = ((q % 4) + 4) % 4;
@@ -218,7 +258,10 @@ gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
     }
     /* Marsaglia polar method; acceptance pi/4, so 64 tries fail with p < 1e-42 */
     for (k = 0; k < 64; ++k) {
-        double u = 0.0, v = 0.0, q, lq = 0.0;
+        double u = 0.0;
+        double v = 0.0;
+        double q;
+        double lq = 0.0;
         gg_status_t s = gg_pf_rng_uniform(r, &u);
         if (s == GG_OK) {
             s = gg_pf_rng_uniform(r, &v);
@@ -226,9 +269,9 @@ gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
         if (s != GG_OK) {
             return s;
         }
-        u = 2.0 * u - 1.0;
-        v = 2.0 * v - 1.0;
-        q = u * u + v * v;
+        u = (2.0 * u) - 1.0;
+        v = (2.0 * v) - 1.0;
+        q = (u * u) + (v * v);
         if ((q > 0.0) && (q < 1.0)) {
             s = gg_pf_log(q, &lq);
             if (s != GG_OK) {
@@ -246,43 +289,61 @@ gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
  * renormalisation of (cos t, sin t)), 4 iterations. */
 static double ellipse_dist_axes(double px, double py, double a, double b)
 {
-    double tx = 0.70710678118654752, ty = 0.70710678118654752;
-    double ax = (px < 0.0) ? -px : px, ay = (py < 0.0) ? -py : py;
-    double x, y, dx, dy;
+    double tx = 0.70710678118654752;
+    double ty = 0.70710678118654752;
+    const double ax = (px < 0.0) ? -px : px;
+    const double ay = (py < 0.0) ? -py : py;
+    double dx;
+    double dy;
     int it;
     for (it = 0; it < 4; ++it) {
-        double ex, ey, rx, ry, qx, qy, rr, qq, t;
-        x = a * tx;
-        y = b * ty;
-        ex = (a * a - b * b) * tx * tx * tx / a;
-        ey = (b * b - a * a) * ty * ty * ty / b;
+        double ex;
+        double ey;
+        double rx;
+        double ry;
+        double qx;
+        double qy;
+        double rr;
+        double qq;
+        double t;
+        const double x = a * tx;
+        const double y = b * ty;
+        ex = (((a * a) - (b * b)) * tx * tx * tx) / a;
+        ey = (((b * b) - (a * a)) * ty * ty * ty) / b;
         rx = x - ex;
         ry = y - ey;
         qx = ax - ex;
         qy = ay - ey;
-        rr = pf_sqrt(rx * rx + ry * ry);
-        qq = pf_sqrt(qx * qx + qy * qy);
+        rr = pf_sqrt((rx * rx) + (ry * ry));
+        qq = pf_sqrt((qx * qx) + (qy * qy));
         if (qq > 0.0) {
-            tx = (qx * rr / qq + ex) / a;
-            ty = (qy * rr / qq + ey) / b;
+            tx = (((qx * rr) / qq) + ex) / a;
+            ty = (((qy * rr) / qq) + ey) / b;
         }
         tx = (tx < 0.0) ? 0.0 : ((tx > 1.0) ? 1.0 : tx);
         ty = (ty < 0.0) ? 0.0 : ((ty > 1.0) ? 1.0 : ty);
-        t = pf_sqrt(tx * tx + ty * ty);
+        t = pf_sqrt((tx * tx) + (ty * ty));
         if (t > 0.0) {
             tx /= t;
             ty /= t;
         }
     }
-    dx = ax - a * tx;
-    dy = ay - b * ty;
-    return pf_sqrt(dx * dx + dy * dy);
+    dx = ax - (a * tx);
+    dy = ay - (b * ty);
+    return pf_sqrt((dx * dx) + (dy * dy));
 }
 
 gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, double amp, double dphi,
                                    double *d)
 {
-    double sh = 0.0, ch = 0.0, u, v, p, q, a, b;
+    double sh = 0.0;
+    double ch = 0.0;
+    double u;
+    double v;
+    double p;
+    double q;
+    double a;
+    double b;
     gg_status_t st;
     if (d == NULL) {
         return GG_ERR_NULL;
@@ -321,7 +382,12 @@ static gg_status_t gmap_gzz(const void *ctx, double lat, double lon, double h, d
     if ((ctx == NULL) || (gzz == NULL)) {
         return GG_ERR_NULL;
     }
+    /* MISRA 11.5 deviation: the ops table's context is a void pointer by design (pf.h); it is
+     * set only by gg_pf_map_from_gmap to a gg_gmap_t. MISRA 12.2: false positive on the
+     * constant mask macros of gmap.h (shift by GG_GMAP_C_DD = 2). */
+    /* cppcheck-suppress misra-c2012-11.5 */
     s = gg_gmap_eval((const gg_gmap_t *)ctx, (gg_real_t)lat, (gg_real_t)lon, (gg_real_t)h,
+                     /* cppcheck-suppress misra-c2012-12.2 */
                      GG_GMAP_MASK_DD | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
     if (s == GG_OK) {
         *gzz = (double)smp.gamma[GG_GMAP_C_DD];
@@ -347,7 +413,7 @@ static int cfg_ok(const gg_pf_config_t *c)
     const double v[] = {c->k_eff, c->T, c->dz, c->contrast, c->c0, c->c1, c->sigma, c->sigma0_pos,
                         c->sigma0_vel, c->q_pos, c->q_vel, c->dt, c->gain, c->ess_frac};
     unsigned i;
-    for (i = 0; i < sizeof v / sizeof v[0]; ++i) {
+    for (i = 0; i < ((sizeof v) / (sizeof v[0])); ++i) {
         if (!pf_finite(v[i])) {
             return 0;
         }
@@ -361,7 +427,8 @@ static int cfg_ok(const gg_pf_config_t *c)
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
 {
     gg_pf_rng_t rng;
-    int i, k;
+    int i;
+    int k;
     gg_status_t s;
     if ((st == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
@@ -404,8 +471,11 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
 static gg_status_t resample(gg_pf_t *st)
 {
     const int n = st->cfg.n;
-    double u0 = 0.0, cum;
-    int i = 0, j, k;
+    double u0 = 0.0;
+    double cum;
+    int i = 0;
+    int j;
+    int k;
     gg_status_t s = gg_pf_rng_uniform(&st->rng, &u0);
     if (s != GG_OK) {
         return s;
@@ -413,9 +483,10 @@ static gg_status_t resample(gg_pf_t *st)
     cum = st->w[0];
     for (j = 0; j < n; ++j) {
         const double target = (u0 + (double)j) / (double)n;
-        while ((cum < target) && (i < n - 1)) {
-            ++i;
-            cum += st->w[i];
+        /* MISRA 14.1: the loop counter is the integer i; the float term only ends the loop early */
+        /* cppcheck-suppress misra-c2012-14.1 */
+        for (; (i < (n - 1)) && (cum < target); ++i) {
+            cum += st->w[i + 1];
         }
         for (k = 0; k < 4; ++k) {
             st->xs[j][k] = st->x[i][k];
@@ -436,8 +507,14 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     gg_pf_rng_t rng;
     uint32_t health = 0u;
     double mean[4] = {0.0, 0.0, 0.0, 0.0};
-    double ess, sw2, gzz_mean = 0.0, rm, rn;
-    int i, k, n;
+    double ess;
+    double sw2;
+    double gzz_mean = 0.0;
+    double rm;
+    double rn;
+    int i;
+    int k;
+    int n;
     gg_status_t s = GG_OK;
     if ((st == NULL) || (in == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
@@ -458,14 +535,17 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     n = c->n;
     /* geometry first (the only failure mode after validation): state untouched on error */
     {
-        double sl = 0.0, cl = 1.0, w2, nr;
+        double sl = 0.0;
+        double cl = 1.0;
+        double w2;
+        double nr;
         s = gg_pf_sincos(in->lat, &sl, &cl);
         if (s != GG_OK) {
             return s;
         }
-        w2 = 1.0 - PF_WGS84_E2 * sl * sl;
+        w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
         nr = PF_WGS84_A / pf_sqrt(w2);
-        rm = nr * (1.0 - PF_WGS84_E2) / w2 + in->h; /* meridian radius + h */
+        rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + in->h; /* meridian radius + h */
         rn = (nr + in->h) * cl;                     /* (prime vertical + h) cos(lat) */
     }
     /* 1. predict: draw all noise first into the scratch buffer (state untouched on error) */
@@ -482,8 +562,8 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     }
     st->rng = rng;
     for (i = 0; i < n; ++i) {
-        st->x[i][0] += st->x[i][2] * c->dt + c->q_pos * st->xs[i][0];
-        st->x[i][1] += st->x[i][3] * c->dt + c->q_pos * st->xs[i][1];
+        st->x[i][0] += (st->x[i][2] * c->dt) + (c->q_pos * st->xs[i][0]);
+        st->x[i][1] += (st->x[i][3] * c->dt) + (c->q_pos * st->xs[i][1]);
         st->x[i][2] += c->q_vel * st->xs[i][2];
         st->x[i][3] += c->q_vel * st->xs[i][3];
     }
@@ -493,14 +573,16 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         st->n_skipped++;
     } else {
         /* 3. re-weight (paper eq. 6) */
-        double llmax = 0.0, sw = 0.0;
+        double llmax = 0.0;
+        double sw = 0.0;
         const double scale = c->k_eff * c->dz * c->T * c->T;
         const double amp = 0.5 * c->contrast;
         const double inv2s2 = 1.0 / (2.0 * c->sigma * c->sigma);
         int have = 0;
         for (i = 0; i < n; ++i) {
-            double g = 0.0, d = 0.0;
-            gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + st->x[i][0] / rm, in->lon + st->x[i][1] / rn,
+            double g = 0.0;
+            double d = 0.0;
+            gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + (st->x[i][0] / rm), in->lon + (st->x[i][1] / rn),
                                         in->h, &g);
             if ((sm == GG_OK) && pf_finite(g)) {
                 sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, amp, scale * g, &d);
@@ -548,7 +630,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         sw2 += st->w[i] * st->w[i];
     }
     ess = 1.0 / sw2;
-    if (ess < c->ess_frac * (double)n) {
+    if (ess < (c->ess_frac * (double)n)) {
         s = resample(st);
         if (s != GG_OK) {
             return s; /* cannot happen: the generator has no failure mode */

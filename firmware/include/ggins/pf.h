@@ -71,7 +71,8 @@ typedef struct {
     double T;             /**< s */
     double dz;            /**< m, vertical separation */
     double contrast;      /**< eta, (0, 1] */
-    double c0, c1;        /**< calibrated ellipse centre (1/2 + bias), signal units */
+    double c0;        /**< calibrated ellipse centre (1/2 + bias), signal units */
+    double c1;
     double sigma;         /**< likelihood standard deviation, signal units (paper 0.003..0.010) */
     double sigma0_pos;    /**< initial spread of the position corrections, m */
     double sigma0_vel;    /**< initial spread of the velocity corrections, m/s */
@@ -84,17 +85,18 @@ typedef struct {
 } gg_pf_config_t;
 
 typedef struct {
-    double lat, lon, h;   /**< INS solution (rad, rad, m; h from the altimeter) */
+    double lat;   /**< INS solution (rad, rad, m; h from the altimeter) */
+    double lon;
+    double h;
     int shot_ok;          /**< 0: failed shot, no update */
-    double s0, s1;        /**< the pair (signal units), used when shot_ok */
+    double s0;        /**< the pair (signal units), used when shot_ok */
+    double s1;
 } gg_pf_input_t;
 
-enum {
-    GG_PF_H_SKIPPED = 1u << 0,    /**< failed shot: predicted only */
-    GG_PF_H_RESAMPLED = 1u << 1,
-    GG_PF_H_DEGENERATE = 1u << 2, /**< all weights 0: reset to uniform */
-    GG_PF_H_MAP_MISS = 1u << 3    /**< some candidates were off the map */
-};
+#define GG_PF_H_SKIPPED 0x1u    /**< failed shot: predicted only */
+#define GG_PF_H_RESAMPLED 0x2u
+#define GG_PF_H_DEGENERATE 0x4u /**< all weights 0: reset to uniform */
+#define GG_PF_H_MAP_MISS 0x8u   /**< some candidates were off the map */
 
 typedef struct {
     double corr[2];       /**< smoothed correction (dN, dE), m: corrected = INS + corr */
@@ -112,7 +114,11 @@ typedef struct {
     gg_pf_config_t cfg;
     gg_pf_rng_t rng;
     double corr[2];
-    uint32_t n_steps, n_updates, n_skipped, n_resampled, n_degenerate;
+    uint32_t n_steps;
+    uint32_t n_updates;
+    uint32_t n_skipped;
+    uint32_t n_resampled;
+    uint32_t n_degenerate;
     int initialized;
 } gg_pf_t;
 
