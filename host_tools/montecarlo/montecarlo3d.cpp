@@ -36,7 +36,8 @@ using namespace ggins::montecarlo3d;
 int main(int argc, char** argv) {
   CLI::App app{
       "ggins montecarlo3d: N runs of the 3-D firmware (gg_nav3d_step, direct calls) along the analytic\n"
-      "great-circle flight of ggins covariance3d with seeded sensor errors, against the covariance;\n"
+      "great-circle flight (or truth3d scenario) of ggins covariance3d with seeded sensor errors, against\n"
+      "the covariance; "
       "chi-square band for N. Writes montecarlo3d.json/.csv to --out. docs/error-analysis.md.",
       "ggins-montecarlo3d"};
   std::string scen = "gc3d-stabilized", out_dir, platform_s, field_s;

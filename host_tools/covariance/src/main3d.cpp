@@ -73,7 +73,8 @@ int main(int argc, char** argv) {
       "ggins covariance3d: covariance propagation of the linear error model of the 3-D\n"
       "gradiometer-integrated INS on a rotating Earth (ECI mechanization, gravity dead reckoning\n"
       "in ECEF, 18 single-axis accelerometers, gyros on the strapdown platform, optional baro loop)\n"
-      "along an analytic great-circle flight; eigenvalues of the 3-D error dynamics along the flight.\n"
+      "along an analytic great-circle flight or a 3-D truth-generator scenario; eigenvalues of the 3-D\n"
+      "error dynamics along the flight.\n"
       "Writes covariance3d.csv/.json/.png to --out; --json prints the JSON. docs/error-analysis.md.",
       "ggins-covariance3d"};
   std::string scen = "gc3d-stabilized", out_dir, method_s = "transition", python, platform_s, field_s;
