@@ -130,7 +130,40 @@ static void run_linear(double lambda)
         kf_predict(&k, (const double(*)[N])Q);
         const double z[2] = {3.0 * lcg(&seed) + 0.1 * step, 3.0 * lcg(&seed) - 0.05 * step};
         gg_ukf_update_info_t info;
-        assert_int_equal(gg_ukf_update(&g_f, 2, z, (const double(*)[M])R, lin_h, NULL, &info), GG_OK);
+        /* single-update NIS from the spread function against the KF's own S and nu */
+        double spread[M], nis_sp = 0;
+        assert_int_equal(gg_ukf_meas_spread(&g_f, 2, lin_h, NULL, spread, z, (const double(*)[M])R, &nis_sp), GG_OK);
+        {
+            long double PHt[4][2] = {{0}}, S[2][2], nu[2];
+            for (int i = 0; i < 4; ++i)
+                for (int j = 0; j < 2; ++j)
+                    for (int l = 0; l < 4; ++l) PHt[i][j] += k.P[i][l] * H[j][l];
+            for (int i = 0; i < 2; ++i) {
+                for (int j = 0; j < 2; ++j) {
+                    S[i][j] = R[i][j];
+                    for (int l = 0; l < 4; ++l) S[i][j] += H[i][l] * PHt[l][j];
+                }
+                nu[i] = z[i];
+                for (int l = 0; l < 4; ++l) nu[i] -= H[i][l] * k.x[l];
+            }
+            const long double det = S[0][0] * S[1][1] - S[0][1] * S[1][0];
+            const long double nis_kf = (S[1][1] * nu[0] * nu[0] - 2 * S[0][1] * nu[0] * nu[1] + S[0][0] * nu[1] * nu[1]) / det;
+            assert_near(nis_sp, nis_kf, 1e-10L * (1 + nis_kf));
+            assert_near(spread[0] + R[0][0], S[0][0], 1e-10L * S[0][0]);
+        }
+        if (step % 3 == 2) {
+            /* progressive: three passes with R / w, w = 0.2, 0.3, 0.5 (sum 1) = one KF update with R */
+            const double w[3] = {0.2, 0.3, 0.5};
+            for (int p = 0; p < 3; ++p) {
+                double Rw[M][M];
+                memset(Rw, 0, sizeof Rw);
+                for (int i = 0; i < 2; ++i)
+                    for (int j = 0; j < 2; ++j) Rw[i][j] = R[i][j] / w[p];
+                assert_int_equal(gg_ukf_update(&g_f, 2, z, (const double(*)[M])Rw, lin_h, NULL, &info), GG_OK);
+            }
+        } else {
+            assert_int_equal(gg_ukf_update(&g_f, 2, z, (const double(*)[M])R, lin_h, NULL, &info), GG_OK);
+        }
         assert_int_equal(info.accepted, 1);
         kf_update(&k, z, (const double(*)[M])R);
         for (int i = 0; i < 4; ++i) {
@@ -147,7 +180,7 @@ static void run_linear(double lambda)
            lambda, wx, wp);
     assert_true(wx < 1e-12L);
     assert_true(wp < 1e-12L);
-    assert_int_equal(g_f.n_updates, 30);
+    assert_int_equal(g_f.n_updates, 50); /* 20 single + 10 x 3 passes */
 }
 
 static void test_linear_equals_kalman(void **state)
