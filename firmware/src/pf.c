@@ -30,10 +30,10 @@ static double pf_round(double x)
 }
 
 /* Powers 2^(2^j) and 2^-(2^j), j = 9..0 (exact binary values). */
-static const double k_p2[10] = {1.3407807929942597e+154, 1.157920892373162e+77, 3.402823669209385e+38,
+static const double pf_p2[10] = {1.3407807929942597e+154, 1.157920892373162e+77, 3.402823669209385e+38,
                                 1.8446744073709552e+19, 4294967296.0, 65536.0, 256.0, 16.0, 4.0, 2.0};
-static const int32_t k_p2exp[10] = {512, 256, 128, 64, 32, 16, 8, 4, 2, 1};
-static const double k_p2inv[10] = {7.458340731200207e-155, 8.636168555094445e-78, 2.938735877055719e-39,
+static const int32_t pf_p2exp[10] = {512, 256, 128, 64, 32, 16, 8, 4, 2, 1};
+static const double pf_p2inv[10] = {7.458340731200207e-155, 8.636168555094445e-78, 2.938735877055719e-39,
                                    5.421010862427522e-20, 2.3283064365386963e-10, 1.52587890625e-05,
                                    0.00390625, 0.0625, 0.25, 0.5};
 
@@ -44,9 +44,9 @@ static double pf_ldexp(double y, int32_t k)
     int32_t a = (k < 0) ? -k : k;
     int32_t j;
     for (j = 0; j < 10; ++j) {
-        const int32_t b = k_p2exp[j];
+        const int32_t b = pf_p2exp[j];
         if (a >= b) {
-            r *= (k < 0) ? k_p2inv[j] : k_p2[j];
+            r *= (k < 0) ? pf_p2inv[j] : pf_p2[j];
             a -= b;
         }
     }
@@ -71,7 +71,7 @@ gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed)
     return GG_OK;
 }
 
-static uint64_t rotl(uint64_t x, uint32_t k)
+static uint64_t pf_rotl(uint64_t x, uint32_t k)
 {
     const uint32_t rk = 64u - k;
     return (x << k) | (x >> rk);
@@ -83,14 +83,14 @@ gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v)
     if ((r == NULL) || (v == NULL)) {
         return GG_ERR_NULL;
     }
-    *v = rotl(r->s[1] * 5u, 7u) * 9u; /* xoshiro256** */
+    *v = pf_rotl(r->s[1] * 5u, 7u) * 9u; /* xoshiro256** */
     t = r->s[1] << 17;
     r->s[2] ^= r->s[0];
     r->s[3] ^= r->s[1];
     r->s[1] ^= r->s[2];
     r->s[0] ^= r->s[3];
     r->s[2] ^= t;
-    r->s[3] = rotl(r->s[3], 45u);
+    r->s[3] = pf_rotl(r->s[3], 45u);
     return GG_OK;
 }
 
@@ -170,16 +170,16 @@ gg_status_t gg_pf_log(double x, double *y)
         e = -54;
     }
     for (j = 0; j < 10; ++j) {
-        const int32_t b = k_p2exp[j];
-        if (m >= k_p2[j]) {
-            m *= k_p2inv[j];
+        const int32_t b = pf_p2exp[j];
+        if (m >= pf_p2[j]) {
+            m *= pf_p2inv[j];
             e += b;
         }
     }
     for (j = 0; j < 10; ++j) {
-        const int32_t b = k_p2exp[j];
-        if ((m * k_p2[j]) < 2.0) {
-            m *= k_p2[j];
+        const int32_t b = pf_p2exp[j];
+        if ((m * pf_p2[j]) < 2.0) {
+            m *= pf_p2[j];
             e -= b;
         }
     }
@@ -287,7 +287,7 @@ gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
 /* Distance from (px, py) to the ellipse (a cos t, b sin t), a, b > 0: the
  * trig-free evolute iteration (tangent-point update along the evolute, then
  * renormalisation of (cos t, sin t)), 4 iterations. */
-static double ellipse_dist_axes(double px, double py, double a, double b)
+static double pf_ellipse_dist_axes(double px, double py, double a, double b)
 {
     double tx = 0.70710678118654752;
     double ty = 0.70710678118654752;
@@ -371,11 +371,11 @@ gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, d
     if (b < 1e-9) {
         b = 1e-9;
     }
-    *d = amp * ellipse_dist_axes(p, q, a, b);
+    *d = amp * pf_ellipse_dist_axes(p, q, a, b);
     return GG_OK;
 }
 
-static gg_status_t gmap_gzz(const void *ctx, double lat, double lon, double h, double *gzz)
+static gg_status_t pf_gmap_gzz(const void *ctx, double lat, double lon, double h, double *gzz)
 {
     gg_gmap_sample_t smp;
     gg_status_t s;
@@ -403,12 +403,12 @@ gg_status_t gg_pf_map_from_gmap(const gg_gmap_t *gm, gg_pf_map_t *map)
     if (!gm->initialized) {
         return GG_ERR_NOT_INIT;
     }
-    map->gzz = gmap_gzz;
+    map->gzz = pf_gmap_gzz;
     map->ctx = gm;
     return GG_OK;
 }
 
-static int cfg_ok(const gg_pf_config_t *c)
+static int pf_cfg_ok(const gg_pf_config_t *c)
 {
     const double v[] = {c->k_eff, c->T, c->dz, c->contrast, c->c0, c->c1, c->sigma, c->sigma0_pos,
                         c->sigma0_vel, c->q_pos, c->q_vel, c->dt, c->gain, c->ess_frac};
@@ -433,7 +433,7 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     if ((st == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
     }
-    if (!cfg_ok(cfg)) {
+    if (!pf_cfg_ok(cfg)) {
         return GG_ERR_CONFIG;
     }
     s = gg_pf_rng_seed(&rng, cfg->seed);
@@ -468,7 +468,7 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
 }
 
 /* Systematic resampling (one uniform; particle i gets floor or ceil of N w_i copies). */
-static gg_status_t resample(gg_pf_t *st)
+static gg_status_t pf_resample(gg_pf_t *st)
 {
     const int n = st->cfg.n;
     double u0 = 0.0;
@@ -631,7 +631,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     }
     ess = 1.0 / sw2;
     if (ess < (c->ess_frac * (double)n)) {
-        s = resample(st);
+        s = pf_resample(st);
         if (s != GG_OK) {
             return s; /* cannot happen: the generator has no failure mode */
         }
