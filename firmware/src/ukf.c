@@ -1,4 +1,8 @@
 /* Unscented Kalman filter core (see ukf.h). */
+/* MISRA notes (inline suppressions below): 17.7 is a cppcheck 2.10 false positive on the
+ * array-pointer casts (const double(*)[N]) required to pass a non-const matrix to a const
+ * parameter in C11 (the cast is parsed as a call whose value is discarded; every returned
+ * status is checked). */
 #include "ggins/ukf.h"
 
 #include <math.h>
@@ -70,13 +74,15 @@ gg_status_t gg_ukf_cholesky(int32_t n, const double A[NX][NX], double L[NX][NX])
 /* Cholesky of a small nz x nz matrix (same algorithm, own storage). */
 static gg_status_t chol_nz(int32_t n, const double A[NZ][NZ], double L[NZ][NZ])
 {
-    double B[NX][NX], T[NX][NX];
+    double B[NX][NX];
+    double T[NX][NX];
     (void)memset(B, 0, sizeof B);
     for (int32_t i = 0; i < n; ++i) {
         for (int32_t j = 0; j < n; ++j) {
             B[i][j] = A[i][j];
         }
     }
+    /* cppcheck-suppress misra-c2012-17.7 */
     const gg_status_t s = gg_ukf_cholesky(n, (const double(*)[NX])B, T);
     if (s != GG_OK) {
         return s;
@@ -142,7 +148,9 @@ gg_status_t gg_ukf_init(gg_ukf_t *st, const gg_ukf_config_t *cfg, const double *
 static void draw(const gg_ukf_t *st, double chi[GG_UKF_NSIG_MAX][NX])
 {
     const int32_t n = st->cfg.nx;
-    double w0, wi, c;
+    double w0;
+    double wi;
+    double c;
     weights(&st->cfg, &w0, &wi, &c);
     for (int32_t k = 0; k < n; ++k) {
         chi[0][k] = st->x[k];
@@ -166,7 +174,7 @@ gg_status_t gg_ukf_sigma_points(gg_ukf_t *st, int32_t *nsig)
     }
     draw(st, st->chi);
     st->sigma_ready = 1;
-    *nsig = 2 * st->cfg.nx + 1;
+    *nsig = (2 * st->cfg.nx) + 1;
     return GG_OK;
 }
 
@@ -181,8 +189,11 @@ gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
     if (st->sigma_ready == 0) {
         return GG_ERR_SEQUENCE;
     }
-    const int32_t n = st->cfg.nx, ns = 2 * n + 1;
-    double w0, wi, c;
+    const int32_t n = st->cfg.nx;
+    const int32_t ns = (2 * n) + 1;
+    double w0;
+    double wi;
+    double c;
     weights(&st->cfg, &w0, &wi, &c);
     for (int32_t i = 0; i < ns; ++i) {
         for (int32_t k = 0; k < n; ++k) {
@@ -203,7 +214,9 @@ gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
             }
         }
     }
-    double x[NX], P[NX][NX], L[NX][NX];
+    double x[NX];
+    double P[NX][NX];
+    double L[NX][NX];
     (void)memset(x, 0, sizeof x);
     (void)memset(P, 0, sizeof P);
     for (int32_t k = 0; k < n; ++k) {
@@ -211,7 +224,7 @@ gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
         for (int32_t i = 1; i < ns; ++i) {
             s += st->chi[i][k];
         }
-        x[k] = w0 * st->chi[0][k] + wi * s;
+        x[k] = (w0 * st->chi[0][k]) + (wi * s);
     }
     for (int32_t i = 0; i < ns; ++i) {
         const double w = (i == 0) ? w0 : wi;
@@ -235,6 +248,7 @@ gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
         }
     }
     st->sigma_ready = 0;
+    /* cppcheck-suppress misra-c2012-17.7 */
     if (gg_ukf_cholesky(n, (const double(*)[NX])P, L) != GG_OK) {
         st->health = GG_UKF_H_CHOL_FAIL;
         st->n_chol_fail++;
@@ -321,8 +335,11 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
             }
         }
     }
-    const int32_t n = st->cfg.nx, ns = 2 * n + 1;
-    double w0, wi, c;
+    const int32_t n = st->cfg.nx;
+    const int32_t ns = (2 * n) + 1;
+    double w0;
+    double wi;
+    double c;
     weights(&st->cfg, &w0, &wi, &c);
     draw(st, st->chi);
     st->sigma_ready = 0;
@@ -330,7 +347,10 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
         double zz[NZ];
         (void)memset(zz, 0, sizeof zz);
         const gg_status_t s = h(ctx, st->chi[i], zz);
-        int ok = (s == GG_OK) ? 1 : 0;
+        int32_t ok = 0;
+        if (s == GG_OK) {
+            ok = 1;
+        }
         for (int32_t k = 0; k < nz; ++k) {
             if (!finite_d(zz[k])) {
                 ok = 0;
@@ -350,9 +370,10 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
         for (int32_t i = 1; i < ns; ++i) {
             s += st->zeta[i][k];
         }
-        zm[k] = w0 * st->zeta[0][k] + wi * s;
+        zm[k] = (w0 * st->zeta[0][k]) + (wi * s);
     }
-    double S[NZ][NZ], C[NX][NZ];
+    double S[NZ][NZ];
+    double C[NX][NZ];
     (void)memset(S, 0, sizeof S);
     (void)memset(C, 0, sizeof C);
     for (int32_t i = 0; i < ns; ++i) {
@@ -360,7 +381,8 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
         if (w == 0.0) {
             continue;
         }
-        double dz[NZ], dx[NX];
+        double dz[NZ];
+        double dx[NX];
         for (int32_t k = 0; k < nz; ++k) {
             dz[k] = st->zeta[i][k] - zm[k];
         }
@@ -385,16 +407,19 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
         }
     }
     double LS[NZ][NZ];
+    /* cppcheck-suppress misra-c2012-17.7 */
     if (chol_nz(nz, (const double(*)[NZ])S, LS) != GG_OK) {
         st->health = GG_UKF_H_CHOL_FAIL;
         st->n_chol_fail++;
         return GG_ERR_RANGE;
     }
-    double nu[NZ], y[NZ];
+    double nu[NZ];
+    double y[NZ];
     (void)memset(nu, 0, sizeof nu);
     for (int32_t k = 0; k < nz; ++k) {
         nu[k] = z[k] - zm[k];
     }
+    /* cppcheck-suppress misra-c2012-17.7 */
     fwd(nz, (const double(*)[NZ])LS, nu, y);
     double nis = 0.0;
     for (int32_t k = 0; k < nz; ++k) {
@@ -414,10 +439,14 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
         return GG_OK;
     }
     /* K = C S^-1 (row by row: S k_a = c_a), U = K L_S */
-    double K[NX][NZ], U[NX][NZ];
+    double K[NX][NZ];
+    double U[NX][NZ];
     for (int32_t a = 0; a < n; ++a) {
-        double t[NZ], ka[NZ];
+        double t[NZ];
+        double ka[NZ];
+        /* cppcheck-suppress misra-c2012-17.7 */
         fwd(nz, (const double(*)[NZ])LS, C[a], t);
+        /* cppcheck-suppress misra-c2012-17.7 */
         bwd(nz, (const double(*)[NZ])LS, t, ka);
         for (int32_t b = 0; b < nz; ++b) {
             K[a][b] = ka[b];
@@ -427,7 +456,9 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
             U[a][b] = t[b];
         }
     }
-    double x[NX], P[NX][NX], L[NX][NX];
+    double x[NX];
+    double P[NX][NX];
+    double L[NX][NX];
     (void)memset(x, 0, sizeof x);
     (void)memset(P, 0, sizeof P);
     for (int32_t a = 0; a < n; ++a) {
@@ -447,6 +478,7 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
             P[b][a] = P[a][b];
         }
     }
+    /* cppcheck-suppress misra-c2012-17.7 */
     if (gg_ukf_cholesky(n, (const double(*)[NX])P, L) != GG_OK) {
         st->health = GG_UKF_H_CHOL_FAIL;
         st->n_chol_fail++;
@@ -495,8 +527,12 @@ gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ct
     if ((nz < 1) || (nz > NZ)) {
         return GG_ERR_CONFIG;
     }
-    const int32_t n = st->cfg.nx, ns = 2 * n + 1;
-    double w0, wi, c, zmean[NZ];
+    const int32_t n = st->cfg.nx;
+    const int32_t ns = (2 * n) + 1;
+    double w0;
+    double wi;
+    double c;
+    double zmean[NZ];
     (void)memset(zmean, 0, sizeof zmean);
     weights(&st->cfg, &w0, &wi, &c);
     draw(st, st->chi);
@@ -505,7 +541,10 @@ gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ct
         double zz[NZ];
         (void)memset(zz, 0, sizeof zz);
         const gg_status_t s = h(ctx, st->chi[i], zz);
-        int ok = (s == GG_OK) ? 1 : 0;
+        int32_t ok = 0;
+        if (s == GG_OK) {
+            ok = 1;
+        }
         for (int32_t k = 0; k < nz; ++k) {
             if (!finite_d(zz[k])) {
                 ok = 0;
@@ -523,7 +562,7 @@ gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ct
         for (int32_t i = 1; i < ns; ++i) {
             m += st->zeta[i][k];
         }
-        m = w0 * st->zeta[0][k] + wi * m;
+        m = (w0 * st->zeta[0][k]) + (wi * m);
         double v = 0.0;
         for (int32_t i = 0; i < ns; ++i) {
             const double d = st->zeta[i][k] - m;
@@ -533,7 +572,10 @@ gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ct
         zmean[k] = m;
     }
     if ((z != NULL) && (R != NULL) && (nis != NULL)) {
-        double S[NZ][NZ], LS[NZ][NZ], nu[NZ], y[NZ];
+        double S[NZ][NZ];
+        double LS[NZ][NZ];
+        double nu[NZ];
+        double y[NZ];
         (void)memset(S, 0, sizeof S);
         for (int32_t i = 0; i < ns; ++i) {
             const double w = (i == 0) ? w0 : wi;
@@ -549,9 +591,11 @@ gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ct
             }
             nu[a] = z[a] - zmean[a];
         }
+        /* cppcheck-suppress misra-c2012-17.7 */
         if (chol_nz(nz, (const double(*)[NZ])S, LS) != GG_OK) {
             return GG_ERR_RANGE;
         }
+        /* cppcheck-suppress misra-c2012-17.7 */
         fwd(nz, (const double(*)[NZ])LS, nu, y);
         double q = 0.0;
         for (int32_t k = 0; k < nz; ++k) {

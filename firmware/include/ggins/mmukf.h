@@ -54,7 +54,7 @@
 #include "ggins/ukf.h"
 
 #define GG_MM_NX 15
-#define GG_MM_NSIG (2 * GG_MM_NX + 1)
+#define GG_MM_NSIG ((2 * GG_MM_NX) + 1)
 #define GG_MM_MAX_PASSES 40
 
 /* health bits (output) */
@@ -100,11 +100,15 @@ typedef struct {
     const gg_gmap_t *map;          /**< caller-owned tile (read through gg_gmap_eval) */
     gg_ukf_t ukf;
     gg_mm_nav_t sig[GG_MM_NSIG];   /**< propagated sigma states; sig[0] is the nominal */
-    double h_hold, vd_hold;
+    double h_hold;
+    double vd_hold;
     double t_s;                    /**< time since init, s */
     double t_since_update_s;
     uint32_t health;
-    uint32_t n_updates, n_gated, n_offmap, n_fail;
+    uint32_t n_updates;
+    uint32_t n_gated;
+    uint32_t n_offmap;
+    uint32_t n_fail;
     double last_nis;
     int32_t initialized;
 } gg_mm_t;
@@ -126,7 +130,10 @@ typedef struct {
     int32_t updated;          /**< 1 if this step made a measurement update (accepted) */
     double nis;               /**< NIS of this step's update (0 if none) */
     uint32_t health;
-    uint32_t n_updates, n_gated, n_offmap, n_fail;
+    uint32_t n_updates;
+    uint32_t n_gated;
+    uint32_t n_offmap;
+    uint32_t n_fail;
 } gg_mm_output_t;
 
 /** map may be NULL (pure inertial; every measurement is then refused). */

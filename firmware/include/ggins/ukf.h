@@ -57,7 +57,7 @@
 
 #define GG_UKF_NX_MAX 16
 #define GG_UKF_NZ_MAX 6
-#define GG_UKF_NSIG_MAX (2 * GG_UKF_NX_MAX + 1)
+#define GG_UKF_NSIG_MAX ((2 * GG_UKF_NX_MAX) + 1)
 /** relative pivot threshold of the Cholesky factorisation */
 #define GG_UKF_PIVOT_MIN 1.0e-15
 
