@@ -135,13 +135,13 @@ gg_status_t gg_mech_get(const gg_mech_t *st, gg_real_t r[3], gg_real_t v[3])
 {
     gg_acc_t ra[3];
     gg_acc_t va[3];
-    size_t j;
     gg_status_t status;
     if ((r == NULL) || (v == NULL)) {
         return GG_ERR_NULL;
     }
     status = gg_mech_get_acc(st, ra, va);
     if (status == GG_OK) {
+        size_t j;
         for (j = 0U; j < 3U; ++j) {
             r[j] = gg_acc_value(&ra[j]);
             v[j] = gg_acc_value(&va[j]);

@@ -15,7 +15,7 @@
 #define R_GEODETIC_MIN_M 1.0e5L
 #define BOWRING_ITER 4U
 
-static uint32_t cycles_now(const gg_hal_t *hal)
+static uint32_t n3_cycles_now(const gg_hal_t *hal)
 {
     uint32_t c = 0U;
     if ((hal != NULL) && (hal->cycle_count != NULL)) {
@@ -322,7 +322,7 @@ static int cfg_finite(const gg_nav3d_config_t *cfg)
     return ok;
 }
 
-static int in_limits(const gg_nav3d_config_t *cfg)
+static int n3_in_limits(const gg_nav3d_config_t *cfg)
 {
     const gg_real_t rn = sqrtl(dot3(cfg->r0_e, cfg->r0_e));
     int ok = 1;
@@ -369,7 +369,7 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
     if ((qn2 > (1.0L + Q_NORM_TOL)) || (qn2 < (1.0L - Q_NORM_TOL))) {
         return GG_ERR_CONFIG;
     }
-    if (in_limits(cfg) == 0) {
+    if (n3_in_limits(cfg) == 0) {
         return GG_ERR_RANGE;
     }
     nav->gmodel.initialized = 0;
@@ -406,7 +406,7 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
 /* ---------------------------------------------------------------- frames */
 
 /* Health bits of a frame's sensors and sequencing; *missing = lost frames to bridge. */
-static uint32_t check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, int64_t *missing)
+static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, int64_t *missing)
 {
     uint32_t h = 0U;
     int32_t i;
@@ -619,7 +619,7 @@ static gg_status_t current_g_i(gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_acc
 }
 
 /* First accepted frame: start every module at the configured state. */
-static gg_status_t start(gg_nav3d_t *nav, const step_in_t *in)
+static gg_status_t n3_start(gg_nav3d_t *nav, const step_in_t *in)
 {
     gg_real_t c[3][3];
     gg_real_t gamma_i[3][3];
@@ -751,7 +751,7 @@ static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3])
     return GG_OK;
 }
 
-static uint32_t baro_health(uint32_t vh)
+static uint32_t n3_baro_health(uint32_t vh)
 {
     uint32_t h = 0U;
     h |= ((vh & GG_VCHAN_INVALID) != 0U) ? GG_HEALTH_BARO_INVALID : 0U;
@@ -763,7 +763,7 @@ static uint32_t baro_health(uint32_t vh)
 }
 
 /* Barometric loop along the ellipsoid normal, after the step. */
-static gg_status_t baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t *health)
+static gg_status_t n3_baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t *health)
 {
     gg_real_t r_i[3];
     gg_real_t v_i[3];
@@ -818,7 +818,7 @@ static gg_status_t baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t *he
                 if (vo.accepted != 0) {
                     nav->baro_innov = vo.innov_m;
                 }
-                *health |= baro_health(vo.health);
+                *health |= n3_baro_health(vo.health);
             }
         }
     }
@@ -847,13 +847,13 @@ static gg_status_t up_i(const gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_real
 
 /* Advance the modules by one step with the inputs of its end point (or
  * start them on the first frame). The caller restores the state on failure. */
-static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t *in,
+static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t *in,
                            const gg_hal_t *hal, uint32_t cyc[GG_MOD_COUNT], uint32_t *health)
 {
     gg_status_t st = GG_OK;
     uint32_t t0;
     if (nav->started == 0) {
-        st = start(nav, in);
+        st = n3_start(nav, in);
     } else {
         const int64_t n1 = nav->n_steps + 1;
         const gg_real_t th1 = nav->omega_ie * ((gg_real_t)n1 * nav->dt_s);
@@ -871,7 +871,7 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
         gg_acc_t g_i[3];
         uint32_t t1;
         size_t j;
-        t0 = cycles_now(hal);
+        t0 = n3_cycles_now(hal);
         st = gg_sincos(th1, &s1, &c1);
         if ((st == GG_OK) && (nav->cfg.platform == GG_PLATFORM_STRAPDOWN)) {
             st = attitude_step(nav, in->w);
@@ -884,12 +884,12 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
             mat_vec(cb, in->f_b, f_i);
             st = gg_mech_get(&nav->mech, r_k, v_k);
         }
-        t1 = cycles_now(hal);
+        t1 = n3_cycles_now(hal);
         cyc[GG_MOD_DIFF] += t1 - t0;
         if (st == GG_OK) {
             st = gg_mech_step_position(&nav->mech, dr_i);
         }
-        t0 = cycles_now(hal);
+        t0 = n3_cycles_now(hal);
         cyc[GG_MOD_MECH] += t0 - t1;
         if (st == GG_OK) {
             /* dr_e = R3(-th1) dr_i + [R3(-th1) - R3(-th0)] r_i(k); c1 - c0 = -2 sh sm,
@@ -916,7 +916,7 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
         if (st == GG_OK) {
             st = current_g_i(nav, s1, c1, g_i, health);
         }
-        t1 = cycles_now(hal);
+        t1 = n3_cycles_now(hal);
         cyc[GG_MOD_GRAVDR] += t1 - t0;
         if (st == GG_OK) {
             gg_real_t u[3] = {0.0L, 0.0L, 0.0L};
@@ -931,7 +931,7 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
                 st = gg_mech_step_velocity(&nav->mech, f_next, g_i);
             }
         }
-        cyc[GG_MOD_MECH] += cycles_now(hal) - t1;
+        cyc[GG_MOD_MECH] += n3_cycles_now(hal) - t1;
         if (st == GG_OK) {
             nav->n_steps += 1;
             nav->sin_th = s1;
@@ -944,11 +944,11 @@ static gg_status_t advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_
             nav->n_w = (nav->n_w < 3) ? (nav->n_w + 1) : 3;
         }
     }
-    t0 = cycles_now(hal);
+    t0 = n3_cycles_now(hal);
     if (st == GG_OK) {
-        st = baro_step(nav, fr, health);
+        st = n3_baro_step(nav, fr, health);
     }
-    cyc[GG_MOD_VCHAN] += cycles_now(hal) - t0;
+    cyc[GG_MOD_VCHAN] += n3_cycles_now(hal) - t0;
     return st;
 }
 
@@ -989,7 +989,7 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
 
 /* Bridge lost frames: f_b, Gamma_b and w interpolated linearly between the
  * last accepted frame and this one, no barometer. */
-static gg_status_t bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t *in,
+static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t *in,
                           int64_t missing, const gg_hal_t *hal, uint32_t cyc[GG_MOD_COUNT],
                           uint32_t *health)
 {
@@ -1023,14 +1023,14 @@ static gg_status_t bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t
         }
         fi.utime = nav->last_utime + (i * nav->cfg.dt_us);
         fi.baro_status = GG_SENSOR_ABSENT;
-        st = advance(nav, &fi, &bi, hal, cyc, health);
+        st = n3_advance(nav, &fi, &bi, hal, cyc, health);
     }
     return st;
 }
 
 /* Parity residuals: antisymmetric part against 0 (stabilized) or against the
  * gyro-derived angular acceleration (strapdown), and the trace. */
-static void parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4])
+static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4])
 {
     size_t j;
     for (j = 0U; j < 3U; ++j) {
@@ -1048,7 +1048,7 @@ static void parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4])
     p[3] = in->trace;
 }
 
-static void fill_output(const gg_nav3d_t *nav, const gg_frame_t *fr, gg_status_t status,
+static void n3_fill_output(const gg_nav3d_t *nav, const gg_frame_t *fr, gg_status_t status,
                         uint32_t health, gg_nav3d_output_t *out)
 {
     const gg_nav3d_output_t empty = {0};
@@ -1215,7 +1215,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
                           gg_nav3d_output_t *out)
 {
     uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U};
-    const uint32_t t_start = cycles_now(hal);
+    const uint32_t t_start = n3_cycles_now(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
     step_in_t in;
@@ -1233,7 +1233,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         out->health = GG_HEALTH_NOT_INIT | GG_HEALTH_FRAME_REJECTED;
         return GG_ERR_NOT_INIT;
     }
-    health = check_frame(nav, frame, &missing);
+    health = n3_check_frame(nav, frame, &missing);
     if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
         st = GG_ERR_NONFINITE;
     } else if ((health & (GG_HEALTH_ACC_SENSOR | GG_HEALTH_GYRO_INVALID)) != 0U) {
@@ -1243,19 +1243,19 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     } else if ((health & (GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
         st = GG_ERR_SEQUENCE;
     } else {
-        const uint32_t t0 = cycles_now(hal);
+        const uint32_t t0 = n3_cycles_now(hal);
         st = difference(nav, frame, &in);
-        cyc[GG_MOD_DIFF] = cycles_now(hal) - t0;
+        cyc[GG_MOD_DIFF] = n3_cycles_now(hal) - t0;
     }
     if (st == GG_OK) {
         /* module states saved so a failure part-way leaves nothing changed */
         dyn_t saved;
         uint32_t step_health = 0U;
-        parity(nav, &in, par);
+        n3_parity(nav, &in, par);
         dyn_save(nav, &saved);
-        st = bridge(nav, frame, &in, missing, hal, cyc, &step_health);
+        st = n3_bridge(nav, frame, &in, missing, hal, cyc, &step_health);
         if (st == GG_OK) {
-            st = advance(nav, frame, &in, hal, cyc, &step_health);
+            st = n3_advance(nav, frame, &in, hal, cyc, &step_health);
         }
         if (st != GG_OK) {
             dyn_restore(nav, &saved);
@@ -1286,8 +1286,8 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     } else {
         health |= GG_HEALTH_FRAME_REJECTED;
     }
-    fill_output(nav, frame, st, health, out);
-    cyc[GG_MOD_TOTAL] = cycles_now(hal) - t_start;
+    n3_fill_output(nav, frame, st, health, out);
+    cyc[GG_MOD_TOTAL] = n3_cycles_now(hal) - t_start;
     if ((hal != NULL) && (hal->cycle_count != NULL) && (hal->cycles_per_second > 0U)) {
         const uint64_t budget =
             ((uint64_t)nav->cfg.dt_us * (uint64_t)hal->cycles_per_second) / 1000000U;
