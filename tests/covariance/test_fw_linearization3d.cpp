@@ -116,35 +116,38 @@ static void run(Cov3DScenario s, const char* label, double rel_tol = 2e-3) {
 }
 
 // Eigenvalues of the firmware itself: its flow-map Jacobian J over h = 20 s (columns: the
-// nine initial-state perturbations dr0, dv0, dG0), lambda_fw = log(eig J) / h, against the
+// nine initial-state perturbations dr0, dv0, dG0, and psi0 for the strapdown platform), lambda_fw = log(eig J) / h, against the
 // eigenvalues of the model's F at t = h/2 (frozen). Bound: 1e-3 w_s per eigenvalue, a tenth of
 // the Foucault splitting 2 w_ie sin L (0.083 w_s at 45 deg), so the firmware's Schuler pair must
 // show the split.
-static void firmware_eigenvalues() {
+static void firmware_eigenvalues(Platform plat) {
   Cov3DScenario s = *builtin_scenario3d("gc3d-stabilized");
+  s.platform = plat;
+  const bool sd = plat == Platform::kStrapdown;
+  const int n = sd ? 12 : 9;
   const double h = 20.0;
   s.duration_s = h;
   const Sim3D sim(s, 10.0);
-  Eigen::MatrixXd J(9, 9);
-  for (int c = 0; c < 9; ++c) {
+  Eigen::MatrixXd J(n, n);
+  for (int c = 0; c < n; ++c) {
     Eigen::VectorXd xp, xm;
-    const double eps = c < 3 ? 1.0 : c < 6 ? 1e-3 : 1e-6;
+    const double eps = c < 3 ? 1.0 : c < 6 ? 1e-3 : c < 9 ? 1e-6 : 1e-7;
     for (int sign = -1; sign <= 1; sign += 2) {
       SensorErrors e;
-      (c < 3 ? e.dr0 : c < 6 ? e.dv0 : e.dg0)[size_t(c % 3)] = sign * eps;
-      (sign > 0 ? xp : xm) = state_of(sim.fly(e, h, h).back(), false, false);
+      (c < 3 ? e.dr0 : c < 6 ? e.dv0 : c < 9 ? e.dg0 : e.dpsi0)[size_t(c % 3)] = sign * eps;
+      (sign > 0 ? xp : xm) = state_of(sim.fly(e, h, h).back(), sd, false);
     }
     J.col(c) = (xp - xm) / (2 * eps);
   }
   Eigen::EigenSolver<Eigen::MatrixXd> es(J);
   std::vector<std::complex<double>> lf;
-  for (int i = 0; i < 9; ++i) lf.push_back(std::log(es.eigenvalues()(i)) / h);
+  for (int i = 0; i < n; ++i) lf.push_back(std::log(es.eigenvalues()(i)) / h);
   const Eigen3D e = eigen3d(sim.model(), h / 2);
-  std::vector<bool> used(9, false);
+  std::vector<bool> used(size_t(n), false);
   double worst = 0;
-  for (const auto& z : e.nav_ev) {
+  for (const auto& z : e.ev) {
     int b = -1;
-    for (int i = 0; i < 9; ++i)
+    for (int i = 0; i < n; ++i)
       if (!used[size_t(i)] && (b < 0 || std::abs(lf[size_t(i)] - z) < std::abs(lf[size_t(b)] - z))) b = i;
     used[size_t(b)] = true;
     worst = std::max(worst, std::abs(lf[size_t(b)] - z) / e.omega_s);
@@ -152,13 +155,14 @@ static void firmware_eigenvalues() {
                 lf[size_t(b)].imag());
   }
   const bool ok = worst < 1e-3;
-  std::printf("%s firmware eigenvalues (log eig J / h, h = 20 s) vs model: max |diff| = %.3g w_s (bound 1e-3)\n",
-              ok ? "ok  " : "FAIL", worst);
+  std::printf("%s firmware eigenvalues (%s, log eig J / h, h = 20 s) vs model: max |diff| = %.3g w_s (bound 1e-3)\n",
+              ok ? "ok  " : "FAIL", sd ? "strapdown" : "stabilized", worst);
   if (!ok) ++g_fail;
 }
 
 int main() {
-  firmware_eigenvalues();
+  firmware_eigenvalues(Platform::kStabilized);
+  firmware_eigenvalues(Platform::kStrapdown);  // + the attitude block: 0, +-j w_ie
   for (int sd = 0; sd < 2; ++sd) {
     Cov3DScenario s = *builtin_scenario3d("gc3d-stabilized");
     s.platform = sd ? Platform::kStrapdown : Platform::kStabilized;
