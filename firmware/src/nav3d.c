@@ -804,6 +804,11 @@ static gg_status_t n3_baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t 
                 dr_i[j] = vo.dh_m * u_i[j];
                 dv_i[j] = vo.dv_mps * u_i[j];
             }
+            /* the correction is Earth-relative: moving r_i by dr at fixed v_i would
+             * change v_e = v_i - w x r_i by -w x dr (east, ~7e-5 m/s per metre), so
+             * v_i moves by w x dr as well */
+            dv_i[0] -= nav->omega_ie * dr_i[1];
+            dv_i[1] += nav->omega_ie * dr_i[0];
             mat_vec(nav->gamma_e, dr_e, dg_e);
             rot3(nav->sin_th, nav->cos_th, +1, dg_e, dg_i);
             for (j = 0U; j < 3U; ++j) {

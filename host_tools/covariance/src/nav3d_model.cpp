@@ -134,16 +134,14 @@ void Nav3DModel::matrices(double t, MatrixXd& F, MatrixXd& Gam) const {
     // e = u^T dr - b - m (- n): -k1 e u in dr', -k2 e u - a_c u in dv', -k1 e Gamma u in dG'.
     F.block<3, 3>(kR, kR) += -k1_ * u * u.transpose();
     F.block<3, 3>(kV, kR) += -k2_ * u * u.transpose();
-    // nav3d corrects r_i and v_i along u in ECI: moving r by -k1 e u at fixed v_i changes the
-    // Earth-relative velocity v_e = R3(-theta)(v_i - w x r_i) by +k1 e (W u) (east, w cos L).
-    const Eigen::Vector3d Wu = W * u;
-    F.block<3, 3>(kV, kR) += k1_ * Wu * u.transpose();
+    // nav3d moves v_i by w x dr with each position correction dr, so the correction of the
+    // Earth-relative velocity is along u only (nav3d.c baro step).
     F.block<3, 1>(kV, ac) = -u;
     F.block<3, 3>(kG, kR) += -k1_ * Ge * u * u.transpose();
     F.block<1, 3>(ac, kR) = k3_ * u.transpose();
     for (int c = bb; c < bb + 2; ++c) {  // bias and Gauss-Markov enter as -e
       Gam.block<3, 1>(kR, c) = k1_ * u;
-      Gam.block<3, 1>(kV, c) = k2_ * u - k1_ * Wu;
+      Gam.block<3, 1>(kV, c) = k2_ * u;
       Gam.block<3, 1>(kG, c) = k1_ * Ge * u;
       Gam(ac, c) = -k3_;
     }
