@@ -13,6 +13,8 @@
 #define PF_PIO2_LO 6.07710050650619224932e-11
 #define PF_WGS84_A 6378137.0
 #define PF_WGS84_E2 6.69437999014e-3
+#define PF_G0 9.80665         /* m/s^2, Schuler frequency w_s^2 = g0 / R */
+#define PF_OMEGA_E 7.292115e-5 /* rad/s, Earth rate (Coriolis) */
 
 static double pf_sqrt(double x)
 {
@@ -411,7 +413,8 @@ gg_status_t gg_pf_map_from_gmap(const gg_gmap_t *gm, gg_pf_map_t *map)
 static int pf_cfg_ok(const gg_pf_config_t *c)
 {
     const double v[] = {c->k_eff, c->T, c->dz, c->contrast, c->c0, c->c1, c->sigma, c->sigma0_pos,
-                        c->sigma0_vel, c->q_pos, c->q_vel, c->dt, c->gain, c->ess_frac};
+                        c->sigma0_vel, c->q_pos, c->q_vel, c->dt, c->gain, c->ess_frac,
+                        c->sigma0_acc, c->q_acc, c->reg_bw};
     unsigned i;
     for (i = 0; i < ((sizeof v) / (sizeof v[0])); ++i) {
         if (!pf_finite(v[i])) {
@@ -421,7 +424,15 @@ static int pf_cfg_ok(const gg_pf_config_t *c)
     return (c->n >= 1) && (c->n <= GG_PF_MAX) && (c->map.gzz != NULL) && (c->k_eff > 0.0) && (c->T > 0.0) &&
            (c->dz > 0.0) && (c->contrast > 0.0) && (c->contrast <= 1.0) && (c->sigma > 0.0) &&
            (c->sigma0_pos >= 0.0) && (c->sigma0_vel >= 0.0) && (c->q_pos >= 0.0) && (c->q_vel >= 0.0) &&
-           (c->dt > 0.0) && (c->gain > 0.0) && (c->gain <= 1.0) && (c->ess_frac >= 0.0) && (c->ess_frac <= 1.0);
+           (c->dt > 0.0) && (c->gain > 0.0) && (c->gain <= 1.0) && (c->ess_frac >= 0.0) && (c->ess_frac <= 1.0) &&
+           ((c->model == GG_PF_MODEL_RW) || (c->model == GG_PF_MODEL_INS)) && (c->sigma0_acc >= 0.0) &&
+           (c->q_acc >= 0.0) && (c->reg_bw >= 0.0);
+}
+
+/* State dimensions the model uses (4: RW, 6: INS). */
+static int pf_nx(const gg_pf_config_t *c)
+{
+    return (c->model == GG_PF_MODEL_INS) ? GG_PF_NX : 4;
 }
 
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
@@ -433,22 +444,44 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     if ((st == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
     }
+    double h = 0.0;
+    int nx;
     if (!pf_cfg_ok(cfg)) {
         return GG_ERR_CONFIG;
     }
+    nx = pf_nx(cfg);
+    if (cfg->reg_bw > 0.0) { /* h = reg_bw (4 / ((d + 2) N))^(1 / (d + 4)) */
+        double lh = 0.0;
+        const double nxd = (double)nx;
+        s = gg_pf_log(4.0 / ((nxd + 2.0) * (double)cfg->n), &lh);
+        if (s == GG_OK) {
+            s = gg_pf_exp(lh / (nxd + 4.0), &h);
+        }
+        if (s != GG_OK) {
+            return GG_ERR_CONFIG;
+        }
+        h *= cfg->reg_bw;
+        if (!(h < 1.0)) { /* the shrinkage a = sqrt(1 - h^2) needs h < 1 */
+            return GG_ERR_CONFIG;
+        }
+    }
     s = gg_pf_rng_seed(&rng, cfg->seed);
     for (i = 0; (i < cfg->n) && (s == GG_OK); ++i) {
-        for (k = 0; (k < 4) && (s == GG_OK); ++k) {
+        for (k = 0; (k < nx) && (s == GG_OK); ++k) {
             double z = 0.0;
             s = gg_pf_rng_normal(&rng, &z);
-            st->xs[i][k] = z * ((k < 2) ? cfg->sigma0_pos : cfg->sigma0_vel);
+            st->xs[i][k] = z * ((k < 2) ? cfg->sigma0_pos : ((k < 4) ? cfg->sigma0_vel : cfg->sigma0_acc));
+        }
+        for (k = nx; k < GG_PF_NX; ++k) {
+            st->xs[i][k] = 0.0;
         }
     }
     if (s != GG_OK) {
         return s;
     }
+    st->reg_h = h;
     for (i = 0; i < cfg->n; ++i) {
-        for (k = 0; k < 4; ++k) {
+        for (k = 0; k < GG_PF_NX; ++k) {
             st->x[i][k] = st->xs[i][k];
         }
         st->w[i] = 1.0 / (double)cfg->n;
@@ -488,15 +521,104 @@ static gg_status_t pf_resample(gg_pf_t *st)
         for (; (i < (n - 1)) && (cum < target); ++i) {
             cum += st->w[i + 1];
         }
-        for (k = 0; k < 4; ++k) {
+        for (k = 0; k < GG_PF_NX; ++k) {
             st->xs[j][k] = st->x[i][k];
         }
     }
     for (j = 0; j < n; ++j) {
-        for (k = 0; k < 4; ++k) {
+        for (k = 0; k < GG_PF_NX; ++k) {
             st->x[j][k] = st->xs[j][k];
         }
         st->w[j] = 1.0 / (double)n;
+    }
+    return GG_OK;
+}
+
+
+/* Kernel of the regularisation: weighted mean and lower Cholesky factor of the covariance. */
+typedef struct {
+    double m[GG_PF_NX];
+    double el[GG_PF_NX][GG_PF_NX];
+} pf_kernel_t;
+
+/* Weighted mean m and covariance of the first nx states, and the lower Cholesky
+ * factor L of the covariance (columns of dimensions without spread left zero).
+ * Called before resampling, with the weights of the update. */
+static void pf_moments(const gg_pf_t *st, int nx, pf_kernel_t *kn)
+{
+    double cv[GG_PF_NX][GG_PF_NX];
+    int i;
+    int j;
+    int k;
+    int q;
+    for (j = 0; j < GG_PF_NX; ++j) {
+        kn->m[j] = 0.0;
+        for (k = 0; k < GG_PF_NX; ++k) {
+            cv[j][k] = 0.0;
+            kn->el[j][k] = 0.0;
+        }
+    }
+    for (i = 0; i < st->cfg.n; ++i) {
+        for (j = 0; j < nx; ++j) {
+            kn->m[j] += st->w[i] * st->x[i][j];
+        }
+    }
+    for (i = 0; i < st->cfg.n; ++i) {
+        double dx[GG_PF_NX];
+        for (j = 0; j < nx; ++j) {
+            dx[j] = st->x[i][j] - kn->m[j];
+        }
+        for (j = 0; j < nx; ++j) {
+            for (k = 0; k <= j; ++k) {
+                cv[j][k] += st->w[i] * dx[j] * dx[k];
+            }
+        }
+    }
+    /* Cholesky; a pivot below 1e-12 of its variance (no spread, or linearly dependent
+     * on the previous dimensions) leaves the column zero: no kernel along it */
+    for (j = 0; j < nx; ++j) {
+        double p = cv[j][j];
+        for (q = 0; q < j; ++q) {
+            p -= kn->el[j][q] * kn->el[j][q];
+        }
+        if ((cv[j][j] > 0.0) && (p > (1e-12 * cv[j][j]))) {
+            const double d = pf_sqrt(p);
+            kn->el[j][j] = d;
+            for (k = j + 1; k < nx; ++k) {
+                double a = cv[k][j];
+                for (q = 0; q < j; ++q) {
+                    a -= kn->el[k][q] * kn->el[j][q];
+                }
+                kn->el[k][j] = a / d;
+            }
+        }
+    }
+}
+
+/* Regularisation after resampling (Liu & West 2001 shrinkage kernel):
+ * x_i <- a x_i + (1 - a) m + h L z_i, a = sqrt(1 - h^2); keeps mean and covariance. */
+static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
+{
+    const double h = st->reg_h;
+    const double a = pf_sqrt(1.0 - (h * h));
+    int i;
+    int j;
+    int k;
+    for (i = 0; i < st->cfg.n; ++i) {
+        double z[GG_PF_NX];
+        for (j = 0; j < nx; ++j) {
+            const gg_status_t s = gg_pf_rng_normal(&st->rng, &z[j]);
+            if (s != GG_OK) {
+                return s;
+            }
+        }
+        for (j = 0; j < nx; ++j) {
+            double e = 0.0;
+            for (k = 0; k <= j; ++k) {
+                e += kn->el[j][k] * z[k];
+            }
+            st->x[i][j] = (a * st->x[i][j]) + ((1.0 - a) * kn->m[j]) + (h * e);
+        }
     }
     return GG_OK;
 }
@@ -506,8 +628,12 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     const gg_pf_config_t *c;
     gg_pf_rng_t rng;
     uint32_t health = 0u;
-    double mean[4] = {0.0, 0.0, 0.0, 0.0};
+    double mean[GG_PF_NX] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double ess;
+    double ws2;
+    double fcor;
+    double qk[GG_PF_NX];
+    int nx;
     double sw2;
     double gzz_mean = 0.0;
     double rm;
@@ -547,25 +673,53 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         nr = PF_WGS84_A / pf_sqrt(w2);
         rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + in->h; /* meridian radius + h */
         rn = (nr + in->h) * cl;                     /* (prime vertical + h) cos(lat) */
+        ws2 = PF_G0 / pf_sqrt(rm * (nr + in->h));   /* Schuler w_s^2 = g0 / R */
+        fcor = 2.0 * PF_OMEGA_E * sl;               /* Coriolis 2 Omega sinL */
     }
+    nx = pf_nx(c);
+    qk[0] = c->q_pos;
+    qk[1] = c->q_pos;
+    qk[2] = c->q_vel;
+    qk[3] = c->q_vel;
+    qk[4] = c->q_acc;
+    qk[5] = c->q_acc;
     /* 1. predict: draw all noise first into the scratch buffer (state untouched on error) */
     rng = st->rng;
     for (i = 0; (i < n) && (s == GG_OK); ++i) {
-        for (k = 0; (k < 4) && (s == GG_OK); ++k) {
+        for (k = 0; (k < nx) && (s == GG_OK); ++k) {
             double z = 0.0;
-            s = gg_pf_rng_normal(&rng, &z);
-            st->xs[i][k] = z;
+            /* the RW model draws all four (as before); the INS model only where q > 0 */
+            if ((c->model == GG_PF_MODEL_RW) || (qk[k] > 0.0)) {
+                s = gg_pf_rng_normal(&rng, &z);
+            }
+            st->xs[i][k] = qk[k] * z;
         }
     }
     if (s != GG_OK) {
         return s;
     }
     st->rng = rng;
-    for (i = 0; i < n; ++i) {
-        st->x[i][0] += (st->x[i][2] * c->dt) + (c->q_pos * st->xs[i][0]);
-        st->x[i][1] += (st->x[i][3] * c->dt) + (c->q_pos * st->xs[i][1]);
-        st->x[i][2] += c->q_vel * st->xs[i][2];
-        st->x[i][3] += c->q_vel * st->xs[i][3];
+    if (c->model == GG_PF_MODEL_INS) {
+        /* semi-implicit (symplectic) Euler of the Schuler loop: velocity first */
+        for (i = 0; i < n; ++i) {
+            const double vn = st->x[i][2];
+            const double ve = st->x[i][3];
+            const double an = ((-ws2 * st->x[i][0]) + st->x[i][4]) - (fcor * ve);
+            const double ae = ((-ws2 * st->x[i][1]) + st->x[i][5]) + (fcor * vn);
+            st->x[i][2] = vn + (an * c->dt) + st->xs[i][2];
+            st->x[i][3] = ve + (ae * c->dt) + st->xs[i][3];
+            st->x[i][0] += (st->x[i][2] * c->dt) + st->xs[i][0];
+            st->x[i][1] += (st->x[i][3] * c->dt) + st->xs[i][1];
+            st->x[i][4] += st->xs[i][4];
+            st->x[i][5] += st->xs[i][5];
+        }
+    } else {
+        for (i = 0; i < n; ++i) {
+            st->x[i][0] += (st->x[i][2] * c->dt) + st->xs[i][0];
+            st->x[i][1] += (st->x[i][3] * c->dt) + st->xs[i][1];
+            st->x[i][2] += st->xs[i][2];
+            st->x[i][3] += st->xs[i][3];
+        }
     }
     st->n_steps++;
     if (in->shot_ok == 0) {
@@ -631,7 +785,14 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     }
     ess = 1.0 / sw2;
     if (ess < (c->ess_frac * (double)n)) {
+        pf_kernel_t kn;
+        if (st->reg_h > 0.0) {
+            pf_moments(st, nx, &kn);
+        }
         s = pf_resample(st);
+        if ((s == GG_OK) && (st->reg_h > 0.0)) {
+            s = pf_regularise(st, nx, &kn);
+        }
         if (s != GG_OK) {
             return s; /* cannot happen: the generator has no failure mode */
         }
@@ -640,7 +801,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     }
     /* 5. mean (paper eq. 7) and fixed-gain smoothing (eqs. 9-10) */
     for (i = 0; i < n; ++i) {
-        for (k = 0; k < 4; ++k) {
+        for (k = 0; k < GG_PF_NX; ++k) {
             mean[k] += st->w[i] * st->x[i][k];
         }
     }
@@ -648,7 +809,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     st->corr[1] += c->gain * (mean[1] - st->corr[1]);
     out->corr[0] = st->corr[0];
     out->corr[1] = st->corr[1];
-    for (k = 0; k < 4; ++k) {
+    for (k = 0; k < GG_PF_NX; ++k) {
         out->mean[k] = mean[k];
     }
     out->ess = ess;

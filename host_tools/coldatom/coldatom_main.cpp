@@ -51,9 +51,11 @@ int main(int argc, char** argv) {
   std::string sweep = "none";
   int flights = 10, threads = 2, particles = 500;
   double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = 2.0, q_vel = 0.02;
+  double sigma0_acc = -1, q_acc = -1, reg_bw = 0, sigma0_vel = 0.05;
+  std::string model = "rw";
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
-  bool no_topo = false, no_egm = false, direct_map = false;
+  bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false;
   app.add_option("--egm96", egm96, "EGM96 coefficient file");
   app.add_option("--out", out, "output folder");
   app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
@@ -69,17 +71,24 @@ int main(int argc, char** argv) {
   app.add_option("--q-pos", q_pos, "PF process noise, m per shot");
   app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot");
   app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m");
+  app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s");
+  app.add_option("--model", model, "PF particle dynamics: rw | ins")->check(CLI::IsMember({"rw", "ins"}));
+  app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)");
+  app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)");
+  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off)");
   app.add_option("--dz", dz, "interferometer separation, m");
   app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)");
   app.add_option("--atoms", n_atoms, "mean atoms per shot");
   app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)");
   app.add_option("--seed", seed, "first flight's seed");
   app.add_flag("--direct-map", direct_map, "candidates from the route map directly instead of paged gmap tiles");
+  app.add_flag("--dump-flights", dump_flights, "write flight_<tag>_<i>.csv per flight (errors and filter diagnostics)");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
   CLI11_PARSE(app, argc, argv);
   if (cache.empty()) cache = out + "/cache";
   std::filesystem::create_directories(cache);
+  std::filesystem::create_directories(out);
 
   RouteMapParams mp;
   mp.with_topo = !no_topo;
@@ -126,6 +135,8 @@ int main(int argc, char** argv) {
         fc.ins.gyro_scale *= ins_scale; fc.ins.gyro_noise *= ins_scale;
         fc.particles = particles;
         fc.gain = gain; fc.q_pos = q_pos; fc.q_vel = q_vel; fc.sigma0_pos = sigma0_pos;
+        fc.sigma0_vel = sigma0_vel; fc.model = model == "ins" ? 1 : 0;  // GG_PF_MODEL_INS : GG_PF_MODEL_RW
+        fc.q_acc = q_acc; fc.sigma0_acc = sigma0_acc; fc.reg_bw = reg_bw;
         fc.duration = duration;
         fc.use_gmap = !direct_map;
         fc.seed = seed + static_cast<unsigned long>(i);
@@ -137,6 +148,19 @@ int main(int argc, char** argv) {
     for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
     for (auto& th : pool) th.join();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (dump_flights)
+      for (std::size_t i = 0; i < res.size(); ++i) {
+        const FlightResult& r = res[i];
+        std::ofstream g(out + "/flight_" + st.tag + "_" + std::to_string(i) + ".csv");
+        g << "t_s,unaided_m,aided_m,pmean_err_m,spread_m,ess,vmean_err_mps,vspread_mps,ins_dv_mps\n";
+        for (std::size_t j = 0; j < r.t.size(); ++j) {
+          g << r.t[j] << "," << r.err_unaided[j] << "," << r.err_aided[j];
+          if (j < r.d_spread.size())
+            g << "," << r.d_err_mean[j] << "," << r.d_spread[j] << "," << r.d_ess[j] << "," << r.d_verr[j] << ","
+              << r.d_vspread[j] << "," << r.d_ins_dv[j];
+          g << "\n";
+        }
+      }
     // mean error against time over the flights
     const std::size_t nt = res[0].t.size();
     std::ofstream f(out + "/error_vs_time_" + st.tag + ".csv");

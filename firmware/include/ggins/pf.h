@@ -6,13 +6,22 @@
  *        section IV).
  *
  * Particles are candidate horizontal corrections to the (open-loop) INS solution,
- * in metres in the local NED frame at the INS position, with a velocity
- * correction each: x = (dN, dE, dvN, dvE). The corrected position is
- * INS + corr, corr the smoothed mean of the particles.
+ * in metres in the local NED frame at the INS position, with a velocity and a
+ * specific-force correction each: x = (dN, dE, dvN, dvE, daN, daE). The corrected
+ * position is INS + corr, corr the smoothed mean of the particles.
  *
  * Per gradiometer shot (gg_pf_step, every dt seconds):
- *  1. predict: dN += dvN dt + q_pos w, dvN += q_vel w (w ~ N(0,1)), same for E
- *     (the paper's kinematic propagation plus process noise, section IV);
+ *  1. predict, model GG_PF_MODEL_RW: dN += dvN dt + q_pos w, dvN += q_vel w
+ *     (w ~ N(0,1)), same for E; da unused (the paper's kinematic propagation plus
+ *     process noise, section IV);
+ *     model GG_PF_MODEL_INS: the correction (= minus the INS error) follows the
+ *     horizontal INS error dynamics (Schuler loop with Coriolis, psi-angle form,
+ *     level flight; da = g psi + accelerometer error, a random walk driven by
+ *     the gyro noise): per axis, semi-implicit Euler,
+ *       dv += (-w_s^2 d + da - 2 Omega sinL k x dv) dt + q_vel w
+ *       d  += dv dt + q_pos w,    da += q_acc w
+ *     with w_s^2 = g0 / sqrt(R_M R_N) (+h) and 2 Omega sinL from the INS latitude
+ *     ((-2 Omega x dv)_N = -2 Omega sinL dvE, (...)_E = +2 Omega sinL dvN);
  *  2. failed shot: no re-weighting (section V C) - go to 5;
  *  3. re-weight: for each particle, the candidate position INS + (dN, dE) gives
  *     Gamma_zz from the map (ops table gg_pf_map_t), the candidate ellipse
@@ -25,7 +34,14 @@
  *     every weight is 0 (or the sum is not finite) the weights are reset to
  *     uniform and DEGENERATE is flagged (no NaN can reach the state);
  *  4. N_eff = 1 / sum w_i^2; systematic resampling when N_eff < ess_frac N
- *     (paper: N_eff < N/2);
+ *     (paper: N_eff < N/2); with reg_bw > 0 the resampled particles are
+ *     regularised by a Gaussian kernel with the shrinkage of Liu & West (2001),
+ *       x_i <- a x_i + (1 - a) m + h L z_i,  a = sqrt(1 - h^2),
+ *     m, L L^T the weighted mean and covariance before resampling (Cholesky,
+ *     dimensions without spread skipped), h = reg_bw (4 / ((d + 2) N))^(1/(d+4))
+ *     (Silverman's Gaussian-kernel bandwidth, d state dimensions): the cloud's
+ *     mean and covariance are kept in expectation while duplicated particles
+ *     are spread out again (sample impoverishment);
  *  5. mean x_bar = sum w_i x_i (paper eq. 7); corr <- corr + gain (x_bar - corr)
  *     (the fixed-gain smoothing of paper eqs. 9-10).
  *
@@ -52,6 +68,10 @@
 #ifndef GG_PF_MAX
 #define GG_PF_MAX 500
 #endif
+#define GG_PF_NX 6 /**< state per particle: dN, dE, dvN, dvE, daN, daE */
+
+#define GG_PF_MODEL_RW 0  /**< random-walk velocity, no specific-force state */
+#define GG_PF_MODEL_INS 1 /**< horizontal INS error dynamics (Schuler, Coriolis) */
 
 /** Map ops: Gamma_zz = dG_D/dD (s^-2, NED, ~ +3.1e-6) at a geodetic position.
  *  Returns GG_OK or an error (e.g. GG_ERR_RANGE off the map). */
@@ -78,6 +98,10 @@ typedef struct {
     double sigma0_vel;    /**< initial spread of the velocity corrections, m/s */
     double q_pos;         /**< process noise per step on dN, dE, m */
     double q_vel;         /**< process noise per step on dvN, dvE, m/s */
+    int model;            /**< GG_PF_MODEL_RW (0) or GG_PF_MODEL_INS */
+    double sigma0_acc;    /**< initial spread of daN, daE, m/s^2 (MODEL_INS) */
+    double q_acc;         /**< process noise per step on daN, daE, m/s^2 (MODEL_INS) */
+    double reg_bw;        /**< regularisation bandwidth, multiple of Silverman's (0: off) */
     double dt;            /**< s between shots */
     double gain;          /**< smoothing gain, (0, 1] */
     double ess_frac;      /**< resample when N_eff < ess_frac N (0.5) */
@@ -100,17 +124,18 @@ typedef struct {
 
 typedef struct {
     double corr[2];       /**< smoothed correction (dN, dE), m: corrected = INS + corr */
-    double mean[4];       /**< particle mean (dN, dE, dvN, dvE) */
+    double mean[GG_PF_NX]; /**< particle mean (dN, dE, dvN, dvE, daN, daE) */
     double ess;           /**< effective sample size after the update */
     double gzz_mean;      /**< weighted mean of the candidates' Gamma_zz (s^-2; 0 when skipped) */
     uint32_t health;      /**< GG_PF_H_* of this step */
 } gg_pf_output_t;
 
 typedef struct {
-    double x[GG_PF_MAX][4];
+    double x[GG_PF_MAX][GG_PF_NX];
     double w[GG_PF_MAX];
     double ll[GG_PF_MAX];        /**< scratch: log-likelihood */
-    double xs[GG_PF_MAX][4];     /**< scratch: resampling */
+    double xs[GG_PF_MAX][GG_PF_NX]; /**< scratch: process noise, resampling */
+    double reg_h;                /**< kernel bandwidth h (from reg_bw at init) */
     gg_pf_config_t cfg;
     gg_pf_rng_t rng;
     double corr[2];

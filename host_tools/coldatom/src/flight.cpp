@@ -94,6 +94,17 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   pc.sigma0_vel = cfg.sigma0_vel;
   pc.q_pos = cfg.q_pos;
   pc.q_vel = cfg.q_vel;
+  pc.model = cfg.model;
+  {  // INS-model process noise from the INS specification (Table I), not from the realised errors:
+     // da = g psi + accelerometer error; psi driven by the gyro noise (random walk) and bias (ramp
+     // g eps t, covered by a random walk over the longest gap without information, tau)
+    const double dtp = 1.0 / cfg.grad.rate_hz, tau = 1500.0;
+    const double arw = kG0 * e.gyro_noise, ramp = kG0 * e.gyro_bias;
+    pc.q_acc = cfg.q_acc >= 0 ? cfg.q_acc : std::sqrt((arw * arw + ramp * ramp * tau) * dtp);
+    const double b = kG0 * e.acc_bias_g, no = kG0 * e.acc_nonorth;
+    pc.sigma0_acc = cfg.sigma0_acc >= 0 ? cfg.sigma0_acc : std::sqrt(b * b + no * no);
+  }
+  pc.reg_bw = cfg.reg_bw;
   pc.dt = 1.0 / cfg.grad.rate_hz;
   pc.gain = cfg.gain;
   pc.ess_frac = 0.5;
@@ -121,6 +132,7 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   const long rec_every = static_cast<long>(std::lround(cfg.record_every / dt));
   V3 dr = V3::Zero(), dv = V3::Zero(), psi = V3::Zero();
   double corr[2] = {0, 0};
+  double last_ess = 0;
   std::vector<double> bx, by, bg_true, bg_pf;
   std::vector<double> step_ns;
   double sum_a = 0, sum_u = 0;
@@ -181,6 +193,7 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
           step_ns.push_back(static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()));
         if (st == GG_OK) {
           corr[0] = out.corr[0]; corr[1] = out.corr[1];
+          last_ess = out.ess;
           if (out.health & GG_PF_H_DEGENERATE) ++res.degenerate;
           if (out.health & GG_PF_H_RESAMPLED) ++res.resampled;
         }
@@ -212,6 +225,19 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
       res.t.push_back(t);
       res.err_unaided.push_back(eu);
       res.err_aided.push_back(ea);
+      if (cfg.run_pf) {  // diagnostics: the particle cloud against the truth (correction = -error)
+        double m[4] = {0, 0, 0, 0}, v2[4] = {0, 0, 0, 0};
+        for (int i = 0; i < pf.cfg.n; ++i)
+          for (int q = 0; q < 4; ++q) m[q] += pf.w[i] * pf.x[i][q];
+        for (int i = 0; i < pf.cfg.n; ++i)
+          for (int q = 0; q < 4; ++q) v2[q] += pf.w[i] * (pf.x[i][q] - m[q]) * (pf.x[i][q] - m[q]);
+        res.d_err_mean.push_back(std::hypot(dr(0) + m[0], dr(1) + m[1]));
+        res.d_spread.push_back(std::sqrt(v2[0] + v2[1]));
+        res.d_ess.push_back(last_ess);
+        res.d_verr.push_back(std::hypot(dv(0) + m[2], dv(1) + m[3]));
+        res.d_vspread.push_back(std::sqrt(v2[2] + v2[3]));
+        res.d_ins_dv.push_back(std::hypot(dv(0), dv(1)));
+      }
       sum_a += ea; sum_u += eu; ++nrec;
     }
   }

@@ -49,6 +49,11 @@ struct FlightConfig {
   double sigma_like = 0;   // 0: max(0.001, gradiometer expected_sigma)
   double sigma0_pos = 50, sigma0_vel = 0.05;
   double q_pos = 2.0, q_vel = 0.02;
+  // particle dynamics: GG_PF_MODEL_RW (above) or GG_PF_MODEL_INS (Schuler/Coriolis INS error
+  // dynamics with a specific-force error state); for INS, negative values = from Table I
+  int model = 0;
+  double sigma0_acc = -1, q_acc = -1;
+  double reg_bw = 0;       // regularised resampling bandwidth (multiple of Silverman's), 0 off
   double gain = 0.05;
   double alt_noise = 5.0;  // m
   int batch = 20;          // pairs per ellipse fit
@@ -68,6 +73,10 @@ struct FlightResult {
   std::vector<double> t, err_unaided, err_aided;  // every record_every s, metres
   // gradient estimates per batch (s^-2): truth mean over the batch, ellipse fit, PF (map at the corrected position)
   std::vector<double> batch_t, g_true, g_fit, g_pf;
+  // filter diagnostics at the same instants as t (host reads the PF state): actual error of the
+  // particle mean (m), weighted particle spread sqrt(var_N + var_E) (m), N_eff (last step), actual
+  // velocity error of the particle mean (m/s), velocity spread (m/s), true |INS velocity error| (m/s)
+  std::vector<double> d_err_mean, d_spread, d_ess, d_verr, d_vspread, d_ins_dv;
   double pf_step_ns_median = 0;
   int shots = 0, failed = 0, degenerate = 0, resampled = 0, tiles = 0;
   double mean_aided = 0, mean_unaided = 0, final_unaided = 0, final_aided = 0;
