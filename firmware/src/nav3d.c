@@ -480,6 +480,7 @@ typedef struct {
     gg_real_t w_k[3];
     gg_real_t w_km1[3];
     gg_real_t w_km2[3];
+    gg_real_t wd_k[3];
     int n_w;
     int64_t n_steps;
     gg_real_t sin_th;
@@ -506,6 +507,7 @@ static void dyn_save(const gg_nav3d_t *nav, dyn_t *d)
         d->w_k[j] = nav->w_k[j];
         d->w_km1[j] = nav->w_km1[j];
         d->w_km2[j] = nav->w_km2[j];
+        d->wd_k[j] = nav->wd_k[j];
         d->f_b[j] = nav->f_b[j];
         for (k = 0U; k < 3U; ++k) {
             d->gamma_b[j][k] = nav->gamma_b[j][k];
@@ -535,6 +537,7 @@ static void dyn_restore(gg_nav3d_t *nav, const dyn_t *d)
         nav->w_k[j] = d->w_k[j];
         nav->w_km1[j] = d->w_km1[j];
         nav->w_km2[j] = d->w_km2[j];
+        nav->wd_k[j] = d->wd_k[j];
         nav->f_b[j] = d->f_b[j];
         for (k = 0U; k < 3U; ++k) {
             nav->gamma_b[j][k] = d->gamma_b[j][k];
@@ -681,6 +684,7 @@ static gg_status_t n3_start(gg_nav3d_t *nav, const step_in_t *in)
             nav->w_k[j] = in->w[j];
             nav->w_km1[j] = in->w[j];
             nav->w_km2[j] = in->w[j];
+            nav->wd_k[j] = in->omega_dot[j];
             for (k = 0U; k < 3U; ++k) {
                 nav->gamma_e[j][k] = gamma_i[j][k];
             }
@@ -701,8 +705,9 @@ static void qdot(const gg_real_t q[4], const gg_real_t w[3], gg_real_t d[4])
 }
 
 /* Fourth-order Runge-Kutta attitude step with the rate interpolated through
- * the samples k-1, k, k+1 (nav3d.h). */
-static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3])
+ * the samples k-2 .. k+1, or by cubic Hermite with the measured angular
+ * accelerations wd1 (at k+1) and nav->wd_k on the first two steps (nav3d.h). */
+static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3], const gg_real_t wd1[3])
 {
     const gg_real_t h = nav->dt_s;
     gg_real_t wm[3];
@@ -719,11 +724,9 @@ static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3])
              * Lagrange weights 1/16, -5/16, 15/16, 5/16 */
             wm[j] = (nav->w_km2[j] - (5.0L * nav->w_km1[j]) + (15.0L * nav->w_k[j]) +
                      (5.0L * w1[j])) * 0.0625L;
-        } else if (nav->n_w == 2) {
-            /* quadratic through -h, 0, h: weights -1/8, 3/4, 3/8 */
-            wm[j] = ((-nav->w_km1[j]) + (6.0L * nav->w_k[j]) + (3.0L * w1[j])) * 0.125L;
         } else {
-            wm[j] = 0.5L * (nav->w_k[j] + w1[j]);
+            /* cubic Hermite at h/2: (w_k + w1)/2 + h/8 (wd_k - wd1) */
+            wm[j] = (0.5L * (nav->w_k[j] + w1[j])) + ((0.125L * h) * (nav->wd_k[j] - wd1[j]));
         }
     }
     qdot(nav->q_b_i, nav->w_k, k1);
@@ -879,7 +882,7 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
         t0 = n3_cycles_now(hal);
         st = gg_sincos(th1, &s1, &c1);
         if ((st == GG_OK) && (nav->cfg.platform == GG_PLATFORM_STRAPDOWN)) {
-            st = attitude_step(nav, in->w);
+            st = attitude_step(nav, in->w, in->omega_dot);
         }
         if (st == GG_OK) {
             gg_real_t cb[3][3];
@@ -945,6 +948,7 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
                 nav->w_km2[j] = nav->w_km1[j];
                 nav->w_km1[j] = nav->w_k[j];
                 nav->w_k[j] = in->w[j];
+                nav->wd_k[j] = in->omega_dot[j];
             }
             nav->n_w = (nav->n_w < 3) ? (nav->n_w + 1) : 3;
         }
@@ -992,7 +996,7 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
     return st;
 }
 
-/* Bridge lost frames: f_b, Gamma_b and w interpolated linearly between the
+/* Bridge lost frames: f_b, Gamma_b, w and omega_dot interpolated linearly between the
  * last accepted frame and this one, no barometer. */
 static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t *in,
                           int64_t missing, const gg_hal_t *hal, uint32_t cyc[GG_MOD_COUNT],
@@ -1008,6 +1012,7 @@ static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_i
     for (j = 0U; j < 3U; ++j) {
         base.f_b[j] = nav->f_b[j];
         base.w[j] = nav->w_k[j];
+        base.omega_dot[j] = nav->wd_k[j];
         for (k = 0U; k < 3U; ++k) {
             base.gamma_b[j][k] = nav->gamma_b[j][k];
         }
@@ -1021,6 +1026,7 @@ static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_i
         for (j = 0U; j < 3U; ++j) {
             bi.f_b[j] = base.f_b[j] + (w * (in->f_b[j] - base.f_b[j]));
             bi.w[j] = base.w[j] + (w * (in->w[j] - base.w[j]));
+            bi.omega_dot[j] = base.omega_dot[j] + (w * (in->omega_dot[j] - base.omega_dot[j]));
             for (k = 0U; k < 3U; ++k) {
                 bi.gamma_b[j][k] =
                     base.gamma_b[j][k] + (w * (in->gamma_b[j][k] - base.gamma_b[j][k]));
@@ -1040,12 +1046,16 @@ static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4]
     size_t j;
     for (j = 0U; j < 3U; ++j) {
         if (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) {
-            /* needs two earlier gyro samples; 0 (no evidence) until then */
-            p[j] = ((nav->started != 0) && (nav->n_w >= 2))
-                       ? (in->omega_dot[j] -
-                          (((3.0L * in->w[j]) - (4.0L * nav->w_k[j]) + nav->w_km1[j]) /
-                           (2.0L * nav->dt_s)))
-                       : 0.0L;
+            /* third-order backward difference; needs three earlier gyro
+             * samples, 0 (no evidence) on the first three steps */
+            if ((nav->started != 0) && (nav->n_w >= 3)) {
+                p[j] = in->omega_dot[j] -
+                       (((11.0L * in->w[j]) - (18.0L * nav->w_k[j]) + (9.0L * nav->w_km1[j]) -
+                         (2.0L * nav->w_km2[j])) /
+                        (6.0L * nav->dt_s));
+            } else {
+                p[j] = 0.0L;
+            }
         } else {
             p[j] = in->omega_dot[j];
         }

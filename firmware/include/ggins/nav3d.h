@@ -32,10 +32,16 @@
  * gyros are not used (omega_b taken as 0). Strapdown: q_b_i integrated from
  * the gyro rate samples (rad/s, at each frame time) by the classical
  * fourth-order Runge-Kutta method on q' = 1/2 q (x) (0, w), with w at the
- * mid-step interpolated through the samples k-2, k-1, k, k+1 (cubic;
- * quadratic and linear on the first two steps). A quadratic left 1.7e-8 rad
- * after 1 h of a 0.2 rad/s spin with 0.05 rad/s precession (its error
- * h^3 w'''/16 in the rate is systematic); the cubic's is h^4 w''''/26. Integrating the quaternion ODE with a fourth-order method
+ * mid-step interpolated through the samples k-2, k-1, k, k+1 (cubic). On
+ * the first two steps, before four samples exist, the mid-step rate is the
+ * cubic Hermite interpolant through w_k, w_{k+1} and the angular
+ * accelerations the differencing measures at both ends (the antisymmetric
+ * part, below): w(h/2) = (w_k + w_{k+1})/2 + h/8 (wd_k - wd_{k+1}), error
+ * h^4 w''''/384. (A linear start left h^3 w''/12 in the attitude for good:
+ * 8e-9 rad on a tumbling body, 2.5e-5 E in Gamma_e.) A quadratic left
+ * 1.7e-8 rad after 1 h of a 0.2 rad/s spin with 0.05 rad/s precession (its
+ * error h^3 w'''/16 in the rate is systematic); the cubic's is h^4 w''''/26.
+ * Integrating the quaternion ODE with a fourth-order method
  * captures the non-commutativity (coning) terms that a single rotation
  * vector sum Delta-theta misses: the classical coning correction
  * 1/12 (w_k x w_{k+1}) h^2 is the leading term of the same series.
@@ -57,10 +63,13 @@
  * Parity (health, GG_HEALTH_GAMMA_ASYM when above asym_max): stabilized
  * platform - the antisymmetric part of M (3 residuals, should be 0) and
  * trace(Gamma_b); strapdown - omega_dot_b minus the gyro-derived angular
- * acceleration (3 w_{k+1} - 4 w_k + w_{k-1}) / (2h) (second-order backward
- * difference: its own error is h^2/3 w''', 1.3e-8 rad/s^2 for a 0.2 rad/s
- * spin with 0.05 rad/s precession at 100 Hz - set asym_max above that;
- * 0 until two earlier gyro samples exist) and trace(Gamma_b).
+ * acceleration (11 w_{k+1} - 18 w_k + 9 w_{k-1} - 2 w_{k-2}) / (6h)
+ * (third-order backward difference: its own error is h^3/4 w'''', 2.5e-8
+ * rad/s^2 on a body spinning at 1 rad/s with 0.3 rad/s precession at
+ * 100 Hz, where the second-order difference's h^2/3 w''' is 1e-5; its
+ * gyro-noise gain is 3.8/h per unit rate noise - set asym_max above both;
+ * 0 on the first three steps, before three earlier gyro samples exist) and
+ * trace(Gamma_b).
  *
  * Validation: a frame with fewer than 6 accelerometers, a reading NaN/Inf,
  * out of range or flagged bad, or (strapdown) a gyro sample NaN/Inf, above
@@ -137,6 +146,7 @@ typedef struct {
     gg_real_t w_k[3];            /**< gyro rate at the last accepted step, rad/s */
     gg_real_t w_km1[3];          /**< gyro rate one step earlier, rad/s */
     gg_real_t w_km2[3];          /**< two steps earlier, rad/s */
+    gg_real_t wd_k[3];           /**< measured angular acceleration at the last step, rad/s^2 */
     int n_w;                     /**< gyro samples held (1..3) */
     int64_t n_steps;             /**< steps flown since t = 0 (theta = omega_ie n dt) */
     gg_real_t sin_th;            /**< sin / cos of theta at the current step */
