@@ -1,5 +1,6 @@
 /* Zonal-harmonic gravitation model; equations in gmodel.h. */
 #include "ggins/gmodel.h"
+#include "ggins/ggmath.h"
 
 #include <stddef.h>
 
@@ -106,38 +107,6 @@ static gg_status_t add_point_masses(const gg_gmodel_config_t *c, const gg_real_t
     return GG_OK;
 }
 
-gg_status_t gg_gmodel_atan(gg_real_t t, gg_real_t *a)
-{
-    gg_real_t x = t;
-    gg_real_t x2;
-    gg_real_t term;
-    gg_real_t sum;
-    size_t k;
-    if (a == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!GG_ISFINITE(t)) {
-        return GG_ERR_NONFINITE;
-    }
-    if ((t > 1.0L) || (t < -1.0L)) {
-        return GG_ERR_RANGE;
-    }
-    /* atan t = 2 atan(t / (1 + sqrt(1 + t^2))), twice: |x| <= tan(pi/16) */
-    for (k = 0U; k < 2U; ++k) {
-        x = x / (1.0L + sqrtl(1.0L + (x * x)));
-    }
-    x2 = x * x;
-    term = x;
-    sum = x;
-    for (k = 1U; k <= 15U; ++k) {
-        const size_t odd = (2U * k) + 1U;
-        term = -term * x2;
-        sum += term / (gg_real_t)odd;
-    }
-    *a = 4.0L * sum;
-    return GG_OK;
-}
-
 /* Programmed grid: bilinear interpolation of (dG_t, dG_r) at the polar
  * coordinates (theta, rho) of (r_x, r_z), rotated into x and z. */
 static uint32_t add_grid(const gg_gmodel_grid_t *gr, const gg_real_t r[3], gg_real_t g[3])
@@ -150,7 +119,7 @@ static uint32_t add_grid(const gg_gmodel_grid_t *gr, const gg_real_t r[3], gg_re
         gg_real_t th = 0.0L;
         int inside = 0;
         if ((xp > 0.0L) && (zp <= xp) && (zp >= -xp) &&
-            (gg_gmodel_atan(zp / xp, &th) == GG_OK)) {
+            (gg_atan2(zp, xp, &th) == GG_OK)) {
             inside = 1;
         }
         if (inside != 0) {

@@ -140,31 +140,6 @@ static void test_programmed_point_masses(void **state)
     assert_int_equal(gg_gmodel_eval(&m, &cfg, p0, g, NULL), GG_ERR_RANGE);
 }
 
-/* atan by half-angle reductions + series against libm's atanl (test side only). */
-static void test_atan_against_libm(void **state)
-{
-    (void)state;
-    long double worst = 0;
-    for (int i = -1000; i <= 1000; ++i) {
-        const long double t = (long double)i / 1000.0L;
-        gg_real_t a = 0;
-        assert_int_equal(gg_gmodel_atan(t, &a), GG_OK);
-        const long double e = fabsl(a - atanl(t));
-        if (e > worst) worst = e;
-    }
-    const long double tiny = 1e-30L;
-    gg_real_t a = 0;
-    assert_int_equal(gg_gmodel_atan(tiny, &a), GG_OK);
-    assert_true(a == tiny);
-    printf("worst |atan - atanl| on [-1, 1] = %.3Lg rad\n", worst);
-    assert_true(worst < 1e-18L);
-    a = 5;
-    assert_int_equal(gg_gmodel_atan(1.0001L, &a), GG_ERR_RANGE);
-    assert_int_equal(gg_gmodel_atan(NAN, &a), GG_ERR_NONFINITE);
-    assert_true(a == 5);
-    assert_int_equal(gg_gmodel_atan(0.5L, NULL), GG_ERR_NULL);
-}
-
 /* Polar anomaly grid: a disturbance bilinear in (theta, rho) with
  * (tangential, radial) components is reproduced exactly; theta and the
  * rotation into x-z computed here independently with atan2l/cosl/sinl.
@@ -274,7 +249,6 @@ int main(void)
         cmocka_unit_test(test_j2_j4_against_potential_gradient),
         cmocka_unit_test(test_bad_config_and_input),
         cmocka_unit_test(test_programmed_point_masses),
-        cmocka_unit_test(test_atan_against_libm),
         cmocka_unit_test(test_programmed_grid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -31,7 +31,7 @@
  *    A constant-height arc is a line of constant rho, so a grid a few nodes
  *    deep in rho covers it (an x-z grid would need a square of nodes).
  *    theta = atan2(z', x') with (x', z') = (c0 x + s0 z, -s0 x + c0 z), by
- *    two half-angle reductions and the atan Taylor series (no libm); only
+ *    the firmware's gg_atan2 (ggmath.h, no libm); only
  *    |theta| <= 45 deg (x' > 0, |z'| <= x') can be inside a grid.
  *    Outside the grid its contribution is zero and GG_GMODEL_OUTSIDE_GRID is
  *    reported.
@@ -90,11 +90,5 @@ gg_status_t gg_gmodel_init(gg_gmodel_t *st, const gg_gmodel_config_t *cfg);
  *  programmed point mass. flags (may be NULL): GG_GMODEL_*. */
 gg_status_t gg_gmodel_eval(const gg_gmodel_t *st, const gg_gmodel_config_t *cfg,
                            const gg_real_t r[3], gg_real_t g[3], uint32_t *flags);
-
-/** atan(t) for |t| <= 1 (no libm): two half-angle reductions
- *  atan t = 2 atan(t / (1 + sqrt(1 + t^2))) to |t| <= tan(pi/16), then the
- *  Taylor series sum (-1)^k t^(2k+1)/(2k+1) to k = 15 (truncation below
- *  1e-22 relative). GG_ERR_RANGE for |t| > 1, GG_ERR_NONFINITE for NaN. */
-gg_status_t gg_gmodel_atan(gg_real_t t, gg_real_t *a);
 
 #endif /* GGINS_GMODEL_H */
