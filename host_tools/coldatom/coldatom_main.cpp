@@ -50,12 +50,13 @@ int main(int argc, char** argv) {
   std::string cache;
   std::string sweep = "none";
   int flights = 10, threads = 2, particles = 500;
-  double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = 2.0, q_vel = 0.02;
-  double sigma0_acc = -1, q_acc = -1, reg_bw = 0, sigma0_vel = 0.05;
-  std::string model = "rw";
+  double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = -1, q_vel = -1;
+  double sigma0_acc = -1, q_acc = -1, reg_bw = -1, sigma0_vel = -1, ess_frac = 0.5;
+  std::string model = "ins";
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
-  bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false;
+  bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false, tile_on_ins = false;
+  double tile_recentre = 2000.0;
   app.add_option("--egm96", egm96, "EGM96 coefficient file");
   app.add_option("--out", out, "output folder");
   app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
@@ -68,20 +69,23 @@ int main(int argc, char** argv) {
   app.add_option("--p-fail", p_fail, "failure probability (sweep none / phase)");
   app.add_option("--cloud-rw", cloud_rw, "atom-cloud horizontal random walk, m/sqrt(s)");
   app.add_option("--gain", gain, "PF smoothing gain");
-  app.add_option("--q-pos", q_pos, "PF process noise, m per shot");
-  app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot");
+  app.add_option("--q-pos", q_pos, "PF process noise, m per shot (<0: the model's default, RW 2, INS 0)");
+  app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot (<0: RW 0.02, INS from Table I)");
   app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m");
-  app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s");
+  app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s (<0: RW 0.05, INS 0)");
   app.add_option("--model", model, "PF particle dynamics: rw | ins")->check(CLI::IsMember({"rw", "ins"}));
   app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)");
   app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)");
-  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off)");
+  app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N");
+  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off; <0: INS 0.5, RW 0)");
   app.add_option("--dz", dz, "interferometer separation, m");
   app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)");
   app.add_option("--atoms", n_atoms, "mean atoms per shot");
   app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)");
   app.add_option("--seed", seed, "first flight's seed");
   app.add_flag("--direct-map", direct_map, "candidates from the route map directly instead of paged gmap tiles");
+  app.add_flag("--tile-on-ins", tile_on_ins, "page the gmap tile around the raw INS position (before 2026-12) instead of the corrected one");
+  app.add_option("--tile-recentre", tile_recentre, "re-centre the gmap tile when its centre is this far (m) from the position it follows");
   app.add_flag("--dump-flights", dump_flights, "write flight_<tag>_<i>.csv per flight (errors and filter diagnostics)");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
@@ -136,9 +140,11 @@ int main(int argc, char** argv) {
         fc.particles = particles;
         fc.gain = gain; fc.q_pos = q_pos; fc.q_vel = q_vel; fc.sigma0_pos = sigma0_pos;
         fc.sigma0_vel = sigma0_vel; fc.model = model == "ins" ? 1 : 0;  // GG_PF_MODEL_INS : GG_PF_MODEL_RW
-        fc.q_acc = q_acc; fc.sigma0_acc = sigma0_acc; fc.reg_bw = reg_bw;
+        fc.q_acc = q_acc; fc.sigma0_acc = sigma0_acc; fc.reg_bw = reg_bw; fc.ess_frac = ess_frac;
         fc.duration = duration;
         fc.use_gmap = !direct_map;
+        fc.tile_on_estimate = !tile_on_ins;
+        fc.tile_recentre = tile_recentre;
         fc.seed = seed + static_cast<unsigned long>(i);
         res[static_cast<std::size_t>(i)] = fly(map, fc);
       }
@@ -173,7 +179,7 @@ int main(int argc, char** argv) {
     }
     // gradient estimates (all flights): error of ellipse fit and PF against the batch-mean truth
     std::vector<double> efit, epf, mean_a, mean_u, fin_u, step;
-    int shots = 0, failed = 0, degen = 0, tiles = 0;
+    int shots = 0, failed = 0, degen = 0, tiles = 0, miss = 0;
     for (const auto& r : res) {
       for (std::size_t j = 0; j < r.g_true.size(); ++j) {
         efit.push_back((r.g_fit[j] - r.g_true[j]) * 1e9);
@@ -181,7 +187,7 @@ int main(int argc, char** argv) {
       }
       mean_a.push_back(r.mean_aided); mean_u.push_back(r.mean_unaided); fin_u.push_back(r.final_unaided);
       step.push_back(r.pf_step_ns_median);
-      shots += r.shots; failed += r.failed; degen += r.degenerate; tiles += r.tiles;
+      shots += r.shots; failed += r.failed; degen += r.degenerate; tiles += r.tiles; miss += r.map_miss;
     }
     {
       std::ofstream g(out + "/gradient_" + st.tag + "_flight0.csv");
@@ -197,7 +203,7 @@ int main(int argc, char** argv) {
                {"mean_unaided_m", mean(mean_u)}, {"final_unaided_mean_m", mean(fin_u)},
                {"ellipse_fit_err_mean_E", mean(efit)}, {"ellipse_fit_err_std_E", stdev(efit)},
                {"pf_err_mean_E", mean(epf)}, {"pf_err_std_E", stdev(epf)},
-               {"shots", shots}, {"failed_shots", failed}, {"degenerate_steps", degen}, {"gmap_tiles", tiles}, {"map", direct_map ? "route map (direct)" : "gmap tiles"},
+               {"shots", shots}, {"failed_shots", failed}, {"degenerate_steps", degen}, {"map_miss_steps", miss}, {"gmap_tiles", tiles}, {"map", direct_map ? "route map (direct)" : "gmap tiles"},
                {"pf_step_ns_median", step[step.size() / 2]}, {"wall_s", wall}};
     std::printf("%s\n", js.dump().c_str());
     std::fflush(stdout);

@@ -1,7 +1,7 @@
 // Step time of the firmware particle filter (gg_pf_step, 500 particles, candidates
 // from a gmap tile) on the host: median over repeated steps. Run under
 // valgrind --tool=callgrind with --steps 50 for instructions per step.
-//   coldatom-pf-bench [--steps N] [--particles N]
+//   coldatom-pf-bench [--steps N] [--particles N] [--rw]   (--rw: the first version's random-walk model)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,9 +21,11 @@ static gg_pf_t pf;
 
 int main(int argc, char** argv) {
   int steps = 2000, particles = 500;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--steps")) steps = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--particles")) particles = std::atoi(argv[i + 1]);
+  bool rw = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--particles") && i + 1 < argc) particles = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--rw")) rw = true;
   }
   tile.nlat = tile.nlon = 50;
   tile.lat0_rad = 0.8; tile.lon0_rad = -0.03; tile.dlat_rad = 4e-5; tile.dlon_rad = 6e-5;
@@ -36,8 +38,13 @@ int main(int argc, char** argv) {
   if (gg_gmap_init(&gm, &tile) != GG_OK) return 1;
   gg_pf_config_t c{};
   c.n = particles; c.seed = 1; c.k_eff = 4 * M_PI / 852.347e-9; c.T = 0.16; c.dz = 1; c.contrast = 0.5;
-  c.c0 = c.c1 = 0.5; c.sigma = 0.003; c.sigma0_pos = 300; c.sigma0_vel = 0.05; c.q_pos = 2; c.q_vel = 0.02;
+  c.c0 = c.c1 = 0.5; c.sigma = 0.003; c.sigma0_pos = 300; c.sigma0_vel = 0.05;
   c.dt = 1; c.gain = 0.05; c.ess_frac = 0.5;
+  if (rw) {  // the first version: random-walk velocity
+    c.model = GG_PF_MODEL_RW; c.q_pos = 2; c.q_vel = 0.02;
+  } else {   // the flights' settings (flight.cpp, Table I)
+    c.model = GG_PF_MODEL_INS; c.q_pos = 0; c.q_vel = 1.47e-4; c.q_acc = 2.72e-5; c.sigma0_acc = 3.1e-4; c.reg_bw = 0.5;
+  }
   if (gg_pf_map_from_gmap(&gm, &c.map) != GG_OK || gg_pf_init(&pf, &c) != GG_OK) return 1;
   std::vector<double> ns;
   for (int k = 0; k < steps; ++k) {
@@ -50,7 +57,7 @@ int main(int argc, char** argv) {
     ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
   }
   std::sort(ns.begin(), ns.end());
-  std::printf("gg_pf_step, %d particles, gmap candidates: median %.1f us, p10 %.1f us, p90 %.1f us (%d steps)\n",
-              particles, ns[ns.size() / 2] / 1e3, ns[ns.size() / 10] / 1e3, ns[ns.size() * 9 / 10] / 1e3, steps);
+  std::printf("gg_pf_step (%s model), %d particles, gmap candidates: median %.1f us, p10 %.1f us, p90 %.1f us (%d steps)\n",
+              rw ? "RW" : "INS", particles, ns[ns.size() / 2] / 1e3, ns[ns.size() / 10] / 1e3, ns[ns.size() * 9 / 10] / 1e3, steps);
   return 0;
 }

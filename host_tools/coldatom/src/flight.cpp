@@ -91,23 +91,32 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   pc.c1 = 0.5 + cfg.grad.bias1;
   pc.sigma = cfg.sigma_like > 0 ? cfg.sigma_like : std::max(1e-3, grad.expected_sigma());
   pc.sigma0_pos = cfg.sigma0_pos;
-  pc.sigma0_vel = cfg.sigma0_vel;
-  pc.q_pos = cfg.q_pos;
-  pc.q_vel = cfg.q_vel;
-  pc.model = cfg.model;
-  {  // INS-model process noise from the INS specification (Table I), not from the realised errors:
-     // da = g psi + accelerometer error; psi driven by the gyro noise (random walk) and bias (ramp
-     // g eps t, covered by a random walk over the longest gap without information, tau)
+  pc.model = cfg.model == 1 ? GG_PF_MODEL_INS : GG_PF_MODEL_RW;
+  if (pc.model == GG_PF_MODEL_INS) {
+    // Process noise from the INS specification (Table I, the 1-sigma values the designer knows),
+    // not from the errors drawn for the flight. da = g psi + accelerometer error: psi is driven
+    // by the gyro noise (random walk, g * 2 urad/s/sqrt(Hz)) and the gyro bias (a ramp g eps t,
+    // represented by a random walk matching its spread over the longest gap without
+    // information, tau = the 1500 s Channel); dv by the accelerometer noise; no white position
+    // noise (the INS position error has none: it diffuses through dv and da).
     const double dtp = 1.0 / cfg.grad.rate_hz, tau = 1500.0;
     const double arw = kG0 * e.gyro_noise, ramp = kG0 * e.gyro_bias;
-    pc.q_acc = cfg.q_acc >= 0 ? cfg.q_acc : std::sqrt((arw * arw + ramp * ramp * tau) * dtp);
     const double b = kG0 * e.acc_bias_g, no = kG0 * e.acc_nonorth;
+    pc.q_pos = cfg.q_pos >= 0 ? cfg.q_pos : 0.0;
+    pc.q_vel = cfg.q_vel >= 0 ? cfg.q_vel : kG0 * e.acc_noise_g * std::sqrt(dtp);
+    pc.q_acc = cfg.q_acc >= 0 ? cfg.q_acc : std::sqrt((arw * arw + ramp * ramp * tau) * dtp);
     pc.sigma0_acc = cfg.sigma0_acc >= 0 ? cfg.sigma0_acc : std::sqrt(b * b + no * no);
+    pc.sigma0_vel = cfg.sigma0_vel >= 0 ? cfg.sigma0_vel : 0.0;  // perfect initial alignment
+    pc.reg_bw = cfg.reg_bw >= 0 ? cfg.reg_bw : 0.5;
+  } else {  // the first version's settings
+    pc.q_pos = cfg.q_pos >= 0 ? cfg.q_pos : 2.0;
+    pc.q_vel = cfg.q_vel >= 0 ? cfg.q_vel : 0.02;
+    pc.sigma0_vel = cfg.sigma0_vel >= 0 ? cfg.sigma0_vel : 0.05;
+    pc.reg_bw = cfg.reg_bw >= 0 ? cfg.reg_bw : 0.0;
   }
-  pc.reg_bw = cfg.reg_bw;
   pc.dt = 1.0 / cfg.grad.rate_hz;
   pc.gain = cfg.gain;
-  pc.ess_frac = 0.5;
+  pc.ess_frac = cfg.ess_frac;
   pc.map.gzz = map_gzz;
   pc.map.ctx = &map;
   static thread_local gg_gmap_t gm;
@@ -176,11 +185,13 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
       // INS position (truth + error) and altimeter
       const double lat_i = lat + dr(0) / (RM + h), lon_i = lon + dr(1) / ((RN + h) * cl);
       const double h_alt = h + cfg.alt_noise * n01(rng);
-      if (have_tile) {  // page the tile: re-centre on the INS position
-        const double dn = (lat_i - tile_lat) * (RM + h), de = (lon_i - tile_lon) * (RN + h) * cl;
-        if (std::hypot(dn, de) > cfg.tile_recentre && build_tile(map, lat_i, lon_i, h, cfg.tile_step, &tile) &&
+      if (have_tile) {  // page the tile: re-centre on the corrected position (or the raw INS)
+        const double ce = cfg.tile_on_estimate ? 1.0 : 0.0;
+        const double lat_t = lat_i + ce * corr[0] / (RM + h), lon_t = lon_i + ce * corr[1] / ((RN + h) * cl);
+        const double dn = (lat_t - tile_lat) * (RM + h), de = (lon_t - tile_lon) * (RN + h) * cl;
+        if (std::hypot(dn, de) > cfg.tile_recentre && build_tile(map, lat_t, lon_t, h, cfg.tile_step, &tile) &&
             gg_gmap_init(&gm, &tile) == GG_OK) {
-          tile_lat = lat_i; tile_lon = lon_i; ++res.tiles;
+          tile_lat = lat_t; tile_lon = lon_t; ++res.tiles;
         }
       }
       if (cfg.run_pf) {
@@ -195,6 +206,7 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
           corr[0] = out.corr[0]; corr[1] = out.corr[1];
           last_ess = out.ess;
           if (out.health & GG_PF_H_DEGENERATE) ++res.degenerate;
+          if (out.health & GG_PF_H_MAP_MISS) ++res.map_miss;
           if (out.health & GG_PF_H_RESAMPLED) ++res.resampled;
         }
       }

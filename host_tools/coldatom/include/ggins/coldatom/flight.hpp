@@ -47,13 +47,18 @@ struct FlightConfig {
   InsErrorParams ins;
   int particles = 500;
   double sigma_like = 0;   // 0: max(0.001, gradiometer expected_sigma)
-  double sigma0_pos = 50, sigma0_vel = 0.05;
-  double q_pos = 2.0, q_vel = 0.02;
-  // particle dynamics: GG_PF_MODEL_RW (above) or GG_PF_MODEL_INS (Schuler/Coriolis INS error
-  // dynamics with a specific-force error state); for INS, negative values = from Table I
-  int model = 0;
+  // Particle dynamics: 1 = GG_PF_MODEL_INS (default): the INS error dynamics (Schuler, Coriolis)
+  // with a specific-force error state; 0 = GG_PF_MODEL_RW: the random-walk velocity of the first
+  // version (q_pos 2 m, q_vel 0.02 m/s per shot, sigma0_vel 0.05 m/s, no regularisation).
+  // Negative values: the model's default - for INS from the INS specification (Table I, see fly()):
+  // q_pos 0, q_vel = g0 acc_noise sqrt(dt), q_acc = g0 sqrt((gyro_noise^2 + gyro_bias^2 tau) dt),
+  // sigma0_acc = g0 sqrt(acc_bias^2 + acc_nonorth^2), sigma0_vel 0 (perfect alignment).
+  int model = 1;
+  double sigma0_pos = 50, sigma0_vel = -1;
+  double q_pos = -1, q_vel = -1;
   double sigma0_acc = -1, q_acc = -1;
-  double reg_bw = 0;       // regularised resampling bandwidth (multiple of Silverman's), 0 off
+  double reg_bw = -1;      // regularised resampling bandwidth, multiple of Silverman's (INS: 0.5, RW: 0 = off)
+  double ess_frac = 0.5;   // resample when N_eff < ess_frac N (paper: 1/2)
   double gain = 0.05;
   double alt_noise = 5.0;  // m
   int batch = 20;          // pairs per ellipse fit
@@ -64,8 +69,12 @@ struct FlightConfig {
   // at 250 m spacing (12 km square) around the INS position, re-centred when the
   // INS is more than tile_recentre metres from its centre (the host pages tiles,
   // as a flight would). false: the route map directly (host double precision).
+  // The tile is paged around the filter's corrected position INS + corr (tile_on_estimate; the
+  // candidates lie around it) - false: around the raw INS position (before 2026-12: candidates
+  // more than ~3-6 km from the drifting INS fell off the tile and got weight 0).
   bool use_gmap = true;
-  double tile_step = 250.0, tile_recentre = 3000.0;
+  bool tile_on_estimate = true;
+  double tile_step = 250.0, tile_recentre = 2000.0;
   std::uint64_t seed = 1;
 };
 
@@ -78,7 +87,7 @@ struct FlightResult {
   // velocity error of the particle mean (m/s), velocity spread (m/s), true |INS velocity error| (m/s)
   std::vector<double> d_err_mean, d_spread, d_ess, d_verr, d_vspread, d_ins_dv;
   double pf_step_ns_median = 0;
-  int shots = 0, failed = 0, degenerate = 0, resampled = 0, tiles = 0;
+  int shots = 0, failed = 0, degenerate = 0, resampled = 0, tiles = 0, map_miss = 0;
   double mean_aided = 0, mean_unaided = 0, final_unaided = 0, final_aided = 0;
 };
 
