@@ -3,6 +3,7 @@
  * reckoning or onboard model), mechanize, damp the vertical channel with the
  * barometer; one fixed step per frame. */
 #include "ggins/nav2d.h"
+#include "ggins/navtask.h"
 
 #include <stddef.h>
 
@@ -10,19 +11,6 @@
 #define AX_X 0U
 #define AX_Z 2U
 #define N_ACC_2D 4
-/* a residual below double resolution can never exceed ulp(f_max)/2; anything
- * larger is a malformed reading: 1e-9 m/s^2 is far above that, far below use */
-#define F_LO_MAX 1e-9
-
-static uint32_t cycles_now(const gg_hal_t *hal)
-{
-    uint32_t c = 0U;
-    if ((hal != NULL) && (hal->cycle_count != NULL)) {
-        c = hal->cycle_count(hal->ctx);
-    }
-    return c;
-}
-
 static gg_real_t norm3(const gg_real_t v[3])
 {
     return sqrtl((v[0] * v[0]) + (v[1] * v[1]) + (v[2] * v[2]));
@@ -137,58 +125,21 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
         const double fz = fr->f[i][AX_Z];
         const double lx = fr->f_lo[i][AX_X];
         const double lz = fr->f_lo[i][AX_Z];
+        const uint32_t hx = gg_task_check_reading(fx, lx, nav->cfg.f_max);
+        const uint32_t hz = gg_task_check_reading(fz, lz, nav->cfg.f_max);
         if (fr->acc_status[i] != GG_SENSOR_OK) {
             h |= GG_HEALTH_ACC_SENSOR;
             kb |= GG_FDI_BIT(i, 0) | GG_FDI_BIT(i, 1);
         }
-        if (!GG_ISFINITE(fx) || !GG_ISFINITE(lx)) {
-            h |= GG_HEALTH_ACC_NONFINITE;
-            kb |= GG_FDI_BIT(i, 0);
-        } else if ((fx > nav->cfg.f_max) || (fx < -nav->cfg.f_max) || (lx > F_LO_MAX) ||
-                   (lx < -F_LO_MAX)) {
-            h |= GG_HEALTH_ACC_RANGE;
-            kb |= GG_FDI_BIT(i, 0);
-        } else {
-            /* x reading usable */
-        }
-        if (!GG_ISFINITE(fz) || !GG_ISFINITE(lz)) {
-            h |= GG_HEALTH_ACC_NONFINITE;
-            kb |= GG_FDI_BIT(i, 1);
-        } else if ((fz > nav->cfg.f_max) || (fz < -nav->cfg.f_max) || (lz > F_LO_MAX) ||
-                   (lz < -F_LO_MAX)) {
-            h |= GG_HEALTH_ACC_RANGE;
-            kb |= GG_FDI_BIT(i, 1);
-        } else {
-            /* z reading usable */
-        }
+        h |= hx | hz;
+        kb |= (hx != 0U) ? GG_FDI_BIT(i, 0) : 0U;
+        kb |= (hz != 0U) ? GG_FDI_BIT(i, 1) : 0U;
     }
     *known_bad = kb;
-    if ((fr->utime < 0) || (fr->utime > GG_TIME_MAX) || (fr->seq < 0) || (fr->seq > GG_TIME_MAX)) {
-        h |= GG_HEALTH_TIME_JUMP; /* outside the accepted range: differences could overflow */
-    } else if (nav->started != 0) {
-        if (fr->seq <= nav->last_seq) {
-            h |= GG_HEALTH_SEQ_REPEAT;
-        } else {
-            /* n frames missing: bridged if n <= GG_NAV2D_MAX_BRIDGE and the
-             * time stamp is (n + 1) steps on */
-            const int64_t n = (fr->seq - nav->last_seq) - 1;
-            if (n > GG_NAV2D_MAX_BRIDGE) {
-                h |= GG_HEALTH_SEQ_GAP | GG_HEALTH_TIME_JUMP;
-            } else {
-                const int64_t dt = fr->utime - nav->last_utime;
-                const int64_t err = dt - ((n + 1) * nav->cfg.dt_us);
-                if ((err > nav->cfg.dt_tol_us) || (err < -nav->cfg.dt_tol_us)) {
-                    h |= GG_HEALTH_TIME_JUMP;
-                } else if (n > 0) {
-                    h |= GG_HEALTH_SEQ_GAP;
-                    *missing = n;
-                } else {
-                    /* the next step */
-                }
-            }
-        }
-    } else {
-        /* first frame: nothing to compare with */
+    {
+        const gg_task_seq_t sq = {nav->started, nav->last_seq, nav->last_utime, nav->cfg.dt_us,
+                                  nav->cfg.dt_tol_us, GG_NAV2D_MAX_BRIDGE};
+        h |= gg_task_check_sequence(&sq, fr, missing);
     }
     return h;
 }
@@ -467,9 +418,9 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
         gg_real_t u[3];
         gg_real_t rn = 0.0L;
         uint32_t t1;
-        t0 = cycles_now(hal);
+        t0 = gg_task_cycles(hal);
         st = gg_mech_step_position(&nav->mech, dr);
-        t1 = cycles_now(hal);
+        t1 = gg_task_cycles(hal);
         cyc[GG_MOD_MECH] = t1 - t0;
         if ((st == GG_OK) && (nav->cfg.gravity_mode == GG_GRAVITY_GRADIOMETER)) {
             st = gg_gravdr_step(&nav->gravdr, d->gamma, dr);
@@ -481,7 +432,7 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
                 *health |= GG_HEALTH_MODEL_OUTSIDE;
             }
         }
-        t0 = cycles_now(hal);
+        t0 = gg_task_cycles(hal);
         cyc[GG_MOD_GRAVDR] = t0 - t1;
         /* specific force less the vertical loop's integral state along up */
         if (st == GG_OK) {
@@ -499,13 +450,13 @@ static gg_status_t advance(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2
             }
             st = gg_mech_step_velocity(&nav->mech, f_next, g);
         }
-        cyc[GG_MOD_MECH] += cycles_now(hal) - t0;
+        cyc[GG_MOD_MECH] += gg_task_cycles(hal) - t0;
     }
-    t0 = cycles_now(hal);
+    t0 = gg_task_cycles(hal);
     if (st == GG_OK) {
         st = baro_step(nav, fr, d->gamma, health);
     }
-    cyc[GG_MOD_VCHAN] = cycles_now(hal) - t0;
+    cyc[GG_MOD_VCHAN] = gg_task_cycles(hal) - t0;
     return st;
 }
 
@@ -543,7 +494,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
                           gg_nav_output_t *out)
 {
     uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U};
-    const uint32_t t_start = cycles_now(hal);
+    const uint32_t t_start = gg_task_cycles(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
     gg_diff2d_output_t d = {0};
@@ -583,7 +534,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
             in.f_lo[i][0] = ((known_bad & bx) != 0U) ? 0.0 : frame->f_lo[i][AX_X];
             in.f_lo[i][1] = ((known_bad & bz) != 0U) ? 0.0 : frame->f_lo[i][AX_Z];
         }
-        t0 = cycles_now(hal);
+        t0 = gg_task_cycles(hal);
         st = expected_parity(nav, p_exp);
         if (st == GG_OK) {
             st = gg_fdi2d_step(&nav->fdi, known_bad, p_exp, &in, &fo);
@@ -591,7 +542,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         if (st == GG_OK) {
             st = gg_diff2d_step(&nav->diff, &in, &d);
         }
-        cyc[GG_MOD_DIFF] = cycles_now(hal) - t0;
+        cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
         health |= fdi_health(&fo);
     }
     if (st == GG_OK) {
@@ -642,20 +593,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     out->parity_f[0] = (double)fo.p_x;
     out->parity_f[1] = (double)fo.p_z;
     out->acc_rebuilt = fo.rebuilt;
-    cyc[GG_MOD_TOTAL] = cycles_now(hal) - t_start;
-    if ((hal != NULL) && (hal->cycle_count != NULL) && (hal->cycles_per_second > 0U)) {
-        const uint64_t budget =
-            ((uint64_t)nav->cfg.dt_us * (uint64_t)hal->cycles_per_second) / 1000000U;
-        if ((uint64_t)cyc[GG_MOD_TOTAL] > budget) {
-            out->health |= GG_HEALTH_DEADLINE;
-        }
-    }
-    {
-        size_t m;
-        for (m = 0U; m < (size_t)GG_MOD_COUNT; ++m) {
-            out->cycles[m] = cyc[m];
-        }
-    }
+    out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;
 }
 

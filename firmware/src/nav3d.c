@@ -1,6 +1,7 @@
 /* Navigation task of the 3-D gravity-gradiometer INS on a rotating WGS-84
  * Earth; frames, equations and the reasons for them in nav3d.h. */
 #include "ggins/nav3d.h"
+#include "ggins/navtask.h"
 
 #include <stddef.h>
 
@@ -8,23 +9,11 @@
 
 #define N_ACC_3D 6
 /* a residual below double resolution can never exceed ulp(f_max)/2 (nav2d.c) */
-#define F_LO_MAX 1e-9
 /* |q0| must be 1 to this tolerance */
 #define Q_NORM_TOL 1.0e-6L
 /* geodetic conversion: no point within this distance of the centre, m */
 #define R_GEODETIC_MIN_M 1.0e5L
 #define BOWRING_ITER 4U
-
-static uint32_t n3_cycles_now(const gg_hal_t *hal)
-{
-    uint32_t c = 0U;
-    if ((hal != NULL) && (hal->cycle_count != NULL)) {
-        c = hal->cycle_count(hal->ctx);
-    }
-    return c;
-}
-
-/* ---------------------------------------------------------------- algebra */
 
 static gg_real_t dot3(const gg_real_t a[3], const gg_real_t b[3])
 {
@@ -419,16 +408,7 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, int6
             h |= GG_HEALTH_ACC_SENSOR;
         }
         for (j = 0; j < 3; ++j) {
-            const double f = fr->f[i][j];
-            const double l = fr->f_lo[i][j];
-            if (!GG_ISFINITE(f) || !GG_ISFINITE(l)) {
-                h |= GG_HEALTH_ACC_NONFINITE;
-            } else if ((f > nav->cfg.f_max) || (f < -nav->cfg.f_max) || (l > F_LO_MAX) ||
-                       (l < -F_LO_MAX)) {
-                h |= GG_HEALTH_ACC_RANGE;
-            } else {
-                /* usable */
-            }
+            h |= gg_task_check_reading(fr->f[i][j], fr->f_lo[i][j], nav->cfg.f_max);
         }
     }
     if (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) {
@@ -442,30 +422,10 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, int6
             }
         }
     }
-    if ((fr->utime < 0) || (fr->utime > GG_TIME_MAX) || (fr->seq < 0) || (fr->seq > GG_TIME_MAX)) {
-        h |= GG_HEALTH_TIME_JUMP;
-    } else if (nav->started != 0) {
-        if (fr->seq <= nav->last_seq) {
-            h |= GG_HEALTH_SEQ_REPEAT;
-        } else {
-            const int64_t n = (fr->seq - nav->last_seq) - 1;
-            if (n > GG_NAV3D_MAX_BRIDGE) {
-                h |= GG_HEALTH_SEQ_GAP | GG_HEALTH_TIME_JUMP;
-            } else {
-                const int64_t dt = fr->utime - nav->last_utime;
-                const int64_t err = dt - ((n + 1) * nav->cfg.dt_us);
-                if ((err > nav->cfg.dt_tol_us) || (err < -nav->cfg.dt_tol_us)) {
-                    h |= GG_HEALTH_TIME_JUMP;
-                } else if (n > 0) {
-                    h |= GG_HEALTH_SEQ_GAP;
-                    *missing = n;
-                } else {
-                    /* the next step */
-                }
-            }
-        }
-    } else {
-        /* first frame */
+    {
+        const gg_task_seq_t sq = {nav->started, nav->last_seq, nav->last_utime, nav->cfg.dt_us,
+                                  nav->cfg.dt_tol_us, GG_NAV3D_MAX_BRIDGE};
+        h |= gg_task_check_sequence(&sq, fr, missing);
     }
     return h;
 }
@@ -879,7 +839,7 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
         gg_acc_t g_i[3];
         uint32_t t1;
         size_t j;
-        t0 = n3_cycles_now(hal);
+        t0 = gg_task_cycles(hal);
         st = gg_sincos(th1, &s1, &c1);
         if ((st == GG_OK) && (nav->cfg.platform == GG_PLATFORM_STRAPDOWN)) {
             st = attitude_step(nav, in->w, in->omega_dot);
@@ -892,12 +852,12 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
             mat_vec(cb, in->f_b, f_i);
             st = gg_mech_get(&nav->mech, r_k, v_k);
         }
-        t1 = n3_cycles_now(hal);
+        t1 = gg_task_cycles(hal);
         cyc[GG_MOD_DIFF] += t1 - t0;
         if (st == GG_OK) {
             st = gg_mech_step_position(&nav->mech, dr_i);
         }
-        t0 = n3_cycles_now(hal);
+        t0 = gg_task_cycles(hal);
         cyc[GG_MOD_MECH] += t0 - t1;
         if (st == GG_OK) {
             /* dr_e = R3(-th1) dr_i + [R3(-th1) - R3(-th0)] r_i(k); c1 - c0 = -2 sh sm,
@@ -924,7 +884,7 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
         if (st == GG_OK) {
             st = current_g_i(nav, s1, c1, g_i, health);
         }
-        t1 = n3_cycles_now(hal);
+        t1 = gg_task_cycles(hal);
         cyc[GG_MOD_GRAVDR] += t1 - t0;
         if (st == GG_OK) {
             gg_real_t u[3] = {0.0L, 0.0L, 0.0L};
@@ -939,7 +899,7 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
                 st = gg_mech_step_velocity(&nav->mech, f_next, g_i);
             }
         }
-        cyc[GG_MOD_MECH] += n3_cycles_now(hal) - t1;
+        cyc[GG_MOD_MECH] += gg_task_cycles(hal) - t1;
         if (st == GG_OK) {
             nav->n_steps += 1;
             nav->sin_th = s1;
@@ -953,11 +913,11 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
             nav->n_w = (nav->n_w < 3) ? (nav->n_w + 1) : 3;
         }
     }
-    t0 = n3_cycles_now(hal);
+    t0 = gg_task_cycles(hal);
     if (st == GG_OK) {
         st = n3_baro_step(nav, fr, health);
     }
-    cyc[GG_MOD_VCHAN] += n3_cycles_now(hal) - t0;
+    cyc[GG_MOD_VCHAN] += gg_task_cycles(hal) - t0;
     return st;
 }
 
@@ -1230,7 +1190,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
                           gg_nav3d_output_t *out)
 {
     uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U};
-    const uint32_t t_start = n3_cycles_now(hal);
+    const uint32_t t_start = gg_task_cycles(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
     step_in_t in;
@@ -1258,9 +1218,9 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     } else if ((health & (GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
         st = GG_ERR_SEQUENCE;
     } else {
-        const uint32_t t0 = n3_cycles_now(hal);
+        const uint32_t t0 = gg_task_cycles(hal);
         st = difference(nav, frame, &in);
-        cyc[GG_MOD_DIFF] = n3_cycles_now(hal) - t0;
+        cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
     }
     if (st == GG_OK) {
         /* module states saved so a failure part-way leaves nothing changed */
@@ -1302,20 +1262,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         health |= GG_HEALTH_FRAME_REJECTED;
     }
     n3_fill_output(nav, frame, st, health, out);
-    cyc[GG_MOD_TOTAL] = n3_cycles_now(hal) - t_start;
-    if ((hal != NULL) && (hal->cycle_count != NULL) && (hal->cycles_per_second > 0U)) {
-        const uint64_t budget =
-            ((uint64_t)nav->cfg.dt_us * (uint64_t)hal->cycles_per_second) / 1000000U;
-        if ((uint64_t)cyc[GG_MOD_TOTAL] > budget) {
-            out->health |= GG_HEALTH_DEADLINE;
-        }
-    }
-    {
-        size_t m;
-        for (m = 0U; m < (size_t)GG_MOD_COUNT; ++m) {
-            out->cycles[m] = cyc[m];
-        }
-    }
+    out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;
 }
 
