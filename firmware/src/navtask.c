@@ -1,31 +1,7 @@
 /* Helpers shared by the navigation tasks (navtask.h). */
 #include "ggins/navtask.h"
-#include "ggins/real.h"
 
 #include <stddef.h>
-
-uint32_t gg_task_cycles(const gg_hal_t *hal)
-{
-    uint32_t c = 0U;
-    if ((hal != NULL) && (hal->cycle_count != NULL)) {
-        c = hal->cycle_count(hal->ctx);
-    }
-    return c;
-}
-
-uint32_t gg_task_check_reading(double f, double lo, double f_max)
-{
-    uint32_t h = 0U;
-    if (!GG_ISFINITE(f) || !GG_ISFINITE(lo)) {
-        h = GG_HEALTH_ACC_NONFINITE;
-    } else if ((f > f_max) || (f < -f_max) || (lo > GG_TASK_F_LO_MAX) ||
-               (lo < -GG_TASK_F_LO_MAX)) {
-        h = GG_HEALTH_ACC_RANGE;
-    } else {
-        /* usable */
-    }
-    return h;
-}
 
 uint32_t gg_task_check_sequence(const gg_task_seq_t *seq, const gg_frame_t *fr, int64_t *missing)
 {
