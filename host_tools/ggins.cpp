@@ -18,10 +18,14 @@ static const struct {
     {"run3d", "3-D system (issue 7): fly a 3-D scenario over LCM (or --direct); summary.json, CSV, plots"},
     {"covariance", "covariance propagation of the linear error model (Table I of Welker et al.)"},
     {"montecarlo", "Monte Carlo host-in-the-loop runs against the covariance prediction"},
+    {"covariance3d", "3-D error analysis on the rotating Earth: covariance, eigenvalues (issue 7)"},
+    {"montecarlo3d", "3-D Monte Carlo of the firmware against the 3-D covariance (chi-square band)"},
+    {"rw-eq8", "Rubenstein & Winter eq. 8: conventional INS in a random deflection field, Monte Carlo"},
     {"profile", "per-module firmware step timing for a scenario"},
     {"replay", "replay a recorded LCM log through the firmware, bit for bit"},
     {"gmap", "onboard gravity-gradient map tile from EGM96 (binary/JSON) for the map-matching filters"},
     {"mapnav", "gravity-gradient map matching UKF (Gao et al.) voyage vs pure inertial, Monte Carlo, NEES/NIS"},
+    {"coldatom", "cold-atom partial-gradient particle filter (Phillips et al.): Liverpool-Toulouse flights, sweeps"},
 };
 
 static void usage(FILE* out) {
