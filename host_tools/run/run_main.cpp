@@ -7,13 +7,9 @@
 // lockstep mode) waits for the navigation output of step k, compares every
 // output with the truth, and writes summary.json, timeseries.csv and plots.
 // See `ggins run --help`.
-#include <fcntl.h>
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
-#include <netinet/in.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -32,7 +28,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -45,39 +40,23 @@
 #include "ggins/truth/generator.hpp"
 #include "ggins/truth/survey.hpp"
 #include "ggins/truth_t.hpp"
-
-extern char** environ;
+#include "hil_common.hpp"
 
 namespace fs = std::filesystem;
 using ggins::truth::Real;
 using ggins::truth::Vec3;
 using json = nlohmann::json;
+using ggins::hil::Fail;
+using ggins::hil::free_udp_ports;
+using ggins::hil::hilo;
+using ggins::hil::mono_s;
+using ggins::hil::Recorder;
+using ggins::hil::spawn;
+using ggins::hil::stop_child;
+using ggins::hil::wait_child;
+using ggins::hil::wall_us;
 
 namespace {
-
-volatile sig_atomic_t g_interrupted = 0;
-extern "C" void on_sigint(int) { g_interrupted = 1; }
-
-double mono_s() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-int64_t wall_us() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000 + ts.tv_nsec / 1000;
-}
-
-struct Fail : std::runtime_error {
-  int code;
-  Fail(const std::string& m, int c = 1) : std::runtime_error(m), code(c) {}
-};
-
-void hilo(Real x, double& hi, double& lo) {
-  hi = static_cast<double>(x);
-  lo = static_cast<double>(x - static_cast<Real>(hi));
-}
 
 uint64_t fnv1a(const std::string& s) {
   uint64_t h = 1469598103934665603ULL;
@@ -88,73 +67,10 @@ uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
-// Free UDP ports right now (the kernel's choice, all different); LCM's
-// multicast sockets on them are then private to this run, so parallel runs do
-// not cross-talk.
-std::vector<int> free_udp_ports(int n) {
-  std::vector<int> fds, ports;
-  for (int i = 0; i < n; ++i) {
-    int fd = socket(AF_INET, SOCK_DGRAM, 0);
-    if (fd < 0) break;
-    fds.push_back(fd);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_ANY);
-    a.sin_port = 0;
-    socklen_t len = sizeof a;
-    if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-        getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0)
-      break;
-    ports.push_back(ntohs(a.sin_port));
-  }
-  for (int fd : fds) close(fd);
-  if (static_cast<int>(ports.size()) != n) ports.clear();
-  return ports;
-}
-
 const char* kMulticastFix =
     "  UDP multicast on the loopback interface is needed for LCM. Fix (as root):\n"
     "    ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo\n"
     "  (scripts/setup does this when it runs as root.)";
-
-pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  std::vector<char*> av;
-  for (const auto& a : argv) av.push_back(const_cast<char*>(a.c_str()));
-  av.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, av[0], &fa, nullptr, av.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) throw Fail("cannot start " + argv[0] + ": " + std::strerror(rc));
-  return pid;
-}
-
-// Wait up to timeout_s for a child; returns its status or -1 if still running.
-int wait_child(pid_t pid, double timeout_s) {
-  const double end = mono_s() + timeout_s;
-  for (;;) {
-    int st = 0;
-    pid_t r = waitpid(pid, &st, WNOHANG);
-    if (r == pid) return st;
-    if (r < 0) return 0;
-    if (mono_s() > end) return -1;
-    usleep(5000);
-  }
-}
-
-void stop_child(pid_t& pid, int sig, double grace_s) {
-  if (pid <= 0) return;
-  kill(pid, sig);
-  if (wait_child(pid, grace_s) == -1) {
-    kill(pid, SIGKILL);
-    wait_child(pid, 2.0);
-  }
-  pid = -1;
-}
 
 struct Stats {  // running max / final of one error quantity
   double max = 0, final = 0;
@@ -204,39 +120,6 @@ class CycleStats {
   std::vector<uint64_t> bins_;
   std::vector<uint32_t> big_;
   uint64_t n_ = 0;
-};
-
-// LCM log written by this process: every message it publishes and every
-// message it receives on the run's channels, in the LCM event-log format
-// (lcm-logplayer plays it). Nothing can be dropped between the wire and the
-// file, unlike a separate lcm-logger that must keep up with ~10^4 messages/s.
-class Recorder {
- public:
-  explicit Recorder(const fs::path& p) {
-    log_ = lcm_eventlog_create(p.c_str(), "w");
-    if (!log_) throw Fail("cannot create LCM log " + p.string());
-    setvbuf(log_->f, nullptr, _IOFBF, 1 << 20);
-  }
-  ~Recorder() { close(); }
-  void write(const std::string& ch, const void* data, int len, int64_t utime) {
-    if (!log_) return;
-    lcm_eventlog_event_t e{};
-    e.eventnum = n_++;
-    e.timestamp = utime;
-    e.channellen = static_cast<int32_t>(ch.size());
-    e.datalen = len;
-    e.channel = const_cast<char*>(ch.c_str());
-    e.data = const_cast<void*>(data);
-    if (lcm_eventlog_write_event(log_, &e) != 0) throw Fail("writing the LCM log failed (disk full?)");
-  }
-  void close() {
-    if (log_) lcm_eventlog_destroy(log_);
-    log_ = nullptr;
-  }
-
- private:
-  lcm_eventlog_t* log_ = nullptr;
-  int64_t n_ = 0;
 };
 
 std::string module_name(int j) {
@@ -643,8 +526,7 @@ void Runner::send_control(int32_t cmd) {
 }
 
 void Runner::handle(double timeout_s) {
-  const int ms = std::max(0, static_cast<int>(std::ceil(timeout_s * 1000.0)));
-  if (lcm_handle_timeout(lcm_, ms) < 0 && errno != EINTR) throw Fail("lcm_handle_timeout failed");
+  ggins::hil::handle_lcm(lcm_, timeout_s);
 }
 
 void Runner::check_children() {
@@ -656,7 +538,7 @@ void Runner::check_children() {
                  "); see " + (out_ / "hal_sim.log").string());
     }
   }
-  if (g_interrupted) throw Fail("interrupted", 130);
+  if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
 }
 
 // ---- setup -------------------------------------------------------------------------
@@ -707,11 +589,11 @@ void Runner::start_logger() {
 }
 
 void Runner::start_hal_sim() {
-  hal_pid_ = spawn({opt_.hal_sim, "--lcm-url", url_, "--lcm-url-out", url_in_, "--prefix", opt_.prefix, "--run-id", std::to_string(run_id_),
-                    "--gap-timeout-ms", std::to_string(std::max(2, opt_.resend_timeout_ms / 2)), "--idle-timeout-s", "30",
-                    "--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
-                    std::to_string(sc_.transport.seed)},
-                   out_ / "hal_sim.log");
+  std::vector<std::string> argv =
+      ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms);
+  argv.insert(argv.end(), {"--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
+                           std::to_string(sc_.transport.seed)});
+  hal_pid_ = spawn(argv, out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
     handle(0.05);
@@ -986,8 +868,7 @@ json Runner::run() {
   csv_every_ = std::max<int64_t>(1, std::llround(rate / sc_.output.csv_rate_hz));
   tty_ = isatty(2);
 
-  std::random_device rd;
-  run_id_ = static_cast<int64_t>((static_cast<uint64_t>(rd()) << 31 ^ rd() ^ static_cast<uint64_t>(getpid())) & 0x7fffffffffffffffULL);
+  run_id_ = ggins::hil::new_run_id();
   if (!opt_.lcm_url.empty()) {
     url_ = url_in_ = opt_.lcm_url;
   } else {
@@ -1225,21 +1106,6 @@ json Runner::run() {
   return s;
 }
 
-std::string utc_stamp() {
-  char b[32];
-  std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
-  return b;
-}
-
-fs::path self_dir() {
-  std::error_code ec;
-  fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::current_path() : p.parent_path();
-}
-
 void write_json(const fs::path& p, const json& j) {
   std::ofstream o(p);
   o << j.dump(2) << "\n";
@@ -1372,20 +1238,13 @@ int main(int argc, char** argv) {
     std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
     return 0;
   }
-  if (o.hal_sim.empty()) o.hal_sim = (self_dir() / "hal_sim").string();
+  if (o.hal_sim.empty()) o.hal_sim = (ggins::hil::self_dir() / "hal_sim").string();
   if (access(o.hal_sim.c_str(), X_OK) != 0) {
     std::fprintf(stderr, "ggins run: hal_sim not found at %s (build it, or give --hal-sim)\n", o.hal_sim.c_str());
     return 2;
   }
-  fs::path out = o.out.empty() ? fs::path("out") / (sc.name + "-" + utc_stamp()) : fs::path(o.out);
   std::error_code ec;
-  if (o.out.empty()) {  // a fresh folder, also when runs start in the same second
-    fs::create_directories(out.parent_path(), ec);
-    const std::string stem = out.string();
-    for (int i = 2; !ec && !fs::create_directory(out, ec) && i < 10000; ++i) out = stem + "-" + std::to_string(i);
-  } else {
-    fs::create_directories(out, ec);
-  }
+  fs::path out = ggins::hil::create_output_dir(o.out, sc.name, ec);
   if (ec) {
     std::fprintf(stderr, "ggins run: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
     return 2;
@@ -1400,11 +1259,7 @@ int main(int argc, char** argv) {
       << sc.transport.reorder_prob << "/" << sc.transport.output_drop_prob << "\n"
       << sc.text;
   }
-  struct sigaction sa {};
-  sa.sa_handler = on_sigint;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
+  ggins::hil::install_interrupt_handlers();
 
   json summary;
   int rc = 0;

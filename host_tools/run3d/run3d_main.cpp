@@ -8,15 +8,9 @@
 // lockstep sensor_frame_t k on P+FRAME -> nav3d_output_t k on P+NAV3D (a frame
 // whose output does not come within --resend-timeout-ms is sent again; RESEND
 // requests on P+REQUEST are answered), truth3d_t on P+TRUTH3D (decimated), STOP.
-#include <fcntl.h>
-#include <lcm/eventlog.h>
 #include <lcm/lcm.h>
-#include <netinet/in.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -27,9 +21,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -41,92 +35,23 @@
 #include "ggins/run_control_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
-
-extern char** environ;
+#include "hil_common.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using ggins::truth3d::Real;
 using ggins::truth3d::Vec3;
 using ggins::truth3d::Mat3;
+using ggins::hil::Fail;
+using ggins::hil::free_udp_ports;
+using ggins::hil::hilo;
+using ggins::hil::mono_s;
+using ggins::hil::spawn;
+using ggins::hil::stop_child;
+using ggins::hil::wait_child;
+using ggins::hil::wall_us;
 
 namespace {
-
-volatile sig_atomic_t g_interrupted = 0;
-extern "C" void on_sigint(int) { g_interrupted = 1; }
-
-double mono_s() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-int64_t wall_us() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000 + ts.tv_nsec / 1000;
-}
-struct Fail : std::runtime_error {
-  int code;
-  Fail(const std::string& m, int c = 1) : std::runtime_error(m), code(c) {}
-};
-void hilo(Real x, double& hi, double& lo) {
-  hi = static_cast<double>(x);
-  lo = static_cast<double>(x - static_cast<Real>(hi));
-}
-std::vector<int> free_udp_ports(int n) {  // as ggins run: private multicast ports per run
-  std::vector<int> fds, ports;
-  for (int i = 0; i < n; ++i) {
-    int fd = socket(AF_INET, SOCK_DGRAM, 0);
-    if (fd < 0) break;
-    fds.push_back(fd);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_ANY);
-    socklen_t len = sizeof a;
-    if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-        getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0)
-      break;
-    ports.push_back(ntohs(a.sin_port));
-  }
-  for (int fd : fds) close(fd);
-  if (static_cast<int>(ports.size()) != n) ports.clear();
-  return ports;
-}
-pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  std::vector<char*> av;
-  for (const auto& a : argv) av.push_back(const_cast<char*>(a.c_str()));
-  av.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, av[0], &fa, nullptr, av.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) throw Fail("cannot start " + argv[0] + ": " + std::strerror(rc));
-  return pid;
-}
-int wait_child(pid_t pid, double timeout_s) {
-  const double end = mono_s() + timeout_s;
-  for (;;) {
-    int st = 0;
-    pid_t r = waitpid(pid, &st, WNOHANG);
-    if (r == pid) return st;
-    if (r < 0) return 0;
-    if (mono_s() > end) return -1;
-    usleep(5000);
-  }
-}
-void stop_child(pid_t& pid) {
-  if (pid <= 0) return;
-  kill(pid, SIGTERM);
-  if (wait_child(pid, 1.0) == -1) {
-    kill(pid, SIGKILL);
-    wait_child(pid, 2.0);
-  }
-  pid = -1;
-}
 
 struct Options {
   std::string scenario = "3d-stabilized-1h";
@@ -170,20 +95,9 @@ class Runner3 {
     record(ch, buf_.data(), n, wall_us());
   }
   void record(const std::string& ch, const void* d, int n, int64_t ut) {
-    if (!log_) return;
-    lcm_eventlog_event_t e{};
-    e.eventnum = log_n_++;
-    e.timestamp = ut;
-    e.channellen = static_cast<int32_t>(ch.size());
-    e.datalen = n;
-    e.channel = const_cast<char*>(ch.c_str());
-    e.data = const_cast<void*>(d);
-    if (lcm_eventlog_write_event(log_, &e) != 0) throw Fail("writing the LCM log failed");
+    if (log_) log_->write(ch, d, n, ut);
   }
-  void handle(double timeout_s) {
-    const int ms = std::max(0, static_cast<int>(std::ceil(timeout_s * 1000.0)));
-    if (lcm_handle_timeout(lcm_, ms) < 0 && errno != EINTR) throw Fail("lcm_handle_timeout failed");
-  }
+  void handle(double timeout_s) { ggins::hil::handle_lcm(lcm_, timeout_s); }
   void check_children();
   void send_frame(int64_t k);
   void send_control(int32_t cmd);
@@ -200,8 +114,7 @@ class Runner3 {
   fs::path out_;
   std::string url_, url_in_;
   lcm_t *lcm_ = nullptr, *lcm_out_ = nullptr;
-  lcm_eventlog_t* log_ = nullptr;
-  int64_t log_n_ = 0;
+  std::unique_ptr<ggins::hil::Recorder> log_;
   pid_t hal_pid_ = -1;
   int64_t run_id_ = 0;
   std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_;
@@ -314,7 +227,7 @@ void Runner3::check_children() {
       throw Fail("hal_sim exited unexpectedly; see " + (out_ / "hal_sim.log").string());
     }
   }
-  if (g_interrupted) throw Fail("interrupted", 130);
+  if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
 }
 
 void Runner3::send_frame(int64_t k) {
@@ -411,9 +324,7 @@ void Runner3::setup_lcm() {
   lcm_subscription_set_queue_capacity(s, 10000);
   lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
   lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
-  hal_pid_ = spawn({opt_.hal_sim, "--lcm-url", url_, "--lcm-url-out", url_in_, "--prefix", opt_.prefix, "--run-id",
-                    std::to_string(run_id_), "--gap-timeout-ms", std::to_string(std::max(2, opt_.resend_timeout_ms / 2)),
-                    "--idle-timeout-s", "30"},
+  hal_pid_ = spawn(ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms),
                    out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
@@ -493,8 +404,7 @@ void Runner3::cleanup() {
   lcm_out_ = nullptr;
   if (lcm_) lcm_destroy(lcm_);
   lcm_ = nullptr;
-  if (log_) lcm_eventlog_destroy(log_);
-  log_ = nullptr;
+  log_.reset();
 }
 
 void Runner3::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, double step_ns) {
@@ -547,9 +457,7 @@ json Runner3::run() {
   attempts_.assign(static_cast<size_t>(n_), 0);
   csv_every_ = std::max<int64_t>(1, std::llround(sc_.rate_hz / (opt_.csv_rate ? *opt_.csv_rate : sc_.csv_rate_hz)));
   truth_every_ = opt_.truth_rate > 0 ? std::max<int64_t>(1, std::llround(sc_.rate_hz / opt_.truth_rate)) : 1;
-  std::random_device rd;
-  run_id_ = static_cast<int64_t>((static_cast<uint64_t>(rd()) << 31 ^ rd() ^ static_cast<uint64_t>(getpid())) &
-                                 0x7fffffffffffffffULL);
+  run_id_ = ggins::hil::new_run_id();
   const std::string& p = opt_.prefix;
   ch_frame_ = p + "FRAME";
   ch_nav_ = p + "NAV3D";
@@ -582,12 +490,11 @@ json Runner3::run() {
       const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - a).count();
       ++outputs_;
       consume(k, t, o, ns);
-      if (g_interrupted) throw Fail("interrupted", 130);
+      if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
     }
   } else {
     if (!opt_.no_log) {
-      log_ = lcm_eventlog_create((out_ / "run.lcmlog").c_str(), "w");
-      if (!log_) throw Fail("cannot create " + (out_ / "run.lcmlog").string());
+      log_ = std::make_unique<ggins::hil::Recorder>(out_ / "run.lcmlog");
     }
     setup_lcm();
     configure_hal();
@@ -668,20 +575,6 @@ json Runner3::run() {
   return j;
 }
 
-std::string utc_stamp() {
-  char b[32];
-  std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
-  return b;
-}
-fs::path self_dir() {
-  std::error_code ec;
-  fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::current_path() : p.parent_path();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -753,22 +646,15 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (!o.direct) {
-    if (o.hal_sim.empty()) o.hal_sim = (self_dir() / "hal_sim").string();
+    if (o.hal_sim.empty()) o.hal_sim = (ggins::hil::self_dir() / "hal_sim").string();
     if (access(o.hal_sim.c_str(), X_OK) != 0) {
       std::fprintf(stderr, "ggins run3d: hal_sim not found at %s (build it, give --hal-sim, or --direct)\n",
                    o.hal_sim.c_str());
       return 2;
     }
   }
-  fs::path out = o.out.empty() ? fs::path("out") / (sc.name + "-" + utc_stamp()) : fs::path(o.out);
   std::error_code ec;
-  if (o.out.empty()) {
-    fs::create_directories(out.parent_path(), ec);
-    const std::string stem = out.string();
-    for (int i = 2; !ec && !fs::create_directory(out, ec) && i < 10000; ++i) out = stem + "-" + std::to_string(i);
-  } else {
-    fs::create_directories(out, ec);
-  }
+  fs::path out = ggins::hil::create_output_dir(o.out, sc.name, ec);
   if (ec) {
     std::fprintf(stderr, "ggins run3d: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
     return 2;
@@ -779,11 +665,7 @@ int main(int argc, char** argv) {
     f << "# scenario " << sc.name << " from " << sc.source << "\n# effective duration_s = " << sc.duration_s << "\n"
       << sc.text;
   }
-  struct sigaction sa {};
-  sa.sa_handler = on_sigint;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
+  ggins::hil::install_interrupt_handlers();
   json summary;
   try {
     Runner3 r(o, sc, out);

@@ -1,0 +1,192 @@
+// See hil_common.hpp.
+#include "hil_common.hpp"
+
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <random>
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace ggins::hil {
+
+namespace {
+volatile sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
+}  // namespace
+
+double mono_s() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+int64_t wall_us() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000000 + ts.tv_nsec / 1000;
+}
+
+std::vector<int> free_udp_ports(int n) {
+  std::vector<int> fds, ports;
+  for (int i = 0; i < n; ++i) {
+    int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd < 0) break;
+    fds.push_back(fd);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_ANY);
+    a.sin_port = 0;
+    socklen_t len = sizeof a;
+    if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0)
+      break;
+    ports.push_back(ntohs(a.sin_port));
+  }
+  for (int fd : fds) close(fd);
+  if (static_cast<int>(ports.size()) != n) ports.clear();
+  return ports;
+}
+
+int64_t new_run_id() {
+  std::random_device rd;
+  return static_cast<int64_t>((static_cast<uint64_t>(rd()) << 31 ^ rd() ^ static_cast<uint64_t>(getpid())) &
+                              0x7fffffffffffffffULL);
+}
+
+pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  std::vector<char*> av;
+  for (const auto& a : argv) av.push_back(const_cast<char*>(a.c_str()));
+  av.push_back(nullptr);
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, av[0], &fa, nullptr, av.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw Fail("cannot start " + argv[0] + ": " + std::strerror(rc));
+  return pid;
+}
+
+int wait_child(pid_t pid, double timeout_s) {
+  const double end = mono_s() + timeout_s;
+  for (;;) {
+    int st = 0;
+    pid_t r = waitpid(pid, &st, WNOHANG);
+    if (r == pid) return st;
+    if (r < 0) return 0;
+    if (mono_s() > end) return -1;
+    usleep(5000);
+  }
+}
+
+void stop_child(pid_t& pid, int sig, double grace_s) {
+  if (pid <= 0) return;
+  kill(pid, sig);
+  if (wait_child(pid, grace_s) == -1) {
+    kill(pid, SIGKILL);
+    wait_child(pid, 2.0);
+  }
+  pid = -1;
+}
+
+std::vector<std::string> hal_sim_argv(const std::string& hal_sim, const std::string& url_to_hal,
+                                      const std::string& url_from_hal, const std::string& prefix, int64_t run_id,
+                                      int resend_timeout_ms) {
+  return {hal_sim,
+          "--lcm-url",
+          url_to_hal,
+          "--lcm-url-out",
+          url_from_hal,
+          "--prefix",
+          prefix,
+          "--run-id",
+          std::to_string(run_id),
+          "--gap-timeout-ms",
+          std::to_string(std::max(2, resend_timeout_ms / 2)),
+          "--idle-timeout-s",
+          "30"};
+}
+
+void handle_lcm(lcm_t* lcm, double timeout_s) {
+  const int ms = std::max(0, static_cast<int>(std::ceil(timeout_s * 1000.0)));
+  if (lcm_handle_timeout(lcm, ms) < 0 && errno != EINTR) throw Fail("lcm_handle_timeout failed");
+}
+
+Recorder::Recorder(const fs::path& p) {
+  log_ = lcm_eventlog_create(p.c_str(), "w");
+  if (!log_) throw Fail("cannot create LCM log " + p.string());
+  setvbuf(log_->f, nullptr, _IOFBF, 1 << 20);
+}
+
+void Recorder::write(const std::string& ch, const void* data, int len, int64_t utime) {
+  if (!log_) return;
+  lcm_eventlog_event_t e{};
+  e.eventnum = n_++;
+  e.timestamp = utime;
+  e.channellen = static_cast<int32_t>(ch.size());
+  e.datalen = len;
+  e.channel = const_cast<char*>(ch.c_str());
+  e.data = const_cast<void*>(data);
+  if (lcm_eventlog_write_event(log_, &e) != 0) throw Fail("writing the LCM log failed (disk full?)");
+}
+
+void Recorder::close() {
+  if (log_) lcm_eventlog_destroy(log_);
+  log_ = nullptr;
+}
+
+void install_interrupt_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_interrupt;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+bool interrupted() { return g_interrupted != 0; }
+
+std::string utc_stamp() {
+  char b[32];
+  std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  std::strftime(b, sizeof b, "%Y%m%dT%H%M%SZ", &tm);
+  return b;
+}
+
+fs::path self_dir() {
+  std::error_code ec;
+  fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::current_path() : p.parent_path();
+}
+
+fs::path create_output_dir(const std::string& requested, const std::string& name, std::error_code& ec) {
+  ec.clear();
+  fs::path out = requested.empty() ? fs::path("out") / (name + "-" + utc_stamp()) : fs::path(requested);
+  if (requested.empty()) {  // a fresh folder, also when runs start in the same second
+    fs::create_directories(out.parent_path(), ec);
+    const std::string stem = out.string();
+    for (int i = 2; !ec && !fs::create_directory(out, ec) && i < 10000; ++i) out = stem + "-" + std::to_string(i);
+  } else {
+    fs::create_directories(out, ec);
+  }
+  return out;
+}
+
+}  // namespace ggins::hil
