@@ -11,6 +11,7 @@
 #include <toml++/toml.h>
 
 #include "ggins/gravity/normal.hpp"
+#include "ggins/truth/scenario_toml.hpp"
 #include "sensor_faults_parse.hpp"
 
 namespace ggins::truth {
@@ -25,63 +26,18 @@ extern const int kBuiltinScenarioCount;
 
 namespace {
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
-  throw std::runtime_error("scenario " + source + ": " + what);
-}
-
-void check_keys(const toml::table& t, const std::string& where, const std::set<std::string>& allowed,
-                const std::string& source) {
-  for (const auto& [k, v] : t) {
-    (void)v;
-    const std::string key(k.str());
-    if (!allowed.count(key)) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(source, "unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
-    }
-  }
-}
+using scenario_toml::check_keys;
+using scenario_toml::fail;
+using scenario_toml::get_bool;
+using scenario_toml::get_int;
+using scenario_toml::get_num;
+using scenario_toml::get_str;
 
 const toml::table* sub(const toml::table& root, const char* name, const std::string& source) {
   const toml::node* n = root.get(name);
   if (!n) return nullptr;
   if (!n->is_table()) fail(source, std::string("'") + name + "' must be a table ([" + name + "])");
   return n->as_table();
-}
-
-double get_num(const toml::table& t, const std::string& where, const char* key, double dflt,
-               const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (auto d = n->value<double>()) {
-    if (!std::isfinite(*d)) fail(source, where + "." + key + " must be finite");
-    return *d;
-  }
-  fail(source, where + "." + key + " must be a number");
-}
-
-int64_t get_int(const toml::table& t, const std::string& where, const char* key, int64_t dflt,
-                const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (n->is_integer()) return n->as_integer()->get();
-  fail(source, where + "." + key + " must be an integer");
-}
-
-bool get_bool(const toml::table& t, const std::string& where, const char* key, bool dflt,
-              const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (n->is_boolean()) return n->as_boolean()->get();
-  fail(source, where + "." + key + " must be true or false");
-}
-
-std::string get_str(const toml::table& t, const std::string& where, const char* key,
-                    const std::string& dflt, const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (n->is_string()) return n->as_string()->get();
-  fail(source, where + "." + key + " must be a string");
 }
 
 void get_per_axis(const toml::table& t, const std::string& where, const char* key,

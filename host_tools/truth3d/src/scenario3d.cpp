@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <toml++/toml.h>
 
+#include "ggins/truth/scenario_toml.hpp"
+
 namespace ggins::truth3d {
 
 struct BuiltinScenario3 {
@@ -19,19 +21,13 @@ extern const int kBuiltinScenario3Count;
 
 namespace {
 
+namespace scenario_toml = ggins::truth::scenario_toml;
+
 struct P {
   std::string src;
-  [[noreturn]] void fail(const std::string& what) const { throw std::runtime_error("scenario " + src + ": " + what); }
+  [[noreturn]] void fail(const std::string& what) const { scenario_toml::fail(src, what); }
   void keys(const toml::table& t, const std::string& where, const std::set<std::string>& allowed) const {
-    for (const auto& [k, v] : t) {
-      (void)v;
-      const std::string key(k.str());
-      if (!allowed.count(key)) {
-        std::string list;
-        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        fail("unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
-      }
-    }
+    scenario_toml::check_keys(t, where, allowed, src);
   }
   const toml::table* sub(const toml::table& root, const char* name) const {
     const toml::node* n = root.get(name);
@@ -40,31 +36,16 @@ struct P {
     return n->as_table();
   }
   double num(const toml::table& t, const std::string& w, const char* key, double d) const {
-    const toml::node* n = t.get(key);
-    if (!n) return d;
-    if (auto v = n->value<double>()) {
-      if (!std::isfinite(*v)) fail(w + "." + key + " must be finite");
-      return *v;
-    }
-    fail(w + "." + key + " must be a number");
+    return scenario_toml::get_num(t, w, key, d, src);
   }
   int64_t integer(const toml::table& t, const std::string& w, const char* key, int64_t d) const {
-    const toml::node* n = t.get(key);
-    if (!n) return d;
-    if (n->is_integer()) return n->as_integer()->get();
-    fail(w + "." + key + " must be an integer");
+    return scenario_toml::get_int(t, w, key, d, src);
   }
   bool boolean(const toml::table& t, const std::string& w, const char* key, bool d) const {
-    const toml::node* n = t.get(key);
-    if (!n) return d;
-    if (n->is_boolean()) return n->as_boolean()->get();
-    fail(w + "." + key + " must be true or false");
+    return scenario_toml::get_bool(t, w, key, d, src);
   }
   std::string str(const toml::table& t, const std::string& w, const char* key, const std::string& d) const {
-    const toml::node* n = t.get(key);
-    if (!n) return d;
-    if (n->is_string()) return n->as_string()->get();
-    fail(w + "." + key + " must be a string");
+    return scenario_toml::get_str(t, w, key, d, src);
   }
   template <size_t K>
   std::array<double, K> vec(const toml::table& t, const std::string& w, const char* key, std::array<double, K> d) const {
