@@ -6,27 +6,17 @@ exp(sqrt(2) w_s t) (Welker, Pachter & Huffman, section VI).
 usage: plot_covariance.py covariance.csv covariance.png [--title T]
 Needs matplotlib (Debian python3-matplotlib: run with /usr/bin/python3).
 """
-import argparse
-import csv
 import math
+import os
+import sys
 
-import matplotlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plot_common"))
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from ggins_plot_common import read_csv_figure, save  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("csv")
-    ap.add_argument("png")
-    ap.add_argument("--title", default="")
-    a = ap.parse_args()
-    with open(a.csv) as f:
-        rows = list(csv.DictReader(f))
-    col = {k: [float(r[k]) for r in rows] for k in rows[0]}
-    t = [x / 60.0 for x in col["t_s"]]
-    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
+    a, col, t, fig, ax = read_csv_figure()
     panels = [
         (ax[0, 0], [("x_m", "δx"), ("z_m", "δz")], 1.0, "position error 1σ [m]"),
         (ax[0, 1], [("vx_mps", "δv_x"), ("vz_mps", "δv_z")], 100.0, "velocity error 1σ [cm/s]"),
@@ -55,9 +45,7 @@ def main():
         axis.set_ylabel("[m]")
         axis.grid(True, which="both", alpha=0.3)
         axis.legend(fontsize=8)
-    fig.suptitle("ggins covariance: %s" % a.title)
-    fig.tight_layout()
-    fig.savefig(a.png, dpi=110)
+    save(fig, "ggins covariance: %s" % a.title, a.png)
 
 
 if __name__ == "__main__":

@@ -5,33 +5,17 @@
 usage: plot_covariance3d.py covariance3d.csv covariance3d.png [--title T]
 Needs matplotlib (Debian python3-matplotlib: /usr/bin/python3).
 """
-import argparse
-import csv
+import os
+import sys
 
-import matplotlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plot_common"))
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from ggins_plot_common import finish_log_panel, ned_panels, read_csv_figure, save  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("csv")
-    ap.add_argument("png")
-    ap.add_argument("--title", default="")
-    a = ap.parse_args()
-    with open(a.csv) as f:
-        rows = list(csv.DictReader(f))
-    col = {k: [float(r[k]) for r in rows] for k in rows[0]}
-    t = [x / 60.0 for x in col["t_s"]]
-    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
-    panels = [
-        (ax[0, 0], "r", "m", 1.0, "position error 1σ [m]"),
-        (ax[0, 1], "v", "mps", 100.0, "velocity error 1σ [cm/s]"),
-        (ax[1, 0], "g", "mps2", 1e3, "gravity error 1σ [mm/s²]"),
-        (ax[1, 1], "psi", "rad", 1e6, "attitude error 1σ [µrad]"),
-    ]
-    for axis, b, u, scale, label in panels:
+    a, col, t, fig, ax = read_csv_figure()
+    for axis, b, u, scale, label in ned_panels(ax):
         keys = ["%s%s_%s" % (b, c, u) for c in "ned"]
         if keys[0] not in col:
             axis.axis("off")
@@ -42,15 +26,8 @@ def main():
             if pts:
                 axis.semilogy([p[0] for p in pts], [p[1] for p in pts], label=name)
                 top = max(top, max(p[1] for p in pts))
-        if top > 0:
-            axis.set_ylim(top * 1e-6, top * 3)  # the first minutes start from zero
-        axis.set_xlabel("time [min]")
-        axis.set_ylabel(label)
-        axis.grid(True, which="both", alpha=0.3)
-        axis.legend()
-    fig.suptitle("ggins covariance3d: %s" % a.title)
-    fig.tight_layout()
-    fig.savefig(a.png, dpi=110)
+        finish_log_panel(axis, top, label)
+    save(fig, "ggins covariance3d: %s" % a.title, a.png)
 
 
 if __name__ == "__main__":

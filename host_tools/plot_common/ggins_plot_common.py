@@ -1,0 +1,68 @@
+"""Helpers shared by the covariance and Monte Carlo plotting scripts
+(covariance/plot_covariance.py, covariance/plot_covariance3d.py,
+montecarlo/plot_montecarlo3d.py): their command line, CSV reading, the 2x2
+figure, the north/east/down panels and saving the figure.
+
+The scripts are run by path from the C++ tools (any working directory): each
+puts this folder on sys.path (host_tools/plot_common, beside its own folder)
+before importing this module.
+Needs matplotlib (Debian python3-matplotlib: /usr/bin/python3).
+"""
+import argparse
+import csv
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_csv_figure():
+    """Parse `csv png [--title T]`, read the CSV and open the 2x2 figure.
+
+    Returns (args, col, t, fig, ax): col maps each CSV column to its values
+    (floats), t is the time column t_s in minutes.
+    """
+    ap = argparse.ArgumentParser()
+    ap.add_argument("csv")
+    ap.add_argument("png")
+    ap.add_argument("--title", default="")
+    a = ap.parse_args()
+    with open(a.csv) as f:
+        rows = list(csv.DictReader(f))
+    col = {k: [float(r[k]) for r in rows] for k in rows[0]}
+    t = [x / 60.0 for x in col["t_s"]]
+    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
+    return a, col, t, fig, ax
+
+
+def ned_panels(ax):
+    """The four 3-D panels: (axis, quantity, unit, scale, label); the CSV
+    columns are <quantity><n|e|d>_<unit>."""
+    return [
+        (ax[0, 0], "r", "m", 1.0, "position error 1σ [m]"),
+        (ax[0, 1], "v", "mps", 100.0, "velocity error 1σ [cm/s]"),
+        (ax[1, 0], "g", "mps2", 1e3, "gravity error 1σ [mm/s²]"),
+        (ax[1, 1], "psi", "rad", 1e6, "attitude error 1σ [µrad]"),
+    ]
+
+
+def finish_log_panel(axis, top, label, legend_fontsize=None):
+    """Limits, labels, grid and legend of a log-scale panel whose largest
+    value is top (the first minutes start from zero: six decades shown)."""
+    if top > 0:
+        axis.set_ylim(top * 1e-6, top * 3)
+    axis.set_xlabel("time [min]")
+    axis.set_ylabel(label)
+    axis.grid(True, which="both", alpha=0.3)
+    if legend_fontsize is None:
+        axis.legend()
+    else:
+        axis.legend(fontsize=legend_fontsize)
+
+
+def save(fig, title, png):
+    """Title the figure and write it to png."""
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
