@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <iterator>
 #include <random>
 
 extern char** environ;
@@ -103,6 +104,24 @@ void stop_child(pid_t& pid, int sig, double grace_s) {
     wait_child(pid, 2.0);
   }
   pid = -1;
+}
+
+ggins::sensor_frame_t sensor_frame_msg(const gg_frame_t& f, int64_t run_id, int attempts) {
+  ggins::sensor_frame_t m{};
+  m.utime = f.utime;
+  m.seq = f.seq;
+  m.run_id = run_id;
+  m.n_acc = f.n_acc;
+  std::memcpy(m.f, f.f, sizeof m.f);
+  std::memcpy(m.f_lo, f.f_lo, sizeof m.f_lo);
+  std::copy(std::begin(f.acc_status), std::end(f.acc_status), m.acc_status);
+  std::copy(std::begin(f.omega_b), std::end(f.omega_b), m.omega_b);
+  m.gyro_status = f.gyro_status;
+  m.baro_alt_m = f.baro_alt_m;
+  m.baro_utime = f.baro_utime;
+  m.baro_status = f.baro_status;
+  m.resent = static_cast<int8_t>(std::min<int>(attempts, 127));
+  return m;
 }
 
 std::vector<std::string> hal_sim_argv(const std::string& hal_sim, const std::string& url_to_hal,

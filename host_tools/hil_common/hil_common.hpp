@@ -1,7 +1,8 @@
 // Plumbing shared by the host-in-the-loop runners `ggins run` (run/run_main.cpp)
 // and `ggins run3d` (run3d/run3d_main.cpp): clocks, the Fail exception, child
 // processes (hal_sim, lcm-logger, plotting), private LCM ports and run ids, the
-// LCM event-log recorder, the interrupt flag and the output folder.
+// sensor frame message, the LCM event-log recorder, the interrupt flag and the
+// output folder.
 #pragma once
 
 #include <lcm/eventlog.h>
@@ -15,6 +16,9 @@
 #include <string>
 #include <system_error>
 #include <vector>
+
+#include "ggins/frame.h"
+#include "ggins/sensor_frame_t.hpp"
 
 namespace ggins::hil {
 
@@ -52,6 +56,10 @@ int wait_child(pid_t pid, double timeout_s);
 
 // Send sig, wait grace_s, then SIGKILL; pid becomes -1.
 void stop_child(pid_t& pid, int sig = SIGTERM, double grace_s = 1.0);
+
+// The LCM message of a sensor frame of this run; attempts: transmissions of
+// this seq before this one (sent as `resent`, saturated at 127).
+ggins::sensor_frame_t sensor_frame_msg(const gg_frame_t& f, int64_t run_id, int attempts);
 
 // hal_sim's command line common to both runners (callers append their own options).
 std::vector<std::string> hal_sim_argv(const std::string& hal_sim, const std::string& url_to_hal,

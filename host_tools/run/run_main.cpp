@@ -445,21 +445,8 @@ void Runner::send_frame(int64_t k, bool resend) {
   gg_frame_t f;
   ggins::truth::TruthState t;
   gen_.frame(k, f, &t);
-  ggins::sensor_frame_t m{};
-  m.utime = f.utime;
-  m.seq = f.seq;
-  m.run_id = run_id_;
-  m.n_acc = f.n_acc;
-  std::memcpy(m.f, f.f, sizeof m.f);
-  std::memcpy(m.f_lo, f.f_lo, sizeof m.f_lo);
-  std::copy(std::begin(f.acc_status), std::end(f.acc_status), m.acc_status);
-  std::copy(std::begin(f.omega_b), std::end(f.omega_b), m.omega_b);
-  m.gyro_status = f.gyro_status;
-  m.baro_alt_m = f.baro_alt_m;
-  m.baro_utime = f.baro_utime;
-  m.baro_status = f.baro_status;
   auto& att = attempts_[static_cast<size_t>(k)];
-  m.resent = static_cast<int8_t>(std::min<int>(att, 127));
+  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, att);
   if (att < 255) ++att;
   (void)resend;
   // transport fault injection (seeded, a pure function of seq and attempt)

@@ -234,21 +234,8 @@ void Runner3::send_frame(int64_t k) {
   gg_frame_t f;
   ggins::truth3d::Truth3 t;
   gen_.frame(k, f, &t);
-  ggins::sensor_frame_t m{};
-  m.utime = f.utime;
-  m.seq = f.seq;
-  m.run_id = run_id_;
-  m.n_acc = f.n_acc;
-  std::memcpy(m.f, f.f, sizeof m.f);
-  std::memcpy(m.f_lo, f.f_lo, sizeof m.f_lo);
-  std::copy(std::begin(f.acc_status), std::end(f.acc_status), m.acc_status);
-  std::copy(std::begin(f.omega_b), std::end(f.omega_b), m.omega_b);
-  m.gyro_status = f.gyro_status;
-  m.baro_alt_m = f.baro_alt_m;
-  m.baro_utime = f.baro_utime;
-  m.baro_status = f.baro_status;
   auto& att = attempts_[static_cast<size_t>(k)];
-  m.resent = static_cast<int8_t>(std::min<int>(att, 127));
+  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, att);
   publish(ch_frame_, m);
   ++frames_published_;
   if (att == 0 && (k % truth_every_ == 0 || k == n_ - 1)) {
