@@ -6,6 +6,12 @@
 // noise; gradiometer = EGM96 (degree 360, total field) at the true position,
 // rotated to body axes, + white noise; the map tile = the same model on a
 // 0.05 deg grid + seeded database noise (ggins gmap).
+// --gradiometer diff3d: the measurement is instead the firmware's own strapdown
+// gradiometer: six tri-axis accelerometers at +-a along the body axes read the
+// true rigid-body motion and the same EGM96 field at each sensor (+ white
+// noise sigma_a = sqrt(2) a sigma_Gamma, see diff3d_sim.hpp), gg_diff3d
+// removes [Omega x]^2 with the body rate (true, or the gyro sample with
+// --diff3d-omega imu) and its Gamma_b is the filter's measurement.
 #include <CLI/CLI.hpp>
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -21,6 +27,7 @@
 #include <thread>
 #include <vector>
 
+#include "diff3d_sim.hpp"
 #include "ggins/gmap_gen.hpp"
 
 extern "C" {
@@ -42,6 +49,8 @@ struct Opt {
   int runs = 1, threads = 2, seed = 1, first_run = 0, passes = 40;
   bool fixed_errors = false, plot = true;
   std::string egm = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt", out = "out/mapnav", tile;
+  std::string gradiometer = "direct", diff3d_omega = "true";
+  double half_base = 0.5;  // m, the project default (truth3d, nav3d)
 };
 
 // commanded motion: speed (m/s) and heading rate (rad/s) at t
@@ -125,6 +134,8 @@ struct RunResult {
   std::vector<std::array<double, 24>> series;  // t, 9 ggan, 9 ins, 3 pos sigma, nis, nees
   uint32_t n_updates = 0, n_gated = 0, n_offmap = 0, n_fail = 0;
   double step_ns_median = 0, update_us_median = 0;
+  std::array<double, 6> d3_err_sum{}, d3_err_sq{};  // diff3d Gamma_b minus the field's Gamma_b at the centre
+  long d3_n = 0;
 };
 
 RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::gravity::Field& truth_field,
@@ -174,9 +185,17 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
   std::vector<double> step_ns, upd_us;
   const long per_upd = std::lround(o.update / dt);
   std::vector<std::array<double, 9>> last2h_g, last2h_i;
+  // diff3d mode: its 18 accelerometer noises come from a second stream, so the IMU noise
+  // and initial errors are the same draws as in the direct mode (paired comparison)
+  const bool use_diff3d = o.gradiometer == "diff3d";
+  std::mt19937_64 rng_acc(0x9e3779b97f4a7c15ull ^ (1000003ull * static_cast<unsigned>(o.seed) + static_cast<unsigned>(run)));
+  const double sigma_a = std::sqrt(2.0) * o.half_base * o.meas_e * kE;  // per reading, m/s^2
+  double w_prev[3] = {0, 0, 0};
   for (long k = 1; k <= steps; ++k) {
     const double t = (k - 1) * dt;
     const gg_mm_imu_t ideal = ideal_imu(truth, command(t, o.speed));
+    double w_dot[3];
+    for (int j = 0; j < 3; ++j) { w_dot[j] = k > 1 ? (ideal.omega_b[j] - w_prev[j]) / dt : 0.0; w_prev[j] = ideal.omega_b[j]; }
     gg_mm_imu_t meas = ideal;
     for (int j = 0; j < 3; ++j) {
       meas.omega_b[j] += bg[j] + arw / std::sqrt(dt) * N(rng);
@@ -197,6 +216,26 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
       const Eigen::Matrix3d Gb = C.transpose() * Gn * C;
       const double g6[6] = {Gb(0, 0), Gb(1, 1), Gb(2, 2), Gb(0, 1), Gb(0, 2), Gb(1, 2)};
       for (int j = 0; j < 6; ++j) gm.gamma_b[j] = g6[j] + o.meas_e * kE * N(rng);
+      if (use_diff3d) {  // replace by the six-accelerometer gradiometer through gg_diff3d
+        ggins::mapnav::Diff3dTruth tr;
+        tr.lat = truth.lat; tr.lon = truth.lon; tr.h = truth.h;
+        for (int j = 0; j < 4; ++j) tr.q_b_n[j] = truth.q[j];
+        for (int j = 0; j < 3; ++j) { tr.f_c[j] = ideal.f_b[j]; tr.omega_b[j] = ideal.omega_b[j]; tr.omega_dot_b[j] = w_dot[j]; }
+        double nz[6][3];
+        for (auto& row : nz) for (double& v : row) v = sigma_a * N(rng_acc);
+        gg_diff3d_input_t din{};
+        ggins::mapnav::diff3d_readings(truth_field, tr, o.half_base, nz,
+                                       o.diff3d_omega == "imu" ? meas.omega_b : ideal.omega_b, din);
+        gg_diff3d_output_t dout;
+        double d6[6];
+        if (ggins::mapnav::diff3d_gamma6(din, o.half_base, d6, &dout) != GG_OK) throw std::runtime_error("gg_diff3d failed");
+        for (int j = 0; j < 6; ++j) {
+          R.d3_err_sum[j] += d6[j] - g6[j];
+          R.d3_err_sq[j] += (d6[j] - g6[j]) * (d6[j] - g6[j]);
+          gm.gamma_b[j] = d6[j];
+        }
+        ++R.d3_n;
+      }
     }
     gg_mm_output_t out;
     const auto c0 = std::chrono::steady_clock::now();
@@ -285,6 +324,14 @@ int main(int argc, char** argv) {
   app.add_flag("--fixed-errors", o.fixed_errors, "initial errors and biases = +1 sigma on every axis (no draw)");
   app.add_flag("!--no-plot", o.plot, "skip the plots");
   app.add_option("--egm96", o.egm, "EGM96 coefficients")->capture_default_str();
+  app.add_option("--gradiometer", o.gradiometer,
+                 "direct: Gamma_b = field + white noise; diff3d: six accelerometers at +-a through the firmware's gg_diff3d")
+      ->check(CLI::IsMember({"direct", "diff3d"}))
+      ->capture_default_str();
+  app.add_option("--half-base", o.half_base, "diff3d: half-baseline a = b = c, m")->capture_default_str();
+  app.add_option("--diff3d-omega", o.diff3d_omega, "diff3d: rate removing [Omega x]^2: true, or imu (the noisy, biased gyro sample)")
+      ->check(CLI::IsMember({"true", "imu"}))
+      ->capture_default_str();
   app.add_option("--tile", o.tile, "use this map tile (.bin/.json) instead of generating one");
   app.add_option("--out", o.out, "output folder")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -388,6 +435,21 @@ int main(int argc, char** argv) {
     J["runs"] = o.runs; J["hours"] = o.hours; J["dt"] = o.dt; J["update_s"] = o.update; J["passes"] = o.passes;
     J["meas_noise_e"] = o.meas_e; J["db_noise_e"] = o.db_e; J["att0_deg"] = o.att_deg; J["vel0_mps"] = o.vel;
     J["pos0_m"] = o.pos; J["gyro_bias_dph"] = o.gyro_dph; J["acc_bias_ug"] = o.acc_ug; J["seed"] = o.seed;
+    J["gradiometer"] = o.gradiometer;
+    if (o.gradiometer == "diff3d") {
+      // measured diff3d error against the field's Gamma_b at the centre (noise + finite baseline + omega removal)
+      std::array<double, 6> s{}, s2{};
+      long n = 0;
+      for (auto& r : res) { for (int j = 0; j < 6; ++j) { s[j] += r.d3_err_sum[j]; s2[j] += r.d3_err_sq[j]; } n += r.d3_n; }
+      nlohmann::json d;
+      const char* cn[6] = {"xx", "yy", "zz", "xy", "xz", "yz"};
+      for (int j = 0; j < 6; ++j) {
+        const double m = n ? s[j] / n : 0;
+        d[cn[j]] = {{"mean_e", m / kE}, {"sd_e", n ? std::sqrt(std::max(0.0, s2[j] / n - m * m)) / kE : 0}};
+      }
+      J["diff3d"] = {{"half_base_m", o.half_base}, {"omega", o.diff3d_omega},
+                     {"sigma_acc_mps2", std::sqrt(2.0) * o.half_base * o.meas_e * kE}, {"samples", n}, {"gamma_minus_field", d}};
+    }
     J["tile_nodes"] = map->tile.nlat * map->tile.nlon; J["tile_s"] = t_tile; J["wall_s"] = wall;
     std::ofstream(o.out + "/summary.json") << J.dump(2) << "\n";
     {
@@ -412,6 +474,9 @@ int main(int argc, char** argv) {
                 J["nees_mean"].get<double>(), J["nees_pos_mean"].get<double>(), J["nis_mean"].get<double>(), res[0].n_updates,
                 res[0].n_gated, res[0].n_offmap, res[0].n_fail);
     std::printf("NEES per block (dof 3 each): %s\n", J["nees_block_mean"].dump().c_str());
+    if (J.contains("diff3d"))
+      std::printf("diff3d (a = %.3g m, sigma_a = %.3g m/s^2, omega %s): Gamma_b - field, sd per component (E): %s\n", o.half_base,
+                  J["diff3d"]["sigma_acc_mps2"].get<double>(), o.diff3d_omega.c_str(), J["diff3d"]["gamma_minus_field"].dump().c_str());
     std::printf("filter step %.0f ns (median, no update), update step %.0f us (median, host)\n", res[0].step_ns_median,
                 res[0].update_us_median);
 #ifdef GGINS_PLOT_SCRIPT
