@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
   bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false, tile_on_ins = false;
-  double tile_recentre = 2000.0;
+  double tile_recentre = 2000.0, tile_step = 250.0;
   app.add_option("--egm96", egm96, "EGM96 coefficient file");
   app.add_option("--out", out, "output folder");
   app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
   app.add_flag("--direct-map", direct_map, "candidates from the route map directly instead of paged gmap tiles");
   app.add_flag("--tile-on-ins", tile_on_ins, "page the gmap tile around the raw INS position (before 2026-12) instead of the corrected one");
   app.add_option("--tile-recentre", tile_recentre, "re-centre the gmap tile when its centre is this far (m) from the position it follows");
+  app.add_option("--tile-step", tile_step, "gmap tile node spacing, m (50 x 50 nodes)");
   app.add_flag("--dump-flights", dump_flights, "write flight_<tag>_<i>.csv per flight (errors and filter diagnostics)");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
@@ -145,6 +146,7 @@ int main(int argc, char** argv) {
         fc.use_gmap = !direct_map;
         fc.tile_on_estimate = !tile_on_ins;
         fc.tile_recentre = tile_recentre;
+        fc.tile_step = tile_step;
         fc.seed = seed + static_cast<unsigned long>(i);
         res[static_cast<std::size_t>(i)] = fly(map, fc);
       }

@@ -43,6 +43,10 @@ if os.path.exists(p):
     ax.plot(e["t_s"], e["unaided_mean_m"], label="unaided INS (mean)")
     ax.plot(e["t_s"], e["aided_mean_m"], label="PF-aided (mean)")
     ax.plot(e["t_s"], e["aided_p90_m"], ":", label="PF-aided (90th percentile)")
+    p1 = os.path.join(d, "v1", "error_vs_time_base.csv")
+    if os.path.exists(p1):  # the first version on the same flights
+        e1 = rd(p1)
+        ax.plot(e1["t_s"], e1["aided_mean_m"], "--", color="0.5", lw=0.9, label="first version (mean)")
     ax.set_xlabel("time (s)"); ax.set_ylabel("horizontal error (m)")
     js = json.load(open(os.path.join(d, "summary_none.json")))[0]
     ax.set_title("horizontal radial error, %d flights, phase noise %.1f mrad" % (js["flights"], js["phase_noise_mrad"]))
@@ -61,6 +65,42 @@ for sw, key, lab in (("phase", "phase_noise_mrad", "phase noise (mrad)"), ("fail
     ax.set_xlabel(lab + (" (%)" if sw == "fail" else "")); ax.set_ylabel("mean horizontal error (m)")
     ax.set_title("%d flights per point" % js[0]["flights"])
     ax.legend(fontsize=7); fig.tight_layout(); fig.savefig(os.path.join(o, "coldatom-sweep-%s.png" % sw), dpi=110)
+
+# filter diagnostics (ggins-coldatom --dump-flights): actual error of the particle mean against
+# the cloud's spread, mean over the flights, this version and the first one
+import glob
+
+
+def diag(folder):
+    fs = sorted(glob.glob(os.path.join(folder, "flight_base_*.csv")))
+    if not fs:
+        return None
+    rows = [rd(f) for f in fs]
+    n = min(len(r["t_s"]) for r in rows)
+    avg = lambda k: [sum(r[k][j] for r in rows) / len(rows) for j in range(n)]
+    z2 = [sum((r["pmean_err_m"][j] / r["spread_m"][j]) ** 2 for r in rows) / len(rows) for j in range(n)]
+    return rows[0]["t_s"][:n], avg("pmean_err_m"), avg("spread_m"), z2, len(rows)
+
+
+dn, d1 = diag(d), diag(os.path.join(d, "v1"))
+if dn:
+    fig, ax = plt.subplots(2, 1, figsize=(9, 5.8), sharex=True)
+    for a in ax:
+        shade(a)
+    for dd, lab, c in ((dn, "this version", "C1"), (d1, "first version", "0.5")):
+        if dd is None:
+            continue
+        t, em, sp, z2, nf = dd
+        ax[0].plot(t, em, color=c, label="%s: error of the particle mean" % lab)
+        ax[0].plot(t, sp, ":", color=c, label="%s: particle spread (rms, N+E)" % lab)
+        w = 30  # 300 s running mean of the normalised squared error
+        zs = [sum(z2[max(0, j - w):j + 1]) / (j + 1 - max(0, j - w)) for j in range(len(z2))]
+        ax[1].plot(t, zs, color=c, label=lab)
+    ax[0].set_ylabel("m (mean over %d flights)" % dn[4]); ax[0].legend(fontsize=7)
+    ax[1].axhline(1.0, color="k", lw=0.6)
+    ax[1].set_yscale("log"); ax[1].set_ylabel("mean (error / spread)^2\n(1: consistent; 300 s mean)")
+    ax[1].set_xlabel("time (s)"); ax[1].legend(fontsize=7)
+    fig.tight_layout(); fig.savefig(os.path.join(o, "coldatom-diagnostics.png"), dpi=110)
 
 p = os.path.join(d, "gradient_base_flight0.csv")
 if os.path.exists(p):
