@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
   bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false, tile_on_ins = false;
-  double tile_recentre = 2000.0, tile_step = 250.0;
+  double tile_recentre = 2000.0, tile_step = 250.0, topo_rms = 150.0;
   app.add_option("--egm96", egm96, "EGM96 coefficient file");
   app.add_option("--out", out, "output folder");
   app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
   app.add_option("--tile-step", tile_step, "gmap tile node spacing, m (50 x 50 nodes)");
   app.add_flag("--dump-flights", dump_flights, "write flight_<tag>_<i>.csv per flight (errors and filter diagnostics)");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
+  app.add_option("--topo-rms", topo_rms, "rms height of the synthetic terrain, m (a sensitivity check; the runs use 150)")
+      ->check(CLI::Range(1.0, 2000.0))->capture_default_str();
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
   CLI11_PARSE(app, argc, argv);
   if (cache.empty()) cache = out + "/cache";
@@ -97,6 +99,7 @@ int main(int argc, char** argv) {
 
   RouteMapParams mp;
   mp.with_topo = !no_topo;
+  mp.topo_rms = topo_rms;
   mp.with_egm96 = !no_egm;
   const auto tm0 = std::chrono::steady_clock::now();
   RouteMap map(mp, egm96, cache);
