@@ -21,21 +21,6 @@ static gg_nav2d_t g_nav;
 static gg_nav_output_t g_out;
 #endif
 
-static void semihost_exit(void)
-{
-    /* SYS_EXIT (0x18), ADP_Stopped_ApplicationExit */
-    register uint32_t r0 __asm__("r0") = 0x18u;
-    register uint32_t r1 __asm__("r1") = 0x20026u;
-    __asm__ volatile("bkpt 0xab" : : "r"(r0), "r"(r1) : "memory");
-}
-
-void m7_fault(void)
-{
-    semihost_exit();
-    for (;;) {
-    }
-}
-
 #ifndef NAV3D
 int main(void)
 {
@@ -46,7 +31,7 @@ int main(void)
     const double gzz = -1.5362e-6;
     int32_t k;
     if (gg_nav2d_init(&g_nav, &g_m7_demo_config) != GG_OK) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     g_frame.n_acc = 4;
     g_frame.f[0][0] = g0 - (gxx * 0.5);
@@ -66,7 +51,7 @@ int main(void)
         g_frame.baro_alt_m = 0.0;
         (void)gg_nav2d_step(&g_nav, &g_frame, NULL, &g_out);
     }
-    semihost_exit();
+    m7_qemu_exit();
     return 0;
 }
 #else
@@ -100,7 +85,7 @@ int main(void)
     cfg.baro_enable = 1;
     cfg.baro = g_m7_demo_config.baro;
     if (gg_nav3d_init(&g_nav3, &cfg) != GG_OK) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     g_frame.n_acc = 6;
     for (j = 0; j < 6; ++j) {
@@ -122,7 +107,7 @@ int main(void)
         g_frame.baro_alt_m = 0.0;
         (void)gg_nav3d_step(&g_nav3, &g_frame, NULL, &g_out3);
     }
-    semihost_exit();
+    m7_qemu_exit();
     return 0;
 }
 #endif

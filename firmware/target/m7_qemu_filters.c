@@ -34,21 +34,6 @@ static gg_mm_t g_mm;
 static gg_mm_output_t g_out;
 #endif
 
-static void semihost_exit(void)
-{
-    /* SYS_EXIT (0x18), ADP_Stopped_ApplicationExit */
-    register uint32_t r0 __asm__("r0") = 0x18u;
-    register uint32_t r1 __asm__("r1") = 0x20026u;
-    __asm__ volatile("bkpt 0xab" : : "r"(r0), "r"(r1) : "memory");
-}
-
-void m7_fault(void)
-{
-    semihost_exit();
-    for (;;) {
-    }
-}
-
 #ifdef PF_BENCH
 int main(void)
 {
@@ -76,7 +61,7 @@ int main(void)
         }
     }
     if (gg_gmap_init(&g_map, &g_tile) != GG_OK) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     (void)memset(&c, 0, sizeof c);
     c.n = GG_PF_MAX;
@@ -100,7 +85,7 @@ int main(void)
     c.sigma0_acc = 3.1e-4;
     c.reg_bw = 0.5;
     if ((gg_pf_map_from_gmap(&g_map, &c.map) != GG_OK) || (gg_pf_init(&g_pf, &c) != GG_OK)) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     for (k = 0; k < STEPS; ++k) {
         /* a pair on the ellipse of ~3080 E with the shared phase turning 0.7 rad per shot */
@@ -119,7 +104,7 @@ int main(void)
         in.s1 = 0.5 - (0.25 * c1);
         (void)gg_pf_step(&g_pf, &in, &o);
     }
-    semihost_exit();
+    m7_qemu_exit();
     return 0;
 }
 #else
@@ -145,7 +130,7 @@ int main(void)
         }
     }
     if (gg_gmap_init(&g_map, &g_tile) != GG_OK) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     (void)memset(&c, 0, sizeof c);
     c.dt_s = 0.1;
@@ -167,15 +152,15 @@ int main(void)
     c.init.lon = 2.42;
     c.init.h = -100.0;
     if (gg_mm_init(&g_mm, &c, &g_map) != GG_OK) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     if (gg_mm_predict_gradient(&g_map, &c.init, z.gamma_b) != GG_OK) {
-        semihost_exit();
+        m7_qemu_exit();
     }
     for (k = 0; k < STEPS; ++k) {
         (void)gg_mm_step(&g_mm, &imu, (MM_UPDATE != 0) ? &z : NULL, &g_out);
     }
-    semihost_exit();
+    m7_qemu_exit();
     return 0;
 }
 #endif

@@ -16,4 +16,7 @@ int main(void);
 /** Called by the default exception handler; must not return. */
 void m7_fault(void);
 
+/** QEMU images only (m7_qemu_exit.c): end the run through semihosting. */
+void m7_qemu_exit(void);
+
 #endif
