@@ -415,7 +415,7 @@ static gg_status_t cfg_ok(const gg_mm_config_t *c)
     const double v[] = {c->dt_s, c->update_period_s, c->sigma_meas_s2, c->sigma_db_s2,
                         c->sig0_att_rad, c->sig0_vel_mps, c->sig0_pos_m, c->sig0_bg_rps,
                         c->sig0_ba_mps2, c->arw_rad_rts, c->vrw_mps_rts, c->bg_rw, c->ba_rw,
-                        c->lambda, c->gate_nis};
+                        c->lambda, c->gate_nis, c->offdiag_ratio};
     for (size_t k = 0; k < (sizeof(v) / sizeof(v[0])); ++k) {
         if (!fin(v[k]) || (v[k] < 0.0)) {
             return GG_ERR_CONFIG;
@@ -425,7 +425,7 @@ static gg_status_t cfg_ok(const gg_mm_config_t *c)
         ((c->sigma_meas_s2 + c->sigma_db_s2) <= 0.0) || (c->sig0_att_rad <= 0.0) ||
         (c->sig0_att_rad > 0.5) || (c->sig0_vel_mps <= 0.0) || (c->sig0_pos_m <= 0.0) ||
         (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (nav_ok(&c->init) == 0) ||
-        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES)) {
+        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) || (c->offdiag_ratio > 10.0)) {
         return GG_ERR_CONFIG;
     }
     return GG_OK;
@@ -574,8 +574,14 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
     if ((meas != NULL) && (st->map != NULL) && ((st->health & GG_MM_H_UKF_FAIL) == 0u)) {
         double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
         (void)memset(R, 0, sizeof R);
-        const double r = (st->cfg.sigma_meas_s2 * st->cfg.sigma_meas_s2) +
-                         (st->cfg.sigma_db_s2 * st->cfg.sigma_db_s2);
+        /* R per component: diagonal (xx, yy, zz), off-diagonal (xy, xz, yz) */
+        const double ratio = (st->cfg.offdiag_ratio > 0.0) ? st->cfg.offdiag_ratio : 1.0;
+        const double sm_off = ratio * st->cfg.sigma_meas_s2;
+        const double rdb = st->cfg.sigma_db_s2 * st->cfg.sigma_db_s2;
+        const double rk[6] = {(st->cfg.sigma_meas_s2 * st->cfg.sigma_meas_s2) + rdb,
+                              (st->cfg.sigma_meas_s2 * st->cfg.sigma_meas_s2) + rdb,
+                              (st->cfg.sigma_meas_s2 * st->cfg.sigma_meas_s2) + rdb,
+                              (sm_off * sm_off) + rdb, (sm_off * sm_off) + rdb, (sm_off * sm_off) + rdb};
         /* progressive update: pass k uses R / w_k with sum w_k = 1 (for a linear
          * model exactly one update with R: the information adds up); w_k is
          * chosen so that R / w_k equals the largest predicted measurement
@@ -593,7 +599,7 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
             double spread[GG_UKF_NZ_MAX];
             double nis0 = 0.0;
             for (int k = 0; k < 6; ++k) {
-                R[k][k] = r;
+                R[k][k] = rk[k];
             }
             double w = remaining;
             const gg_status_t s0 = gg_ukf_meas_spread(&st->ukf, 6, meas_model, &hc, spread, meas->gamma_b,
@@ -613,18 +619,15 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
                 *nis = nis0; /* the NIS of a single update with R (consistency statistic) */
             }
             if (pass < (st->cfg.max_passes - 1)) {
-                double smax = 0.0;
+                /* the component whose spread exceeds its R the most sets w */
                 for (int k = 0; k < 6; ++k) {
-                    if (spread[k] > smax) {
-                        smax = spread[k];
+                    if ((spread[k] > rk[k]) && ((rk[k] / spread[k]) < w)) {
+                        w = rk[k] / spread[k];
                     }
-                }
-                if ((smax > r) && ((r / smax) < w)) {
-                    w = r / smax;
                 }
             }
             for (int k = 0; k < 6; ++k) {
-                R[k][k] = r / w;
+                R[k][k] = rk[k] / w;
             }
             gg_ukf_update_info_t info;
             const gg_status_t s = gg_ukf_update(&st->ukf, 6, meas->gamma_b,

@@ -56,6 +56,7 @@ struct Opt {
   std::string egm = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt", out = "out/mapnav", tile;
   std::string gradiometer = "direct", diff3d_omega = "true";
   double half_base = 0.5;  // m, the project default (truth3d, nav3d)
+  double offdiag_ratio = -1;  // filter's off-diagonal/diagonal noise ratio; < 0: 1/sqrt(2) for diff3d, 1 for direct
 };
 
 // commanded motion: speed (m/s) and heading rate (rad/s) at t
@@ -182,6 +183,7 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
   cfg.lambda = o.lambda;
   cfg.gate_nis = o.gate;
   cfg.max_passes = o.passes;
+  cfg.offdiag_ratio = o.offdiag_ratio >= 0 ? o.offdiag_ratio : (o.gradiometer == "diff3d" ? 1.0 / std::sqrt(2.0) : 1.0);
   cfg.init = est0;
   auto mm = std::make_unique<gg_mm_t>();
   if (gg_mm_init(mm.get(), &cfg, map) != GG_OK) throw std::runtime_error("gg_mm_init failed");
@@ -348,6 +350,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"direct", "diff3d"}))
       ->capture_default_str();
   app.add_option("--half-base", o.half_base, "diff3d: half-baseline a = b = c, m")->capture_default_str();
+  app.add_option("--offdiag-ratio", o.offdiag_ratio,
+                 "filter's noise of the off-diagonal components relative to the diagonal ones "
+                 "(< 0: 1/sqrt(2) with --gradiometer diff3d, whose off-diagonal elements average four readings; 1 with direct)")
+      ->capture_default_str();
   app.add_option("--diff3d-omega", o.diff3d_omega, "diff3d: rate removing [Omega x]^2: true; imu (the epoch's noisy, biased gyro sample); "
                  "imu-mean (each sample's gyro, averaged over the update period)")
       ->check(CLI::IsMember({"true", "imu", "imu-mean"}))
@@ -456,6 +462,7 @@ int main(int argc, char** argv) {
     J["meas_noise_e"] = o.meas_e; J["db_noise_e"] = o.db_e; J["att0_deg"] = o.att_deg; J["vel0_mps"] = o.vel;
     J["pos0_m"] = o.pos; J["gyro_bias_dph"] = o.gyro_dph; J["acc_bias_ug"] = o.acc_ug; J["seed"] = o.seed;
     J["gradiometer"] = o.gradiometer;
+    J["offdiag_ratio"] = o.offdiag_ratio >= 0 ? o.offdiag_ratio : (o.gradiometer == "diff3d" ? 1.0 / std::sqrt(2.0) : 1.0);
     if (o.gradiometer == "diff3d") {
       // measured diff3d error against the field's Gamma_b at the centre (noise + finite baseline + omega removal)
       std::array<double, 6> s{}, s2{};

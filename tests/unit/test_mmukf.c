@@ -182,6 +182,69 @@ static void test_filter_pulls_position_in(void **state)
     assert_memory_equal(&g_mm.sig[0], &before, sizeof before);
 }
 
+/* Measurement noise per component: with offdiag_ratio = 1/sqrt(2) the
+ * off-diagonal components get R_off = sigma^2/2 + sigma_db^2. Checked through
+ * the NIS of a single update with a tiny prior (the predicted spread is
+ * negligible next to R): a known innovation of 1e-11 s^-2 on each component
+ * gives NIS = 3 d^2/R_diag + 3 d^2/R_off (8.852 here; 5.941 with equal R). */
+static void test_offdiag_noise(void **state)
+{
+    (void)state;
+    static gg_gmap_tile_t t;
+    memset(&t, 0, sizeof t);
+    t.nlat = t.nlon = 9;
+    t.lat0_rad = 0.5 - 4e-4;
+    t.lon0_rad = -1.0 - 4e-4;
+    t.dlat_rad = t.dlon_rad = 1e-4;
+    t.h0_m = -100;
+    t.h_range_m = 300;
+    for (int i = 0; i < 9; ++i)
+        for (int j = 0; j < 9; ++j) field(t.lat0_rad + i * 1e-4, t.lon0_rad + j * 1e-4, t.node[i * 9 + j]);
+    assert_int_equal(gg_gmap_init(&g_map, &t), GG_OK);
+    const double sm = 1e-11, sdb = 1e-12, d = 1e-11;
+    for (int variant = 0; variant < 3; ++variant) {
+        gg_mm_config_t c;
+        memset(&c, 0, sizeof c);
+        c.dt_s = 0.1;
+        c.update_period_s = 0.1;
+        c.sigma_meas_s2 = sm;
+        c.sigma_db_s2 = sdb;
+        c.sig0_att_rad = 1e-10;
+        c.sig0_vel_mps = 1e-9;
+        c.sig0_pos_m = 1e-6;
+        c.sig0_bg_rps = 1e-15;
+        c.sig0_ba_mps2 = 1e-12;
+        c.max_passes = 1;
+        c.offdiag_ratio = variant == 0 ? 0.0 : (variant == 1 ? 1.0 : 1.0 / sqrt(2.0));
+        c.init.q[0] = 1;
+        c.init.lat = 0.5;
+        c.init.lon = -1.0;
+        c.init.h = -100;
+        assert_int_equal(gg_mm_init(&g_mm, &c, &g_map), GG_OK);
+        const gg_mm_imu_t m = rest_imu(0.5, -100);
+        gg_mm_meas_t z;
+        field(0.5, -1.0, z.gamma_b);
+        for (int k = 0; k < 6; ++k) z.gamma_b[k] += d;
+        gg_mm_output_t out;
+        memset(&out, 0, sizeof out);
+        for (int k = 0; k < 3 && !out.updated; ++k) assert_int_equal(gg_mm_step(&g_mm, &m, &z, &out), GG_OK);
+        assert_int_equal(out.updated, 1);
+        const double rd = sm * sm + sdb * sdb;
+        const double so = (variant == 2 ? sm / sqrt(2.0) : sm);
+        const double ro = so * so + sdb * sdb;
+        const double expect = 3 * d * d / rd + 3 * d * d / ro;
+        printf("  offdiag_ratio %.4f: NIS %.4f, expected %.4f\n", c.offdiag_ratio, out.nis, expect);
+        assert_true(fabs(out.nis - expect) < 1e-3 * expect);
+    }
+    gg_mm_config_t bad;
+    memset(&bad, 0, sizeof bad);
+    bad = g_mm.cfg;
+    bad.offdiag_ratio = 11.0;
+    assert_int_equal(gg_mm_init(&g_mm, &bad, &g_map), GG_ERR_CONFIG);
+    bad.offdiag_ratio = -0.5;
+    assert_int_equal(gg_mm_init(&g_mm, &bad, &g_map), GG_ERR_CONFIG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -189,6 +252,7 @@ int main(void)
         cmocka_unit_test(test_schuler),
         cmocka_unit_test(test_error_apply_and_rotation),
         cmocka_unit_test(test_filter_pulls_position_in),
+        cmocka_unit_test(test_offdiag_noise),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -31,7 +31,9 @@
  * xx, yy, zz, xy, xz, yz), predicted as Gamma_b = C_n_b Gamma_n(map at lat, lon, h) C_b_n.
  * The gradiometer's centrifugal term (Omega Omega of eq. 30) is removed before
  * the filter (diff3d does it with the gyro rates), so z is Gamma_b itself.
- * R = (sigma_meas^2 + sigma_db^2) I. The map tile must hold the TOTAL field.
+ * R = diag(sigma_meas^2 + sigma_db^2) on the diagonal components and
+ * ((offdiag_ratio sigma_meas)^2 + sigma_db^2) on the off-diagonal ones (Gao:
+ * ratio 1, R = (sigma_meas^2 + sigma_db^2) I). The map tile must hold the TOTAL field.
  *
  * Progressive update (max_passes > 1; not in Gao): the tensor measures tilt
  * to ~1e-6 rad through the ~4600 E normal field, so with the initial 0.5 deg
@@ -39,9 +41,9 @@
  * order term ~2.6 E against 0.01 E noise) and a single UKF update can throw
  * the heading off (seen in Monte Carlo runs). The epoch's update is then split
  * into passes with R / w_k, sum w_k = 1 (identical to one update for a linear
- * model), each re-linearised about the new estimate; w_k = R / (largest
- * predicted spread) until the spread falls below R, the last pass takes the
- * rest. The NIS output is that of a single update with R at the predicted
+ * model), each re-linearised about the new estimate; w_k = the smallest
+ * R_kk / (predicted spread of component k) until every spread falls below its
+ * R_kk, the last pass takes the rest. The NIS output is that of a single update with R at the predicted
  * state (before the passes).
  */
 #ifndef GGINS_MMUKF_H
@@ -90,6 +92,11 @@ typedef struct {
     double ba_rw;              /**< accelerometer bias random walk, m/s^2/sqrt(s) */
     double lambda;             /**< UT spread (0 = Gao) */
     double gate_nis;           /**< NIS gate (chi-square, 6 dof), <= 0: none */
+    double offdiag_ratio;      /**< gradiometer noise of the off-diagonal components (xy, xz, yz)
+                                    relative to the diagonal ones, [0, 10]; 0 or 1: equal (Gao).
+                                    Six differenced tri-axis accelerometers: 1/sqrt(2) (an
+                                    off-diagonal element averages four readings, a diagonal one
+                                    differences two). The database noise is the same on all six. */
     int32_t max_passes;        /**< progressive update passes, 1..GG_MM_MAX_PASSES (1 = Gao's single update) */
     int32_t vertical_hold;     /**< 1: h and v_D held at their initial values (Gao's pure-inertial run) */
     gg_mm_nav_t init;          /**< initial nominal state (the INS's initial estimate) */
