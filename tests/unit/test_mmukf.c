@@ -124,9 +124,9 @@ static void field(double lat, double lon, double g6[6])
     g6[5] = -1e-9 + 0.9e-12 * dn - 0.4e-12 * de;
 }
 
-static void test_filter_pulls_position_in(void **state)
+/* 9 x 9 tile of the linear field above around (0.5, -1.0) rad, -100 m, into g_map */
+static void synthetic_tile(void)
 {
-    (void)state;
     static gg_gmap_tile_t t;
     memset(&t, 0, sizeof t);
     t.nlat = t.nlon = 9;
@@ -138,6 +138,12 @@ static void test_filter_pulls_position_in(void **state)
     for (int i = 0; i < 9; ++i)
         for (int j = 0; j < 9; ++j) field(t.lat0_rad + i * 1e-4, t.lon0_rad + j * 1e-4, t.node[i * 9 + j]);
     assert_int_equal(gg_gmap_init(&g_map, &t), GG_OK);
+}
+
+static void test_filter_pulls_position_in(void **state)
+{
+    (void)state;
+    synthetic_tile();
     gg_mm_config_t c;
     memset(&c, 0, sizeof c);
     c.dt_s = 0.1;
@@ -190,17 +196,7 @@ static void test_filter_pulls_position_in(void **state)
 static void test_offdiag_noise(void **state)
 {
     (void)state;
-    static gg_gmap_tile_t t;
-    memset(&t, 0, sizeof t);
-    t.nlat = t.nlon = 9;
-    t.lat0_rad = 0.5 - 4e-4;
-    t.lon0_rad = -1.0 - 4e-4;
-    t.dlat_rad = t.dlon_rad = 1e-4;
-    t.h0_m = -100;
-    t.h_range_m = 300;
-    for (int i = 0; i < 9; ++i)
-        for (int j = 0; j < 9; ++j) field(t.lat0_rad + i * 1e-4, t.lon0_rad + j * 1e-4, t.node[i * 9 + j]);
-    assert_int_equal(gg_gmap_init(&g_map, &t), GG_OK);
+    synthetic_tile();
     const double sm = 1e-11, sdb = 1e-12, d = 1e-11;
     for (int variant = 0; variant < 3; ++variant) {
         gg_mm_config_t c;
