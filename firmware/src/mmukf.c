@@ -493,8 +493,67 @@ gg_status_t gg_mm_init(gg_mm_t *st, const gg_mm_config_t *cfg, const gg_gmap_t *
 typedef struct {
     const gg_gmap_t *map;
     const gg_mm_nav_t *nominal;
+    const gg_mm_meas_t *meas;
     int off_map;
 } hctx_t;
+
+/* six components (xx yy zz xy xz yz) of [a x]^2 = a a^T - |a|^2 I */
+static void cross2_6(const double a[3], double c6[6])
+{
+    const double n2 = (a[0] * a[0]) + (a[1] * a[1]) + (a[2] * a[2]);
+    c6[0] = (a[0] * a[0]) - n2;
+    c6[1] = (a[1] * a[1]) - n2;
+    c6[2] = (a[2] * a[2]) - n2;
+    c6[3] = a[0] * a[1];
+    c6[4] = a[0] * a[2];
+    c6[5] = a[1] * a[2];
+}
+
+/* the gradiometer's [w x]^2 removal with the gyro reading w (mmukf.h,
+ * gyro_term): z gets [w x]^2 - [(w - b_g) x]^2 */
+static void gyro_term(const gg_mm_meas_t *m, const double bg[3], double z[6])
+{
+    double u[3];
+    double cw[6];
+    double cu[6];
+    for (int j = 0; j < 3; ++j) {
+        u[j] = m->omega_b[j] - bg[j];
+    }
+    cross2_6(m->omega_b, cw);
+    cross2_6(u, cu);
+    for (int k = 0; k < 6; ++k) {
+        z[k] += cw[k] - cu[k];
+    }
+}
+
+/* R share of the rate noise n ~ N(0, s^2 I) in the removal: the error
+ * [W x][n x] + [n x][W x] = W n^T + n W^T - 2 (W.n) I, linear in n:
+ * R += s^2 sum_i S(e_i) S(e_i)^T (full 6 x 6) */
+static void gyro_noise_r(const double w[3], double s, double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX])
+{
+    for (int i = 0; i < 3; ++i) {
+        double S[3][3];
+        double s6[6];
+        for (int j = 0; j < 3; ++j) {
+            for (int k = 0; k < 3; ++k) {
+                const double ej = (j == i) ? 1.0 : 0.0;
+                const double ek = (k == i) ? 1.0 : 0.0;
+                S[j][k] = (w[j] * ek) + (ej * w[k]) - ((j == k) ? (2.0 * w[i]) : 0.0);
+            }
+        }
+        s6[0] = S[0][0];
+        s6[1] = S[1][1];
+        s6[2] = S[2][2];
+        s6[3] = S[0][1];
+        s6[4] = S[0][2];
+        s6[5] = S[1][2];
+        for (int a = 0; a < 6; ++a) {
+            for (int b = 0; b < 6; ++b) {
+                R[a][b] += (s * s) * (s6[a] * s6[b]); /* exactly symmetric (ukf.c checks) */
+            }
+        }
+    }
+}
 
 static gg_status_t meas_model(void *ctx, const double *x, double *z)
 {
@@ -510,6 +569,9 @@ static gg_status_t meas_model(void *ctx, const double *x, double *z)
     st = gg_mm_predict_gradient(c->map, &s, z);
     if (st == GG_ERR_RANGE) {
         c->off_map = 1;
+    }
+    if ((st == GG_OK) && (c->meas->gyro_term != 0)) {
+        gyro_term(c->meas, s.bg, z);
     }
     return st;
 }
@@ -595,11 +657,19 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
             if (!(remaining > 0.0)) {
                 break;
             }
-            hctx_t hc = {st->map, &nominal, 0};
+            hctx_t hc = {st->map, &nominal, meas, 0};
             double spread[GG_UKF_NZ_MAX];
             double nis0 = 0.0;
+            (void)memset(R, 0, sizeof R);
             for (int k = 0; k < 6; ++k) {
                 R[k][k] = rk[k];
+            }
+            if (meas->gyro_term != 0) {
+                double wn[3];
+                for (int j = 0; j < 3; ++j) {
+                    wn[j] = meas->omega_b[j] - nominal.bg[j];
+                }
+                gyro_noise_r(wn, meas->sigma_omega_rps, R);
             }
             double w = remaining;
             const gg_status_t s0 = gg_ukf_meas_spread(&st->ukf, 6, meas_model, &hc, spread, meas->gamma_b,
@@ -621,13 +691,15 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
             if (pass < (st->cfg.max_passes - 1)) {
                 /* the component whose spread exceeds its R the most sets w */
                 for (int k = 0; k < 6; ++k) {
-                    if ((spread[k] > rk[k]) && ((rk[k] / spread[k]) < w)) {
-                        w = rk[k] / spread[k];
+                    if ((spread[k] > R[k][k]) && ((R[k][k] / spread[k]) < w)) {
+                        w = R[k][k] / spread[k];
                     }
                 }
             }
             for (int k = 0; k < 6; ++k) {
-                R[k][k] = rk[k] / w;
+                for (int l = 0; l < 6; ++l) {
+                    R[k][l] = R[k][l] / w;
+                }
             }
             gg_ukf_update_info_t info;
             const gg_status_t s = gg_ukf_update(&st->ukf, 6, meas->gamma_b,
@@ -701,6 +773,18 @@ gg_status_t gg_mm_step(gg_mm_t *st, const gg_mm_imu_t *imu, const gg_mm_meas_t *
     if (meas != NULL) {
         for (int k = 0; k < 6; ++k) {
             if (!fin(meas->gamma_b[k]) || (meas->gamma_b[k] > 1.0e-4) || (meas->gamma_b[k] < -1.0e-4)) {
+                st->health = GG_MM_H_BAD_INPUT;
+                return GG_ERR_RANGE;
+            }
+        }
+        if ((meas->gyro_term < 0) || (meas->gyro_term > 1) || !fin(meas->sigma_omega_rps) ||
+            (meas->sigma_omega_rps < 0.0) || (meas->sigma_omega_rps > 1.0)) {
+            st->health = GG_MM_H_BAD_INPUT;
+            return GG_ERR_RANGE;
+        }
+        for (int k = 0; k < 3; ++k) {
+            if ((meas->gyro_term != 0) && (!fin(meas->omega_b[k]) || (meas->omega_b[k] > 10.0) ||
+                                           (meas->omega_b[k] < -10.0))) {
                 st->health = GG_MM_H_BAD_INPUT;
                 return GG_ERR_RANGE;
             }

@@ -112,6 +112,7 @@ int main(void)
 {
     gg_mm_config_t c;
     gg_mm_meas_t z;
+    (void)memset(&z, 0, sizeof z);
     const gg_mm_imu_t imu = {{7.0e-5, 0.0, -3.0e-5}, {0.0, 0.0, -9.79}};
     int32_t i;
     int32_t k;

@@ -92,6 +92,7 @@ int main(int argc, char **argv)
     if (gg_mm_init(&g_mm, &c, &g_map) != GG_OK) return 2;
     gg_mm_output_t out;
     gg_mm_meas_t z;
+    memset(&z, 0, sizeof z);
     gg_mm_predict_gradient(&g_map, &c.init, z.gamma_b);
     const int n2 = reps / 10 > 10 ? reps / 10 : 10;
     for (int r = 0; r < n2; ++r) {

@@ -57,6 +57,7 @@ struct Opt {
   std::string gradiometer = "direct", diff3d_omega = "true";
   double half_base = 0.5;  // m, the project default (truth3d, nav3d)
   double offdiag_ratio = -1;  // filter's off-diagonal/diagonal noise ratio; < 0: 1/sqrt(2) for diff3d, 1 for direct
+  bool gyro_term = true;      // diff3d with the gyro's rate: the filter models the [w x]^2 removal (mmukf gyro_term)
 };
 
 // commanded motion: speed (m/s) and heading rate (rad/s) at t
@@ -200,6 +201,7 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
   double w_prev[3] = {0, 0, 0};
   Eigen::Matrix3d w2_err_sum = Eigen::Matrix3d::Zero();  // imu-mean: sum of [w_gyro x]^2 - [w_true x]^2
   long w2_n = 0;
+  Eigen::Vector3d wg_sum = Eigen::Vector3d::Zero();  // imu-mean: sum of the gyro samples over the window
   auto w2 = [](const double* w) {
     const Eigen::Vector3d v(w[0], w[1], w[2]);
     return Eigen::Matrix3d(v * v.transpose() - v.squaredNorm() * Eigen::Matrix3d::Identity());
@@ -214,11 +216,15 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
       meas.omega_b[j] += bg[j] + arw / std::sqrt(dt) * N(rng);
       meas.f_b[j] += ba[j] + vrw / std::sqrt(dt) * N(rng);
     }
-    if (use_diff3d && o.diff3d_omega == "imu-mean") { w2_err_sum += w2(meas.omega_b) - w2(ideal.omega_b); ++w2_n; }
+    if (use_diff3d && o.diff3d_omega == "imu-mean") {
+      w2_err_sum += w2(meas.omega_b) - w2(ideal.omega_b);
+      wg_sum += Eigen::Vector3d(meas.omega_b[0], meas.omega_b[1], meas.omega_b[2]);
+      ++w2_n;
+    }
     if (gg_mm_mech(&truth, &ideal, dt, 0, 0, 0) != GG_OK) throw std::runtime_error("truth mech");
     if (gg_mm_mech(&ins, &meas, dt, 1, est0.h, 0.0) != GG_OK) throw std::runtime_error("ins mech");
     if (gg_mm_mech(&ins0, &meas, dt, 1, start.h, 0.0) != GG_OK) throw std::runtime_error("ins mech");
-    gg_mm_meas_t gm;
+    gg_mm_meas_t gm{};
     const bool have = (k % per_upd) == 0;
     if (have) {  // gradiometer at the true position, body axes, + noise
       double v[GG_GMAP_NVAL];
@@ -243,11 +249,22 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
         gg_diff3d_output_t dout;
         double d6[6];
         if (ggins::mapnav::diff3d_gamma6(din, o.half_base, d6, &dout) != GG_OK) throw std::runtime_error("gg_diff3d failed");
+        if (o.diff3d_omega == "imu" && o.gyro_term) {  // the filter models the removal with this sample
+          gm.gyro_term = 1;
+          for (int j = 0; j < 3; ++j) gm.omega_b[j] = meas.omega_b[j];
+          gm.sigma_omega_rps = arw / std::sqrt(dt);
+        }
         if (o.diff3d_omega == "imu-mean" && w2_n > 0) {  // gg_diff3d subtracts [w x]^2: Gamma = [w x]^2 - sym(M)
           const Eigen::Matrix3d m = w2_err_sum / static_cast<double>(w2_n);
           const double c6[6] = {m(0, 0), m(1, 1), m(2, 2), m(0, 1), m(0, 2), m(1, 2)};
           for (int j = 0; j < 6; ++j) d6[j] += c6[j];
+          if (o.gyro_term) {  // modelled with the window's mean gyro rate and the mean's noise
+            gm.gyro_term = 1;
+            for (int j = 0; j < 3; ++j) gm.omega_b[j] = wg_sum(j) / static_cast<double>(w2_n);
+            gm.sigma_omega_rps = arw / std::sqrt(dt * static_cast<double>(w2_n));
+          }
           w2_err_sum.setZero();
+          wg_sum.setZero();
           w2_n = 0;
         }
         for (int j = 0; j < 6; ++j) {
@@ -350,6 +367,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"direct", "diff3d"}))
       ->capture_default_str();
   app.add_option("--half-base", o.half_base, "diff3d: half-baseline a = b = c, m")->capture_default_str();
+  app.add_flag("!--no-gyro-term", o.gyro_term,
+               "diff3d with --diff3d-omega imu/imu-mean: do not tell the filter that the gyro's rate removed [Omega x]^2 "
+               "(by default it predicts [w x]^2 - [(w - b_g) x]^2 and adds the rate noise's share to R)");
   app.add_option("--offdiag-ratio", o.offdiag_ratio,
                  "filter's noise of the off-diagonal components relative to the diagonal ones "
                  "(< 0: 1/sqrt(2) with --gradiometer diff3d, whose off-diagonal elements average four readings; 1 with direct)")
@@ -462,6 +482,7 @@ int main(int argc, char** argv) {
     J["meas_noise_e"] = o.meas_e; J["db_noise_e"] = o.db_e; J["att0_deg"] = o.att_deg; J["vel0_mps"] = o.vel;
     J["pos0_m"] = o.pos; J["gyro_bias_dph"] = o.gyro_dph; J["acc_bias_ug"] = o.acc_ug; J["seed"] = o.seed;
     J["gradiometer"] = o.gradiometer;
+    J["gyro_term"] = o.gyro_term && o.gradiometer == "diff3d" && o.diff3d_omega != "true";
     J["offdiag_ratio"] = o.offdiag_ratio >= 0 ? o.offdiag_ratio : (o.gradiometer == "diff3d" ? 1.0 / std::sqrt(2.0) : 1.0);
     if (o.gradiometer == "diff3d") {
       // measured diff3d error against the field's Gamma_b at the centre (noise + finite baseline + omega removal)

@@ -127,6 +127,15 @@ typedef struct {
 
 typedef struct {
     double gamma_b[6];   /**< measured gradient, body axes: xx, yy, zz, xy, xz, yz (s^-2) */
+    int32_t gyro_term;   /**< 0: gamma_b is the gradient (Gao). 1: a differencing gradiometer
+                              (diff3d.h) removed [w x]^2 with the gyro reading omega_b, so
+                              gamma_b = Gamma_b + [w x]^2 - [W x]^2 for the true rate W =
+                              omega_b - b_g - n: the prediction adds [w x]^2 - [(w - b_g) x]^2
+                              with each sigma state's gyro bias b_g (the tensor then observes
+                              the bias), and R the share of the rate noise n (per-axis sigma
+                              sigma_omega_rps, linearised at W = w - b_g of the nominal) */
+    double omega_b[3];   /**< that gyro reading (or its mean over the gradiometer's window), rad/s */
+    double sigma_omega_rps; /**< white-noise sigma of omega_b per axis, rad/s (>= 0) */
 } gg_mm_meas_t;
 
 typedef struct {
