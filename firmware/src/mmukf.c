@@ -366,6 +366,17 @@ gg_status_t gg_mm_apply(const gg_mm_nav_t *b, const double d[GG_MM_NX], gg_mm_na
     return apply(b, d, a);
 }
 
+/* the six independent components (xx yy zz xy xz yz, Gao eq. 31 order) of a symmetric matrix */
+static void sym6(double m[3][3], double v[6]) /* not const: C11 cannot pass a double[3][3] as const */
+{
+    v[0] = m[0][0];
+    v[1] = m[1][1];
+    v[2] = m[2][2];
+    v[3] = m[0][1];
+    v[4] = m[0][2];
+    v[5] = m[1][2];
+}
+
 gg_status_t gg_mm_predict_gradient(const gg_gmap_t *map, const gg_mm_nav_t *x, double g6[6])
 {
     if ((map == NULL) || (x == NULL) || (g6 == NULL)) {
@@ -401,12 +412,7 @@ gg_status_t gg_mm_predict_gradient(const gg_gmap_t *map, const gg_mm_nav_t *x, d
             Gb[i][j] = (C[0][i] * T[0][j]) + (C[1][i] * T[1][j]) + (C[2][i] * T[2][j]);
         }
     }
-    g6[0] = Gb[0][0];
-    g6[1] = Gb[1][1];
-    g6[2] = Gb[2][2];
-    g6[3] = Gb[0][1];
-    g6[4] = Gb[0][2];
-    g6[5] = Gb[1][2];
+    sym6(Gb, g6);
     return GG_OK;
 }
 
@@ -501,12 +507,13 @@ typedef struct {
 static void cross2_6(const double a[3], double c6[6])
 {
     const double n2 = (a[0] * a[0]) + (a[1] * a[1]) + (a[2] * a[2]);
-    c6[0] = (a[0] * a[0]) - n2;
-    c6[1] = (a[1] * a[1]) - n2;
-    c6[2] = (a[2] * a[2]) - n2;
-    c6[3] = a[0] * a[1];
-    c6[4] = a[0] * a[2];
-    c6[5] = a[1] * a[2];
+    double m[3][3];
+    for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < 3; ++k) {
+            m[j][k] = (a[j] * a[k]) - ((j == k) ? n2 : 0.0);
+        }
+    }
+    sym6(m, c6);
 }
 
 /* the gradiometer's [w x]^2 removal with the gyro reading w (mmukf.h,
@@ -541,12 +548,7 @@ static void gyro_noise_r(const double w[3], double s, double R[GG_UKF_NZ_MAX][GG
                 S[j][k] = (w[j] * ek) + (ej * w[k]) - ((j == k) ? (2.0 * w[i]) : 0.0);
             }
         }
-        s6[0] = S[0][0];
-        s6[1] = S[1][1];
-        s6[2] = S[2][2];
-        s6[3] = S[0][1];
-        s6[4] = S[0][2];
-        s6[5] = S[1][2];
+        sym6(S, s6);
         for (int a = 0; a < 6; ++a) {
             for (int b = 0; b < 6; ++b) {
                 R[a][b] += (s * s) * (s6[a] * s6[b]); /* exactly symmetric (ukf.c checks) */

@@ -440,7 +440,7 @@ typedef struct {
     gg_real_t w_k[3];
     gg_real_t w_km1[3];
     gg_real_t w_km2[3];
-    gg_real_t wd_k[3];
+    gg_real_t omega_dot_b[3];
     int n_w;
     int64_t n_steps;
     gg_real_t sin_th;
@@ -467,7 +467,7 @@ static void dyn_save(const gg_nav3d_t *nav, dyn_t *d)
         d->w_k[j] = nav->w_k[j];
         d->w_km1[j] = nav->w_km1[j];
         d->w_km2[j] = nav->w_km2[j];
-        d->wd_k[j] = nav->wd_k[j];
+        d->omega_dot_b[j] = nav->omega_dot_b[j];
         d->f_b[j] = nav->f_b[j];
         for (k = 0U; k < 3U; ++k) {
             d->gamma_b[j][k] = nav->gamma_b[j][k];
@@ -497,7 +497,7 @@ static void dyn_restore(gg_nav3d_t *nav, const dyn_t *d)
         nav->w_k[j] = d->w_k[j];
         nav->w_km1[j] = d->w_km1[j];
         nav->w_km2[j] = d->w_km2[j];
-        nav->wd_k[j] = d->wd_k[j];
+        nav->omega_dot_b[j] = d->omega_dot_b[j];
         nav->f_b[j] = d->f_b[j];
         for (k = 0U; k < 3U; ++k) {
             nav->gamma_b[j][k] = d->gamma_b[j][k];
@@ -644,7 +644,7 @@ static gg_status_t n3_start(gg_nav3d_t *nav, const step_in_t *in)
             nav->w_k[j] = in->w[j];
             nav->w_km1[j] = in->w[j];
             nav->w_km2[j] = in->w[j];
-            nav->wd_k[j] = in->omega_dot[j];
+            nav->omega_dot_b[j] = in->omega_dot[j];
             for (k = 0U; k < 3U; ++k) {
                 nav->gamma_e[j][k] = gamma_i[j][k];
             }
@@ -666,7 +666,7 @@ static void qdot(const gg_real_t q[4], const gg_real_t w[3], gg_real_t d[4])
 
 /* Fourth-order Runge-Kutta attitude step with the rate interpolated through
  * the samples k-2 .. k+1, or by cubic Hermite with the measured angular
- * accelerations wd1 (at k+1) and nav->wd_k on the first two steps (nav3d.h). */
+ * accelerations wd1 (at k+1) and nav->omega_dot_b (at k) on the first two steps (nav3d.h). */
 static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3], const gg_real_t wd1[3])
 {
     const gg_real_t h = nav->dt_s;
@@ -686,7 +686,7 @@ static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3], const g
                      (5.0L * w1[j])) * 0.0625L;
         } else {
             /* cubic Hermite at h/2: (w_k + w1)/2 + h/8 (wd_k - wd1) */
-            wm[j] = (0.5L * (nav->w_k[j] + w1[j])) + ((0.125L * h) * (nav->wd_k[j] - wd1[j]));
+            wm[j] = (0.5L * (nav->w_k[j] + w1[j])) + ((0.125L * h) * (nav->omega_dot_b[j] - wd1[j]));
         }
     }
     qdot(nav->q_b_i, nav->w_k, k1);
@@ -908,7 +908,7 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
                 nav->w_km2[j] = nav->w_km1[j];
                 nav->w_km1[j] = nav->w_k[j];
                 nav->w_k[j] = in->w[j];
-                nav->wd_k[j] = in->omega_dot[j];
+                nav->omega_dot_b[j] = in->omega_dot[j];
             }
             nav->n_w = (nav->n_w < 3) ? (nav->n_w + 1) : 3;
         }
@@ -972,7 +972,7 @@ static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_i
     for (j = 0U; j < 3U; ++j) {
         base.f_b[j] = nav->f_b[j];
         base.w[j] = nav->w_k[j];
-        base.omega_dot[j] = nav->wd_k[j];
+        base.omega_dot[j] = nav->omega_dot_b[j];
         for (k = 0U; k < 3U; ++k) {
             base.gamma_b[j][k] = nav->gamma_b[j][k];
         }
@@ -1243,7 +1243,6 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         size_t k;
         for (j = 0U; j < 3U; ++j) {
             nav->f_b[j] = in.f_b[j];
-            nav->omega_dot_b[j] = in.omega_dot[j];
             for (k = 0U; k < 3U; ++k) {
                 nav->gamma_b[j][k] = in.gamma_b[j][k];
             }

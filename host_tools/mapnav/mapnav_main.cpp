@@ -60,6 +60,12 @@ struct Opt {
   bool gyro_term = true;      // diff3d with the gyro's rate: the filter models the [w x]^2 removal (mmukf gyro_term)
 };
 
+// the filter's off-diagonal/diagonal noise ratio in use: the option, else 1/sqrt(2) for diff3d
+// (an off-diagonal element averages four readings, a diagonal one differences two), 1 for direct
+static double offdiag_ratio(const Opt& o) {
+  return o.offdiag_ratio >= 0 ? o.offdiag_ratio : (o.gradiometer == "diff3d" ? 1.0 / std::sqrt(2.0) : 1.0);
+}
+
 // commanded motion: speed (m/s) and heading rate (rad/s) at t
 struct Cmd { double speed, accel, yaw_rate; };
 Cmd command(double t, double v) {
@@ -184,7 +190,7 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
   cfg.lambda = o.lambda;
   cfg.gate_nis = o.gate;
   cfg.max_passes = o.passes;
-  cfg.offdiag_ratio = o.offdiag_ratio >= 0 ? o.offdiag_ratio : (o.gradiometer == "diff3d" ? 1.0 / std::sqrt(2.0) : 1.0);
+  cfg.offdiag_ratio = offdiag_ratio(o);
   cfg.init = est0;
   auto mm = std::make_unique<gg_mm_t>();
   if (gg_mm_init(mm.get(), &cfg, map) != GG_OK) throw std::runtime_error("gg_mm_init failed");
@@ -483,7 +489,7 @@ int main(int argc, char** argv) {
     J["pos0_m"] = o.pos; J["gyro_bias_dph"] = o.gyro_dph; J["acc_bias_ug"] = o.acc_ug; J["seed"] = o.seed;
     J["gradiometer"] = o.gradiometer;
     J["gyro_term"] = o.gyro_term && o.gradiometer == "diff3d" && o.diff3d_omega != "true";
-    J["offdiag_ratio"] = o.offdiag_ratio >= 0 ? o.offdiag_ratio : (o.gradiometer == "diff3d" ? 1.0 / std::sqrt(2.0) : 1.0);
+    J["offdiag_ratio"] = offdiag_ratio(o);
     if (o.gradiometer == "diff3d") {
       // measured diff3d error against the field's Gamma_b at the centre (noise + finite baseline + omega removal)
       std::array<double, 6> s{}, s2{};

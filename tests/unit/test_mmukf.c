@@ -189,6 +189,30 @@ static void test_filter_pulls_position_in(void **state)
     assert_memory_equal(&g_mm.sig[0], &before, sizeof before);
 }
 
+/* an update at every 0.1 s step, one pass, a prior so tight that the predicted
+ * spread is negligible next to R (the NIS then shows R itself); at the tile's
+ * centre, level, facing north */
+static gg_mm_config_t tiny_prior_config(double sm, double sdb)
+{
+    gg_mm_config_t c;
+    memset(&c, 0, sizeof c);
+    c.dt_s = 0.1;
+    c.update_period_s = 0.1;
+    c.sigma_meas_s2 = sm;
+    c.sigma_db_s2 = sdb;
+    c.sig0_att_rad = 1e-10;
+    c.sig0_vel_mps = 1e-9;
+    c.sig0_pos_m = 1e-6;
+    c.sig0_bg_rps = 1e-15;
+    c.sig0_ba_mps2 = 1e-12;
+    c.max_passes = 1;
+    c.init.q[0] = 1;
+    c.init.lat = 0.5;
+    c.init.lon = -1.0;
+    c.init.h = -100;
+    return c;
+}
+
 /* Measurement noise per component: with offdiag_ratio = 1/sqrt(2) the
  * off-diagonal components get R_off = sigma^2/2 + sigma_db^2. Checked through
  * the NIS of a single update with a tiny prior (the predicted spread is
@@ -200,23 +224,8 @@ static void test_offdiag_noise(void **state)
     synthetic_tile();
     const double sm = 1e-11, sdb = 1e-12, d = 1e-11;
     for (int variant = 0; variant < 3; ++variant) {
-        gg_mm_config_t c;
-        memset(&c, 0, sizeof c);
-        c.dt_s = 0.1;
-        c.update_period_s = 0.1;
-        c.sigma_meas_s2 = sm;
-        c.sigma_db_s2 = sdb;
-        c.sig0_att_rad = 1e-10;
-        c.sig0_vel_mps = 1e-9;
-        c.sig0_pos_m = 1e-6;
-        c.sig0_bg_rps = 1e-15;
-        c.sig0_ba_mps2 = 1e-12;
-        c.max_passes = 1;
+        gg_mm_config_t c = tiny_prior_config(sm, sdb);
         c.offdiag_ratio = variant == 0 ? 0.0 : (variant == 1 ? 1.0 : 1.0 / sqrt(2.0));
-        c.init.q[0] = 1;
-        c.init.lat = 0.5;
-        c.init.lon = -1.0;
-        c.init.h = -100;
         assert_int_equal(gg_mm_init(&g_mm, &c, &g_map), GG_OK);
         const gg_mm_imu_t m = rest_imu(0.5, -100);
         gg_mm_meas_t z;
@@ -279,22 +288,7 @@ static void test_gyro_term(void **state)
     const double w[3] = {0.02, -0.05, 0.03}, b[3] = {2e-6, -1e-6, 3e-6};
     const double sw = 2e-5;
     for (int variant = 0; variant < 2; ++variant) {
-        gg_mm_config_t c;
-        memset(&c, 0, sizeof c);
-        c.dt_s = 0.1;
-        c.update_period_s = 0.1;
-        c.sigma_meas_s2 = sm;
-        c.sigma_db_s2 = sdb;
-        c.sig0_att_rad = 1e-10;
-        c.sig0_vel_mps = 1e-9;
-        c.sig0_pos_m = 1e-6;
-        c.sig0_bg_rps = 1e-15;
-        c.sig0_ba_mps2 = 1e-12;
-        c.max_passes = 1;
-        c.init.q[0] = 1;
-        c.init.lat = 0.5;
-        c.init.lon = -1.0;
-        c.init.h = -100;
+        gg_mm_config_t c = tiny_prior_config(sm, sdb);
         for (int j = 0; j < 3; ++j) c.init.bg[j] = b[j];
         assert_int_equal(gg_mm_init(&g_mm, &c, &g_map), GG_OK);
         gg_mm_imu_t m = rest_imu(0.5, -100);

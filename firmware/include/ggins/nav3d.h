@@ -146,7 +146,6 @@ typedef struct {
     gg_real_t w_k[3];            /**< gyro rate at the last accepted step, rad/s */
     gg_real_t w_km1[3];          /**< gyro rate one step earlier, rad/s */
     gg_real_t w_km2[3];          /**< two steps earlier, rad/s */
-    gg_real_t wd_k[3];           /**< measured angular acceleration at the last step, rad/s^2 */
     int n_w;                     /**< gyro samples held (1..3) */
     int64_t n_steps;             /**< steps flown since t = 0 (theta = omega_ie n dt) */
     gg_real_t sin_th;            /**< sin / cos of theta at the current step */
@@ -156,7 +155,8 @@ typedef struct {
     gg_real_t gamma_b[3][3];     /**< last accepted gradient, body axes, s^-2 */
     gg_real_t gamma_e[3][3];     /**< same in ECEF, s^-2 */
     gg_real_t f_b[3];            /**< last accepted centre specific force, body, m/s^2 */
-    gg_real_t omega_dot_b[3];    /**< angular acceleration from differencing, rad/s^2 */
+    gg_real_t omega_dot_b[3];    /**< angular acceleration from differencing at the last step, rad/s^2
+                                      (also the Hermite start-up's end slope) */
     gg_real_t parity[4];         /**< 3 antisymmetric residuals (rad/s^2) + trace (s^-2) */
     gg_real_t a_c;               /**< vertical loop's integral state in use, m/s^2 */
     gg_real_t h_ins;             /**< geodetic height, m */
