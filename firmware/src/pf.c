@@ -414,7 +414,8 @@ static int pf_cfg_ok(const gg_pf_config_t *c)
 {
     const double v[] = {c->k_eff, c->T, c->dz, c->contrast, c->c0, c->c1, c->sigma, c->sigma0_pos,
                         c->sigma0_vel, c->q_pos, c->q_vel, c->dt, c->gain, c->ess_frac,
-                        c->sigma0_acc, c->q_acc, c->reg_bw};
+                        c->sigma0_acc, c->q_acc, c->reg_bw, c->sigma0_jerk, c->q_jerk,
+                        c->sigma0_bias, c->q_bias};
     unsigned i;
     for (i = 0; i < ((sizeof v) / (sizeof v[0])); ++i) {
         if (!pf_finite(v[i])) {
@@ -425,14 +426,31 @@ static int pf_cfg_ok(const gg_pf_config_t *c)
            (c->dz > 0.0) && (c->contrast > 0.0) && (c->contrast <= 1.0) && (c->sigma > 0.0) &&
            (c->sigma0_pos >= 0.0) && (c->sigma0_vel >= 0.0) && (c->q_pos >= 0.0) && (c->q_vel >= 0.0) &&
            (c->dt > 0.0) && (c->gain > 0.0) && (c->gain <= 1.0) && (c->ess_frac >= 0.0) && (c->ess_frac <= 1.0) &&
-           ((c->model == GG_PF_MODEL_RW) || (c->model == GG_PF_MODEL_INS)) && (c->sigma0_acc >= 0.0) &&
-           (c->q_acc >= 0.0) && (c->reg_bw >= 0.0);
+           ((c->model == GG_PF_MODEL_RW) || (c->model == GG_PF_MODEL_INS) || (c->model == GG_PF_MODEL_RBPF)) &&
+           (c->sigma0_acc >= 0.0) && (c->q_acc >= 0.0) && (c->reg_bw >= 0.0) && (c->sigma0_jerk >= 0.0) &&
+           (c->q_jerk >= 0.0) && (c->sigma0_bias >= 0.0) && (c->q_bias >= 0.0) &&
+           /* RBPF: the velocity noise keeps the position prediction covariance positive definite */
+           ((c->model != GG_PF_MODEL_RBPF) || (c->q_vel > 0.0));
 }
 
-/* State dimensions the model uses (4: RW, 6: INS). */
+/* State dimensions the model uses (4: RW, 6: INS, 12: RBPF, position + linear means). */
 static int pf_nx(const gg_pf_config_t *c)
 {
-    return (c->model == GG_PF_MODEL_INS) ? GG_PF_NX : 4;
+    int nx = 4;
+    if (c->model == GG_PF_MODEL_INS) {
+        nx = 6;
+    } else if (c->model == GG_PF_MODEL_RBPF) {
+        nx = GG_PF_NX;
+    } else {
+        nx = 4;
+    }
+    return nx;
+}
+
+/* Dimensions the particles sample (and the regularisation kernel acts on). */
+static int pf_nsampled(const gg_pf_config_t *c)
+{
+    return (c->model == GG_PF_MODEL_RBPF) ? 2 : pf_nx(c);
 }
 
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
@@ -449,7 +467,7 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     if (!pf_cfg_ok(cfg)) {
         return GG_ERR_CONFIG;
     }
-    nx = pf_nx(cfg);
+    nx = pf_nsampled(cfg);
     if (cfg->reg_bw > 0.0) { /* h = reg_bw (4 / ((d + 2) N))^(1 / (d + 4)) */
         double lh = 0.0;
         const double nxd = (double)nx;
@@ -480,6 +498,19 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
         return s;
     }
     st->reg_h = h;
+    for (i = 0; i < GG_PF_NL; ++i) { /* RBPF: linear states start at zero mean, covariance P */
+        for (k = 0; k < GG_PF_NL; ++k) {
+            st->P[i][k] = 0.0;
+        }
+    }
+    if (cfg->model == GG_PF_MODEL_RBPF) {
+        const double sd[GG_PF_NL] = {cfg->sigma0_vel,  cfg->sigma0_vel,  cfg->sigma0_acc,  cfg->sigma0_acc,
+                                     cfg->sigma0_acc,  cfg->sigma0_jerk, cfg->sigma0_jerk, cfg->sigma0_jerk,
+                                     cfg->sigma0_bias, cfg->sigma0_bias};
+        for (i = 0; i < GG_PF_NL; ++i) {
+            st->P[i][i] = sd[i] * sd[i];
+        }
+    }
     for (i = 0; i < cfg->n; ++i) {
         for (k = 0; k < GG_PF_NX; ++k) {
             st->x[i][k] = st->xs[i][k];
@@ -623,17 +654,295 @@ static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
     return GG_OK;
 }
 
+/* ---- Rao-Blackwellised model (GG_PF_MODEL_RBPF) ---- */
+
+#define PF_RB_TERMS 12 /* Taylor terms of exp(A dt) and of the noise integral */
+
+/* Continuous-time couplings of the RBPF model (see pf.h). */
+typedef struct {
+    double ws2;  /* Schuler w_s^2 */
+    double fcor; /* 2 Omega sinL */
+    double wn;   /* w_in = Omega + rho, NED */
+    double we;
+    double wd;
+} pf_rb_coef_t;
+
+/* out = A m for the sparse A of the model (out distinct from m). */
+static void pf_rb_amul(const pf_rb_coef_t *k, const double m[GG_PF_NX][GG_PF_NX], double out[GG_PF_NX][GG_PF_NX])
+{
+    int j;
+    int i;
+    for (j = 0; j < GG_PF_NX; ++j) {
+        out[0][j] = m[2][j];
+        out[1][j] = m[3][j];
+        out[2][j] = (((-k->ws2 * m[0][j]) - (k->fcor * m[3][j])) + m[4][j]) + m[10][j];
+        out[3][j] = (((-k->ws2 * m[1][j]) + (k->fcor * m[2][j])) + m[5][j]) + m[11][j];
+        out[4][j] = ((k->wd * m[5][j]) + (k->wn * m[6][j])) + m[7][j];
+        out[5][j] = ((-k->wd * m[4][j]) + (k->we * m[6][j])) + m[8][j];
+        out[6][j] = ((-k->wn * m[4][j]) - (k->we * m[5][j])) + m[9][j];
+        for (i = 7; i < GG_PF_NX; ++i) {
+            out[i][j] = 0.0;
+        }
+    }
+}
+
+gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, double vn, double ve,
+                           double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
+                           double tmp[GG_PF_NX][GG_PF_NX])
+{
+    pf_rb_coef_t k;
+    double qc[GG_PF_NX];
+    double sl = 0.0;
+    double cl = 1.0;
+    double coef;
+    int i;
+    int j;
+    int t;
+    gg_status_t s;
+    if ((cfg == NULL) || (F == NULL) || (Q == NULL) || (tmp == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!pf_finite(lat) || !pf_finite(h) || !pf_finite(vn) || !pf_finite(ve) || !pf_finite(cfg->dt)) {
+        return GG_ERR_NONFINITE;
+    }
+    if ((lat > 1.55) || (lat < -1.55) || (h < -1e4) || (h > 1e5) || (vn > 1e3) || (vn < -1e3) || (ve > 1e3) ||
+        (ve < -1e3) || !(cfg->dt > 0.0)) {
+        return GG_ERR_RANGE;
+    }
+    s = gg_pf_sincos(lat, &sl, &cl);
+    if (s != GG_OK) {
+        return s;
+    }
+    {
+        const double w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
+        const double nr = PF_WGS84_A / pf_sqrt(w2);
+        const double rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + h; /* meridian radius + h */
+        const double rnh = nr + h;                              /* prime vertical + h */
+        k.ws2 = PF_G0 / pf_sqrt(rm * rnh);
+        k.fcor = 2.0 * PF_OMEGA_E * sl;
+        k.wn = (PF_OMEGA_E * cl) + (ve / rnh);
+        k.we = -vn / rm;
+        k.wd = (-PF_OMEGA_E * sl) - ((ve * sl) / (cl * rnh));
+    }
+    {
+        const double dt = cfg->dt;
+        qc[0] = (cfg->q_pos * cfg->q_pos) / dt;
+        qc[1] = qc[0];
+        qc[2] = (cfg->q_vel * cfg->q_vel) / dt;
+        qc[3] = qc[2];
+        qc[4] = (cfg->q_acc * cfg->q_acc) / dt;
+        qc[5] = qc[4];
+        qc[6] = qc[4];
+        qc[7] = (cfg->q_jerk * cfg->q_jerk) / dt;
+        qc[8] = qc[7];
+        qc[9] = qc[7];
+        qc[10] = (cfg->q_bias * cfg->q_bias) / dt;
+        qc[11] = qc[10];
+    }
+    /* Q = sum_t T_t dt^(t+1) / (t+1)!, T_0 = Qc, T_t = A T_(t-1) + T_(t-1) A^T (the derivatives
+     * of e^(As) Qc e^(A^T s) at s = 0); F serves as the buffer of T here */
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (j = 0; j < GG_PF_NX; ++j) {
+            F[i][j] = (i == j) ? qc[i] : 0.0;
+            Q[i][j] = F[i][j] * cfg->dt;
+        }
+    }
+    coef = cfg->dt;
+    for (t = 1; t < PF_RB_TERMS; ++t) {
+        pf_rb_amul(&k, (const double(*)[GG_PF_NX])F, tmp);
+        coef *= cfg->dt / (double)(t + 1);
+        for (i = 0; i < GG_PF_NX; ++i) {
+            for (j = 0; j < GG_PF_NX; ++j) {
+                F[i][j] = tmp[i][j] + tmp[j][i];
+            }
+        }
+        for (i = 0; i < GG_PF_NX; ++i) {
+            for (j = 0; j < GG_PF_NX; ++j) {
+                Q[i][j] += coef * F[i][j];
+            }
+        }
+    }
+    /* F = exp(A dt) by Horner: F = I + A dt (I + A dt / 2 (I + ... (I + A dt / K))) */
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (j = 0; j < GG_PF_NX; ++j) {
+            F[i][j] = (i == j) ? 1.0 : 0.0;
+        }
+    }
+    for (t = PF_RB_TERMS; t >= 1; --t) {
+        const double f = cfg->dt / (double)t;
+        pf_rb_amul(&k, (const double(*)[GG_PF_NX])F, tmp);
+        for (i = 0; i < GG_PF_NX; ++i) {
+            for (j = 0; j < GG_PF_NX; ++j) {
+                F[i][j] = ((i == j) ? 1.0 : 0.0) + (f * tmp[i][j]);
+            }
+        }
+    }
+    return GG_OK;
+}
+
+/* RBPF prediction (pf.h, model GG_PF_MODEL_RBPF). Particles and P untouched on error. */
+static gg_status_t pf_rb_predict(gg_pf_t *st, const gg_pf_input_t *in)
+{
+    double (*F)[GG_PF_NX] = st->rb_F;
+    double (*S)[GG_PF_NX] = st->rb_Q;
+    double (*G)[GG_PF_NX] = st->rb_T;
+    double kg[GG_PF_NL][2];
+    double pn[GG_PF_NL][GG_PF_NL];
+    double l00;
+    double l10;
+    double l11;
+    double det;
+    gg_pf_rng_t rng;
+    int i;
+    int j;
+    int q;
+    int ok = 1;
+    gg_status_t s = gg_pf_rb_model(&st->cfg, in->lat, in->h, in->vn, in->ve, F, S, G);
+    if (s != GG_OK) {
+        return s;
+    }
+    /* G = F_(.,l) P; S = G F_(.,l)^T + Q: the joint prediction covariance given r */
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (j = 0; j < GG_PF_NL; ++j) {
+            double a = 0.0;
+            for (q = 0; q < GG_PF_NL; ++q) {
+                a += F[i][2 + q] * st->P[q][j];
+            }
+            G[i][j] = a;
+        }
+    }
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (j = 0; j < GG_PF_NX; ++j) {
+            double a = 0.0;
+            for (q = 0; q < GG_PF_NL; ++q) {
+                a += G[i][q] * F[j][2 + q];
+            }
+            S[i][j] += a;
+        }
+    }
+    for (i = 0; i < GG_PF_NX; ++i) { /* exactly symmetric */
+        for (j = 0; j < i; ++j) {
+            const double a = 0.5 * (S[i][j] + S[j][i]);
+            S[i][j] = a;
+            S[j][i] = a;
+        }
+    }
+    det = (S[0][0] * S[1][1]) - (S[0][1] * S[0][1]);
+    if (!(S[0][0] > 0.0) || !(det > 0.0) || !pf_finite(det)) {
+        return GG_ERR_CONFIG; /* cannot happen with q_vel > 0 and a finite P */
+    }
+    l00 = pf_sqrt(S[0][0]);
+    l10 = S[1][0] / l00;
+    l11 = pf_sqrt(det / S[0][0]);
+    for (i = 0; i < GG_PF_NL; ++i) { /* K = S_lr S_rr^-1 */
+        kg[i][0] = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
+        kg[i][1] = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
+    }
+    for (i = 0; i < GG_PF_NL; ++i) { /* P = S_ll - K S_lr^T */
+        for (j = 0; j <= i; ++j) {
+            const double a = S[2 + i][2 + j] - ((kg[i][0] * S[2 + j][0]) + (kg[i][1] * S[2 + j][1]));
+            pn[i][j] = a;
+            pn[j][i] = a;
+            ok = ok && pf_finite(a);
+        }
+    }
+    if (ok == 0) {
+        return GG_ERR_CONFIG;
+    }
+    rng = st->rng;
+    for (i = 0; (i < st->cfg.n) && (s == GG_OK); ++i) {
+        s = gg_pf_rng_normal(&rng, &st->xs[i][0]);
+        if (s == GG_OK) {
+            s = gg_pf_rng_normal(&rng, &st->xs[i][1]);
+        }
+    }
+    if (s != GG_OK) {
+        return s;
+    }
+    st->rng = rng;
+    for (i = 0; i < st->cfg.n; ++i) {
+        double xn[GG_PF_NX];
+        const double e0 = l00 * st->xs[i][0];
+        const double e1 = (l10 * st->xs[i][0]) + (l11 * st->xs[i][1]);
+        for (j = 0; j < GG_PF_NX; ++j) {
+            double a = 0.0;
+            for (q = 0; q < GG_PF_NX; ++q) {
+                a += F[j][q] * st->x[i][q];
+            }
+            xn[j] = a;
+        }
+        xn[0] += e0;
+        xn[1] += e1;
+        for (j = 0; j < GG_PF_NL; ++j) {
+            xn[2 + j] += (kg[j][0] * e0) + (kg[j][1] * e1);
+        }
+        for (j = 0; j < GG_PF_NX; ++j) {
+            st->x[i][j] = xn[j];
+        }
+    }
+    for (i = 0; i < GG_PF_NL; ++i) {
+        for (j = 0; j < GG_PF_NL; ++j) {
+            st->P[i][j] = pn[i][j];
+        }
+    }
+    return GG_OK;
+}
+
+/* RBPF regularisation after resampling: Liu-West kernel on the position (d = 2),
+ * the linear means shifted along the cloud's regression on the position:
+ * with L the Cholesky factor of the cloud's covariance (columns 0, 1: L_rr, L_mr),
+ * w = (a - 1) L_rr^-1 (r - r_bar) + h z, x += L_(.,0:1) w, i.e.
+ * r <- a r + (1 - a) r_bar + h L_rr z and m += L_mr L_rr^-1 (r_new - r). */
+static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
+{
+    const double h = st->reg_h;
+    const double a = pf_sqrt(1.0 - (h * h));
+    const double l00 = kn->el[0][0];
+    const double l10 = kn->el[1][0];
+    const double l11 = kn->el[1][1];
+    int i;
+    int k;
+    for (i = 0; i < st->cfg.n; ++i) {
+        double z0 = 0.0;
+        double z1 = 0.0;
+        double y0 = 0.0;
+        double y1 = 0.0;
+        gg_status_t s = gg_pf_rng_normal(&st->rng, &z0);
+        if (s == GG_OK) {
+            s = gg_pf_rng_normal(&st->rng, &z1);
+        }
+        if (s != GG_OK) {
+            return s;
+        }
+        if (l00 > 0.0) {
+            y0 = (st->x[i][0] - kn->m[0]) / l00;
+        }
+        if (l11 > 0.0) {
+            y1 = ((st->x[i][1] - kn->m[1]) - (l10 * y0)) / l11;
+        }
+        {
+            const double w0 = (l00 > 0.0) ? (((a - 1.0) * y0) + (h * z0)) : 0.0;
+            const double w1 = (l11 > 0.0) ? (((a - 1.0) * y1) + (h * z1)) : 0.0;
+            for (k = 0; k < GG_PF_NX; ++k) {
+                st->x[i][k] += (kn->el[k][0] * w0) + (kn->el[k][1] * w1);
+            }
+        }
+    }
+    return GG_OK;
+}
+
 gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out)
 {
     const gg_pf_config_t *c;
     gg_pf_rng_t rng;
     uint32_t health = 0u;
-    double mean[GG_PF_NX] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    double mean[GG_PF_NX];
     double ess;
     double ws2;
     double fcor;
     double qk[GG_PF_NX];
     int nx;
+    int np;
     double sw2;
     double gzz_mean = 0.0;
     double rm;
@@ -648,13 +957,13 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     if (!st->initialized) {
         return GG_ERR_NOT_INIT;
     }
-    if (!pf_finite(in->lat) || !pf_finite(in->lon) || !pf_finite(in->h) ||
-        ((in->shot_ok != 0) && (!pf_finite(in->s0) || !pf_finite(in->s1)))) {
+    if (!pf_finite(in->lat) || !pf_finite(in->lon) || !pf_finite(in->h) || !pf_finite(in->vn) ||
+        !pf_finite(in->ve) || ((in->shot_ok != 0) && (!pf_finite(in->s0) || !pf_finite(in->s1)))) {
         return GG_ERR_NONFINITE;
     }
     if ((in->lat > 1.55) || (in->lat < -1.55) || (in->lon > 7.0) || (in->lon < -7.0) || (in->h < -1e4) ||
-        (in->h > 1e5) || ((in->shot_ok != 0) && ((in->s0 > 10.0) || (in->s0 < -10.0) || (in->s1 > 10.0) ||
-                                                  (in->s1 < -10.0)))) {
+        (in->h > 1e5) || (in->vn > 1e3) || (in->vn < -1e3) || (in->ve > 1e3) || (in->ve < -1e3) ||
+        ((in->shot_ok != 0) && ((in->s0 > 10.0) || (in->s0 < -10.0) || (in->s1 > 10.0) || (in->s1 < -10.0)))) {
         return GG_ERR_RANGE;
     }
     c = &st->cfg;
@@ -677,6 +986,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         fcor = 2.0 * PF_OMEGA_E * sl;               /* Coriolis 2 Omega sinL */
     }
     nx = pf_nx(c);
+    np = n;
     qk[0] = c->q_pos;
     qk[1] = c->q_pos;
     qk[2] = c->q_vel;
@@ -684,8 +994,15 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     qk[4] = c->q_acc;
     qk[5] = c->q_acc;
     /* 1. predict: draw all noise first into the scratch buffer (state untouched on error) */
-    rng = st->rng;
-    for (i = 0; (i < n) && (s == GG_OK); ++i) {
+    if (c->model == GG_PF_MODEL_RBPF) {
+        s = pf_rb_predict(st, in); /* draws and commits itself; untouched on error */
+        if (s != GG_OK) {
+            return s;
+        }
+        np = 0; /* the per-particle draws and updates below are the other models' */
+    }
+    rng = st->rng; /* after the RBPF's own draws */
+    for (i = 0; (i < np) && (s == GG_OK); ++i) {
         for (k = 0; (k < nx) && (s == GG_OK); ++k) {
             double z = 0.0;
             /* the RW model draws all four (as before); the INS model only where q > 0 */
@@ -701,7 +1018,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     st->rng = rng;
     if (c->model == GG_PF_MODEL_INS) {
         /* semi-implicit (symplectic) Euler of the Schuler loop: velocity first */
-        for (i = 0; i < n; ++i) {
+        for (i = 0; i < np; ++i) {
             const double vn = st->x[i][2];
             const double ve = st->x[i][3];
             const double an = ((-ws2 * st->x[i][0]) + st->x[i][4]) - (fcor * ve);
@@ -714,7 +1031,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
             st->x[i][5] += st->xs[i][5];
         }
     } else {
-        for (i = 0; i < n; ++i) {
+        for (i = 0; i < np; ++i) { /* RW (np = 0 for the RBPF) */
             st->x[i][0] += (st->x[i][2] * c->dt) + st->xs[i][0];
             st->x[i][1] += (st->x[i][3] * c->dt) + st->xs[i][1];
             st->x[i][2] += st->xs[i][2];
@@ -791,7 +1108,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         }
         s = pf_resample(st);
         if ((s == GG_OK) && (st->reg_h > 0.0)) {
-            s = pf_regularise(st, nx, &kn);
+            s = (c->model == GG_PF_MODEL_RBPF) ? pf_regularise_rb(st, &kn) : pf_regularise(st, nx, &kn);
         }
         if (s != GG_OK) {
             return s; /* cannot happen: the generator has no failure mode */
@@ -800,6 +1117,9 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         st->n_resampled++;
     }
     /* 5. mean (paper eq. 7) and fixed-gain smoothing (eqs. 9-10) */
+    for (k = 0; k < GG_PF_NX; ++k) {
+        mean[k] = 0.0;
+    }
     for (i = 0; i < n; ++i) {
         for (k = 0; k < GG_PF_NX; ++k) {
             mean[k] += st->w[i] * st->x[i][k];

@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   std::string sweep = "none";
   int flights = 10, threads = 2, particles = 500;
   double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = -1, q_vel = -1;
-  double sigma0_acc = -1, q_acc = -1, reg_bw = -1, sigma0_vel = -1, ess_frac = 0.5;
+  double sigma0_acc = -1, q_acc = -1, reg_bw = -1, sigma0_vel = -1, ess_frac = 0.5, q_jerk = -1, q_bias = -1;
   std::string model = "ins";
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
@@ -73,7 +73,13 @@ int main(int argc, char** argv) {
   app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot (<0: RW 0.02, INS from Table I)");
   app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m");
   app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s (<0: RW 0.05, INS 0)");
-  app.add_option("--model", model, "PF particle dynamics: rw | ins")->check(CLI::IsMember({"rw", "ins"}));
+  app.add_option("--model", model,
+                 "PF particle dynamics: rw (random walk, first version) | ins (INS error dynamics in every particle) | "
+                 "rbpf (Rao-Blackwellised: particles for the position, a Kalman filter per particle for velocity, "
+                 "tilt, gyro bias and accelerometer error)")
+      ->check(CLI::IsMember({"rw", "ins", "rbpf"}))->capture_default_str();
+  app.add_option("--q-jerk", q_jerk, "RBPF random walk of the gyro-bias (jerk) states, m/s^3 per shot (<0: 0)");
+  app.add_option("--q-bias", q_bias, "RBPF random walk of the accelerometer-error states, m/s^2 per shot (<0: 0)");
   app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)");
   app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)");
   app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N");
@@ -143,7 +149,8 @@ int main(int argc, char** argv) {
         fc.ins.gyro_scale *= ins_scale; fc.ins.gyro_noise *= ins_scale;
         fc.particles = particles;
         fc.gain = gain; fc.q_pos = q_pos; fc.q_vel = q_vel; fc.sigma0_pos = sigma0_pos;
-        fc.sigma0_vel = sigma0_vel; fc.model = model == "ins" ? 1 : 0;  // GG_PF_MODEL_INS : GG_PF_MODEL_RW
+        fc.sigma0_vel = sigma0_vel; fc.model = model == "rbpf" ? 2 : (model == "ins" ? 1 : 0);  // GG_PF_MODEL_RBPF / INS / RW
+        fc.q_jerk = q_jerk; fc.q_bias = q_bias;
         fc.q_acc = q_acc; fc.sigma0_acc = sigma0_acc; fc.reg_bw = reg_bw; fc.ess_frac = ess_frac;
         fc.duration = duration;
         fc.use_gmap = !direct_map;

@@ -22,6 +22,33 @@
  *       d  += dv dt + q_pos w,    da += q_acc w
  *     with w_s^2 = g0 / sqrt(R_M R_N) (+h) and 2 Omega sinL from the INS latitude
  *     ((-2 Omega x dv)_N = -2 Omega sinL dvE, (...)_E = +2 Omega sinL dvN);
+ *     model GG_PF_MODEL_RBPF: Rao-Blackwellised (marginalised) particle filter
+ *     (Schoen, Gustafsson & Nordlund, IEEE Trans. Signal Process. 53(7), 2005):
+ *     the particles carry only the position correction r = (dN, dE); the ten
+ *     linear states l = (dvN, dvE, aN, aE, aD, jN, jE, jD, bN, bE) are Gaussian
+ *     given the particle's position history, with a per-particle mean (x[i][2..11])
+ *     and one covariance P shared by all particles (the model does not depend on
+ *     the particle). The model is the psi-angle INS error model of the truth
+ *     (level flight, f = (0, 0, -g)) in tilt-as-specific-force units:
+ *       a = g (psi_E, -psi_N, psi_D) (tilt), j = g (eps_E, -eps_N, eps_D) (gyro
+ *       bias), b = horizontal accelerometer error (bias + non-orthogonality x g):
+ *       d'  = dv
+ *       dv' = -w_s^2 d + a + b - 2 Omega sinL k x dv        (+ accelerometer noise)
+ *       aN' =  wD aE + wN aD + jN,  aE' = -wD aN + wE aD + jE,
+ *       aD' = -wN aN - wE aE + jD                           (+ gyro noise x g)
+ *       j' = 0, b' = 0 (+ optional random walks)
+ *     (from psi' = -w_in x psi + eps with w_in = Omega + rho = (Omega cosL + vE/(R_N+h),
+ *     -vN/(R_M+h), -Omega sinL - vE tanL/(R_N+h)), the INS velocity in the input).
+ *     Discretised exactly per shot: F = exp(A dt) and Q = int_0^dt e^(As) Qc e^(A^T s) ds
+ *     by their Taylor series (12 terms; A dt is nilpotent up to the small Earth-rate,
+ *     Schuler and Coriolis couplings). Prediction per particle: the joint Gaussian
+ *     prediction of (r, l) given r_k, conditioned on the drawn r_k+1 (derived here;
+ *     the construction of Schoen et al. with position and linear-state noise
+ *     correlated through F): with S_rr = F_rl P F_rl^T + Q_rr, S_lr = F_ll P F_rl^T + Q_lr,
+ *     S_ll = F_ll P F_ll^T + Q_ll, K = S_lr S_rr^-1:
+ *       e = chol(S_rr) z,  r <- F_rr r + F_rl m + e,  m <- F_lr r + F_ll m + K e,
+ *       P <- S_ll - K S_lr^T;
+ *     the measurement depends on r only, so the weights are those of step 3;
  *  2. failed shot: no re-weighting (section V C) - go to 5;
  *  3. re-weight: for each particle, the candidate position INS + (dN, dE) gives
  *     Gamma_zz from the map (ops table gg_pf_map_t), the candidate ellipse
@@ -41,7 +68,9 @@
  *     dimensions without spread skipped), h = reg_bw (4 / ((d + 2) N))^(1/(d+4))
  *     (Silverman's Gaussian-kernel bandwidth, d state dimensions): the cloud's
  *     mean and covariance are kept in expectation while duplicated particles
- *     are spread out again (sample impoverishment);
+ *     are spread out again (sample impoverishment). RBPF: the kernel acts on the
+ *     position (d = 2) and each particle's linear mean follows its position shift
+ *     along the cloud's regression of m on r (m += C_mr C_rr^-1 dr);
  *  5. mean x_bar = sum w_i x_i (paper eq. 7); corr <- corr + gain (x_bar - corr)
  *     (the fixed-gain smoothing of paper eqs. 9-10).
  *
@@ -68,10 +97,14 @@
 #ifndef GG_PF_MAX
 #define GG_PF_MAX 500
 #endif
-#define GG_PF_NX 6 /**< state per particle: dN, dE, dvN, dvE, daN, daE */
+/** State per particle: dN, dE, dvN, dvE, daN, daE (models RW, INS: the first 4 / 6);
+ *  RBPF: dN, dE and the mean of the 10 linear states (dvN, dvE, aN, aE, aD, jN, jE, jD, bN, bE). */
+#define GG_PF_NX 12
+#define GG_PF_NL 10 /**< linear states of the RBPF */
 
-#define GG_PF_MODEL_RW 0  /**< random-walk velocity, no specific-force state */
-#define GG_PF_MODEL_INS 1 /**< horizontal INS error dynamics (Schuler, Coriolis) */
+#define GG_PF_MODEL_RW 0   /**< random-walk velocity, no specific-force state */
+#define GG_PF_MODEL_INS 1  /**< horizontal INS error dynamics (Schuler, Coriolis) */
+#define GG_PF_MODEL_RBPF 2 /**< Rao-Blackwellised: particles for position, Kalman for the rest */
 
 /** Map ops: Gamma_zz = dG_D/dD (s^-2, NED, ~ +3.1e-6) at a geodetic position.
  *  Returns GG_OK or an error (e.g. GG_ERR_RANGE off the map). */
@@ -99,8 +132,12 @@ typedef struct {
     double q_pos;         /**< process noise per step on dN, dE, m */
     double q_vel;         /**< process noise per step on dvN, dvE, m/s */
     int model;            /**< GG_PF_MODEL_RW (0) or GG_PF_MODEL_INS */
-    double sigma0_acc;    /**< initial spread of daN, daE, m/s^2 (MODEL_INS) */
-    double q_acc;         /**< process noise per step on daN, daE, m/s^2 (MODEL_INS) */
+    double sigma0_acc;    /**< initial spread of daN, daE, m/s^2 (MODEL_INS); of the tilts aN, aE, aD (RBPF) */
+    double q_acc;         /**< process noise per step on daN, daE, m/s^2 (MODEL_INS); on aN, aE, aD (RBPF) */
+    double sigma0_jerk;   /**< RBPF: initial spread of jN, jE, jD (g x gyro bias), m/s^3 */
+    double q_jerk;        /**< RBPF: random walk per step on j, m/s^3 */
+    double sigma0_bias;   /**< RBPF: initial spread of bN, bE (accelerometer error), m/s^2 */
+    double q_bias;        /**< RBPF: random walk per step on b, m/s^2 */
     double reg_bw;        /**< regularisation bandwidth, multiple of Silverman's (0: off) */
     double dt;            /**< s between shots */
     double gain;          /**< smoothing gain, (0, 1] */
@@ -115,6 +152,8 @@ typedef struct {
     int shot_ok;          /**< 0: failed shot, no update */
     double s0;        /**< the pair (signal units), used when shot_ok */
     double s1;
+    double vn;            /**< INS velocity north, east (m/s; RBPF transport rate), |v| <= 1000 */
+    double ve;
 } gg_pf_input_t;
 
 #define GG_PF_H_SKIPPED 0x1u    /**< failed shot: predicted only */
@@ -124,7 +163,7 @@ typedef struct {
 
 typedef struct {
     double corr[2];       /**< smoothed correction (dN, dE), m: corrected = INS + corr */
-    double mean[GG_PF_NX]; /**< particle mean (dN, dE, dvN, dvE, daN, daE) */
+    double mean[GG_PF_NX]; /**< particle mean (dN, dE, dvN, dvE, daN, daE; RBPF: all 12) */
     double ess;           /**< effective sample size after the update */
     double gzz_mean;      /**< weighted mean of the candidates' Gamma_zz (s^-2; 0 when skipped) */
     uint32_t health;      /**< GG_PF_H_* of this step */
@@ -136,6 +175,10 @@ typedef struct {
     double ll[GG_PF_MAX];        /**< scratch: log-likelihood */
     double xs[GG_PF_MAX][GG_PF_NX]; /**< scratch: process noise, resampling */
     double reg_h;                /**< kernel bandwidth h (from reg_bw at init) */
+    double P[GG_PF_NL][GG_PF_NL]; /**< RBPF: covariance of the linear states (all particles) */
+    double rb_F[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch: transition of the step */
+    double rb_Q[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch: process noise covariance of the step */
+    double rb_T[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch */
     gg_pf_config_t cfg;
     gg_pf_rng_t rng;
     double corr[2];
@@ -160,6 +203,13 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg);
 gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out);
 
 /* Building blocks, exposed for tests. */
+/** RBPF model of one step: F = exp(A dt), Q = int e^(As) Qc e^(A^T s) ds for the state
+ *  (dN, dE, dvN, dvE, aN, aE, aD, jN, jE, jD, bN, bE) at (lat, h) with INS velocity (vn, ve);
+ *  Qc = diag(q_pos^2, q_pos^2, q_vel^2, q_vel^2, q_acc^2 x3, q_jerk^2 x3, q_bias^2 x2) / dt.
+ *  tmp: 12 x 12 scratch. */
+gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, double vn, double ve,
+                           double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
+                           double tmp[GG_PF_NX][GG_PF_NX]);
 gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed);
 gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v);
 gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u);  /**< [0, 1), 53 bits */

@@ -91,8 +91,25 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   pc.c1 = 0.5 + cfg.grad.bias1;
   pc.sigma = cfg.sigma_like > 0 ? cfg.sigma_like : std::max(1e-3, grad.expected_sigma());
   pc.sigma0_pos = cfg.sigma0_pos;
-  pc.model = cfg.model == 1 ? GG_PF_MODEL_INS : GG_PF_MODEL_RW;
-  if (pc.model == GG_PF_MODEL_INS) {
+  pc.model = cfg.model == 2 ? GG_PF_MODEL_RBPF : (cfg.model == 1 ? GG_PF_MODEL_INS : GG_PF_MODEL_RW);
+  if (pc.model == GG_PF_MODEL_RBPF) {
+    // The truth's error model as linear states (pf.h), 1-sigma values of the INS specification
+    // (Table I): tilt driven by the gyro noise, a constant gyro bias (jerk state) and a constant
+    // horizontal accelerometer error (bias and non-orthogonality x g), velocity by the
+    // accelerometer noise; perfect initial alignment.
+    const double dtp = 1.0 / cfg.grad.rate_hz;
+    const double b = kG0 * e.acc_bias_g, no = kG0 * e.acc_nonorth;
+    pc.q_pos = cfg.q_pos >= 0 ? cfg.q_pos : 0.0;
+    pc.q_vel = cfg.q_vel >= 0 ? cfg.q_vel : kG0 * e.acc_noise_g * std::sqrt(dtp);
+    pc.q_acc = cfg.q_acc >= 0 ? cfg.q_acc : kG0 * e.gyro_noise * std::sqrt(dtp);
+    pc.sigma0_acc = cfg.sigma0_acc >= 0 ? cfg.sigma0_acc : 0.0;
+    pc.sigma0_jerk = kG0 * e.gyro_bias;
+    pc.q_jerk = cfg.q_jerk >= 0 ? cfg.q_jerk : 0.0;
+    pc.sigma0_bias = std::sqrt(b * b + no * no);
+    pc.q_bias = cfg.q_bias >= 0 ? cfg.q_bias : 0.0;
+    pc.sigma0_vel = cfg.sigma0_vel >= 0 ? cfg.sigma0_vel : 0.0;
+    pc.reg_bw = cfg.reg_bw >= 0 ? cfg.reg_bw : 0.5;
+  } else if (pc.model == GG_PF_MODEL_INS) {
     // Process noise from the INS specification (Table I, the 1-sigma values the designer knows),
     // not from the errors drawn for the flight. da = g psi + accelerometer error: psi is driven
     // by the gyro noise (random walk, g * 2 urad/s/sqrt(Hz)) and the gyro bias (a ramp g eps t,
@@ -195,7 +212,8 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
         }
       }
       if (cfg.run_pf) {
-        gg_pf_input_t in{lat_i, lon_i, h_alt, ok ? 1 : 0, s.s0, s.s1};
+        // INS velocity = truth + its error (the RBPF's transport rate)
+        gg_pf_input_t in{lat_i, lon_i, h_alt, ok ? 1 : 0, s.s0, s.s1, vN + dv(0), vE + dv(1)};
         gg_pf_output_t out{};
         const auto t0 = std::chrono::steady_clock::now();
         const gg_status_t st = gg_pf_step(&pf, &in, &out);
@@ -247,7 +265,8 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
         res.d_spread.push_back(std::sqrt(v2[0] + v2[1]));
         res.d_ess.push_back(last_ess);
         res.d_verr.push_back(std::hypot(dv(0) + m[2], dv(1) + m[3]));
-        res.d_vspread.push_back(std::sqrt(v2[2] + v2[3]));
+        const double pvv = pf.cfg.model == GG_PF_MODEL_RBPF ? pf.P[0][0] + pf.P[1][1] : 0.0;  // + Kalman part
+        res.d_vspread.push_back(std::sqrt(v2[2] + v2[3] + pvv));
         res.d_ins_dv.push_back(std::hypot(dv(0), dv(1)));
       }
       sum_a += ea; sum_u += eu; ++nrec;
