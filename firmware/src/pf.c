@@ -667,8 +667,9 @@ typedef struct {
     double wd;
 } pf_rb_coef_t;
 
-/* out = A m for the sparse A of the model (out distinct from m). */
-static void pf_rb_amul(const pf_rb_coef_t *k, const double m[GG_PF_NX][GG_PF_NX], double out[GG_PF_NX][GG_PF_NX])
+/* out = A m for the sparse A of the model (out distinct from m; m only read - not const-qualified
+ * because C11 does not convert double (*)[N] to const double (*)[N] implicitly). */
+static void pf_rb_amul(const pf_rb_coef_t *k, double m[GG_PF_NX][GG_PF_NX], double out[GG_PF_NX][GG_PF_NX])
 {
     int j;
     int i;
@@ -749,8 +750,8 @@ gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, doub
     }
     coef = cfg->dt;
     for (t = 1; t < PF_RB_TERMS; ++t) {
-        pf_rb_amul(&k, (const double(*)[GG_PF_NX])F, tmp);
-        coef *= cfg->dt / (double)(t + 1);
+        pf_rb_amul(&k, F, tmp);
+        coef *= cfg->dt / ((double)t + 1.0);
         for (i = 0; i < GG_PF_NX; ++i) {
             for (j = 0; j < GG_PF_NX; ++j) {
                 F[i][j] = tmp[i][j] + tmp[j][i];
@@ -770,7 +771,7 @@ gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, doub
     }
     for (t = PF_RB_TERMS; t >= 1; --t) {
         const double f = cfg->dt / (double)t;
-        pf_rb_amul(&k, (const double(*)[GG_PF_NX])F, tmp);
+        pf_rb_amul(&k, F, tmp);
         for (i = 0; i < GG_PF_NX; ++i) {
             for (j = 0; j < GG_PF_NX; ++j) {
                 F[i][j] = ((i == j) ? 1.0 : 0.0) + (f * tmp[i][j]);
@@ -843,7 +844,9 @@ static gg_status_t pf_rb_predict(gg_pf_t *st, const gg_pf_input_t *in)
             const double a = S[2 + i][2 + j] - ((kg[i][0] * S[2 + j][0]) + (kg[i][1] * S[2 + j][1]));
             pn[i][j] = a;
             pn[j][i] = a;
-            ok = ok && pf_finite(a);
+            if (!pf_finite(a)) {
+                ok = 0;
+            }
         }
     }
     if (ok == 0) {

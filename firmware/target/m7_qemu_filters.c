@@ -78,12 +78,14 @@ int main(void)
     c.dt = 1.0;
     c.gain = 0.05;
     c.ess_frac = 0.5;
-    c.model = GG_PF_MODEL_INS;
+    c.model = GG_PF_MODEL_RBPF; /* the flights' filter (flight.cpp, Table I) */
+    c.sigma0_vel = 0.0;
     c.q_pos = 0.0;
     c.q_vel = 1.47e-4;
-    c.q_acc = 2.72e-5;
-    c.sigma0_acc = 3.1e-4;
-    c.reg_bw = 0.5;
+    c.q_acc = 1.96e-5;
+    c.sigma0_jerk = 4.9e-7;
+    c.sigma0_bias = 3.1e-4;
+    c.reg_bw = 1.0;
     if ((gg_pf_map_from_gmap(&g_map, &c.map) != GG_OK) || (gg_pf_init(&g_pf, &c) != GG_OK)) {
         m7_qemu_exit();
     }
@@ -102,6 +104,8 @@ int main(void)
         in.shot_ok = 1;
         in.s0 = 0.5 - (0.25 * c0);
         in.s1 = 0.5 - (0.25 * c1);
+        in.vn = -97.0;
+        in.ve = 26.0;
         (void)gg_pf_step(&g_pf, &in, &o);
     }
     m7_qemu_exit();

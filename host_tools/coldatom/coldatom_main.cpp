@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
   int flights = 10, threads = 2, particles = 500;
   double duration = 0, phase_mrad = 0, p_fail = 0, cloud_rw = 0, gain = 0.05, q_pos = -1, q_vel = -1;
   double sigma0_acc = -1, q_acc = -1, reg_bw = -1, sigma0_vel = -1, ess_frac = 0.5, q_jerk = -1, q_bias = -1;
-  std::string model = "ins";
+  std::string model = "rbpf";
   double sigma0_pos = 50, dz = 1.0, sigma_like = 0, n_atoms = 1e5, ins_scale = 1.0;
   unsigned long seed = 1;
   bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false, tile_on_ins = false;
@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
   app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)");
   app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)");
   app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N");
-  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off; <0: INS 0.5, RW 0)");
+  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off; <0: RBPF 1.0, INS 0.5, RW 0)");
   app.add_option("--dz", dz, "interferometer separation, m");
   app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)");
   app.add_option("--atoms", n_atoms, "mean atoms per shot");

@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     c.model = GG_PF_MODEL_RW; c.q_pos = 2; c.q_vel = 0.02;
   } else if (!ins) {  // the flights' settings (flight.cpp, Table I), Rao-Blackwellised
     c.model = GG_PF_MODEL_RBPF; c.q_pos = 0; c.q_vel = 1.47e-4; c.q_acc = 1.96e-5; c.sigma0_vel = 0;
-    c.sigma0_jerk = 4.9e-7; c.sigma0_bias = 3.1e-4; c.reg_bw = 0.5;
+    c.sigma0_jerk = 4.9e-7; c.sigma0_bias = 3.1e-4; c.reg_bw = 1.0;
   } else {   // the 6-state INS particles (session 3)
     c.model = GG_PF_MODEL_INS; c.q_pos = 0; c.q_vel = 1.47e-4; c.q_acc = 2.72e-5; c.sigma0_acc = 3.1e-4; c.reg_bw = 0.5;
   }

@@ -57,12 +57,12 @@ struct FlightConfig {
   // velocity, tilt, gyro bias and accelerometer error (pf.h); from Table I: q_vel as INS,
   // q_acc = g0 gyro_noise sqrt(dt) (tilt), sigma0_acc 0 (aligned), sigma0_jerk = g0 gyro_bias,
   // sigma0_bias = g0 sqrt(acc_bias^2 + acc_nonorth^2), q_jerk = q_bias = 0 (constant errors).
-  int model = 1;
+  int model = 2;
   double sigma0_pos = 50, sigma0_vel = -1;
   double q_pos = -1, q_vel = -1;
   double sigma0_acc = -1, q_acc = -1;
   double q_jerk = -1, q_bias = -1;  // RBPF random walks (<0: 0)
-  double reg_bw = -1;      // regularised resampling bandwidth, multiple of Silverman's (INS: 0.5, RW: 0 = off)
+  double reg_bw = -1;      // regularised resampling bandwidth, multiple of Silverman's (RBPF 1.0, INS 0.5, RW 0 = off)
   double ess_frac = 0.5;   // resample when N_eff < ess_frac N (paper: 1/2)
   double gain = 0.05;
   double alt_noise = 5.0;  // m
