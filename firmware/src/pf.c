@@ -527,6 +527,8 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     st->n_skipped = 0u;
     st->n_resampled = 0u;
     st->n_degenerate = 0u;
+    st->shot_open = 0;
+    st->sh_next = 0;
     st->initialized = 1;
     return GG_OK;
 }
@@ -657,6 +659,7 @@ static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
 /* ---- Rao-Blackwellised model (GG_PF_MODEL_RBPF) ---- */
 
 #define PF_RB_TERMS 12 /* Taylor terms of exp(A dt) and of the noise integral */
+#define PF_RB_NDYN 7   /* states 0..6 move; 7..11 (j, b) are constant in the model (rows of F = I) */
 
 /* Continuous-time couplings of the RBPF model (see pf.h). */
 typedef struct {
@@ -781,19 +784,17 @@ gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, doub
     return GG_OK;
 }
 
-/* RBPF prediction (pf.h, model GG_PF_MODEL_RBPF). Particles and P untouched on error. */
-static gg_status_t pf_rb_predict(gg_pf_t *st, const gg_pf_input_t *in)
+/* RBPF prediction, the part shared by all particles (pf.h, model GG_PF_MODEL_RBPF):
+ * F, Q of the step, the joint prediction covariance S given r, the Cholesky factor of
+ * S_rr and K = S_lr S_rr^-1 (kept in the state for the per-particle part) and the new
+ * P (committed). Particles and P untouched on error. */
+static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in)
 {
     double (*F)[GG_PF_NX] = st->rb_F;
     double (*S)[GG_PF_NX] = st->rb_Q;
     double (*G)[GG_PF_NX] = st->rb_T;
-    double kg[GG_PF_NL][2];
     double pn[GG_PF_NL][GG_PF_NL];
-    double l00;
-    double l10;
-    double l11;
     double det;
-    gg_pf_rng_t rng;
     int i;
     int j;
     int q;
@@ -832,16 +833,11 @@ static gg_status_t pf_rb_predict(gg_pf_t *st, const gg_pf_input_t *in)
     if (!(S[0][0] > 0.0) || !(det > 0.0) || !pf_finite(det)) {
         return GG_ERR_CONFIG; /* cannot happen with q_vel > 0 and a finite P */
     }
-    l00 = pf_sqrt(S[0][0]);
-    l10 = S[1][0] / l00;
-    l11 = pf_sqrt(det / S[0][0]);
-    for (i = 0; i < GG_PF_NL; ++i) { /* K = S_lr S_rr^-1 */
-        kg[i][0] = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
-        kg[i][1] = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
-    }
-    for (i = 0; i < GG_PF_NL; ++i) { /* P = S_ll - K S_lr^T */
+    for (i = 0; i < GG_PF_NL; ++i) { /* P = S_ll - K S_lr^T, K = S_lr S_rr^-1 */
+        const double k0 = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
+        const double k1 = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
         for (j = 0; j <= i; ++j) {
-            const double a = S[2 + i][2 + j] - ((kg[i][0] * S[2 + j][0]) + (kg[i][1] * S[2 + j][1]));
+            const double a = S[2 + i][2 + j] - ((k0 * S[2 + j][0]) + (k1 * S[2 + j][1]));
             pn[i][j] = a;
             pn[j][i] = a;
             if (!pf_finite(a)) {
@@ -852,43 +848,46 @@ static gg_status_t pf_rb_predict(gg_pf_t *st, const gg_pf_input_t *in)
     if (ok == 0) {
         return GG_ERR_CONFIG;
     }
-    rng = st->rng;
-    for (i = 0; (i < st->cfg.n) && (s == GG_OK); ++i) {
-        s = gg_pf_rng_normal(&rng, &st->xs[i][0]);
-        if (s == GG_OK) {
-            s = gg_pf_rng_normal(&rng, &st->xs[i][1]);
-        }
-    }
-    if (s != GG_OK) {
-        return s;
-    }
-    st->rng = rng;
-    for (i = 0; i < st->cfg.n; ++i) {
-        double xn[GG_PF_NX];
-        const double e0 = l00 * st->xs[i][0];
-        const double e1 = (l10 * st->xs[i][0]) + (l11 * st->xs[i][1]);
-        for (j = 0; j < GG_PF_NX; ++j) {
-            double a = 0.0;
-            for (q = 0; q < GG_PF_NX; ++q) {
-                a += F[j][q] * st->x[i][q];
-            }
-            xn[j] = a;
-        }
-        xn[0] += e0;
-        xn[1] += e1;
-        for (j = 0; j < GG_PF_NL; ++j) {
-            xn[2 + j] += (kg[j][0] * e0) + (kg[j][1] * e1);
-        }
-        for (j = 0; j < GG_PF_NX; ++j) {
-            st->x[i][j] = xn[j];
-        }
-    }
     for (i = 0; i < GG_PF_NL; ++i) {
+        st->rb_K[i][0] = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
+        st->rb_K[i][1] = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
         for (j = 0; j < GG_PF_NL; ++j) {
             st->P[i][j] = pn[i][j];
         }
     }
+    st->rb_L[0] = pf_sqrt(S[0][0]);
+    st->rb_L[1] = S[1][0] / st->rb_L[0];
+    st->rb_L[2] = pf_sqrt(det / S[0][0]);
     return GG_OK;
+}
+
+/* RBPF prediction of particle i with the drawn normals (z0, z1):
+ * e = L z, r <- F_rr r + F_rl m + e, m <- F_lr r + F_ll m + K e. */
+static void pf_rb_particle(gg_pf_t *st, int i, double z0, double z1)
+{
+    double xn[GG_PF_NX];
+    const double e0 = st->rb_L[0] * z0;
+    const double e1 = (st->rb_L[1] * z0) + (st->rb_L[2] * z1);
+    int j;
+    int q;
+    for (j = 0; j < PF_RB_NDYN; ++j) {
+        double a = 0.0;
+        for (q = 0; q < GG_PF_NX; ++q) {
+            a += st->rb_F[j][q] * st->x[i][q];
+        }
+        xn[j] = a;
+    }
+    for (j = PF_RB_NDYN; j < GG_PF_NX; ++j) { /* gyro bias and accelerometer error: F rows = I exactly */
+        xn[j] = st->x[i][j];
+    }
+    xn[0] += e0;
+    xn[1] += e1;
+    for (j = 0; j < GG_PF_NL; ++j) {
+        xn[2 + j] += (st->rb_K[j][0] * e0) + (st->rb_K[j][1] * e1);
+    }
+    for (j = 0; j < GG_PF_NX; ++j) {
+        st->x[i][j] = xn[j];
+    }
 }
 
 /* RBPF regularisation after resampling: Liu-West kernel on the position (d = 2),
@@ -934,31 +933,22 @@ static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
     return GG_OK;
 }
 
-gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out)
+gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
 {
     const gg_pf_config_t *c;
-    gg_pf_rng_t rng;
-    uint32_t health = 0u;
-    double mean[GG_PF_NX];
-    double ess;
-    double ws2;
-    double fcor;
-    double qk[GG_PF_NX];
-    int nx;
-    int np;
-    double sw2;
-    double gzz_mean = 0.0;
-    double rm;
-    double rn;
-    int i;
-    int k;
-    int n;
-    gg_status_t s = GG_OK;
-    if ((st == NULL) || (in == NULL) || (out == NULL)) {
+    double sl = 0.0;
+    double cl = 1.0;
+    double w2;
+    double nr;
+    gg_status_t s;
+    if ((st == NULL) || (in == NULL)) {
         return GG_ERR_NULL;
     }
     if (!st->initialized) {
         return GG_ERR_NOT_INIT;
+    }
+    if (st->shot_open != 0) {
+        return GG_ERR_SEQUENCE; /* the previous shot was not ended */
     }
     if (!pf_finite(in->lat) || !pf_finite(in->lon) || !pf_finite(in->h) || !pf_finite(in->vn) ||
         !pf_finite(in->ve) || ((in->shot_ok != 0) && (!pf_finite(in->s0) || !pf_finite(in->s1)))) {
@@ -970,121 +960,177 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         return GG_ERR_RANGE;
     }
     c = &st->cfg;
-    n = c->n;
     /* geometry first (the only failure mode after validation): state untouched on error */
-    {
-        double sl = 0.0;
-        double cl = 1.0;
-        double w2;
-        double nr;
-        s = gg_pf_sincos(in->lat, &sl, &cl);
+    s = gg_pf_sincos(in->lat, &sl, &cl);
+    if (s != GG_OK) {
+        return s;
+    }
+    if (c->model == GG_PF_MODEL_RBPF) {
+        s = pf_rb_common(st, in); /* commits P; untouched on error */
         if (s != GG_OK) {
             return s;
         }
-        w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
-        nr = PF_WGS84_A / pf_sqrt(w2);
-        rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + in->h; /* meridian radius + h */
-        rn = (nr + in->h) * cl;                     /* (prime vertical + h) cos(lat) */
-        ws2 = PF_G0 / pf_sqrt(rm * (nr + in->h));   /* Schuler w_s^2 = g0 / R */
-        fcor = 2.0 * PF_OMEGA_E * sl;               /* Coriolis 2 Omega sinL */
     }
+    w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
+    nr = PF_WGS84_A / pf_sqrt(w2);
+    st->sh_rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + in->h; /* meridian radius + h */
+    st->sh_rn = (nr + in->h) * cl;                         /* (prime vertical + h) cos(lat) */
+    st->sh_ws2 = PF_G0 / pf_sqrt(st->sh_rm * (nr + in->h)); /* Schuler w_s^2 = g0 / R */
+    st->sh_fcor = 2.0 * PF_OMEGA_E * sl;                    /* Coriolis 2 Omega sinL */
+    st->sh_in = *in;
+    st->sh_next = 0;
+    st->sh_llmax = 0.0;
+    st->sh_have = 0;
+    st->sh_health = 0u;
+    if (in->shot_ok == 0) {
+        st->sh_health = GG_PF_H_SKIPPED;
+    }
+    st->shot_open = 1;
+    st->n_steps++;
+    return GG_OK;
+}
+
+gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
+{
+    const gg_pf_config_t *c;
+    const gg_pf_input_t *in;
+    double qk[6];
+    int nx;
+    int i;
+    int i_end;
+    int k;
+    gg_status_t s = GG_OK;
+    if ((st == NULL) || (done == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->shot_open == 0) {
+        return GG_ERR_SEQUENCE;
+    }
+    if (max_particles < 1) {
+        return GG_ERR_RANGE;
+    }
+    c = &st->cfg;
+    in = &st->sh_in;
     nx = pf_nx(c);
-    np = n;
     qk[0] = c->q_pos;
     qk[1] = c->q_pos;
     qk[2] = c->q_vel;
     qk[3] = c->q_vel;
     qk[4] = c->q_acc;
     qk[5] = c->q_acc;
-    /* 1. predict: draw all noise first into the scratch buffer (state untouched on error) */
-    if (c->model == GG_PF_MODEL_RBPF) {
-        s = pf_rb_predict(st, in); /* draws and commits itself; untouched on error */
-        if (s != GG_OK) {
-            return s;
-        }
-        np = 0; /* the per-particle draws and updates below are the other models' */
-    }
-    rng = st->rng; /* after the RBPF's own draws */
-    for (i = 0; (i < np) && (s == GG_OK); ++i) {
-        for (k = 0; (k < nx) && (s == GG_OK); ++k) {
-            double z = 0.0;
-            /* the RW model draws all four (as before); the INS model only where q > 0 */
-            if ((c->model == GG_PF_MODEL_RW) || (qk[k] > 0.0)) {
-                s = gg_pf_rng_normal(&rng, &z);
+    i_end = ((c->n - st->sh_next) > max_particles) ? (st->sh_next + max_particles) : c->n;
+    for (i = st->sh_next; (i < i_end) && (s == GG_OK); ++i) {
+        double z[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        /* 1. predict (the generator draws in particle order: chunking gives the same sequence) */
+        if (c->model == GG_PF_MODEL_RBPF) {
+            s = gg_pf_rng_normal(&st->rng, &z[0]);
+            if (s == GG_OK) {
+                s = gg_pf_rng_normal(&st->rng, &z[1]);
             }
-            st->xs[i][k] = qk[k] * z;
+            if (s == GG_OK) {
+                pf_rb_particle(st, i, z[0], z[1]);
+            }
+        } else {
+            for (k = 0; (k < nx) && (k < 6) && (s == GG_OK); ++k) {
+                /* the RW model draws all four (as before); the INS model only where q > 0 */
+                if ((c->model == GG_PF_MODEL_RW) || (qk[k] > 0.0)) {
+                    s = gg_pf_rng_normal(&st->rng, &z[k]);
+                }
+                z[k] *= qk[k];
+            }
+            if ((s == GG_OK) && (c->model == GG_PF_MODEL_INS)) {
+                /* semi-implicit (symplectic) Euler of the Schuler loop: velocity first */
+                const double vn = st->x[i][2];
+                const double ve = st->x[i][3];
+                const double an = ((-st->sh_ws2 * st->x[i][0]) + st->x[i][4]) - (st->sh_fcor * ve);
+                const double ae = ((-st->sh_ws2 * st->x[i][1]) + st->x[i][5]) + (st->sh_fcor * vn);
+                st->x[i][2] = vn + (an * c->dt) + z[2];
+                st->x[i][3] = ve + (ae * c->dt) + z[3];
+                st->x[i][0] += (st->x[i][2] * c->dt) + z[0];
+                st->x[i][1] += (st->x[i][3] * c->dt) + z[1];
+                st->x[i][4] += z[4];
+                st->x[i][5] += z[5];
+            } else if (s == GG_OK) { /* RW */
+                st->x[i][0] += (st->x[i][2] * c->dt) + z[0];
+                st->x[i][1] += (st->x[i][3] * c->dt) + z[1];
+                st->x[i][2] += z[2];
+                st->x[i][3] += z[3];
+            } else {
+                /* no draw failure mode: nothing to do */
+            }
         }
-    }
-    if (s != GG_OK) {
-        return s;
-    }
-    st->rng = rng;
-    if (c->model == GG_PF_MODEL_INS) {
-        /* semi-implicit (symplectic) Euler of the Schuler loop: velocity first */
-        for (i = 0; i < np; ++i) {
-            const double vn = st->x[i][2];
-            const double ve = st->x[i][3];
-            const double an = ((-ws2 * st->x[i][0]) + st->x[i][4]) - (fcor * ve);
-            const double ae = ((-ws2 * st->x[i][1]) + st->x[i][5]) + (fcor * vn);
-            st->x[i][2] = vn + (an * c->dt) + st->xs[i][2];
-            st->x[i][3] = ve + (ae * c->dt) + st->xs[i][3];
-            st->x[i][0] += (st->x[i][2] * c->dt) + st->xs[i][0];
-            st->x[i][1] += (st->x[i][3] * c->dt) + st->xs[i][1];
-            st->x[i][4] += st->xs[i][4];
-            st->x[i][5] += st->xs[i][5];
-        }
-    } else {
-        for (i = 0; i < np; ++i) { /* RW (np = 0 for the RBPF) */
-            st->x[i][0] += (st->x[i][2] * c->dt) + st->xs[i][0];
-            st->x[i][1] += (st->x[i][3] * c->dt) + st->xs[i][1];
-            st->x[i][2] += st->xs[i][2];
-            st->x[i][3] += st->xs[i][3];
-        }
-    }
-    st->n_steps++;
-    if (in->shot_ok == 0) {
-        health |= GG_PF_H_SKIPPED;
-        st->n_skipped++;
-    } else {
-        /* 3. re-weight (paper eq. 6) */
-        double llmax = 0.0;
-        double sw = 0.0;
-        const double scale = c->k_eff * c->dz * c->T * c->T;
-        const double amp = 0.5 * c->contrast;
-        const double inv2s2 = 1.0 / (2.0 * c->sigma * c->sigma);
-        int have = 0;
-        for (i = 0; i < n; ++i) {
+        /* 3. log-likelihood of the pair at the particle's candidate position (paper eq. 6) */
+        if ((s == GG_OK) && (in->shot_ok != 0)) {
+            const double scale = c->k_eff * c->dz * c->T * c->T;
             double g = 0.0;
             double d = 0.0;
-            gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + (st->x[i][0] / rm), in->lon + (st->x[i][1] / rn),
-                                        in->h, &g);
+            gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + (st->x[i][0] / st->sh_rm),
+                                        in->lon + (st->x[i][1] / st->sh_rn), in->h, &g);
             if ((sm == GG_OK) && pf_finite(g)) {
-                sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, amp, scale * g, &d);
+                sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, 0.5 * c->contrast, scale * g, &d);
             } else {
                 sm = GG_ERR_RANGE;
             }
             if (sm == GG_OK) {
+                const double inv2s2 = 1.0 / (2.0 * c->sigma * c->sigma);
                 st->ll[i] = -d * d * inv2s2;
                 st->xs[i][0] = g;
-                if ((have == 0) || (st->ll[i] > llmax)) {
-                    llmax = st->ll[i];
+                if ((st->sh_have == 0) || (st->ll[i] > st->sh_llmax)) {
+                    st->sh_llmax = st->ll[i];
                 }
-                have = 1;
+                st->sh_have = 1;
             } else {
                 st->ll[i] = 1.0; /* marker: no likelihood (ll <= 0 otherwise) */
                 st->xs[i][0] = 0.0;
-                health |= GG_PF_H_MAP_MISS;
+                st->sh_health |= GG_PF_H_MAP_MISS;
             }
         }
-        for (i = 0; (i < n) && (have != 0); ++i) {
+    }
+    if (s != GG_OK) {
+        return s; /* cannot happen: the generator has no failure mode */
+    }
+    st->sh_next = i_end;
+    *done = 0;
+    if (i_end >= c->n) {
+        *done = 1;
+    }
+    return GG_OK;
+}
+
+gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out)
+{
+    const gg_pf_config_t *c;
+    double mean[GG_PF_NX];
+    double ess;
+    double sw2;
+    double gzz_mean = 0.0;
+    uint32_t health;
+    int i;
+    int k;
+    int n;
+    gg_status_t s = GG_OK;
+    if ((st == NULL) || (out == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if ((st->shot_open == 0) || (st->sh_next < st->cfg.n)) {
+        return GG_ERR_SEQUENCE; /* not begun, or particles left */
+    }
+    c = &st->cfg;
+    n = c->n;
+    health = st->sh_health;
+    if (st->sh_in.shot_ok == 0) {
+        st->n_skipped++;
+    } else {
+        double sw = 0.0;
+        for (i = 0; (i < n) && (st->sh_have != 0); ++i) {
             double e = 0.0;
             if (st->ll[i] <= 0.0) {
-                (void)gg_pf_exp(st->ll[i] - llmax, &e); /* argument <= 0: always GG_OK */
+                (void)gg_pf_exp(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
             }
             st->w[i] *= e;
             sw += st->w[i];
         }
-        if ((have == 0) || !(sw > 0.0) || !pf_finite(sw)) {
+        if ((st->sh_have == 0) || !(sw > 0.0) || !pf_finite(sw)) {
             for (i = 0; i < n; ++i) {
                 st->w[i] = 1.0 / (double)n;
             }
@@ -1106,6 +1152,7 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     ess = 1.0 / sw2;
     if (ess < (c->ess_frac * (double)n)) {
         pf_kernel_t kn;
+        const int nx = pf_nx(c);
         if (st->reg_h > 0.0) {
             pf_moments(st, nx, &kn);
         }
@@ -1113,11 +1160,12 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
         if ((s == GG_OK) && (st->reg_h > 0.0)) {
             s = (c->model == GG_PF_MODEL_RBPF) ? pf_regularise_rb(st, &kn) : pf_regularise(st, nx, &kn);
         }
-        if (s != GG_OK) {
-            return s; /* cannot happen: the generator has no failure mode */
-        }
         health |= GG_PF_H_RESAMPLED;
         st->n_resampled++;
+    }
+    st->shot_open = 0;
+    if (s != GG_OK) {
+        return s; /* cannot happen: the generator has no failure mode */
     }
     /* 5. mean (paper eq. 7) and fixed-gain smoothing (eqs. 9-10) */
     for (k = 0; k < GG_PF_NX; ++k) {
@@ -1139,4 +1187,21 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
     out->gzz_mean = gzz_mean;
     out->health = health;
     return GG_OK;
+}
+
+gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out)
+{
+    int done = 0;
+    gg_status_t s;
+    if ((st == NULL) || (in == NULL) || (out == NULL)) {
+        return GG_ERR_NULL;
+    }
+    s = gg_pf_step_begin(st, in);
+    if (s == GG_OK) {
+        s = gg_pf_step_chunk(st, GG_PF_MAX, &done);
+    }
+    if (s == GG_OK) {
+        s = gg_pf_step_end(st, out);
+    }
+    return s;
 }

@@ -28,6 +28,9 @@
 static gg_gmap_tile_t g_tile;
 static gg_gmap_t g_map;
 #ifdef PF_BENCH
+#ifndef PF_BENCH_N
+#define PF_BENCH_N GG_PF_MAX
+#endif
 static gg_pf_t g_pf;
 #else
 static gg_mm_t g_mm;
@@ -64,7 +67,7 @@ int main(void)
         m7_qemu_exit();
     }
     (void)memset(&c, 0, sizeof c);
-    c.n = GG_PF_MAX;
+    c.n = PF_BENCH_N;
     c.seed = 1U;
     c.k_eff = 1.4743e7;
     c.T = 0.16;

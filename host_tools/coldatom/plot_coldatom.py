@@ -43,10 +43,11 @@ if os.path.exists(p):
     ax.plot(e["t_s"], e["unaided_mean_m"], label="unaided INS (mean)")
     ax.plot(e["t_s"], e["aided_mean_m"], label="PF-aided (mean)")
     ax.plot(e["t_s"], e["aided_p90_m"], ":", label="PF-aided (90th percentile)")
-    p1 = os.path.join(d, "v1", "error_vs_time_base.csv")
-    if os.path.exists(p1):  # the first version on the same flights
-        e1 = rd(p1)
-        ax.plot(e1["t_s"], e1["aided_mean_m"], "--", color="0.5", lw=0.9, label="first version (mean)")
+    for sub, c, lab in (("ins", "C2", "6-state INS particles, session 3 (mean)"), ("v1", "0.5", "first version (mean)")):
+        p1 = os.path.join(d, sub, "error_vs_time_base.csv")
+        if os.path.exists(p1):  # the earlier filters on the same flights
+            e1 = rd(p1)
+            ax.plot(e1["t_s"], e1["aided_mean_m"], "--", color=c, lw=0.9, label=lab)
     ax.set_xlabel("time (s)"); ax.set_ylabel("horizontal error (m)")
     js = json.load(open(os.path.join(d, "summary_none.json")))[0]
     ax.set_title("horizontal radial error, %d flights, phase noise %.1f mrad" % (js["flights"], js["phase_noise_mrad"]))
@@ -82,12 +83,13 @@ def diag(folder):
     return rows[0]["t_s"][:n], avg("pmean_err_m"), avg("spread_m"), z2, len(rows)
 
 
-dn, d1 = diag(d), diag(os.path.join(d, "v1"))
+dn, di, d1 = diag(d), diag(os.path.join(d, "ins")), diag(os.path.join(d, "v1"))
 if dn:
     fig, ax = plt.subplots(2, 1, figsize=(9, 5.8), sharex=True)
     for a in ax:
         shade(a)
-    for dd, lab, c in ((dn, "this version", "C1"), (d1, "first version", "0.5")):
+    for dd, lab, c in ((dn, "Rao-Blackwellised (this version)", "C1"), (di, "6-state INS particles", "C2"),
+                       (d1, "first version", "0.5")):
         if dd is None:
             continue
         t, em, sp, z2, nf = dd

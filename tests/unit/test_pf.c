@@ -867,6 +867,55 @@ static void test_rb_bad_input(void **state)
     assert_int_equal(gg_pf_rb_model(&c, NAN, H0, 0, 0, F, Q, T), GG_ERR_NONFINITE);
 }
 
+/* The split shot (begin / chunk / end) against gg_pf_step: 60 shots with failed shots and
+ * resampling, chunks of 1..97 particles, every model: outputs and particle states bit-identical;
+ * out-of-order calls refused with GG_ERR_SEQUENCE. */
+static void test_chunked_step(void **state)
+{
+    (void)state;
+    static gg_pf_t a, b;
+    const int models[3] = {GG_PF_MODEL_RW, GG_PF_MODEL_INS, GG_PF_MODEL_RBPF};
+    for (int mi = 0; mi < 3; ++mi) {
+        gg_pf_config_t c = (models[mi] == GG_PF_MODEL_RBPF) ? rb_cfg() : base_cfg();
+        c.model = models[mi]; c.sigma = 0.004; c.reg_bw = 0.8; c.ess_frac = 0.5;
+        if (models[mi] != GG_PF_MODEL_RBPF) { c.q_pos = 0.5; c.q_vel = 2e-3; c.q_acc = 2e-5; c.sigma0_acc = 3e-4; }
+        assert_int_equal(gg_pf_init(&a, &c), GG_OK);
+        assert_int_equal(gg_pf_init(&b, &c), GG_OK);
+        int resampled = 0, chunks = 0;
+        for (int k = 0; k < 60; ++k) {
+            gg_pf_input_t in = {LAT0, LON0, H0, (k % 7) != 3, 0.5 - 0.25 * cos(0.7 * k), 0.5 - 0.25 * cos(0.7 * k + 1.16),
+                                -90.0, 30.0};
+            gg_pf_output_t oa, ob;
+            memset(&oa, 0, sizeof oa); memset(&ob, 0, sizeof ob);
+            assert_int_equal(gg_pf_step(&a, &in, &oa), GG_OK);
+            assert_int_equal(gg_pf_step_begin(&b, &in), GG_OK);
+            assert_int_equal(gg_pf_step_begin(&b, &in), GG_ERR_SEQUENCE); /* shot already open */
+            int done = 0, m = 1 + (k * 37) % 97;
+            assert_int_equal(gg_pf_step_end(&b, &ob), GG_ERR_SEQUENCE);   /* particles left */
+            while (!done) {
+                assert_int_equal(gg_pf_step_chunk(&b, m, &done), GG_OK);
+                ++chunks;
+            }
+            assert_int_equal(gg_pf_step_end(&b, &ob), GG_OK);
+            assert_int_equal(memcmp(&oa, &ob, sizeof oa), 0);
+            resampled += (oa.health & GG_PF_H_RESAMPLED) != 0;
+        }
+        assert_int_equal(memcmp(a.x, b.x, sizeof a.x), 0);
+        assert_int_equal(memcmp(a.w, b.w, sizeof a.w), 0);
+        assert_int_equal(memcmp(&a.rng, &b.rng, sizeof a.rng), 0);
+        printf("chunked step, model %d: 60 shots in %d chunks, %d resamplings, bit-identical\n", models[mi], chunks,
+               resampled);
+        assert_true(resampled > 0);
+        int done = 0;
+        gg_pf_output_t o;
+        assert_int_equal(gg_pf_step_chunk(&b, 10, &done), GG_ERR_SEQUENCE); /* no shot open */
+        assert_int_equal(gg_pf_step_end(&b, &o), GG_ERR_SEQUENCE);
+        gg_pf_input_t in = {LAT0, LON0, H0, 1, 0.5, 0.5, 0, 0};
+        assert_int_equal(gg_pf_step_begin(&b, &in), GG_OK);
+        assert_int_equal(gg_pf_step_chunk(&b, 0, &done), GG_ERR_RANGE);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -884,6 +933,7 @@ int main(void)
         cmocka_unit_test(test_rb_model),
         cmocka_unit_test(test_rb_spread),
         cmocka_unit_test(test_rb_bad_input),
+        cmocka_unit_test(test_chunked_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

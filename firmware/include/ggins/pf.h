@@ -179,6 +179,19 @@ typedef struct {
     double rb_F[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch: transition of the step */
     double rb_Q[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch: process noise covariance of the step */
     double rb_T[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch */
+    double rb_K[GG_PF_NL][2];    /**< RBPF gain of the shot in progress, K = S_lr S_rr^-1 */
+    double rb_L[3];              /**< RBPF Cholesky factor of S_rr (l00, l10, l11) */
+    /* the shot in progress (gg_pf_step_begin / _chunk / _end) */
+    gg_pf_input_t sh_in;
+    double sh_rm;                /**< meridian radius + h */
+    double sh_rn;                /**< (prime vertical radius + h) cos(lat) */
+    double sh_ws2;
+    double sh_fcor;
+    double sh_llmax;
+    int sh_have;
+    int sh_next;                 /**< next particle to predict and weigh */
+    uint32_t sh_health;
+    int shot_open;
     gg_pf_config_t cfg;
     gg_pf_rng_t rng;
     double corr[2];
@@ -199,8 +212,19 @@ gg_status_t gg_pf_map_from_gmap(const gg_gmap_t *gm, gg_pf_map_t *map);
 /** Validate cfg (GG_ERR_CONFIG), seed, draw the particles around zero correction. */
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg);
 
-/** One shot. GG_ERR_NONFINITE / GG_ERR_RANGE on bad input: state untouched. */
+/** One shot. GG_ERR_NONFINITE / GG_ERR_RANGE on bad input: state untouched.
+ *  = gg_pf_step_begin + gg_pf_step_chunk(all particles) + gg_pf_step_end. */
 gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out);
+
+/** The same shot split for a real-time loop (e.g. 50 particles per 10 ms navigation step):
+ *  begin validates the input (state untouched on error) and does the work shared by all
+ *  particles (RBPF: F, Q, gain, P); each chunk predicts and weighs the next max_particles
+ *  particles (*done = 1 after the last); end normalises the weights, resamples and outputs.
+ *  The generator draws in particle order, so any chunking gives results bit-identical to
+ *  gg_pf_step. Out of order calls: GG_ERR_SEQUENCE (a begun shot must be ended). */
+gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in);
+gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done);
+gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out);
 
 /* Building blocks, exposed for tests. */
 /** RBPF model of one step: F = exp(A dt), Q = int e^(As) Qc e^(A^T s) ds for the state
