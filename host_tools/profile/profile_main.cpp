@@ -14,7 +14,39 @@
 #include <string>
 #include <vector>
 
+#include "ggins/coldatom/pf_bench.hpp"
+
 namespace fs = std::filesystem;
+
+// The filter kernels that run beside the navigation step at their own rates (issue 11's
+// particle filter, 1 Hz): timed in-process on this host with the settings of
+// coldatom-pf-bench (pf_bench.hpp), printed as rows of the same table.
+static int print_filter_rows(int shots, int chunk) {
+  using namespace ggins::coldatom;
+  auto b = pf_bench_make(PfBenchModel::kRbpf, GG_PF_MAX);
+  PfStepTimes t;
+  if (!b || !pf_bench_run(*b, shots, chunk, &t)) {
+    std::fprintf(stderr, "ggins profile: particle filter bench failed\n");
+    return 1;
+  }
+  std::printf("filter kernels, in-process on this host (%d shots; Rao-Blackwellised particle filter, %d particles,\n"
+              "gmap candidates; runs at 1 Hz beside the step; Cortex-M7 counts: scripts/m7-qemu-count pf pf250):\n",
+              shots, GG_PF_MAX);
+  std::printf("%-10s %10s %10s %10s\n", "module", "median ns", "p99 ns", "max ns");
+  auto row = [](const char* m, std::vector<double>& v) {
+    std::printf("%-10s %10.0f %10.0f %10.0f\n", m, pf_bench_quantile(v, 0.5), pf_bench_quantile(v, 0.99),
+                pf_bench_quantile(v, 1.0));
+  };
+  row("pf_shot", t.shot);
+  row("pf_begin", t.begin);
+  char name[32];
+  std::snprintf(name, sizeof name, "pf_chunk%d", chunk);
+  row(name, t.chunk);
+  row("pf_end", t.end);
+  std::printf("(a shot = pf_begin + %d x pf_chunk%d + pf_end when split over navigation steps; pf_end includes "
+              "the resampling shots)\n", (GG_PF_MAX + chunk - 1) / chunk, chunk);
+  return 0;
+}
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -23,17 +55,26 @@ int main(int argc, char** argv) {
       "then prints median / p99 / max ns per firmware module as the firmware measured it\n"
       "through the HAL cycle counter (CLOCK_MONOTONIC on the host; DWT CYCCNT on a board),\n"
       "the share of the step period, and the deadline overruns the firmware counted.\n"
+      "Then the filter kernels that run beside the step at their own rate (the cold-atom particle\n"
+      "filter: whole shot, and split into begin / chunks / end), timed in-process.\n"
       "Deterministic instruction counts: scripts/bench (callgrind), scripts/m7-qemu-count."};
   std::string scenario = "welker-perfect";
   double duration = 0.0;
   std::string keep;
-  bool realtime = false;
+  bool realtime = false, no_filters = false, filters_only = false;
+  int pf_shots = 200, pf_chunk = 50;
   app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
   app.add_option("--duration", duration, "override the scenario's duration, s")
       ->check(CLI::PositiveNumber);
   app.add_flag("--realtime", realtime, "pace frames at the sensor rate (caches go cold between steps)");
   app.add_option("--keep", keep, "keep the run's output folder here (default: a temporary folder, removed)");
+  app.add_flag("--no-filters", no_filters, "skip the filter-kernel rows (particle filter, timed in-process)");
+  app.add_flag("--filters-only", filters_only, "only the filter-kernel rows (no host-in-the-loop run)");
+  app.add_option("--pf-shots", pf_shots, "particle-filter shots to time")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--pf-chunk", pf_chunk, "particles per chunk of the split shot")
+      ->check(CLI::Range(1, GG_PF_MAX))->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  if (filters_only) return print_filter_rows(pf_shots, pf_chunk);
 
   std::error_code ec;
   fs::path self = fs::read_symlink("/proc/self/exe", ec);
@@ -106,5 +147,6 @@ int main(int argc, char** argv) {
     std::printf("deadline overruns (steps flagged GG_HEALTH_DEADLINE): %lld\n",
                 static_cast<long long>(s["transport"]["hal_sim"]["deadline_overruns"].get<double>()));
   if (keep.empty()) fs::remove_all(out, ec);
+  if (!no_filters) return print_filter_rows(pf_shots, pf_chunk);
   return 0;
 }
