@@ -43,7 +43,7 @@ if os.path.exists(p):
     ax.plot(e["t_s"], e["unaided_mean_m"], label="unaided INS (mean)")
     ax.plot(e["t_s"], e["aided_mean_m"], label="PF-aided (mean)")
     ax.plot(e["t_s"], e["aided_p90_m"], ":", label="PF-aided (90th percentile)")
-    for sub, c, lab in (("ins", "C2", "6-state INS particles, session 3 (mean)"), ("v1", "0.5", "first version (mean)")):
+    for sub, c, lab in (("ins", "C3", "6-state INS particles, session 3 (mean)"), ("v1", "0.5", "first version (mean)")):
         p1 = os.path.join(d, sub, "error_vs_time_base.csv")
         if os.path.exists(p1):  # the earlier filters on the same flights
             e1 = rd(p1)
@@ -88,7 +88,7 @@ if dn:
     fig, ax = plt.subplots(2, 1, figsize=(9, 5.8), sharex=True)
     for a in ax:
         shade(a)
-    for dd, lab, c in ((dn, "Rao-Blackwellised (this version)", "C1"), (di, "6-state INS particles", "C2"),
+    for dd, lab, c in ((dn, "Rao-Blackwellised (this version)", "C1"), (di, "6-state INS particles", "C3"),
                        (d1, "first version", "0.5")):
         if dd is None:
             continue
