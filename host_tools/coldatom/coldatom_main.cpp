@@ -7,6 +7,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+extern "C" {
+#include "ggins/pf.h"
+}
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -14,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -61,17 +66,18 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder");
   app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
   app.add_option("--sweep", sweep, "none | phase | fail")->check(CLI::IsMember({"none", "phase", "fail"}));
-  app.add_option("--flights", flights, "flights per setting");
-  app.add_option("--threads", threads, "worker threads");
-  app.add_option("--particles", particles, "particles (<= GG_PF_MAX)");
-  app.add_option("--duration", duration, "seconds per flight (0: the whole route, 11,370 s)");
-  app.add_option("--phase-noise", phase_mrad, "phase noise, mrad (sweep none)");
-  app.add_option("--p-fail", p_fail, "failure probability (sweep none / phase)");
-  app.add_option("--cloud-rw", cloud_rw, "atom-cloud horizontal random walk, m/sqrt(s)");
-  app.add_option("--gain", gain, "PF smoothing gain");
+  app.add_option("--flights", flights, "flights per setting")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--threads", threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
+  app.add_option("--particles", particles, "particles (1 .. GG_PF_MAX = 500)")->check(CLI::Range(1, GG_PF_MAX))->capture_default_str();
+  app.add_option("--duration", duration, "seconds per flight (0: the whole route, 11,370 s; else >= 10, the record interval)")
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option("--phase-noise", phase_mrad, "phase noise, mrad (sweep none)")->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--p-fail", p_fail, "failure probability, 0..1 (sweep none / phase)")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--cloud-rw", cloud_rw, "atom-cloud horizontal random walk, m/sqrt(s)")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--gain", gain, "PF smoothing gain, (0, 1]")->check(CLI::Range(1e-6, 1.0))->capture_default_str();
   app.add_option("--q-pos", q_pos, "PF process noise, m per shot (<0: the model's default, RW 2, INS 0)");
   app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot (<0: RW 0.02, INS from Table I)");
-  app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m");
+  app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m")->check(CLI::Range(0.0, 1e5))->capture_default_str();
   app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s (<0: RW 0.05, INS 0)");
   app.add_option("--model", model,
                  "PF particle dynamics: rw (random walk, first version) | ins (INS error dynamics in every particle) | "
@@ -82,17 +88,21 @@ int main(int argc, char** argv) {
   app.add_option("--q-bias", q_bias, "RBPF random walk of the accelerometer-error states, m/s^2 per shot (<0: 0)");
   app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)");
   app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)");
-  app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N");
+  app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N (0..1)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
   app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off; <0: RBPF 1.0, INS 0.5, RW 0)");
-  app.add_option("--dz", dz, "interferometer separation, m");
-  app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)");
-  app.add_option("--atoms", n_atoms, "mean atoms per shot");
-  app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)");
+  app.add_option("--dz", dz,
+                 "interferometer separation, m (1: the baseline; 2: delta phi 2.33 rad > pi/2, where the ellipse fit "
+                 "under-estimates as in the paper)")
+      ->check(CLI::Range(0.01, 100.0))->capture_default_str();
+  app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)")->check(CLI::Range(0.0, 10.0));
+  app.add_option("--atoms", n_atoms, "mean atoms per shot")->check(CLI::Range(1.0, 1e12))->capture_default_str();
+  app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)")->check(CLI::Range(0.0, 1e3));
   app.add_option("--seed", seed, "first flight's seed");
   app.add_flag("--direct-map", direct_map, "candidates from the route map directly instead of paged gmap tiles");
   app.add_flag("--tile-on-ins", tile_on_ins, "page the gmap tile around the raw INS position (before 2026-12) instead of the corrected one");
-  app.add_option("--tile-recentre", tile_recentre, "re-centre the gmap tile when its centre is this far (m) from the position it follows");
-  app.add_option("--tile-step", tile_step, "gmap tile node spacing, m (50 x 50 nodes)");
+  app.add_option("--tile-recentre", tile_recentre, "re-centre the gmap tile when its centre is this far (m) from the position it follows")
+      ->check(CLI::Range(1.0, 1e5))->capture_default_str();
+  app.add_option("--tile-step", tile_step, "gmap tile node spacing, m (50 x 50 nodes)")->check(CLI::Range(10.0, 5000.0))->capture_default_str();
   app.add_flag("--dump-flights", dump_flights, "write flight_<tag>_<i>.csv per flight (errors and filter diagnostics)");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
   app.add_option("--topo-rms", topo_rms, "rms height of the synthetic terrain, m (a sensitivity check; the runs use 150)")
@@ -108,7 +118,15 @@ int main(int argc, char** argv) {
   mp.topo_rms = topo_rms;
   mp.with_egm96 = !no_egm;
   const auto tm0 = std::chrono::steady_clock::now();
-  RouteMap map(mp, egm96, cache);
+  std::unique_ptr<RouteMap> map_ptr;
+  try {
+    map_ptr = std::make_unique<RouteMap>(mp, egm96, cache);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-coldatom: cannot build the route map: %s\n(EGM96 coefficients: scripts/fetch-egm96, "
+                 "or --egm96 <file>; --no-egm96 for the normal field)\n", e.what());
+    return 1;
+  }
+  const RouteMap& map = *map_ptr;
   const double map_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm0).count();
   std::printf("route %.1f km, map built in %.1f s; synthetic terrain: height rms %.0f m, Gamma_zz rms at %.0f m: %.2f E\n",
               map.length() / 1e3, map_s, map.topo_height_rms(), mp.h, map.topo_gzz_rms() * 1e9);
@@ -165,6 +183,13 @@ int main(int argc, char** argv) {
     std::vector<std::thread> pool;
     for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
     for (auto& th : pool) th.join();
+    for (std::size_t i = 0; i < res.size(); ++i)
+      if (!res[i].error.empty() || res[i].t.size() != res[0].t.size()) {
+        std::fprintf(stderr, "ggins-coldatom: flight %zu (seed %lu) of setting %s did not fly: %s\n", i,
+                     seed + static_cast<unsigned long>(i), st.tag.c_str(),
+                     res[i].error.empty() ? "record count differs from the first flight's" : res[i].error.c_str());
+        return 1;
+      }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (dump_flights)
       for (std::size_t i = 0; i < res.size(); ++i) {

@@ -146,12 +146,24 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   if (cfg.use_gmap) {
     double lat0, lon0;
     map.route_point(0, 0, &lat0, &lon0);
-    if (!build_tile(map, lat0, lon0, map.params().h, cfg.tile_step, &tile) || gg_gmap_init(&gm, &tile) != GG_OK)
+    if (!build_tile(map, lat0, lon0, map.params().h, cfg.tile_step, &tile) || gg_gmap_init(&gm, &tile) != GG_OK) {
+      res.error = "the first gmap tile (50 x 50 nodes at " + std::to_string(cfg.tile_step) +
+                  " m) leaves the route map's corridor at the start of the route";
       return res;
+    }
     tile_lat = lat0; tile_lon = lon0; have_tile = true; ++res.tiles;
-    if (gg_pf_map_from_gmap(&gm, &pc.map) != GG_OK) return res;
+    if (gg_pf_map_from_gmap(&gm, &pc.map) != GG_OK) {
+      res.error = "gg_pf_map_from_gmap refused the tile";
+      return res;
+    }
   }
-  if (cfg.run_pf && gg_pf_init(&pf, &pc) != GG_OK) return res;
+  if (cfg.run_pf) {
+    const gg_status_t si = gg_pf_init(&pf, &pc);
+    if (si != GG_OK) {
+      res.error = "gg_pf_init refused the filter configuration (status " + std::to_string(static_cast<int>(si)) + ")";
+      return res;
+    }
+  }
 
   const double v = 100.0, h = map.params().h;
   const double T = cfg.duration > 0 ? std::min(cfg.duration, map.length() / v) : map.length() / v;
@@ -283,6 +295,7 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
     std::nth_element(step_ns.begin(), step_ns.begin() + static_cast<long>(step_ns.size() / 2), step_ns.end());
     res.pf_step_ns_median = step_ns[step_ns.size() / 2];
   }
+  if (res.t.empty() && res.error.empty()) res.error = "no record: the flight is shorter than the record interval";
   return res;
 }
 

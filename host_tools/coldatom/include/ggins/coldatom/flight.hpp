@@ -84,6 +84,7 @@ struct FlightConfig {
 };
 
 struct FlightResult {
+  std::string error;  // empty when the flight flew; else why it did not (refused filter config, map tile)
   std::vector<double> t, err_unaided, err_aided;  // every record_every s, metres
   // gradient estimates per batch (s^-2): truth mean over the batch, ellipse fit, PF (map at the corrected position)
   std::vector<double> batch_t, g_true, g_fit, g_pf;
