@@ -656,6 +656,23 @@ static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
     return GG_OK;
 }
 
+/* WGS-84 radii at geodetic latitude (sin sl) and height h: meridian radius + h and
+ * prime-vertical radius + h. */
+typedef struct {
+    double rm;
+    double rnh;
+} pf_radii_t;
+
+static pf_radii_t pf_radii(double sl, double h)
+{
+    pf_radii_t r;
+    const double w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
+    const double nr = PF_WGS84_A / pf_sqrt(w2);
+    r.rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + h;
+    r.rnh = nr + h;
+    return r;
+}
+
 /* ---- Rao-Blackwellised model (GG_PF_MODEL_RBPF) ---- */
 
 #define PF_RB_TERMS 12 /* Taylor terms of exp(A dt) and of the noise integral */
@@ -690,44 +707,22 @@ static void pf_rb_amul(const pf_rb_coef_t *k, double m[GG_PF_NX][GG_PF_NX], doub
     }
 }
 
-gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, double vn, double ve,
+/* F and Q of one step (gg_pf_rb_model) from validated inputs: sin, cos of the latitude and the radii. */
+static void pf_rb_model_at(const gg_pf_config_t *cfg, double sl, double cl, pf_radii_t r, double vn, double ve,
                            double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
                            double tmp[GG_PF_NX][GG_PF_NX])
 {
     pf_rb_coef_t k;
     double qc[GG_PF_NX];
-    double sl = 0.0;
-    double cl = 1.0;
     double coef;
     int i;
     int j;
     int t;
-    gg_status_t s;
-    if ((cfg == NULL) || (F == NULL) || (Q == NULL) || (tmp == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(lat) || !pf_finite(h) || !pf_finite(vn) || !pf_finite(ve) || !pf_finite(cfg->dt)) {
-        return GG_ERR_NONFINITE;
-    }
-    if ((lat > 1.55) || (lat < -1.55) || (h < -1e4) || (h > 1e5) || (vn > 1e3) || (vn < -1e3) || (ve > 1e3) ||
-        (ve < -1e3) || !(cfg->dt > 0.0)) {
-        return GG_ERR_RANGE;
-    }
-    s = gg_pf_sincos(lat, &sl, &cl);
-    if (s != GG_OK) {
-        return s;
-    }
-    {
-        const double w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
-        const double nr = PF_WGS84_A / pf_sqrt(w2);
-        const double rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + h; /* meridian radius + h */
-        const double rnh = nr + h;                              /* prime vertical + h */
-        k.ws2 = PF_G0 / pf_sqrt(rm * rnh);
-        k.fcor = 2.0 * PF_OMEGA_E * sl;
-        k.wn = (PF_OMEGA_E * cl) + (ve / rnh);
-        k.we = -vn / rm;
-        k.wd = (-PF_OMEGA_E * sl) - ((ve * sl) / (cl * rnh));
-    }
+    k.ws2 = PF_G0 / pf_sqrt(r.rm * r.rnh);
+    k.fcor = 2.0 * PF_OMEGA_E * sl;
+    k.wn = (PF_OMEGA_E * cl) + (ve / r.rnh);
+    k.we = -vn / r.rm;
+    k.wd = (-PF_OMEGA_E * sl) - ((ve * sl) / (cl * r.rnh));
     {
         const double dt = cfg->dt;
         qc[0] = (cfg->q_pos * cfg->q_pos) / dt;
@@ -781,28 +776,49 @@ gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, doub
             }
         }
     }
-    return GG_OK;
+}
+
+gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, double vn, double ve,
+                           double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
+                           double tmp[GG_PF_NX][GG_PF_NX])
+{
+    double sl = 0.0;
+    double cl = 1.0;
+    gg_status_t s;
+    if ((cfg == NULL) || (F == NULL) || (Q == NULL) || (tmp == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!pf_finite(lat) || !pf_finite(h) || !pf_finite(vn) || !pf_finite(ve) || !pf_finite(cfg->dt)) {
+        return GG_ERR_NONFINITE;
+    }
+    if ((lat > 1.55) || (lat < -1.55) || (h < -1e4) || (h > 1e5) || (vn > 1e3) || (vn < -1e3) || (ve > 1e3) ||
+        (ve < -1e3) || !(cfg->dt > 0.0)) {
+        return GG_ERR_RANGE;
+    }
+    s = gg_pf_sincos(lat, &sl, &cl);
+    if (s == GG_OK) {
+        pf_rb_model_at(cfg, sl, cl, pf_radii(sl, h), vn, ve, F, Q, tmp);
+    }
+    return s;
 }
 
 /* RBPF prediction, the part shared by all particles (pf.h, model GG_PF_MODEL_RBPF):
  * F, Q of the step, the joint prediction covariance S given r, the Cholesky factor of
  * S_rr and K = S_lr S_rr^-1 (kept in the state for the per-particle part) and the new
  * P (committed). Particles and P untouched on error. */
-static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in)
+static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl, double cl, pf_radii_t r)
 {
     double (*F)[GG_PF_NX] = st->rb_F;
     double (*S)[GG_PF_NX] = st->rb_Q;
     double (*G)[GG_PF_NX] = st->rb_T;
     double pn[GG_PF_NL][GG_PF_NL];
+    double kg[GG_PF_NL][2];
     double det;
     int i;
     int j;
     int q;
     int ok = 1;
-    gg_status_t s = gg_pf_rb_model(&st->cfg, in->lat, in->h, in->vn, in->ve, F, S, G);
-    if (s != GG_OK) {
-        return s;
-    }
+    pf_rb_model_at(&st->cfg, sl, cl, r, in->vn, in->ve, F, S, G);
     /* G = F_(.,l) P; S = G F_(.,l)^T + Q: the joint prediction covariance given r */
     for (i = 0; i < GG_PF_NX; ++i) {
         for (j = 0; j < GG_PF_NL; ++j) {
@@ -833,11 +849,13 @@ static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in)
     if (!(S[0][0] > 0.0) || !(det > 0.0) || !pf_finite(det)) {
         return GG_ERR_CONFIG; /* cannot happen with q_vel > 0 and a finite P */
     }
-    for (i = 0; i < GG_PF_NL; ++i) { /* P = S_ll - K S_lr^T, K = S_lr S_rr^-1 */
-        const double k0 = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
-        const double k1 = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
+    for (i = 0; i < GG_PF_NL; ++i) { /* K = S_lr S_rr^-1 */
+        kg[i][0] = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
+        kg[i][1] = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
+    }
+    for (i = 0; i < GG_PF_NL; ++i) { /* P = S_ll - K S_lr^T */
         for (j = 0; j <= i; ++j) {
-            const double a = S[2 + i][2 + j] - ((k0 * S[2 + j][0]) + (k1 * S[2 + j][1]));
+            const double a = S[2 + i][2 + j] - ((kg[i][0] * S[2 + j][0]) + (kg[i][1] * S[2 + j][1]));
             pn[i][j] = a;
             pn[j][i] = a;
             if (!pf_finite(a)) {
@@ -849,8 +867,8 @@ static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in)
         return GG_ERR_CONFIG;
     }
     for (i = 0; i < GG_PF_NL; ++i) {
-        st->rb_K[i][0] = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
-        st->rb_K[i][1] = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
+        st->rb_K[i][0] = kg[i][0];
+        st->rb_K[i][1] = kg[i][1];
         for (j = 0; j < GG_PF_NL; ++j) {
             st->P[i][j] = pn[i][j];
         }
@@ -938,8 +956,7 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     const gg_pf_config_t *c;
     double sl = 0.0;
     double cl = 1.0;
-    double w2;
-    double nr;
+    pf_radii_t r;
     gg_status_t s;
     if ((st == NULL) || (in == NULL)) {
         return GG_ERR_NULL;
@@ -965,17 +982,16 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     if (s != GG_OK) {
         return s;
     }
+    r = pf_radii(sl, in->h);
     if (c->model == GG_PF_MODEL_RBPF) {
-        s = pf_rb_common(st, in); /* commits P; untouched on error */
+        s = pf_rb_common(st, in, sl, cl, r); /* commits P; untouched on error */
         if (s != GG_OK) {
             return s;
         }
     }
-    w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
-    nr = PF_WGS84_A / pf_sqrt(w2);
-    st->sh_rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + in->h; /* meridian radius + h */
-    st->sh_rn = (nr + in->h) * cl;                         /* (prime vertical + h) cos(lat) */
-    st->sh_ws2 = PF_G0 / pf_sqrt(st->sh_rm * (nr + in->h)); /* Schuler w_s^2 = g0 / R */
+    st->sh_rm = r.rm;                                  /* meridian radius + h */
+    st->sh_rn = r.rnh * cl;                            /* (prime vertical + h) cos(lat) */
+    st->sh_ws2 = PF_G0 / pf_sqrt(r.rm * r.rnh);        /* Schuler w_s^2 = g0 / R */
     st->sh_fcor = 2.0 * PF_OMEGA_E * sl;                    /* Coriolis 2 Omega sinL */
     st->sh_in = *in;
     st->sh_next = 0;
@@ -995,6 +1011,9 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
     const gg_pf_config_t *c;
     const gg_pf_input_t *in;
     double qk[6];
+    double scale;
+    double amp;
+    double inv2s2;
     int nx;
     int i;
     int i_end;
@@ -1018,6 +1037,9 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
     qk[3] = c->q_vel;
     qk[4] = c->q_acc;
     qk[5] = c->q_acc;
+    scale = c->k_eff * c->dz * c->T * c->T; /* dphi = k_eff Gamma_zz dz T^2 (paper eq. 2) */
+    amp = 0.5 * c->contrast;
+    inv2s2 = 1.0 / (2.0 * c->sigma * c->sigma);
     i_end = ((c->n - st->sh_next) > max_particles) ? (st->sh_next + max_particles) : c->n;
     for (i = st->sh_next; (i < i_end) && (s == GG_OK); ++i) {
         double z[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
@@ -1061,18 +1083,16 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
         }
         /* 3. log-likelihood of the pair at the particle's candidate position (paper eq. 6) */
         if ((s == GG_OK) && (in->shot_ok != 0)) {
-            const double scale = c->k_eff * c->dz * c->T * c->T;
             double g = 0.0;
             double d = 0.0;
             gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + (st->x[i][0] / st->sh_rm),
                                         in->lon + (st->x[i][1] / st->sh_rn), in->h, &g);
             if ((sm == GG_OK) && pf_finite(g)) {
-                sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, 0.5 * c->contrast, scale * g, &d);
+                sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, amp, scale * g, &d);
             } else {
                 sm = GG_ERR_RANGE;
             }
             if (sm == GG_OK) {
-                const double inv2s2 = 1.0 / (2.0 * c->sigma * c->sigma);
                 st->ll[i] = -d * d * inv2s2;
                 st->xs[i][0] = g;
                 if ((st->sh_have == 0) || (st->ll[i] > st->sh_llmax)) {
