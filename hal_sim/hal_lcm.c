@@ -113,4 +113,8 @@ void ggins_output_to_lcm(const gg_nav_output_t *o, int64_t run_id, ggins_nav_out
     m->parity_f[1] = o->parity_f[1];
     m->acc_excluded = (int64_t)o->acc_excluded;
     m->acc_rebuilt = (int64_t)o->acc_rebuilt;
+    m->resync_count = (int64_t)o->resync_count;
+    m->coast_steps = (int64_t)o->coast_steps;
+    m->outage_s = o->outage_s;
+    m->state_lag_s = o->state_lag_s;
 }

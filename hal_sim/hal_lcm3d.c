@@ -72,4 +72,8 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->n_cycles = GG_MOD_COUNT;
     for (int i = 0; i < GG_MOD_COUNT && i < 8; ++i) m->cycles[i] = (int64_t)o->cycles[i];
     m->republished = 0;
+    m->resync_count = (int64_t)o->resync_count;
+    m->coast_steps = (int64_t)o->coast_steps;
+    m->outage_s = o->outage_s;
+    m->state_lag_s = o->state_lag_s;
 }

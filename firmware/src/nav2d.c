@@ -93,8 +93,14 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
     nav->diff = diff;
     nav->gravdr.initialized = 0;
     nav->mech.initialized = 0;
-    nav->last_seq = 0;
-    nav->last_utime = 0;
+    st = gg_task_seq_init(&nav->seq, cfg->dt_us, cfg->dt_tol_us);
+    if (st != GG_OK) {
+        return st;
+    }
+    nav->state_step = 0;
+    nav->state_clock_us = 0;
+    nav->input_step = 0;
+    nav->coast_steps = 0U;
     nav->asym = 0.0L;
     nav->a_c = 0.0L;
     nav->h_ins = 0.0L;
@@ -109,10 +115,9 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
     return GG_OK;
 }
 
-/* Health bits of a frame's accelerometers and sequencing; *known_bad gets
- * the readings (GG_FDI_BIT) that cannot be used as they are. */
-static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_t *known_bad,
-                            int64_t *missing)
+/* Health bits of a frame's accelerometers; *known_bad gets the readings
+ * (GG_FDI_BIT) that cannot be used as they are. */
+static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_t *known_bad)
 {
     uint32_t h = 0U;
     uint32_t kb = 0U;
@@ -136,11 +141,6 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
         kb |= (hz != 0U) ? GG_FDI_BIT(i, 1) : 0U;
     }
     *known_bad = kb;
-    {
-        const gg_task_seq_t sq = {nav->started, nav->last_seq, nav->last_utime, nav->cfg.dt_us,
-                                  nav->cfg.dt_tol_us, GG_NAV2D_MAX_BRIDGE};
-        h |= gg_task_check_sequence(&sq, fr, missing);
-    }
     return h;
 }
 
@@ -483,11 +483,49 @@ static gg_status_t bridge(gg_nav2d_t *nav, const gg_frame_t *fr, const gg_diff2d
             }
         }
         di.asym = d->asym;
-        fi.utime = nav->last_utime + (i * nav->cfg.dt_us);
+        fi.utime = nav->state_clock_us + (i * nav->cfg.dt_us);
         fi.baro_status = GG_SENSOR_ABSENT;
         st = advance(nav, &fi, &di, hal, cyc, health);
     }
     return st;
+}
+
+/* Coast n steps on the last usable gradient and centre specific force
+ * (an outage longer than the bridge), no barometer. Degraded, flagged
+ * GG_HEALTH_COAST by the caller. */
+static gg_status_t coast(gg_nav2d_t *nav, const gg_frame_t *fr, int64_t n, const gg_hal_t *hal,
+                         uint32_t cyc[GG_MOD_COUNT], uint32_t *health)
+{
+    gg_status_t st = GG_OK;
+    gg_diff2d_output_t dh;
+    gg_frame_t fi = *fr;
+    int64_t i;
+    size_t j;
+    size_t k;
+    for (j = 0U; j < 3U; ++j) {
+        dh.f_c[j] = nav->f_c[j];
+        for (k = 0U; k < 3U; ++k) {
+            dh.gamma[j][k] = nav->gamma[j][k];
+        }
+    }
+    dh.asym = nav->asym;
+    fi.baro_status = GG_SENSOR_ABSENT;
+    for (i = 1; (i <= n) && (i <= GG_TASK_CATCHUP_STEPS) && (st == GG_OK); ++i) {
+        fi.utime = nav->state_clock_us + (i * nav->cfg.dt_us);
+        st = advance(nav, &fi, &dh, hal, cyc, health);
+    }
+    return st;
+}
+
+/* The frame on the task clock (navtask.h): time stamps mapped so that they
+ * run on continuously through a re-synchronisation. */
+static void on_task_clock(const gg_task_seq_t *seq, const gg_frame_t *fr, gg_frame_t *ft)
+{
+    *ft = *fr;
+    ft->utime = gg_task_seq_clock(seq, fr->utime);
+    if ((fr->baro_utime >= 0) && (fr->baro_utime <= GG_TIME_MAX)) {
+        ft->baro_utime = gg_task_seq_clock(seq, fr->baro_utime);
+    }
 }
 
 gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
@@ -497,12 +535,14 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     const uint32_t t_start = gg_task_cycles(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
+    gg_status_t st_read = GG_OK;
     gg_diff2d_output_t d = {0};
     gg_fdi2d_output_t fo = {0};
     gg_fdi2d_t fdi_saved;
     uint32_t known_bad = 0U;
     gg_real_t p_exp[2] = {0.0L, 0.0L};
-    int64_t missing = 0;
+    int64_t fstep = -1;
+    int used = 0;
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
@@ -516,11 +556,12 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         return GG_ERR_NOT_INIT;
     }
     fdi_saved = nav->fdi;
-    health = check_frame(nav, frame, &known_bad, &missing);
-    if ((frame->n_acc < N_ACC_2D) || (frame->n_acc > GG_MAX_ACC)) {
-        st = GG_ERR_SENSOR;
-    } else if ((health & (GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
-        st = GG_ERR_SEQUENCE;
+    health = check_frame(nav, frame, &known_bad);
+    health |= gg_task_seq_update(&nav->seq, frame, &fstep);
+    if (fstep < 0) {
+        st_read = GG_ERR_SEQUENCE;
+    } else if ((frame->n_acc < N_ACC_2D) || (frame->n_acc > GG_MAX_ACC)) {
+        st_read = GG_ERR_SENSOR;
     } else {
         gg_diff2d_input_t in;
         uint32_t t0;
@@ -535,17 +576,18 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
             in.f_lo[i][1] = ((known_bad & bz) != 0U) ? 0.0 : frame->f_lo[i][AX_Z];
         }
         t0 = gg_task_cycles(hal);
-        st = expected_parity(nav, p_exp);
-        if (st == GG_OK) {
-            st = gg_fdi2d_step(&nav->fdi, known_bad, p_exp, &in, &fo);
+        st_read = expected_parity(nav, p_exp);
+        if (st_read == GG_OK) {
+            st_read = gg_fdi2d_step(&nav->fdi, known_bad, p_exp, &in, &fo);
         }
-        if (st == GG_OK) {
-            st = gg_diff2d_step(&nav->diff, &in, &d);
+        if (st_read == GG_OK) {
+            st_read = gg_diff2d_step(&nav->diff, &in, &d);
         }
         cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
         health |= fdi_health(&fo);
     }
-    if (st == GG_OK) {
+    st = st_read;
+    if (fstep >= 0) {
         /* module states saved so a failure part-way leaves nothing changed */
         const gg_gravdr_t gravdr_saved = nav->gravdr;
         const gg_mech_t mech_saved = nav->mech;
@@ -553,23 +595,60 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         const gg_real_t a_c_saved = nav->a_c;
         const gg_real_t h_saved = nav->h_ins;
         const gg_real_t innov_saved = nav->baro_innov;
+        const int64_t step_saved = nav->state_step;
+        const int64_t clock_saved = nav->state_clock_us;
+        gg_task_plan_t plan = {0, 0, 0};
+        gg_status_t st_nav = GG_OK;
         uint32_t step_health = 0U;
-        st = bridge(nav, frame, &d, missing, hal, cyc, &step_health);
-        if (st == GG_OK) {
-            st = advance(nav, frame, &d, hal, cyc, &step_health);
+        gg_frame_t ft;
+        on_task_clock(&nav->seq, frame, &ft);
+        if (nav->started == 0) {
+            plan.use = (st_read == GG_OK) ? 1 : 0;
+        } else {
+            gg_task_plan(fstep, nav->state_step, (st_read == GG_OK) ? 1 : 0, GG_NAV2D_MAX_BRIDGE,
+                         &plan);
         }
-        if (st != GG_OK) {
+        if (plan.coast > 0) {
+            st_nav = coast(nav, &ft, plan.coast, hal, cyc, &step_health);
+            if (st_nav == GG_OK) {
+                nav->state_step += plan.coast;
+                nav->state_clock_us += plan.coast * nav->cfg.dt_us;
+                step_health |= GG_HEALTH_COAST;
+            }
+        }
+        if ((st_nav == GG_OK) && (plan.use != 0)) {
+            st_nav = bridge(nav, &ft, &d, plan.bridge, hal, cyc, &step_health);
+            if (st_nav == GG_OK) {
+                st_nav = advance(nav, &ft, &d, hal, cyc, &step_health);
+            }
+        }
+        if (st_nav != GG_OK) {
             nav->gravdr = gravdr_saved;
             nav->mech = mech_saved;
             nav->vchan = vchan_saved;
             nav->a_c = a_c_saved;
             nav->h_ins = h_saved;
             nav->baro_innov = innov_saved;
+            nav->state_step = step_saved;
+            nav->state_clock_us = clock_saved;
+            st = st_nav;
         } else {
             health |= step_health;
+            if (plan.coast > 0) {
+                nav->coast_steps += (uint32_t)plan.coast;
+            }
+            if (plan.use != 0) {
+                used = 1;
+                nav->state_step = fstep;
+                nav->state_clock_us = ft.utime;
+            } else if (st == GG_OK) {
+                st = GG_ERR_SEQUENCE; /* still catching up an outage: not used yet */
+            } else {
+                /* the readings' own error */
+            }
         }
     }
-    if (st == GG_OK) {
+    if (used != 0) {
         size_t j;
         size_t k;
         for (j = 0U; j < 3U; ++j) {
@@ -583,8 +662,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
             health |= GG_HEALTH_GAMMA_ASYM;
         }
         nav->started = 1;
-        nav->last_seq = frame->seq;
-        nav->last_utime = frame->utime;
+        nav->input_step = fstep;
     } else {
         nav->fdi = fdi_saved;
         health |= GG_HEALTH_FRAME_REJECTED;
@@ -593,6 +671,17 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     out->parity_f[0] = (double)fo.p_x;
     out->parity_f[1] = (double)fo.p_z;
     out->acc_rebuilt = fo.rebuilt;
+    out->resync_count = nav->seq.resyncs;
+    out->coast_steps = nav->coast_steps;
+    out->outage_s = 0.0;
+    out->state_lag_s = 0.0;
+    if (nav->started != 0) {
+        const int64_t now = nav->seq.last_step;
+        out->outage_s = (double)((gg_real_t)(now - nav->input_step) * 1.0e-6L *
+                                 (gg_real_t)nav->cfg.dt_us);
+        out->state_lag_s = (double)((gg_real_t)(now - nav->state_step) * 1.0e-6L *
+                                    (gg_real_t)nav->cfg.dt_us);
+    }
     out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;
 }

@@ -386,16 +386,22 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
     }
     nav->gravdr.initialized = 0;
     nav->mech.initialized = 0;
-    nav->last_seq = 0;
-    nav->last_utime = 0;
+    st = gg_task_seq_init(&nav->seq, cfg->dt_us, cfg->dt_tol_us);
+    if (st != GG_OK) {
+        return st;
+    }
+    nav->state_step = 0;
+    nav->state_clock_us = 0;
+    nav->input_step = 0;
+    nav->coast_steps = 0U;
     nav->configured = 1;
     return GG_OK;
 }
 
 /* ---------------------------------------------------------------- frames */
 
-/* Health bits of a frame's sensors and sequencing; *missing = lost frames to bridge. */
-static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, int64_t *missing)
+/* Health bits of a frame's sensors. */
+static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr)
 {
     uint32_t h = 0U;
     int32_t i;
@@ -421,11 +427,6 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, int6
                 h |= GG_HEALTH_GYRO_INVALID;
             }
         }
-    }
-    {
-        const gg_task_seq_t sq = {nav->started, nav->last_seq, nav->last_utime, nav->cfg.dt_us,
-                                  nav->cfg.dt_tol_us, GG_NAV3D_MAX_BRIDGE};
-        h |= gg_task_check_sequence(&sq, fr, missing);
     }
     return h;
 }
@@ -992,9 +993,37 @@ static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_i
                     base.gamma_b[j][k] + (w * (in->gamma_b[j][k] - base.gamma_b[j][k]));
             }
         }
-        fi.utime = nav->last_utime + (i * nav->cfg.dt_us);
+        fi.utime = nav->state_clock_us + (i * nav->cfg.dt_us);
         fi.baro_status = GG_SENSOR_ABSENT;
         st = n3_advance(nav, &fi, &bi, hal, cyc, health);
+    }
+    return st;
+}
+
+/* Coast n steps on the last usable inputs (f_b, Gamma_b, w and omega_dot
+ * held; an outage longer than the bridge), no barometer. */
+static gg_status_t n3_coast(gg_nav3d_t *nav, const gg_frame_t *fr, int64_t n, const gg_hal_t *hal,
+                            uint32_t cyc[GG_MOD_COUNT], uint32_t *health)
+{
+    gg_status_t st = GG_OK;
+    step_in_t hold;
+    gg_frame_t fi = *fr;
+    int64_t i;
+    size_t j;
+    size_t k;
+    for (j = 0U; j < 3U; ++j) {
+        hold.f_b[j] = nav->f_b[j];
+        hold.w[j] = nav->w_k[j];
+        hold.omega_dot[j] = nav->omega_dot_b[j];
+        for (k = 0U; k < 3U; ++k) {
+            hold.gamma_b[j][k] = nav->gamma_b[j][k];
+        }
+    }
+    hold.trace = 0.0L;
+    fi.baro_status = GG_SENSOR_ABSENT;
+    for (i = 1; (i <= n) && (i <= GG_TASK_CATCHUP_STEPS) && (st == GG_OK); ++i) {
+        fi.utime = nav->state_clock_us + (i * nav->cfg.dt_us);
+        st = n3_advance(nav, &fi, &hold, hal, cyc, health);
     }
     return st;
 }
@@ -1193,9 +1222,11 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     const uint32_t t_start = gg_task_cycles(hal);
     uint32_t health;
     gg_status_t st = GG_OK;
+    gg_status_t st_read = GG_OK;
     step_in_t in;
     gg_real_t par[4] = {0.0L, 0.0L, 0.0L, 0.0L};
-    int64_t missing = 0;
+    int64_t fstep = -1;
+    int used = 0;
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
@@ -1208,37 +1239,82 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         out->health = GG_HEALTH_NOT_INIT | GG_HEALTH_FRAME_REJECTED;
         return GG_ERR_NOT_INIT;
     }
-    health = n3_check_frame(nav, frame, &missing);
-    if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
-        st = GG_ERR_NONFINITE;
+    health = n3_check_frame(nav, frame);
+    health |= gg_task_seq_update(&nav->seq, frame, &fstep);
+    if (fstep < 0) {
+        st_read = GG_ERR_SEQUENCE;
+    } else if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
+        st_read = GG_ERR_NONFINITE;
     } else if ((health & (GG_HEALTH_ACC_SENSOR | GG_HEALTH_GYRO_INVALID)) != 0U) {
-        st = GG_ERR_SENSOR;
+        st_read = GG_ERR_SENSOR;
     } else if ((health & GG_HEALTH_ACC_RANGE) != 0U) {
-        st = GG_ERR_RANGE;
-    } else if ((health & (GG_HEALTH_SEQ_REPEAT | GG_HEALTH_TIME_JUMP)) != 0U) {
-        st = GG_ERR_SEQUENCE;
+        st_read = GG_ERR_RANGE;
     } else {
         const uint32_t t0 = gg_task_cycles(hal);
-        st = difference(nav, frame, &in);
+        st_read = difference(nav, frame, &in);
         cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
     }
-    if (st == GG_OK) {
+    st = st_read;
+    if (fstep >= 0) {
         /* module states saved so a failure part-way leaves nothing changed */
         dyn_t saved;
+        const int64_t step_saved = nav->state_step;
+        const int64_t clock_saved = nav->state_clock_us;
+        gg_task_plan_t plan = {0, 0, 0};
+        gg_status_t st_nav = GG_OK;
         uint32_t step_health = 0U;
-        n3_parity(nav, &in, par);
-        dyn_save(nav, &saved);
-        st = n3_bridge(nav, frame, &in, missing, hal, cyc, &step_health);
-        if (st == GG_OK) {
-            st = n3_advance(nav, frame, &in, hal, cyc, &step_health);
+        gg_frame_t ft;
+        ft = *frame;
+        ft.utime = gg_task_seq_clock(&nav->seq, frame->utime);
+        if ((frame->baro_utime >= 0) && (frame->baro_utime <= GG_TIME_MAX)) {
+            ft.baro_utime = gg_task_seq_clock(&nav->seq, frame->baro_utime);
         }
-        if (st != GG_OK) {
+        if (st_read == GG_OK) {
+            n3_parity(nav, &in, par);
+        }
+        dyn_save(nav, &saved);
+        if (nav->started == 0) {
+            plan.use = (st_read == GG_OK) ? 1 : 0;
+        } else {
+            gg_task_plan(fstep, nav->state_step, (st_read == GG_OK) ? 1 : 0, GG_NAV3D_MAX_BRIDGE,
+                         &plan);
+        }
+        if (plan.coast > 0) {
+            st_nav = n3_coast(nav, &ft, plan.coast, hal, cyc, &step_health);
+            if (st_nav == GG_OK) {
+                nav->state_step += plan.coast;
+                nav->state_clock_us += plan.coast * nav->cfg.dt_us;
+                step_health |= GG_HEALTH_COAST;
+            }
+        }
+        if ((st_nav == GG_OK) && (plan.use != 0)) {
+            st_nav = n3_bridge(nav, &ft, &in, plan.bridge, hal, cyc, &step_health);
+            if (st_nav == GG_OK) {
+                st_nav = n3_advance(nav, &ft, &in, hal, cyc, &step_health);
+            }
+        }
+        if (st_nav != GG_OK) {
             dyn_restore(nav, &saved);
+            nav->state_step = step_saved;
+            nav->state_clock_us = clock_saved;
+            st = st_nav;
         } else {
             health |= step_health;
+            if (plan.coast > 0) {
+                nav->coast_steps += (uint32_t)plan.coast;
+            }
+            if (plan.use != 0) {
+                used = 1;
+                nav->state_step = fstep;
+                nav->state_clock_us = ft.utime;
+            } else if (st == GG_OK) {
+                st = GG_ERR_SEQUENCE; /* still catching up an outage: not used yet */
+            } else {
+                /* the readings' own error */
+            }
         }
     }
-    if (st == GG_OK) {
+    if (used != 0) {
         size_t j;
         size_t k;
         for (j = 0U; j < 3U; ++j) {
@@ -1255,12 +1331,18 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
             }
         }
         nav->started = 1;
-        nav->last_seq = frame->seq;
-        nav->last_utime = frame->utime;
+        nav->input_step = fstep;
     } else {
         health |= GG_HEALTH_FRAME_REJECTED;
     }
     n3_fill_output(nav, frame, st, health, out);
+    out->resync_count = nav->seq.resyncs;
+    out->coast_steps = nav->coast_steps;
+    if (nav->started != 0) {
+        const int64_t now = nav->seq.last_step;
+        out->outage_s = (double)((gg_real_t)(now - nav->input_step) * nav->dt_s);
+        out->state_lag_s = (double)((gg_real_t)(now - nav->state_step) * nav->dt_s);
+    }
     out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;
 }

@@ -135,6 +135,10 @@ class Comparer {
     dbl(s, "parity_f[1]", rec.parity_f[1], rep.parity_f[1]);
     i64(s, "acc_excluded", rec.acc_excluded, rep.acc_excluded);
     i64(s, "acc_rebuilt", rec.acc_rebuilt, rep.acc_rebuilt);
+    i64(s, "resync_count", rec.resync_count, rep.resync_count);
+    i64(s, "coast_steps", rec.coast_steps, rep.coast_steps);
+    dbl(s, "outage_s", rec.outage_s, rep.outage_s);
+    dbl(s, "state_lag_s", rec.state_lag_s, rep.state_lag_s);
   }
 
  private:

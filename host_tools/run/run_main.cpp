@@ -145,7 +145,9 @@ json health_names(uint32_t h) {
                {GG_HEALTH_BARO_INVALID, "BARO_INVALID"}, {GG_HEALTH_BARO_STALE, "BARO_STALE"},
                {GG_HEALTH_BARO_OUTLIER, "BARO_OUTLIER"}, {GG_HEALTH_BARO_RECAPTURE, "BARO_RECAPTURE"},
                {GG_HEALTH_BARO_COAST, "BARO_COAST"},     {GG_HEALTH_ACC_FAULT, "ACC_FAULT"},
-               {GG_HEALTH_ACC_REBUILT, "ACC_REBUILT"},   {GG_HEALTH_GRAD_COAST, "GRAD_COAST"}};
+               {GG_HEALTH_ACC_REBUILT, "ACC_REBUILT"},   {GG_HEALTH_GRAD_COAST, "GRAD_COAST"},
+               {GG_HEALTH_MODEL_OUTSIDE, "MODEL_OUTSIDE"}, {GG_HEALTH_GYRO_INVALID, "GYRO_INVALID"},
+               {GG_HEALTH_RESYNC, "RESYNC"},             {GG_HEALTH_COAST, "COAST"}};
   json j = json::array();
   uint32_t known = 0;
   for (const auto& b : kBits) {

@@ -67,6 +67,9 @@ typedef struct {
 #define GG_HEALTH_ACC_REBUILT     0x00010000u /**< degraded: readings rebuilt from parity (see acc_excluded) */
 #define GG_HEALTH_GRAD_COAST      0x00020000u /**< degraded: a gradient component coasts on its last good value */
 #define GG_HEALTH_MODEL_OUTSIDE   0x00040000u /**< gravity-model mode: outside the programmed anomaly grid */
+#define GG_HEALTH_GYRO_INVALID    0x00080000u /**< 3-D strapdown: gyro sample NaN/Inf, out of range or flagged bad */
+#define GG_HEALTH_RESYNC          0x00100000u /**< the task re-synchronised to the frame stream (seq/clock) at this frame */
+#define GG_HEALTH_COAST           0x00200000u /**< degraded: steps propagated on the last usable inputs (outage) */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {
@@ -100,6 +103,12 @@ typedef struct {
                                      -a_c estimates the vertical gravity disturbance
                                      (true minus model, along up; airborne gravimeter) */
     uint32_t cycles[GG_MOD_COUNT]; /**< HAL cycle-counter ticks per module this step */
+    uint32_t resync_count;      /**< re-synchronisations to the frame stream so far (navtask.h) */
+    uint32_t coast_steps;       /**< steps propagated on held inputs so far (outages) */
+    double outage_s;            /**< time since the readings of a frame last entered the state, s
+                                     (0 when this frame's did) */
+    double state_lag_s;         /**< how far the state's time is behind this frame's, s (0 when
+                                     the frame was used; up to the bridge during an outage) */
 } gg_nav_output_t;
 
 #endif /* GGINS_FRAME_H */

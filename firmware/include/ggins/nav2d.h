@@ -15,9 +15,15 @@
  * report themselves (stuck, stepped, drifting axes) and accommodate them.
  * A frame that cannot be accommodated, or whose seq/utime is inconsistent
  * (repeated or backward seq, a time stamp not one step - or, after lost
- * frames, n + 1 steps - on), is rejected and flagged in the health word, and
- * the navigation state is left untouched. Up to GG_NAV2D_MAX_BRIDGE lost
- * frames are bridged (see below).
+ * frames, n + 1 steps - on), is rejected and flagged in the health word; its
+ * readings never reach the navigation state. Up to GG_NAV2D_MAX_BRIDGE lost
+ * or rejected frames are bridged (see below). Recovery (navtask.h): the
+ * stream is followed through rejected frames, re-synchronised after a clock
+ * step or a restarted counter (GG_HEALTH_RESYNC, resync_count), and during
+ * an outage longer than the bridge the state is coasted on the last usable
+ * gradient and specific force (GG_HEALTH_COAST), so no input, however long or
+ * bad, leaves the task unable to navigate; outage_s and state_lag_s say how
+ * long and how far behind.
  * Gravity comes from the dead reckoning (gradiometer mode) or from the
  * onboard model (model mode); optionally a barometric vertical channel
  * (vchan.h) damps the vertical mode: the up acceleration is reduced by its
@@ -38,6 +44,7 @@
 #include "ggins/gravdr.h"
 #include "ggins/hal.h"
 #include "ggins/mech.h"
+#include "ggins/navtask.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
 #include "ggins/vchan.h"
@@ -100,8 +107,11 @@ typedef struct {
     gg_real_t gamma[3][3];       /**< last accepted gradient */
     gg_real_t f_c[3];            /**< last accepted centre specific force */
     gg_real_t asym;
-    int64_t last_seq;
-    int64_t last_utime;
+    gg_task_seq_t seq;           /**< the frame stream as followed (navtask.h) */
+    int64_t state_step;          /**< step index of the navigation state (task clock) */
+    int64_t state_clock_us;      /**< task-clock time of that step, us */
+    int64_t input_step;          /**< step of the last frame whose readings were used */
+    uint32_t coast_steps;        /**< steps coasted on held inputs so far */
     int configured;              /**< init succeeded */
     int started;                 /**< first frame accepted */
 } gg_nav2d_t;

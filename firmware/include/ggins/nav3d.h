@@ -74,8 +74,10 @@
  * Validation: a frame with fewer than 6 accelerometers, a reading NaN/Inf,
  * out of range or flagged bad, or (strapdown) a gyro sample NaN/Inf, above
  * GG_LIM_W_MAX_RPS or flagged bad, is rejected and flagged; the state is left
- * untouched. Seq/utime rules and bridging of up to GG_NAV3D_MAX_BRIDGE lost
- * frames as in nav2d.h (the bridged steps interpolate f_b, Gamma_b and w).
+ * untouched. Seq/utime rules, bridging of up to GG_NAV3D_MAX_BRIDGE lost
+ * frames (the bridged steps interpolate f_b, Gamma_b and w), re-synchronisation
+ * and coasting through longer outages (f_b, Gamma_b and w held) as in nav2d.h
+ * and navtask.h.
  *
  * Position output: ECEF and geodetic latitude, longitude, height on WGS-84
  * (Bowring's iteration, fixed 4 iterations: error < 1e-15 rad, 1e-9 m
@@ -92,6 +94,7 @@
 #include "ggins/hal.h"
 #include "ggins/mech.h"
 #include "ggins/nav2d.h"
+#include "ggins/navtask.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
 #include "ggins/vchan.h"
@@ -111,8 +114,6 @@
 /** Lost frames a step may bridge (see nav2d.h). */
 #define GG_NAV3D_MAX_BRIDGE 100
 
-/** Health bits specific to the 3-D task (beyond frame.h). */
-#define GG_HEALTH_GYRO_INVALID 0x00080000u /**< gyro sample NaN/Inf, out of range or flagged bad */
 
 typedef struct {
     gg_diff3d_config_t geometry; /**< half-baselines a, b, c, m */
@@ -161,8 +162,11 @@ typedef struct {
     gg_real_t a_c;               /**< vertical loop's integral state in use, m/s^2 */
     gg_real_t h_ins;             /**< geodetic height, m */
     gg_real_t baro_innov;
-    int64_t last_seq;
-    int64_t last_utime;
+    gg_task_seq_t seq;           /**< the frame stream as followed (navtask.h) */
+    int64_t state_step;          /**< step index of the navigation state (task clock) */
+    int64_t state_clock_us;      /**< task-clock time of that step, us */
+    int64_t input_step;          /**< step of the last frame whose readings were used */
+    uint32_t coast_steps;        /**< steps coasted on held inputs so far */
     int configured;
     int started;
 } gg_nav3d_t;
@@ -195,6 +199,10 @@ typedef struct gg_nav3d_output_s {
     double g_up_corr;            /**< vertical loop's integral state a_c, m/s^2 */
     double t_s;                  /**< time since t = 0, s */
     uint32_t cycles[GG_MOD_COUNT]; /**< cycle-counter ticks per module (GG_MOD_*) */
+    uint32_t resync_count;       /**< re-synchronisations to the frame stream so far (navtask.h) */
+    uint32_t coast_steps;        /**< steps propagated on held inputs so far (outages) */
+    double outage_s;             /**< time since the readings of a frame last entered the state, s */
+    double state_lag_s;          /**< how far the state's time is behind this frame's, s */
 } gg_nav3d_output_t;
 
 /** Validate and store the configuration. GG_ERR_CONFIG on a non-finite or

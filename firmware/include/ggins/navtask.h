@@ -5,9 +5,15 @@
  *
  * Sequencing rules (docs/robustness.md): a frame with seq or utime outside
  * [0, GG_TIME_MAX] is a time jump (differences could overflow); after the
- * first accepted frame, seq <= last_seq is a repeat; n = seq - last_seq - 1
- * lost frames are bridged when n <= max_bridge and utime has moved on by
- * (n + 1) dt_us within dt_tol_us, otherwise it is a gap/time jump.
+ * stream's first frame, seq <= last_seq is a repeat; a frame n + 1 steps on
+ * in both seq and utime (within dt_tol_us), n lost frames, is the stream's
+ * next; anything else is a gap/time jump. The stream moves on with every
+ * consistent frame, usable or not, so that a run of rejected readings never
+ * leaves the task behind it; GG_TASK_RESYNC_FRAMES consistent frames that
+ * disagree with it re-synchronise it (GG_HEALTH_RESYNC).
+ * Recovery: while the navigation state lags the stream by more than the
+ * bridge (a long outage), each frame coasts it on the last usable inputs
+ * (GG_TASK_CATCHUP_STEPS at most), so the task always navigates.
  */
 #ifndef GGINS_NAVTASK_H
 #define GGINS_NAVTASK_H
@@ -15,6 +21,7 @@
 #include "ggins/frame.h"
 #include "ggins/hal.h"
 #include "ggins/real.h"
+#include "ggins/status.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -23,15 +30,53 @@
  *  below double resolution cannot exceed ulp(f_max)/2, far below 1e-9. */
 #define GG_TASK_F_LO_MAX 1e-9
 
-/** The last accepted frame and the step rules, as the sequence check needs them. */
+/** Frames in a row, each one step after the previous in seq and time, that
+ *  re-synchronise the task to a stream it lost (a clock step, a restarted
+ *  counter, a run of frames too long to bridge). A lone glitch never does. */
+#define GG_TASK_RESYNC_FRAMES 3
+
+/** Steps coasted per frame on held inputs while the navigation state lags the
+ *  stream by more than the bridge: a long outage is caught up at this rate
+ *  (each coast step costs one navigation step of cycles). */
+#define GG_TASK_CATCHUP_STEPS 10
+
+/** Longest outage carried through by propagation, s. A re-synchronisation
+ *  across a longer break (or across a clock that went backwards with a
+ *  restarted counter) propagates one step and flags GG_HEALTH_TIME_JUMP. */
+#define GG_TASK_MAX_OUTAGE_S 600
+
+/** The frame stream as the task has followed it. Every frame whose
+ *  sequencing is consistent (seq on by n + 1 and utime by (n + 1) dt within
+ *  dt_tol, n lost frames) moves it on, whether or not its readings are
+ *  usable; a frame that is not starts or extends a run of candidates, and
+ *  GG_TASK_RESYNC_FRAMES consistent candidates re-synchronise the stream.
+ *  Steps are counted on the task's own clock (step index, and utime mapped
+ *  by clock_offset_us), which stays continuous and monotonic whatever the
+ *  frames' clock does. */
 typedef struct {
-    int started;         /**< a frame has been accepted */
-    int64_t last_seq;    /**< its sequence number */
-    int64_t last_utime;  /**< its time stamp, us */
-    int64_t dt_us;       /**< fixed step, us (> 0) */
-    int64_t dt_tol_us;   /**< tolerated |utime step - dt_us|, us */
-    int64_t max_bridge;  /**< most lost frames bridged */
+    int64_t dt_us;             /**< fixed step, us (> 0) */
+    int64_t dt_tol_us;         /**< tolerated |utime step - dt_us|, us */
+    int64_t max_outage_steps;  /**< GG_TASK_MAX_OUTAGE_S in steps */
+    int started;               /**< a frame has been taken as the stream's start */
+    int64_t last_seq;          /**< seq of the stream's last frame */
+    int64_t last_utime;        /**< its time stamp (frame clock), us */
+    int64_t last_step;         /**< its step index (task clock) */
+    int64_t clock_offset_us;   /**< task clock = frame clock + offset, us */
+    int32_t n_cand;            /**< candidate frames in the current run */
+    int64_t cand_seq;          /**< last candidate's seq */
+    int64_t cand_utime;        /**< last candidate's utime, us */
+    int64_t cand_first_seq;    /**< first candidate's seq */
+    int64_t cand_first_utime;  /**< first candidate's utime, us */
+    uint32_t resyncs;          /**< re-synchronisations so far */
 } gg_task_seq_t;
+
+/** What a frame does to the navigation state, from the stream position of
+ *  the frame and of the state (gg_task_plan). */
+typedef struct {
+    int64_t coast;   /**< steps to coast on the held inputs first */
+    int64_t bridge;  /**< lost steps to bridge by interpolation up to this frame */
+    int use;         /**< 1: the frame's readings advance the state to its step */
+} gg_task_plan_t;
 
 /** Cycle counter of the HAL now; 0 without a HAL or counter. (Inline, as
  *  the next one: called several times per step, a call each cost the 2-D
@@ -62,10 +107,26 @@ static inline uint32_t gg_task_check_reading(double f, double lo, double f_max)
     return h;
 }
 
-/** Health bits of a frame's sequencing against seq (GG_HEALTH_TIME_JUMP,
- *  GG_HEALTH_SEQ_REPEAT, GG_HEALTH_SEQ_GAP); *missing = lost frames to bridge
- *  (left unchanged unless there are some). */
-uint32_t gg_task_check_sequence(const gg_task_seq_t *seq, const gg_frame_t *fr, int64_t *missing);
+/** Start following a stream of fixed step dt_us (> 0), tolerance dt_tol_us
+ *  (0 <= tol < dt). GG_ERR_CONFIG otherwise. */
+gg_status_t gg_task_seq_init(gg_task_seq_t *seq, int64_t dt_us, int64_t dt_tol_us);
+
+/** Follow one frame. Returns its sequencing health bits (GG_HEALTH_TIME_JUMP,
+ *  GG_HEALTH_SEQ_REPEAT, GG_HEALTH_SEQ_GAP, GG_HEALTH_RESYNC); *step = the
+ *  frame's step index on the task clock when its sequencing is trusted, -1
+ *  when it is not (the frame must not advance the state). The first frame
+ *  ever is step 0. */
+uint32_t gg_task_seq_update(gg_task_seq_t *seq, const gg_frame_t *fr, int64_t *step);
+
+/** The frame's time stamp on the task clock, us (only for a trusted frame). */
+int64_t gg_task_seq_clock(const gg_task_seq_t *seq, int64_t utime);
+
+/** Plan a trusted frame at frame_step against a started state at state_step
+ *  (< frame_step): coast up to GG_TASK_CATCHUP_STEPS steps while the lag
+ *  exceeds max_bridge + 1, then, when the readings are usable (usable != 0)
+ *  and what is left fits the bridge, bridge and use the frame. */
+void gg_task_plan(int64_t frame_step, int64_t state_step, int usable, int64_t max_bridge,
+                  gg_task_plan_t *plan);
 
 /** Close a step's cycle accounting: cyc[GG_MOD_TOTAL] = now - t_start,
  *  copies cyc into out_cycles; returns GG_HEALTH_DEADLINE when the total
