@@ -74,6 +74,7 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->republished = 0;
     m->resync_count = (int64_t)o->resync_count;
     m->coast_steps = (int64_t)o->coast_steps;
+    m->acc_rebuilt = (int64_t)o->acc_rebuilt;
     m->outage_s = o->outage_s;
     m->state_lag_s = o->state_lag_s;
 }

@@ -603,7 +603,9 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_frame_t ft;
         on_task_clock(&nav->seq, frame, &ft);
         if (nav->started == 0) {
-            plan.use = (st_read == GG_OK) ? 1 : 0;
+            if (st_read == GG_OK) {
+                plan.use = 1;
+            }
         } else {
             gg_task_plan(fstep, nav->state_step, (st_read == GG_OK) ? 1 : 0, GG_NAV2D_MAX_BRIDGE,
                          &plan);
@@ -676,11 +678,11 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     out->outage_s = 0.0;
     out->state_lag_s = 0.0;
     if (nav->started != 0) {
-        const int64_t now = nav->seq.last_step;
-        out->outage_s = (double)((gg_real_t)(now - nav->input_step) * 1.0e-6L *
-                                 (gg_real_t)nav->cfg.dt_us);
-        out->state_lag_s = (double)((gg_real_t)(now - nav->state_step) * 1.0e-6L *
-                                    (gg_real_t)nav->cfg.dt_us);
+        const int64_t d_in = nav->seq.last_step - nav->input_step;
+        const int64_t d_state = nav->seq.last_step - nav->state_step;
+        const gg_real_t dt_s = (gg_real_t)nav->cfg.dt_us * 1.0e-6L;
+        out->outage_s = (double)((gg_real_t)d_in * dt_s);
+        out->state_lag_s = (double)((gg_real_t)d_state * dt_s);
     }
     out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;

@@ -387,6 +387,9 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
     nav->gravdr.initialized = 0;
     nav->mech.initialized = 0;
     st = gg_task_seq_init(&nav->seq, cfg->dt_us, cfg->dt_tol_us);
+    if (st == GG_OK) {
+        st = gg_fdi3d_init(&nav->fdi);
+    }
     if (st != GG_OK) {
         return st;
     }
@@ -400,23 +403,36 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
 
 /* ---------------------------------------------------------------- frames */
 
-/* Health bits of a frame's sensors. */
-static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr)
+/* Health bits of a frame's sensors; *known_bad = the readings
+ * (GG_FDI3D_BIT) that cannot be used as they are; *whole = 0 when the frame
+ * is unusable whatever is rebuilt (accelerometer count, gyro). */
+static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t *known_bad,
+                               int *whole)
 {
     uint32_t h = 0U;
+    uint32_t kb = 0U;
     int32_t i;
     int32_t j;
+    *whole = 1;
     if (fr->n_acc != N_ACC_3D) {
         h |= GG_HEALTH_ACC_SENSOR;
+        *whole = 0;
     }
     for (i = 0; i < N_ACC_3D; ++i) {
+        int sensor_bad = 0;
         if (fr->acc_status[i] != GG_SENSOR_OK) {
             h |= GG_HEALTH_ACC_SENSOR;
+            sensor_bad = 1;
         }
         for (j = 0; j < 3; ++j) {
-            h |= gg_task_check_reading(fr->f[i][j], fr->f_lo[i][j], nav->cfg.f_max);
+            const uint32_t hr = gg_task_check_reading(fr->f[i][j], fr->f_lo[i][j], nav->cfg.f_max);
+            h |= hr;
+            if ((hr != 0U) || (sensor_bad != 0)) {
+                kb |= GG_FDI3D_BIT(i, j);
+            }
         }
     }
+    *known_bad = kb;
     if (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) {
         if (fr->gyro_status != GG_SENSOR_OK) {
             h |= GG_HEALTH_GYRO_INVALID;
@@ -426,6 +442,9 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr)
             if (!GG_ISFINITE(w) || (w > GG_LIM_W_MAX_RPS) || (w < -GG_LIM_W_MAX_RPS)) {
                 h |= GG_HEALTH_GYRO_INVALID;
             }
+        }
+        if ((h & GG_HEALTH_GYRO_INVALID) != 0U) {
+            *whole = 0;
         }
     }
     return h;
@@ -1227,6 +1246,11 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     gg_real_t par[4] = {0.0L, 0.0L, 0.0L, 0.0L};
     int64_t fstep = -1;
     int used = 0;
+    uint32_t known_bad = 0U;
+    uint32_t rebuilt = 0U;
+    int whole = 1;
+    gg_fdi3d_t fdi_saved;
+    gg_frame_t fixed;
     if ((nav == NULL) || (frame == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
@@ -1239,19 +1263,32 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         out->health = GG_HEALTH_NOT_INIT | GG_HEALTH_FRAME_REJECTED;
         return GG_ERR_NOT_INIT;
     }
-    health = n3_check_frame(nav, frame);
+    fdi_saved = nav->fdi;
+    health = n3_check_frame(nav, frame, &known_bad, &whole);
     health |= gg_task_seq_update(&nav->seq, frame, &fstep);
     if (fstep < 0) {
         st_read = GG_ERR_SEQUENCE;
-    } else if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
-        st_read = GG_ERR_NONFINITE;
-    } else if ((health & (GG_HEALTH_ACC_SENSOR | GG_HEALTH_GYRO_INVALID)) != 0U) {
+    } else if (whole == 0) {
         st_read = GG_ERR_SENSOR;
-    } else if ((health & GG_HEALTH_ACC_RANGE) != 0U) {
-        st_read = GG_ERR_RANGE;
     } else {
         const uint32_t t0 = gg_task_cycles(hal);
-        st_read = difference(nav, frame, &in);
+        fixed = *frame;
+        st_read = gg_fdi3d_step(&nav->fdi, known_bad, fixed.f, fixed.f_lo, &rebuilt);
+        if (st_read != GG_OK) {
+            /* the readings' own fault, as the health word says */
+            if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
+                st_read = GG_ERR_NONFINITE;
+            } else if ((health & GG_HEALTH_ACC_SENSOR) != 0U) {
+                st_read = GG_ERR_SENSOR;
+            } else {
+                st_read = GG_ERR_RANGE;
+            }
+        } else {
+            if (rebuilt != 0U) {
+                health |= GG_HEALTH_ACC_REBUILT;
+            }
+            st_read = difference(nav, &fixed, &in);
+        }
         cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
     }
     st = st_read;
@@ -1274,7 +1311,9 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         }
         dyn_save(nav, &saved);
         if (nav->started == 0) {
-            plan.use = (st_read == GG_OK) ? 1 : 0;
+            if (st_read == GG_OK) {
+                plan.use = 1;
+            }
         } else {
             gg_task_plan(fstep, nav->state_step, (st_read == GG_OK) ? 1 : 0, GG_NAV3D_MAX_BRIDGE,
                          &plan);
@@ -1333,15 +1372,19 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         nav->started = 1;
         nav->input_step = fstep;
     } else {
+        nav->fdi = fdi_saved;
+        rebuilt = 0U;
         health |= GG_HEALTH_FRAME_REJECTED;
     }
     n3_fill_output(nav, frame, st, health, out);
+    out->acc_rebuilt = rebuilt;
     out->resync_count = nav->seq.resyncs;
     out->coast_steps = nav->coast_steps;
     if (nav->started != 0) {
-        const int64_t now = nav->seq.last_step;
-        out->outage_s = (double)((gg_real_t)(now - nav->input_step) * nav->dt_s);
-        out->state_lag_s = (double)((gg_real_t)(now - nav->state_step) * nav->dt_s);
+        const int64_t d_in = nav->seq.last_step - nav->input_step;
+        const int64_t d_state = nav->seq.last_step - nav->state_step;
+        out->outage_s = (double)((gg_real_t)d_in * nav->dt_s);
+        out->state_lag_s = (double)((gg_real_t)d_state * nav->dt_s);
     }
     out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;

@@ -71,10 +71,12 @@
  * 0 on the first three steps, before three earlier gyro samples exist) and
  * trace(Gamma_b).
  *
- * Validation: a frame with fewer than 6 accelerometers, a reading NaN/Inf,
- * out of range or flagged bad, or (strapdown) a gyro sample NaN/Inf, above
- * GG_LIM_W_MAX_RPS or flagged bad, is rejected and flagged; the state is left
- * untouched. Seq/utime rules, bridging of up to GG_NAV3D_MAX_BRIDGE lost
+ * Validation: a reading NaN/Inf, out of range or flagged bad is flagged and
+ * rebuilt from the opposite pairs (fdi3d.h: one per pair and axis, GG_HEALTH_ACC_REBUILT,
+ * acc_rebuilt); a frame with fewer than 6 accelerometers, readings that
+ * cannot be rebuilt, or (strapdown) a gyro sample NaN/Inf, above
+ * GG_LIM_W_MAX_RPS or flagged bad, is rejected and flagged; its readings
+ * never reach the state. Seq/utime rules, bridging of up to GG_NAV3D_MAX_BRIDGE lost
  * frames (the bridged steps interpolate f_b, Gamma_b and w), re-synchronisation
  * and coasting through longer outages (f_b, Gamma_b and w held) as in nav2d.h
  * and navtask.h.
@@ -88,6 +90,7 @@
 
 #include <stdint.h>
 #include "ggins/diff3d.h"
+#include "ggins/fdi3d.h"
 #include "ggins/frame.h"
 #include "ggins/gmodel.h"
 #include "ggins/gravdr.h"
@@ -137,6 +140,7 @@ typedef struct {
 typedef struct {
     gg_nav3d_config_t cfg;
     gg_diff3d_t diff;
+    gg_fdi3d_t fdi;              /**< rebuilds unusable readings from the opposite pairs */
     gg_gravdr_t gravdr;          /**< G_e, Gamma_e (ECEF) */
     gg_mech_t mech;              /**< r_i, v_i (ECI) */
     gg_gmodel_t gmodel;
@@ -201,6 +205,7 @@ typedef struct gg_nav3d_output_s {
     uint32_t cycles[GG_MOD_COUNT]; /**< cycle-counter ticks per module (GG_MOD_*) */
     uint32_t resync_count;       /**< re-synchronisations to the frame stream so far (navtask.h) */
     uint32_t coast_steps;        /**< steps propagated on held inputs so far (outages) */
+    uint32_t acc_rebuilt;        /**< readings rebuilt this step, bit 3*sensor+axis (fdi3d.h) */
     double outage_s;             /**< time since the readings of a frame last entered the state, s */
     double state_lag_s;          /**< how far the state's time is behind this frame's, s */
 } gg_nav3d_output_t;
