@@ -74,8 +74,10 @@ const char* kMulticastFix =
 
 struct Stats {  // running max / final of one error quantity
   double max = 0, final = 0;
-  void add(double x) {
-    final = x;
+  // latest: the sample belongs to the highest step seen so far (outputs can
+  // arrive out of order; the final value is that of the last step flown)
+  void add(double x, bool latest = true) {
+    if (latest) final = x;
     if (!(x <= max)) max = x;  // NaN propagates into max
   }
 };
@@ -311,11 +313,12 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
   Real dgam = 0;
   for (int j : {0, 2})  // the 2-D firmware measures the x/z block only
     for (int i : {0, 2}) dgam = std::max(dgam, std::fabs(static_cast<Real>(m.gamma_i[j][i]) - t.gamma(j, i)));
-  pos_.add(static_cast<double>(dr.norm()));
-  vel_.add(static_cast<double>(dv.norm()));
-  grav_.add(static_cast<double>(dg.norm()));
-  gam_.add(static_cast<double>(dgam));
-  if (m.seq == n_ - 1 || !last_out_ || m.seq > last_out_->seq) {
+  const bool latest = !last_out_ || m.seq > last_out_->seq;
+  pos_.add(static_cast<double>(dr.norm()), latest);
+  vel_.add(static_cast<double>(dv.norm()), latest);
+  grav_.add(static_cast<double>(dg.norm()), latest);
+  gam_.add(static_cast<double>(dgam), latest);
+  if (latest) {
     for (int j = 0; j < 3; ++j) {
       fpos_[j] = static_cast<double>(dr(j));
       fvel_[j] = static_cast<double>(dv(j));
@@ -340,9 +343,9 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
   const Real gd_true = (t.g - gen_.model_g(t.kin.r)).dot(ut);
   const Real gd_est = (gn - gen_.model_g(rn)).dot(un) - static_cast<Real>(m.g_up_corr);
   const double t_s = static_cast<double>(t.t_s);
-  vert_.add(static_cast<double>(std::fabs(err_h)));
-  horiz_.add(static_cast<double>(dr_h.norm()));
-  if (m.seq == n_ - 1 || m.seq >= last_out_->seq) {
+  vert_.add(static_cast<double>(std::fabs(err_h)), latest);
+  horiz_.add(static_cast<double>(dr_h.norm()), latest);
+  if (latest) {
     falong_ = static_cast<double>(err_along);
     fvert_ = static_cast<double>(err_h);
   }
@@ -955,6 +958,19 @@ json Runner::run() {
   s["steps"] = outputs_;
   s["steps_expected"] = n_;
   s["steps_rejected"] = steps_rejected_;
+  if (last_out_) {
+    // the navigation at the last step received: how it got there (navtask.h)
+    s["final_seq"] = last_out_->seq;
+    s["recovery"] = {{"resyncs", last_out_->resync_count},
+                     {"coast_steps", last_out_->coast_steps},
+                     {"final_outage_s", last_out_->outage_s},
+                     {"final_state_lag_s", last_out_->state_lag_s}};
+  }
+  // degraded: flown to the end, but not every frame's readings entered the
+  // navigation, or the last step's output is missing, or the run ended in
+  // an outage (exit status 4)
+  s["degraded"] = steps_rejected_ > 0 || !last_out_ || last_out_->seq != n_ - 1 ||
+                  last_out_->outage_s != 0.0;
   s["health_bits_seen"] = health_or_;  // OR of every output's GG_HEALTH_* word
   s["health_seen"] = health_names(health_or_);
   auto axes = [](const std::array<double, 3>& v) { return json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}}; };
@@ -1140,8 +1156,10 @@ int main(int argc, char** argv) {
       "direction) and run id, so runs in parallel do not interfere. Needs UDP multicast\n"
       "on loopback:\n"
       "  ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo   (as root)\n\n"
-      "Exit status: 0 run completed, 1 run failed, 2 bad arguments or scenario,\n"
-      "3 multicast on loopback unavailable, 130 interrupted.",
+      "Exit status: 0 run completed, every frame used; 1 run failed; 2 bad arguments or\n"
+      "scenario; 3 multicast on loopback unavailable; 4 completed but degraded (frames\n"
+      "rejected, the last output missing, or an outage at the end: summary.json\n"
+      "\"degraded\", \"steps_rejected\", \"recovery\"); 130 interrupted.",
       "ggins run"};
   app.get_formatter()->column_width(34);
   bool list = false, print_scenario = false;
@@ -1287,7 +1305,7 @@ int main(int argc, char** argv) {
   if (!o.quiet) {
     const auto& f = summary["final"];
     std::printf("ggins run: %s %s: %lld steps, final |dr| = %.3e m, |dv| = %.3e m/s, |dG| = %.3e m/s^2\n",
-                summary["scenario"].get<std::string>().c_str(), summary["completed"].get<bool>() ? "completed" : "FAILED",
+                summary["scenario"].get<std::string>().c_str(), !summary["completed"].get<bool>() ? "FAILED" : (summary.value("degraded", false) ? "completed, DEGRADED" : "completed"),
                 static_cast<long long>(summary["steps"].get<int64_t>()), f["position_error_m"].get<double>(),
                 f["velocity_error_mps"].get<double>(), f["gravity_error_mps2"].get<double>());
     std::printf("  frames lost %lld, recovered %lld; wall %.2f s, real-time factor %.1f; step %.0f ns median, %.0f p99, %.0f max\n",
@@ -1298,5 +1316,6 @@ int main(int argc, char** argv) {
   }
   std::printf("report: %s\n", out.c_str());
   if (rc == 0 && !summary["completed"].get<bool>()) rc = 1;
+  if (rc == 0 && summary.value("degraded", false)) rc = 4;
   return rc;
 }

@@ -163,9 +163,14 @@ def test_fault(a, case):
     with open(path, "w") as f:
         f.write(scenario("fault-" + case, c["faults"], fdi=c.get("fdi", True)))
     out = os.path.join(a.workdir, "run")
-    H.run(a.ggins_run, out, "--scenario", path, "--no-plots")
+    p = H.run(a.ggins_run, out, "--scenario", path, "--no-plots", check_rc=False)
     s, rows = H.load(out)
     n = int(round(DURATION * RATE)) + 1
+    # a run with rejected frames completes but reports itself degraded (exit 4)
+    want_rc = 4 if s.get("steps_rejected", 0) > 0 else 0
+    check(p.returncode == want_rc and s.get("degraded") == (want_rc == 4),
+          "exit status %d with %d frames rejected (got %d, degraded %s)"
+          % (want_rc, s.get("steps_rejected", 0), p.returncode, s.get("degraded")))
     check(s["completed"] is True and s["steps"] == n, "run completed, %d steps (got %s)" % (n, s["steps"]))
     check(len(rows) == n, "a CSV row per step (%d)" % len(rows))
     health = {int(r["seq"]): int(r["health"]) for r in rows}
@@ -276,9 +281,11 @@ def test_replay(a):
         f.write(scenario("replay", faults, duration=10.0, extra=extra))
     out = os.path.join(a.workdir, "run")
     # short resend timeout: ~10% of the frames/outputs are lost and wait for it
-    H.run(a.ggins_run, out, "--scenario", path, "--no-plots", "--resend-timeout-ms", "10")
+    p = H.run(a.ggins_run, out, "--scenario", path, "--no-plots", "--resend-timeout-ms", "10", check_rc=False)
     s, _ = H.load(out)
     n = 1001
+    check(p.returncode == 4 and s["degraded"] is True and s["steps_rejected"] > 0,
+          "the time-stamp fault's rejected frame: completed, degraded, exit 4 (got %d)" % p.returncode)
     check(s["completed"] is True and s["steps"] == n, "run completed (%s steps)" % s["steps"])
     inj = s["transport"]["injected"]
     hs = s["transport"]["hal_sim"]
