@@ -18,6 +18,7 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->omega_ie = (gg_real_t)m->omega_ie_hi + (gg_real_t)m->omega_ie_lo;
     c->f_max = m->f_max;
     c->asym_max = m->asym_max;
+    c->fdi_parity_f_max = m->fdi_parity_f_max;
     c->gravity_mode = m->gravity_mode;
     c->model.gm = (gg_real_t)m->model_gm_hi + (gg_real_t)m->model_gm_lo;
     c->model.a_m = (gg_real_t)m->model_a_m;
@@ -75,6 +76,7 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->resync_count = (int64_t)o->resync_count;
     m->coast_steps = (int64_t)o->coast_steps;
     m->acc_rebuilt = (int64_t)o->acc_rebuilt;
+    m->acc_excluded = (int64_t)o->acc_excluded;
     m->outage_s = o->outage_s;
     m->state_lag_s = o->state_lag_s;
 }

@@ -1,26 +1,10 @@
-/* Pair-mean accommodation of unusable 3-D readings; see fdi3d.h. */
+/* Pair-mean fault detection, isolation and accommodation of the 3-D
+ * readings; see fdi3d.h. */
 #include "ggins/fdi3d.h"
 
 #include <stddef.h>
 
-gg_status_t gg_fdi3d_init(gg_fdi3d_t *st)
-{
-    size_t p;
-    size_t j;
-    if (st == NULL) {
-        return GG_ERR_NULL;
-    }
-    for (p = 0U; p < 3U; ++p) {
-        for (j = 0U; j < 3U; ++j) {
-            st->mean_good[p][j] = 0.0L;
-        }
-    }
-    st->have_good = 0;
-    st->initialized = 1;
-    return GG_OK;
-}
-
-/* mask bit of reading (s, j): GG_FDI3D_BIT with the shift's range evident */
+/* mask bit of reading (s, j) or pair-axis (p, j), the shift's range evident */
 static uint32_t rbit(size_t s, size_t j)
 {
     const uint32_t sh = (uint32_t)(((3U * s) + j) & 31U);
@@ -32,17 +16,294 @@ static gg_real_t rd3(double f[6][3], double f_lo[6][3], size_t s, size_t j)
     return (gg_real_t)f[s][j] + (gg_real_t)f_lo[s][j];
 }
 
-gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, double f[6][3], double f_lo[6][3],
-                          uint32_t *rebuilt)
+static void wr3(double f[6][3], double f_lo[6][3], size_t s, size_t j, gg_real_t v)
 {
-    gg_real_t m[3][3];
+    const double hi = (double)v;
+    f[s][j] = hi;
+    f_lo[s][j] = (double)(v - (gg_real_t)hi);
+}
+
+static gg_real_t absr(gg_real_t x)
+{
+    return (x < 0.0L) ? -x : x;
+}
+
+/* column entry M[j][p] = (f_p,j - f_p+3,j) / (2 h_p) */
+static gg_real_t m_entry(const gg_fdi3d_t *st, double f[6][3], double f_lo[6][3], size_t j, size_t p)
+{
+    return ((((gg_real_t)f[p][j] - (gg_real_t)f[p + 3U][j]) +
+             ((gg_real_t)f_lo[p][j] - (gg_real_t)f_lo[p + 3U][j])) /
+            (2.0L * st->cfg.half_base_m[p]));
+}
+
+/* [v x][j][p] */
+static gg_real_t cross_entry(const gg_real_t v[3], size_t j, size_t p)
+{
+    gg_real_t c = 0.0L;
+    if ((j == 0U) && (p == 1U)) {
+        c = -v[2];
+    } else if ((j == 0U) && (p == 2U)) {
+        c = v[1];
+    } else if ((j == 1U) && (p == 0U)) {
+        c = v[2];
+    } else if ((j == 1U) && (p == 2U)) {
+        c = -v[0];
+    } else if ((j == 2U) && (p == 0U)) {
+        c = -v[1];
+    } else if ((j == 2U) && (p == 1U)) {
+        c = v[0];
+    } else {
+        /* diagonal: 0 */
+    }
+    return c;
+}
+
+gg_status_t gg_fdi3d_init(gg_fdi3d_t *st, const gg_fdi3d_config_t *cfg)
+{
+    size_t p;
+    size_t j;
+    if ((st == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    st->initialized = 0;
+    for (p = 0U; p < 3U; ++p) {
+        if (!GG_ISFINITE(cfg->half_base_m[p]) || !(cfg->half_base_m[p] > 0.0L)) {
+            return GG_ERR_CONFIG;
+        }
+    }
+    if (!GG_ISFINITE(cfg->parity_f_max) || (cfg->parity_f_max < 0.0) || (cfg->stabilized < 0) ||
+        (cfg->stabilized > 1)) {
+        return GG_ERR_CONFIG;
+    }
+    st->cfg = *cfg;
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            st->mean_good[p][j] = 0.0L;
+        }
+    }
+    st->excluded = 0U;
+    st->excluded_pairs = 0U;
+    st->have_good = 0;
+    st->initialized = 1;
+    return GG_OK;
+}
+
+/* The angular acceleration the antisymmetric part must show: 0 on a
+ * stabilized platform, the reference otherwise; 0 (unknown) without one. */
+static int wd_known(const gg_fdi3d_t *st, const gg_real_t wd_ref[3], gg_real_t wd[3])
+{
+    int known = 0;
+    size_t j;
+    for (j = 0U; j < 3U; ++j) {
+        wd[j] = 0.0L;
+    }
+    if (st->cfg.stabilized != 0) {
+        known = 1;
+    } else if (wd_ref != NULL) {
+        for (j = 0U; j < 3U; ++j) {
+            wd[j] = wd_ref[j];
+        }
+        known = 1;
+    } else {
+        /* unknown */
+    }
+    return known;
+}
+
+/* Rebuild the readings of bad (single per pair-axis) and of the excluded
+ * pair-axes in nf/nlo (copies of the frame's readings). */
+static gg_status_t accommodate(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs,
+                               const gg_real_t w[3], const gg_real_t wd[3], int wd_ok,
+                               double nf[6][3], double nlo[6][3], uint32_t *rebuilt)
+{
+    gg_real_t mean_p[3][3];
+    uint32_t rb = 0U;
+    size_t p;
+    size_t j;
+    for (j = 0U; j < 3U; ++j) {
+        int n_whole = 0;
+        gg_real_t sum_whole = 0.0L;
+        gg_real_t sum_good_whole = 0.0L;
+        for (p = 0U; p < 3U; ++p) {
+            const uint32_t b0 = bad & rbit(p, j);
+            const uint32_t b1 = bad & rbit(p + 3U, j);
+            const uint32_t bp = pairs & rbit(p, j);
+            if ((bp == 0U) && (b0 != 0U) && (b1 != 0U)) {
+                return GG_ERR_SENSOR; /* both readings of a pair on this axis */
+            }
+            if ((bp == 0U) && (b0 == 0U) && (b1 == 0U)) {
+                sum_whole += 0.5L * (rd3(nf, nlo, p, j) + rd3(nf, nlo, p + 3U, j));
+                sum_good_whole += st->mean_good[p][j];
+                n_whole += 1;
+            }
+        }
+        for (p = 0U; p < 3U; ++p) {
+            const uint32_t b0 = bad & rbit(p, j);
+            const uint32_t b1 = bad & rbit(p + 3U, j);
+            const uint32_t bp = pairs & rbit(p, j);
+            if ((bp != 0U) || (b0 != 0U) || (b1 != 0U)) {
+                if (n_whole == 0) {
+                    return GG_ERR_SENSOR; /* no whole pair on this axis */
+                }
+                /* mean over the whole pairs q of m_q + (m_p - m_q)_last */
+                mean_p[p][j] =
+                    (sum_whole + (((gg_real_t)n_whole * st->mean_good[p][j]) - sum_good_whole)) /
+                    (gg_real_t)n_whole;
+            }
+            if ((bp == 0U) && ((b0 != 0U) || (b1 != 0U))) {
+                size_t bad_s = p + 3U;
+                size_t partner = p;
+                if (b0 != 0U) {
+                    bad_s = p;
+                    partner = p + 3U;
+                }
+                wr3(nf, nlo, bad_s, j, (2.0L * mean_p[p][j]) - rd3(nf, nlo, partner, j));
+                rb |= rbit(bad_s, j);
+            }
+        }
+    }
+    /* excluded pair-axes: the column entry from symmetry or the trace */
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((pairs & rbit(p, j)) != 0U) {
+                gg_real_t mjp;
+                if (j == p) {
+                    /* trace of Gamma = -2|w|^2 - tr M = 0 */
+                    size_t k;
+                    mjp = -2.0L * ((w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]));
+                    for (k = 0U; k < 3U; ++k) {
+                        if (k != p) {
+                            if ((pairs & rbit(k, k)) != 0U) {
+                                return GG_ERR_SENSOR;
+                            }
+                            mjp -= m_entry(st, nf, nlo, k, k);
+                        }
+                    }
+                } else {
+                    /* (M - M^T)/2 = [w' x] */
+                    if ((wd_ok == 0) || ((pairs & rbit(j, p)) != 0U)) {
+                        return GG_ERR_SENSOR;
+                    }
+                    mjp = m_entry(st, nf, nlo, p, j) + (2.0L * cross_entry(wd, j, p));
+                }
+                wr3(nf, nlo, p, j, mean_p[p][j] + (st->cfg.half_base_m[p] * mjp));
+                wr3(nf, nlo, p + 3U, j, mean_p[p][j] - (st->cfg.half_base_m[p] * mjp));
+                rb |= rbit(p, j) | rbit(p + 3U, j);
+            }
+        }
+    }
+    *rebuilt = rb;
+    return GG_OK;
+}
+
+/* Detection and isolation on the whole pairs; new exclusions into *new_bad,
+ * *new_pairs. GG_ERR_SENSOR on a fault that fits no single reading or pair. */
+static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, const gg_real_t w[3],
+                          const gg_real_t wd[3], int wd_ok, double nf[6][3], double nlo[6][3],
+                          uint32_t *new_bad, uint32_t *new_pairs, gg_real_t *pmax,
+                          uint32_t *flags)
+{
+    const gg_real_t tau = (gg_real_t)st->cfg.parity_f_max;
+    size_t j;
+    size_t p;
+    *pmax = 0.0L;
+    for (j = 0U; j < 3U; ++j) {
+        gg_real_t mu[3] = {0.0L, 0.0L, 0.0L};
+        int whole[3] = {0, 0, 0};
+        int n_whole = 0;
+        gg_real_t worst = 0.0L;
+        for (p = 0U; p < 3U; ++p) {
+            if (((bad & (rbit(p, j) | rbit(p + 3U, j))) == 0U) && ((pairs & rbit(p, j)) == 0U)) {
+                mu[p] = 0.5L * (rd3(nf, nlo, p, j) + rd3(nf, nlo, p + 3U, j));
+                whole[p] = 1;
+                n_whole += 1;
+            }
+        }
+        for (p = 0U; p < 3U; ++p) {
+            size_t q;
+            for (q = p + 1U; q < 3U; ++q) {
+                if ((whole[p] != 0) && (whole[q] != 0) && (absr(mu[p] - mu[q]) > worst)) {
+                    worst = absr(mu[p] - mu[q]);
+                }
+            }
+        }
+        if (worst > *pmax) {
+            *pmax = worst;
+        }
+        if ((tau > 0.0L) && (worst > tau)) {
+            size_t fp = 0U;
+            gg_real_t dev = -1.0L;
+            gg_real_t d;
+            size_t sensor = 6U;
+            *flags |= GG_FDI3D_DETECTED;
+            if (n_whole < 3) {
+                return GG_ERR_SENSOR; /* detected, nothing left to isolate with */
+            }
+            for (p = 0U; p < 3U; ++p) {
+                const gg_real_t others = 0.5L * ((mu[0] + mu[1] + mu[2]) - mu[p]);
+                if (absr(mu[p] - others) > dev) {
+                    dev = absr(mu[p] - others);
+                    fp = p;
+                }
+            }
+            {
+                const size_t q = (fp + 1U) % 3U;
+                const size_t r = (fp + 2U) % 3U;
+                if (absr(mu[q] - mu[r]) > tau) {
+                    return GG_ERR_SENSOR; /* the other two disagree: a double fault */
+                }
+                d = 2.0L * (mu[fp] - (0.5L * (mu[q] + mu[r])));
+            }
+            if (j == fp) {
+                /* the trace moves by -d/(2h) for sensor p, +d/(2h) for p + 3 */
+                const gg_real_t expect = absr(d) / (2.0L * st->cfg.half_base_m[fp]);
+                gg_real_t t = -2.0L * ((w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]));
+                size_t k;
+                for (k = 0U; k < 3U; ++k) {
+                    t -= m_entry(st, nf, nlo, k, k);
+                }
+                if (absr(t) >= (0.5L * expect)) {
+                    sensor = ((t * d) < 0.0L) ? fp : (fp + 3U);
+                }
+            } else if (wd_ok != 0) {
+                /* the antisymmetric part moves by +d/(4h) for sensor p, -d/(4h) for p + 3 */
+                const gg_real_t expect = absr(d) / (4.0L * st->cfg.half_base_m[fp]);
+                const gg_real_t a = (0.5L * (m_entry(st, nf, nlo, j, fp) - m_entry(st, nf, nlo, fp, j))) -
+                                    cross_entry(wd, j, fp);
+                if (absr(a) >= (0.5L * expect)) {
+                    sensor = ((a * d) > 0.0L) ? fp : (fp + 3U);
+                }
+            } else {
+                /* no reference for the antisymmetric part: ambiguous */
+            }
+            if (sensor < 6U) {
+                *new_bad |= rbit(sensor, j);
+            } else {
+                *new_pairs |= rbit(fp, j);
+            }
+        }
+    }
+    return GG_OK;
+}
+
+gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
+                          const gg_real_t omega_dot_ref[3], double f[6][3], double f_lo[6][3],
+                          gg_fdi3d_output_t *out)
+{
     double nf[6][3];
     double nlo[6][3];
-    uint32_t rb = 0U;
+    gg_real_t wd[3];
+    gg_fdi3d_output_t o;
+    uint32_t bad;
+    uint32_t pairs;
+    uint32_t new_bad = 0U;
+    uint32_t new_pairs = 0U;
+    int wd_ok;
+    gg_status_t status;
     size_t s;
     size_t p;
     size_t j;
-    if ((st == NULL) || (f == NULL) || (f_lo == NULL) || (rebuilt == NULL)) {
+    if ((st == NULL) || (omega_b == NULL) || (f == NULL) || (f_lo == NULL) || (out == NULL)) {
         return GG_ERR_NULL;
     }
     if (st->initialized == 0) {
@@ -58,57 +319,47 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, double f[6][3], do
             nlo[s][j] = f_lo[s][j];
         }
     }
-    if ((known_bad != 0U) && (st->have_good == 0)) {
+    o.flags = 0U;
+    o.rebuilt = 0U;
+    o.parity_max = 0.0L;
+    wd_ok = wd_known(st, omega_dot_ref, wd);
+    bad = known_bad | st->excluded;
+    pairs = st->excluded_pairs;
+    if (((bad != 0U) || (pairs != 0U)) && (st->have_good == 0)) {
         return GG_ERR_SENSOR; /* no curvature differences known yet */
     }
-    for (j = 0U; j < 3U; ++j) {
-        int n_whole = 0;
-        gg_real_t sum_whole = 0.0L;
-        gg_real_t sum_good_whole = 0.0L;
-        for (p = 0U; p < 3U; ++p) {
-            const uint32_t b0 = known_bad & rbit(p, j);
-            const uint32_t b1 = known_bad & rbit(p + 3U, j);
-            if ((b0 != 0U) && (b1 != 0U)) {
-                return GG_ERR_SENSOR; /* both readings of a pair on this axis */
-            }
-            if ((b0 == 0U) && (b1 == 0U)) {
-                m[p][j] = 0.5L * (rd3(f, f_lo, p, j) + rd3(f, f_lo, p + 3U, j));
-                sum_whole += m[p][j];
-                sum_good_whole += st->mean_good[p][j];
-                n_whole += 1;
-            }
-        }
-        for (p = 0U; p < 3U; ++p) {
-            const uint32_t b0 = known_bad & rbit(p, j);
-            const uint32_t b1 = known_bad & rbit(p + 3U, j);
-            if ((b0 != 0U) || (b1 != 0U)) {
-                size_t bad = p + 3U;
-                size_t partner = p;
-                gg_real_t v;
-                double hi;
-                if (b0 != 0U) {
-                    bad = p;
-                    partner = p + 3U;
+    status = accommodate(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &o.rebuilt);
+    if (status == GG_OK) {
+        status = detect(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &new_bad, &new_pairs,
+                        &o.parity_max, &o.flags);
+    }
+    if ((status == GG_OK) && ((new_bad != 0U) || (new_pairs != 0U))) {
+        if (st->have_good == 0) {
+            status = GG_ERR_SENSOR;
+        } else {
+            /* start again from the frame's readings with the new exclusions */
+            for (s = 0U; s < 6U; ++s) {
+                for (j = 0U; j < 3U; ++j) {
+                    nf[s][j] = f[s][j];
+                    nlo[s][j] = f_lo[s][j];
                 }
-                if (n_whole == 0) {
-                    return GG_ERR_SENSOR; /* no whole pair on this axis */
-                }
-                /* mean over the whole pairs q of m_q + (m_p - m_q)_last */
-                m[p][j] = (sum_whole + (((gg_real_t)n_whole * st->mean_good[p][j]) - sum_good_whole)) /
-                          (gg_real_t)n_whole;
-                v = (2.0L * m[p][j]) - rd3(f, f_lo, partner, j);
-                hi = (double)v;
-                nf[bad][j] = hi;
-                nlo[bad][j] = (double)(v - (gg_real_t)hi);
-                rb |= rbit(bad, j);
             }
+            bad |= new_bad;
+            pairs |= new_pairs;
+            o.flags |= GG_FDI3D_NEW_EXCL;
+            status = accommodate(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &o.rebuilt);
         }
+    }
+    if (status != GG_OK) {
+        return status;
     }
     for (p = 0U; p < 3U; ++p) {
         for (j = 0U; j < 3U; ++j) {
-            st->mean_good[p][j] = m[p][j];
+            st->mean_good[p][j] = 0.5L * (rd3(nf, nlo, p, j) + rd3(nf, nlo, p + 3U, j));
         }
     }
+    st->excluded |= new_bad;
+    st->excluded_pairs |= new_pairs;
     st->have_good = 1;
     for (s = 0U; s < 6U; ++s) {
         for (j = 0U; j < 3U; ++j) {
@@ -116,6 +367,14 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, double f[6][3], do
             f_lo[s][j] = nlo[s][j];
         }
     }
-    *rebuilt = rb;
+    if (o.rebuilt != 0U) {
+        o.flags |= GG_FDI3D_REBUILT;
+    }
+    if (st->excluded_pairs != 0U) {
+        o.flags |= GG_FDI3D_PAIR;
+    }
+    o.excluded = st->excluded;
+    o.excluded_pairs = st->excluded_pairs;
+    *out = o;
     return GG_OK;
 }

@@ -388,7 +388,21 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
     nav->mech.initialized = 0;
     st = gg_task_seq_init(&nav->seq, cfg->dt_us, cfg->dt_tol_us);
     if (st == GG_OK) {
-        st = gg_fdi3d_init(&nav->fdi);
+        gg_fdi3d_config_t fc;
+        size_t j;
+        for (j = 0U; j < 3U; ++j) {
+            fc.half_base_m[j] = cfg->geometry.half_base_m[j];
+        }
+        fc.parity_f_max = cfg->fdi_parity_f_max;
+        fc.stabilized = 0;
+        if (cfg->platform == GG_PLATFORM_STABILIZED) {
+            fc.stabilized = 1;
+        }
+        if ((cfg->fdi_parity_f_max != 0.0) && !(cfg->fdi_parity_f_max >= GG_FDI3D_FLOOR_MPS2)) {
+            st = GG_ERR_CONFIG; /* below the curvature differences: false alarms */
+        } else {
+            st = gg_fdi3d_init(&nav->fdi, &fc);
+        }
     }
     if (st != GG_OK) {
         return st;
@@ -1272,16 +1286,40 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         st_read = GG_ERR_SENSOR;
     } else {
         const uint32_t t0 = gg_task_cycles(hal);
+        gg_real_t w_now[3];
+        gg_real_t wd_ref[3];
+        const gg_real_t *wd_p = NULL;
+        gg_fdi3d_output_t fo;
+        size_t j;
         fixed = *frame;
-        st_read = gg_fdi3d_step(&nav->fdi, known_bad, fixed.f, fixed.f_lo, &rebuilt);
+        for (j = 0U; j < 3U; ++j) {
+            w_now[j] = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) ? (gg_real_t)frame->omega_b[j]
+                                                                    : 0.0L;
+            /* the gyro-derived angular acceleration (third-order backward
+             * difference, as the parity below), once three earlier samples exist */
+            wd_ref[j] = ((11.0L * w_now[j]) - (18.0L * nav->w_k[j]) + (9.0L * nav->w_km1[j]) -
+                         (2.0L * nav->w_km2[j])) /
+                        (6.0L * nav->dt_s);
+        }
+        if ((nav->started != 0) && (nav->n_w >= 3) && (fstep == (nav->state_step + 1))) {
+            wd_p = wd_ref;
+        }
+        st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed.f, fixed.f_lo, &fo);
+        rebuilt = fo.rebuilt;
+        if ((fo.flags & GG_FDI3D_DETECTED) != 0U) {
+            health |= GG_HEALTH_ACC_FAULT;
+        }
+        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_PAIR) != 0U)) {
+            health |= GG_HEALTH_GRAD_COAST;
+        }
         if (st_read != GG_OK) {
             /* the readings' own fault, as the health word says */
             if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
                 st_read = GG_ERR_NONFINITE;
-            } else if ((health & GG_HEALTH_ACC_SENSOR) != 0U) {
-                st_read = GG_ERR_SENSOR;
-            } else {
+            } else if ((health & GG_HEALTH_ACC_RANGE) != 0U) {
                 st_read = GG_ERR_RANGE;
+            } else {
+                st_read = GG_ERR_SENSOR; /* flagged bad, or a fault parity cannot isolate */
             }
         } else {
             if (rebuilt != 0U) {
@@ -1378,6 +1416,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     }
     n3_fill_output(nav, frame, st, health, out);
     out->acc_rebuilt = rebuilt;
+    out->acc_excluded = nav->fdi.excluded;
     out->resync_count = nav->seq.resyncs;
     out->coast_steps = nav->coast_steps;
     if (nav->started != 0) {

@@ -343,6 +343,7 @@ void Runner3::configure_hal() {
   hilo(c.omega_ie, m.omega_ie_hi, m.omega_ie_lo);
   m.f_max = c.f_max;
   m.asym_max = c.asym_max;
+  m.fdi_parity_f_max = c.fdi_parity_f_max;
   m.gravity_mode = static_cast<int8_t>(c.gravity_mode);
   hilo(c.model.gm, m.model_gm_hi, m.model_gm_lo);
   m.model_a_m = static_cast<double>(c.model.a_m);

@@ -562,6 +562,92 @@ static void test_rebuilt3d(void **state)
     assert_true(dr < bound);
 }
 
+/* Fault detection and isolation (fdi3d.h) at the derived default threshold
+ * on perfect sensors (GG_FDI3D_FLOOR_MPS2): a 1e-8 m/s^2 step bias from 10 s
+ * on one reading moves its pair mean by 5e-9 m/s^2, so it is flagged on its
+ * first step, isolated by the trace (a reading along its own offset) or the
+ * antisymmetric part (a cross-axis reading: zero on the stabilized platform,
+ * the gyro-derived angular acceleration on the strapdown one), excluded and
+ * rebuilt; the error against the clean run is then that of a rebuilt reading
+ * (test_rebuilt3d's curvature bound). Without detection the same bias gives
+ * centimetres in a minute. Two biased pairs on one axis are detected and
+ * rejected (the task coasts). */
+static void test_fdi3d_isolation(void **state)
+{
+    (void)state;
+    static gg_nav3d_t nav, ref;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out, out_ref;
+    gg_frame_t fr;
+    struct {
+        int platform, sensor, axis;
+    } cases[] = {{GG_PLATFORM_STABILIZED, 1, 2}, {GG_PLATFORM_STABILIZED, 5, 2},
+                 {GG_PLATFORM_STABILIZED, 3, 1}, {GG_PLATFORM_STRAPDOWN, 0, 0},
+                 {GG_PLATFORM_STRAPDOWN, 4, 1},  {GG_PLATFORM_STRAPDOWN, 2, 0}};
+    const long double r = 6.38e6L, gm = 3.986004418e14L, t = 50.0L, v = 200.0L;
+    const long double df = 2.0L * (0.5L * 0.6L * 0.6L) * 9.0L * gm / (r * r * r * r);
+    const long double bound = (df / (2.0L * 0.4L)) * v * t * t * t / 6.0L + (df / 6.0L) * t * t / 2.0L;
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        truth3_t T;
+        default_truth(&T);
+        T.lon_rate = 200.0L / (6.4e6L * cosl(T.lat0));
+        if (cases[c].platform == GG_PLATFORM_STRAPDOWN) {
+            T.p = 0.05L;
+            T.s = 0.2L;
+        }
+        make_config(&T, cases[c].platform, 0, 10000, &cfg);
+        cfg.fdi_parity_f_max = GG_FDI3D_FLOOR_MPS2;
+        assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+        assert_int_equal(gg_nav3d_init(&ref, &cfg), GG_OK);
+        long long first = -1;
+        for (long long k = 0; k < 6000; ++k) {
+            make_frame(&T, k, 10000, &fr);
+            assert_int_equal(gg_nav3d_step(&ref, &fr, NULL, &out_ref), GG_OK);
+            assert_int_equal(out_ref.health & GG_HEALTH_ACC_FAULT, 0);
+            if (k >= 1000) fr.f[cases[c].sensor][cases[c].axis] += 1e-8;
+            const gg_status_t st = gg_nav3d_step(&nav, &fr, NULL, &out);
+            if (st != GG_OK) fail_msg("case %zu step %lld: status %d health 0x%x", c, k, st, out.health);
+            if (first < 0 && (out.health & GG_HEALTH_ACC_FAULT)) first = k;
+        }
+        long double a[3], b[3];
+        for (int j = 0; j < 3; ++j) {
+            a[j] = (long double)out.r_e[j] + (long double)out.r_e_lo[j];
+            b[j] = (long double)out_ref.r_e[j] + (long double)out_ref.r_e_lo[j];
+        }
+        const long double dr = norm3l(a, b);
+        print_message("3-D FDI: %s, 1e-8 m/s^2 on %d%c: detected after %lld steps, excluded 0x%05x, "
+                      "|dr| %.3Lg m vs clean run after 50 s (bound %.3Lg m)\n",
+                      cases[c].platform == GG_PLATFORM_STRAPDOWN ? "strapdown" : "stabilized",
+                      cases[c].sensor, "xyz"[cases[c].axis], first - 1000, out.acc_excluded, dr, bound);
+        assert_int_equal(first, 1000);
+        assert_int_equal(out.acc_excluded, GG_FDI3D_BIT(cases[c].sensor, cases[c].axis));
+        assert_true(dr < bound);
+    }
+    /* a double fault on one axis: detected, not isolable, rejected; the task
+     * coasts and still answers every frame */
+    {
+        truth3_t T;
+        default_truth(&T);
+        make_config(&T, GG_PLATFORM_STABILIZED, 0, 10000, &cfg);
+        cfg.fdi_parity_f_max = GG_FDI3D_FLOOR_MPS2;
+        assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+        uint32_t seen = 0U;
+        for (long long k = 0; k < 1300; ++k) {
+            make_frame(&T, k, 10000, &fr);
+            if (k >= 1000) {
+                fr.f[0][1] += 1e-8;
+                fr.f[2][1] -= 3e-8;
+            }
+            const gg_status_t st = gg_nav3d_step(&nav, &fr, NULL, &out);
+            seen |= out.health;
+            if (k >= 1000) assert_int_equal(st, GG_ERR_SENSOR);
+        }
+        assert_true((seen & (GG_HEALTH_ACC_FAULT | GG_HEALTH_COAST)) ==
+                    (GG_HEALTH_ACC_FAULT | GG_HEALTH_COAST));
+        assert_true(out.coast_steps > 0U);
+    }
+}
+
 /* On the stabilized platform the gyros are not used: a NaN gyro is ignored. */
 static void test_stabilized_ignores_gyro(void **state)
 {
@@ -769,6 +855,7 @@ int main(void)
         cmocka_unit_test(test_bridge),
         cmocka_unit_test(test_recovery3d),
         cmocka_unit_test(test_rebuilt3d),
+        cmocka_unit_test(test_fdi3d_isolation),
         cmocka_unit_test(test_earth_rate_matters),
         cmocka_unit_test(test_stabilized_parked_1h),
         cmocka_unit_test(test_strapdown_tumbling_flight_1h),

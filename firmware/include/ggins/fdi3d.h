@@ -1,30 +1,48 @@
 /**
  * @file fdi3d.h
- * @brief Accommodation of unusable readings of the six tri-axis
+ * @brief Fault detection, isolation and accommodation for the six tri-axis
  *        accelerometers of the 3-D platform (diff3d.h layout), from the
- *        redundancy of opposite pairs.
+ *        redundancy of opposite pairs, the trace and the antisymmetric part.
  *
- * Sensors p and p + 3 (p = 0, 1, 2) sit at +-d_p on body axis p. On a rigid
+ * Sensors p and p + 3 (p = 0, 1, 2) sit at +-h_p on body axis p. On a rigid
  * body the rotation terms of a reading are linear in the offset (diff3d.h:
  * f(d) = f_c + (W - Gamma) d + O(d^2)), so each pair's mean
- *   m_p = (f(+d_p) + f(-d_p)) / 2 = f_c - (|d_p|^2 / 2) d2G/dx_p^2 + O(d^4)
+ *   m_p,j = (f_p,j + f_p+3,j) / 2 = f_c,j - (h_p^2 / 2) d2G_j/dx_p^2 + O(h^4)
  * is the centre specific force up to the field's curvature along that axis,
- * whatever the rotation: 18 readings, 9 pair means, 3 unknowns - on each
- * axis j the three pair means agree to the curvature differences
- * (~1e-13 m/s^2 at 0.5 m near the Earth).
+ * whatever the rotation: on each axis j the three pair means agree to the
+ * curvature differences (< 1e-12 m/s^2 at 0.6 m near the Earth, anomalies
+ * included: GG_FDI3D_FLOOR_MPS2 covers them).
  *
- * A reading known to be unusable (NaN/Inf, out of range, its sensor flagged
- * bad) is rebuilt from its partner and the other pairs' means on the same
- * axis, keeping the curvature difference the pairs had at the last frame
- * with all readings usable:
- *   m_p,j := mean over usable pairs q of (m_q,j + (m_p,j - m_q,j)_last),
+ * Detection (parity_f_max > 0): |m_p,j - m_q,j| above the threshold on any
+ * axis. Isolation: with the three pairs of that axis whole, the pair whose
+ * mean leaves the other two (which must agree: otherwise a double fault,
+ * rejected) carries a fault of size d = 2 (m_p,j - (m_q,j + m_r,j)/2); which
+ * of its two sensors, from the column it corrupts in
+ * M[:,p] = (f_p - f_p+3) / (2 h_p) (diff3d.h):
+ *  - j = p (a reading along its own offset): the trace of Gamma,
+ *    -2|w|^2 - tr M, must vanish (Laplace); sensor p moves it by -d/(2 h_p),
+ *    sensor p + 3 by +d/(2 h_p);
+ *  - j != p: the antisymmetric part (M[j][p] - M[p][j])/2 must equal
+ *    [w' x][j][p] - zero on a stabilized platform, the gyro-derived angular
+ *    acceleration on a strapdown one; sensor p moves it by +d/(4 h_p),
+ *    sensor p + 3 by -d/(4 h_p).
+ * The residual must have moved by at least half the expected amount, else the
+ * pair is ambiguous. An isolated reading is excluded for good and rebuilt
+ * every step; an ambiguous pair-axis is excluded as a pair and both its
+ * readings are rebuilt: the mean from the other pairs, the column entry
+ * M[j][p] from symmetry, M[j][p] = M[p][j] + 2 [w' x][j][p] (j != p), or from
+ * the trace, M[p][p] = -2|w|^2 - sum of the other diagonal entries (j = p).
+ *
+ * Rebuilding (a reading known unusable - NaN/Inf, out of range, its sensor
+ * flagged bad - or excluded): from its partner and the other whole pairs'
+ * means on the same axis, keeping the curvature difference the pairs had at
+ * the last frame used:
+ *   m_p,j := mean over whole pairs q of (m_q,j + (m_p,j - m_q,j)_last),
  *   f_i,j := 2 m_p,j - f_i',j      (i' the partner of i)
- * so the rebuilt reading is right to the change of that difference since
- * (~1e-17 m/s^2 per second at 200 m/s). One unusable reading per pair and
- * axis can be rebuilt, and only while another pair on that axis is whole;
- * anything else (both readings of a pair on one axis, or every pair of an
- * axis touched) cannot, and the frame is rejected (the task then coasts).
- * Readings are hi/lo pairs as in diff2d.h.
+ * so the rebuilt reading is right to the change of that difference since.
+ * Anything that leaves an axis without a whole pair, or a pair without either
+ * reading (and not excluded as a pair), cannot be accommodated: GG_ERR_SENSOR
+ * and the frame is rejected (the task coasts). Readings are hi/lo pairs.
  */
 #ifndef GGINS_FDI3D_H
 #define GGINS_FDI3D_H
@@ -36,21 +54,54 @@
 /** Reading index in masks: bit (3 * sensor + axis), sensor 0..5, axis 0..2. */
 #define GG_FDI3D_BIT(sensor, axis) (1u << ((3u * (uint32_t)(sensor)) + (uint32_t)(axis)))
 
+/** Smallest useful pair-mean threshold, m/s^2: the curvature differences of
+ *  the pair means (point-mass Earth ~8e-13 at 0.6 m, anomalies less). */
+#define GG_FDI3D_FLOOR_MPS2 2e-12
+
+/** Outcome flags. */
+#define GG_FDI3D_DETECTED  0x01u /**< a pair-mean parity exceeded its threshold this step */
+#define GG_FDI3D_REBUILT   0x02u /**< one or more readings rebuilt (degraded) */
+#define GG_FDI3D_NEW_EXCL  0x04u /**< a reading or a pair-axis was newly excluded this step */
+#define GG_FDI3D_PAIR      0x08u /**< a pair-axis is excluded: its gradient entry from symmetry/trace */
+
 typedef struct {
+    gg_real_t half_base_m[3]; /**< h_0, h_1, h_2, m (> 0) */
+    double parity_f_max;      /**< pair-mean detection threshold, m/s^2 (0: off) */
+    int stabilized;           /**< 1: the angular acceleration is zero (stabilized platform) */
+} gg_fdi3d_config_t;
+
+typedef struct {
+    gg_fdi3d_config_t cfg;
     gg_real_t mean_good[3][3]; /**< pair means m[p][j] of the last frame used (a rebuilt pair keeps
                                     the difference of its last whole frame), m/s^2 */
-    int have_good;             /**< such a frame has been seen */
+    uint32_t excluded;         /**< readings isolated as faulty, latched (GG_FDI3D_BIT) */
+    uint32_t excluded_pairs;   /**< pair-axes (p, j) excluded as pairs, latched (bit GG_FDI3D_BIT(p, j)) */
+    int have_good;             /**< a frame has been used */
     int initialized;
 } gg_fdi3d_t;
 
-gg_status_t gg_fdi3d_init(gg_fdi3d_t *st);
+typedef struct {
+    uint32_t flags;            /**< GG_FDI3D_* */
+    uint32_t rebuilt;          /**< readings rebuilt this step */
+    uint32_t excluded;         /**< latched exclusions after this step */
+    uint32_t excluded_pairs;
+    gg_real_t parity_max;      /**< largest |m_p,j - m_q,j| over the whole pairs, m/s^2 */
+} gg_fdi3d_output_t;
 
-/** Rebuild the readings of known_bad (GG_FDI3D_BIT mask; their values are
- *  ignored) in f/f_lo in place; *rebuilt = the readings rebuilt. With
- *  known_bad = 0 only the pair means are remembered. GG_ERR_SENSOR when the
- *  set cannot be accommodated (f, f_lo and the state untouched);
- *  GG_ERR_NONFINITE when a reading not marked bad is not finite. */
-gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, double f[6][3], double f_lo[6][3],
-                          uint32_t *rebuilt);
+/** GG_ERR_CONFIG on a non-positive or non-finite half-baseline or a
+ *  negative / non-finite threshold. */
+gg_status_t gg_fdi3d_init(gg_fdi3d_t *st, const gg_fdi3d_config_t *cfg);
+
+/** Check and accommodate one set of readings f/f_lo in place. known_bad:
+ *  readings the caller knows are unusable (values ignored); omega_b: gyro
+ *  rate, body axes, rad/s (0 on a stabilized platform); omega_dot_ref: the
+ *  angular acceleration the antisymmetric part must show (rad/s^2; ignored
+ *  when stabilized; NULL when unknown: cross-axis faults are then not
+ *  isolated to a sensor). GG_ERR_SENSOR when the set cannot be accommodated
+ *  (f, f_lo and the state untouched); GG_ERR_NONFINITE when a reading not
+ *  marked bad is not finite. */
+gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
+                          const gg_real_t omega_dot_ref[3], double f[6][3], double f_lo[6][3],
+                          gg_fdi3d_output_t *out);
 
 #endif /* GGINS_FDI3D_H */

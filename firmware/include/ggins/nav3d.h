@@ -131,6 +131,8 @@ typedef struct {
                                       negative value for a non-rotating Earth: it is taken as 0) */
     double f_max;                /**< accelerometer range, m/s^2 (> 0) */
     double asym_max;             /**< parity residual flag threshold, s^-2 (> 0) */
+    double fdi_parity_f_max;     /**< pair-mean fault detection threshold, m/s^2 (fdi3d.h; 0: off,
+                                      else >= GG_FDI3D_FLOOR_MPS2) */
     int gravity_mode;            /**< GG_GRAVITY_GRADIOMETER or GG_GRAVITY_MODEL (nav2d.h) */
     gg_gmodel_config_t model;    /**< onboard gravity model (model mode only; zonal part used) */
     int baro_enable;             /**< 1: barometric vertical channel on */
@@ -206,6 +208,7 @@ typedef struct gg_nav3d_output_s {
     uint32_t resync_count;       /**< re-synchronisations to the frame stream so far (navtask.h) */
     uint32_t coast_steps;        /**< steps propagated on held inputs so far (outages) */
     uint32_t acc_rebuilt;        /**< readings rebuilt this step, bit 3*sensor+axis (fdi3d.h) */
+    uint32_t acc_excluded;       /**< readings excluded for good (isolated faults), same bits */
     double outage_s;             /**< time since the readings of a frame last entered the state, s */
     double state_lag_s;          /**< how far the state's time is behind this frame's, s */
 } gg_nav3d_output_t;

@@ -1,5 +1,6 @@
 #include "ggins/truth3d/scenario3d.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,10 @@
 #include <toml++/toml.h>
 
 #include "ggins/truth/scenario_toml.hpp"
+
+extern "C" {
+#include "ggins/fdi3d.h"
+}
 
 namespace ggins::truth3d {
 
@@ -276,11 +281,31 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
       l.max_rejects = p.integer(*b, w, "max_rejects", l.max_rejects);
     }
   }
+  bool fdi_set = false;
   if (const auto* t = p.sub(root, "firmware")) {
-    p.keys(*t, "firmware", {"f_max_mps2", "asym_max_ps2", "dt_tol_us"});
+    p.keys(*t, "firmware", {"f_max_mps2", "asym_max_ps2", "dt_tol_us", "fdi_parity_f_max_mps2"});
     s.firmware.f_max_mps2 = p.num(*t, "firmware", "f_max_mps2", s.firmware.f_max_mps2);
     s.firmware.asym_max_ps2 = p.num(*t, "firmware", "asym_max_ps2", s.firmware.asym_max_ps2);
     s.firmware.dt_tol_us = p.integer(*t, "firmware", "dt_tol_us", s.firmware.dt_tol_us);
+    if (t->contains("fdi_parity_f_max_mps2")) {
+      fdi_set = true;
+      s.fdi_parity_f_max_mps2 = p.num(*t, "firmware", "fdi_parity_f_max_mps2", 0);
+      if (!(s.fdi_parity_f_max_mps2 == 0 || s.fdi_parity_f_max_mps2 >= GG_FDI3D_FLOOR_MPS2))
+        p.fail("firmware.fdi_parity_f_max_mps2 must be 0 (off) or >= " + std::to_string(GG_FDI3D_FLOOR_MPS2) +
+               " m/s^2 (the pair means' curvature differences)");
+    }
+  }
+  if (!fdi_set) {
+    const auto& a = s.accel;
+    const double sp = std::sqrt(a.bias_sigma_mps2 * a.bias_sigma_mps2 + a.noise_sigma_mps2 * a.noise_sigma_mps2 +
+                                (10.0 * a.scale_sigma) * (10.0 * a.scale_sigma));
+    double fixed = 0;  // the fixed biases' largest pair-mean difference
+    for (size_t j = 0; j < 3; ++j)
+      for (size_t q = 0; q < 3; ++q)
+        for (size_t r = q + 1; r < 3; ++r)
+          fixed = std::max(fixed, 0.5 * std::fabs((a.bias_mps2[q][j] + a.bias_mps2[q + 3][j]) -
+                                                  (a.bias_mps2[r][j] + a.bias_mps2[r + 3][j])));
+    s.fdi_parity_f_max_mps2 = 7.0 * sp + fixed + GG_FDI3D_FLOOR_MPS2;
   }
   if (const auto* t = p.sub(root, "output")) {
     p.keys(*t, "output", {"csv_rate_hz"});

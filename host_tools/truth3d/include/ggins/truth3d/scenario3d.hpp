@@ -31,7 +31,8 @@
 //   [navigation.baro] enable [= baro.enable], poles_radps [[0.01, 0.02, 0.03]],
 //              period_s [1 / baro.rate_hz], omega_s2 [|G(r0)| / |r0|], max_age_s [0.5], coast_s [10],
 //              alt_min_m [-1000], alt_max_m [30000], gate_m [50], max_rejects [5]
-//   [firmware] f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0]
+//   [firmware] f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0],
+//              fdi_parity_f_max_mps2 [derived from [accel], see below; 0 = off]
 //   [output]   csv_rate_hz [1]
 #pragma once
 
@@ -87,6 +88,14 @@ struct Scenario3 {
   std::string nav_gravity = "gradiometer";
   truth::BaroLoopParams nav_baro;
   truth::FirmwareParams firmware;  // f_max_mps2, asym_max_ps2, dt_tol_us
+  // [firmware] fdi_parity_f_max_mps2: the pair-mean fault detection threshold
+  // (fdi3d.h; 0 = off). Default, derived from [accel]: a pair-mean difference
+  // (f_p + f_p' - f_q - f_q')/2 of four readings has sigma_p = sqrt(sigma_b^2 +
+  // sigma_n^2 + (10 m/s^2 sigma_s)^2); threshold 7 sigma_p (a false alarm once in
+  // ~4e11 tests) + the fixed biases' largest pair-mean difference + the
+  // curvature floor GG_FDI3D_FLOOR_MPS2 (2e-12 m/s^2). A 1e-8 m/s^2 bias on one
+  // reading moves its pair mean by 5e-9: flagged at once on perfect sensors.
+  double fdi_parity_f_max_mps2 = 0;
   double csv_rate_hz = 1;
 
   bool strapdown() const { return platform == "strapdown"; }
