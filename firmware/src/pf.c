@@ -5,286 +5,11 @@
  */
 #include "ggins/pf.h"
 
-#include <math.h>
+#include "ggins/geo.h"
+#include "ggins/ggmath.h"
 
-#define PF_LN2_HI 6.93147180369123816490e-01 /* fdlibm split of ln 2 */
-#define PF_LN2_LO 1.90821492927058770002e-10
-#define PF_PIO2_HI 1.57079632673412561417e+00 /* pi/2 split */
-#define PF_PIO2_LO 6.07710050650619224932e-11
-#define PF_WGS84_A 6378137.0
-#define PF_WGS84_E2 6.69437999014e-3
-#define PF_G0 9.80665         /* m/s^2, Schuler frequency w_s^2 = g0 / R */
-#define PF_OMEGA_E 7.292115e-5 /* rad/s, Earth rate (Coriolis) */
-
-static double pf_sqrt(double x)
-{
-    return (double)sqrtl((long double)x);
-}
-
-static int pf_finite(double x)
-{
-    return (x == x) && ((x - x) == 0.0);
-}
-
-static double pf_round(double x)
-{
-    return (x >= 0.0) ? (double)(int64_t)(x + 0.5) : -(double)(int64_t)(0.5 - x);
-}
-
-/* Powers 2^(2^j) and 2^-(2^j), j = 9..0 (exact binary values). */
-static const double pf_p2[10] = {1.3407807929942597e+154, 1.157920892373162e+77, 3.402823669209385e+38,
-                                1.8446744073709552e+19, 4294967296.0, 65536.0, 256.0, 16.0, 4.0, 2.0};
-static const int32_t pf_p2exp[10] = {512, 256, 128, 64, 32, 16, 8, 4, 2, 1};
-static const double pf_p2inv[10] = {7.458340731200207e-155, 8.636168555094445e-78, 2.938735877055719e-39,
-                                   5.421010862427522e-20, 2.3283064365386963e-10, 1.52587890625e-05,
-                                   0.00390625, 0.0625, 0.25, 0.5};
-
-/* y 2^k for |k| <= 1023 by binary decomposition of k (each factor exact). */
-static double pf_ldexp(double y, int32_t k)
-{
-    double r = y;
-    int32_t a = (k < 0) ? -k : k;
-    int32_t j;
-    for (j = 0; j < 10; ++j) {
-        const int32_t b = pf_p2exp[j];
-        if (a >= b) {
-            r *= (k < 0) ? pf_p2inv[j] : pf_p2[j];
-            a -= b;
-        }
-    }
-    return r;
-}
-
-gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed)
-{
-    uint64_t z = seed;
-    int i;
-    if (r == NULL) {
-        return GG_ERR_NULL;
-    }
-    for (i = 0; i < 4; ++i) { /* splitmix64 */
-        uint64_t t;
-        z += 0x9E3779B97F4A7C15ull;
-        t = z;
-        t = (t ^ (t >> 30)) * 0xBF58476D1CE4E5B9ull;
-        t = (t ^ (t >> 27)) * 0x94D049BB133111EBull;
-        r->s[i] = t ^ (t >> 31);
-    }
-    return GG_OK;
-}
-
-static uint64_t pf_rotl(uint64_t x, uint32_t k)
-{
-    const uint32_t rk = 64u - k;
-    return (x << k) | (x >> rk);
-}
-
-gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v)
-{
-    uint64_t t;
-    if ((r == NULL) || (v == NULL)) {
-        return GG_ERR_NULL;
-    }
-    *v = pf_rotl(r->s[1] * 5u, 7u) * 9u; /* xoshiro256** */
-    t = r->s[1] << 17;
-    r->s[2] ^= r->s[0];
-    r->s[3] ^= r->s[1];
-    r->s[1] ^= r->s[2];
-    r->s[0] ^= r->s[3];
-    r->s[2] ^= t;
-    r->s[3] = pf_rotl(r->s[3], 45u);
-    return GG_OK;
-}
-
-gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u)
-{
-    uint64_t v = 0;
-    gg_status_t s;
-    if (u == NULL) {
-        return GG_ERR_NULL;
-    }
-    s = gg_pf_rng_u64(r, &v);
-    if (s != GG_OK) {
-        return s;
-    }
-    *u = (double)(v >> 11) * (1.0 / 9007199254740992.0);
-    return GG_OK;
-}
-
-gg_status_t gg_pf_exp(double x, double *y)
-{
-    double k;
-    double r;
-    double p;
-    int i;
-    if (y == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(x)) {
-        return GG_ERR_NONFINITE;
-    }
-    if (x > 709.0) {
-        return GG_ERR_RANGE;
-    }
-    if (x < -745.0) {
-        *y = 0.0;
-        return GG_OK;
-    }
-    /* x = k ln2 + r, |r| <= ln2/2; Taylor to r^14 (error < 1e-17 relative) */
-    k = pf_round(x / (PF_LN2_HI + PF_LN2_LO));
-    r = (x - (k * PF_LN2_HI)) - (k * PF_LN2_LO);
-    p = 1.0;
-    for (i = 14; i >= 1; --i) {
-        p = 1.0 + ((p * r) / (double)i);
-    }
-    if (k < -1000.0) { /* result subnormal: two steps keep the factors in range */
-        *y = pf_ldexp(pf_ldexp(p, (int32_t)k + 600), -600);
-    } else {
-        *y = pf_ldexp(p, (int32_t)k);
-    }
-    return GG_OK;
-}
-
-gg_status_t gg_pf_log(double x, double *y)
-{
-    int32_t j;
-    int32_t e;
-    double m;
-    double z;
-    double z2;
-    double s;
-    double t;
-    int i;
-    if (y == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(x)) {
-        return GG_ERR_NONFINITE;
-    }
-    if (!(x > 0.0)) {
-        return GG_ERR_RANGE;
-    }
-    /* x = m 2^e, m in [1, 2): greedy binary search on the exponent (exact scalings) */
-    e = 0;
-    m = x;
-    if (m < 2.2250738585072014e-308) { /* subnormal: scale by 2^54 first */
-        m *= 18014398509481984.0;
-        e = -54;
-    }
-    for (j = 0; j < 10; ++j) {
-        const int32_t b = pf_p2exp[j];
-        if (m >= pf_p2[j]) {
-            m *= pf_p2inv[j];
-            e += b;
-        }
-    }
-    for (j = 0; j < 10; ++j) {
-        const int32_t b = pf_p2exp[j];
-        if ((m * pf_p2[j]) < 2.0) {
-            m *= pf_p2[j];
-            e -= b;
-        }
-    }
-    if (m > 1.4142135623730951) {
-        m *= 0.5;
-        e += 1;
-    }
-    /* ln m = 2 atanh z, z = (m-1)/(m+1), |z| <= 0.1716: series to z^25 */
-    z = (m - 1.0) / (m + 1.0);
-    z2 = z * z;
-    s = 0.0;
-    for (i = 25; i >= 1; i -= 2) {
-        s = (s * z2) + (1.0 / (double)i);
-    }
-    t = 2.0 * z * s;
-    *y = (((double)e * PF_LN2_HI) + t) + ((double)e * PF_LN2_LO);
-    return GG_OK;
-}
-
-gg_status_t gg_pf_sincos(double x, double *s, double *c)
-{
-    double j;
-    double r;
-    double r2;
-    double ps;
-    double pc;
-    double ss;
-    double cc;
-    int i;
-    int64_t q;
-    if ((s == NULL) || (c == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(x)) {
-        return GG_ERR_NONFINITE;
-    }
-    if ((x > 1e6) || (x < -1e6)) {
-        return GG_ERR_RANGE;
-    }
-    /* x = j pi/2 + r, |r| <= pi/4; Taylor to r^17 / r^16 */
-    j = pf_round(x / (PF_PIO2_HI + PF_PIO2_LO));
-    r = (x - (j * PF_PIO2_HI)) - (j * PF_PIO2_LO);
-    r2 = r * r;
-    ps = 1.0;
-    for (i = 17; i >= 3; i -= 2) {
-        const int im1 = i - 1;
-        ps = 1.0 - ((ps * r2) / ((double)i * (double)im1));
-    }
-    ps *= r;
-    pc = 1.0;
-    for (i = 16; i >= 2; i -= 2) {
-        const int im1 = i - 1;
-        pc = 1.0 - ((pc * r2) / ((double)i * (double)im1));
-    }
-    q = (int64_t)j;
-    q = ((q % 4) + 4) % 4;
-    if (q == 0) {
-        ss = ps; cc = pc;
-    } else if (q == 1) {
-        ss = pc; cc = -ps;
-    } else if (q == 2) {
-        ss = -ps; cc = -pc;
-    } else {
-        ss = -pc; cc = ps;
-    }
-    *s = ss;
-    *c = cc;
-    return GG_OK;
-}
-
-gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
-{
-    int k;
-    if ((r == NULL) || (z == NULL)) {
-        return GG_ERR_NULL;
-    }
-    /* Marsaglia polar method; acceptance pi/4, so 64 tries fail with p < 1e-42 */
-    for (k = 0; k < 64; ++k) {
-        double u = 0.0;
-        double v = 0.0;
-        double q;
-        double lq = 0.0;
-        gg_status_t s = gg_pf_rng_uniform(r, &u);
-        if (s == GG_OK) {
-            s = gg_pf_rng_uniform(r, &v);
-        }
-        if (s != GG_OK) {
-            return s;
-        }
-        u = (2.0 * u) - 1.0;
-        v = (2.0 * v) - 1.0;
-        q = (u * u) + (v * v);
-        if ((q > 0.0) && (q < 1.0)) {
-            s = gg_pf_log(q, &lq);
-            if (s != GG_OK) {
-                return s;
-            }
-            *z = u * pf_sqrt(-2.0 * lq / q);
-            return GG_OK;
-        }
-    }
-    return GG_ERR_RANGE;
-}
+#define PF_G0 ((double)GG_G0_STD_MPS2)          /* m/s^2, Schuler frequency w_s^2 = g0 / R */
+#define PF_OMEGA_E ((double)GG_WGS84_OMEGA_IE)  /* rad/s, Earth rate (Coriolis) */
 
 /* Distance from (px, py) to the ellipse (a cos t, b sin t), a, b > 0: the
  * trig-free evolute iteration (tangent-point update along the evolute, then
@@ -316,15 +41,15 @@ static double pf_ellipse_dist_axes(double px, double py, double a, double b)
         ry = y - ey;
         qx = ax - ex;
         qy = ay - ey;
-        rr = pf_sqrt((rx * rx) + (ry * ry));
-        qq = pf_sqrt((qx * qx) + (qy * qy));
+        rr = gg_sqrt_d((rx * rx) + (ry * ry));
+        qq = gg_sqrt_d((qx * qx) + (qy * qy));
         if (qq > 0.0) {
             tx = (((qx * rr) / qq) + ex) / a;
             ty = (((qy * rr) / qq) + ey) / b;
         }
         tx = (tx < 0.0) ? 0.0 : ((tx > 1.0) ? 1.0 : tx);
         ty = (ty < 0.0) ? 0.0 : ((ty > 1.0) ? 1.0 : ty);
-        t = pf_sqrt((tx * tx) + (ty * ty));
+        t = gg_sqrt_d((tx * tx) + (ty * ty));
         if (t > 0.0) {
             tx /= t;
             ty /= t;
@@ -332,7 +57,7 @@ static double pf_ellipse_dist_axes(double px, double py, double a, double b)
     }
     dx = ax - (a * tx);
     dy = ay - (b * ty);
-    return pf_sqrt((dx * dx) + (dy * dy));
+    return gg_sqrt_d((dx * dx) + (dy * dy));
 }
 
 gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, double amp, double dphi,
@@ -350,14 +75,14 @@ gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, d
     if (d == NULL) {
         return GG_ERR_NULL;
     }
-    if (!pf_finite(s0) || !pf_finite(s1) || !pf_finite(c0) || !pf_finite(c1) || !pf_finite(amp) ||
-        !pf_finite(dphi)) {
+    if (!GG_ISFINITE(s0) || !GG_ISFINITE(s1) || !GG_ISFINITE(c0) || !GG_ISFINITE(c1) || !GG_ISFINITE(amp) ||
+        !GG_ISFINITE(dphi)) {
         return GG_ERR_NONFINITE;
     }
     if (!(amp > 0.0)) {
         return GG_ERR_RANGE;
     }
-    st = gg_pf_sincos(0.5 * dphi, &sh, &ch);
+    st = gg_sincos_d(0.5 * dphi, &sh, &ch);
     if (st != GG_OK) {
         return st;
     }
@@ -418,7 +143,7 @@ static int pf_cfg_ok(const gg_pf_config_t *c)
                         c->sigma0_bias, c->q_bias};
     unsigned i;
     for (i = 0; i < ((sizeof v) / (sizeof v[0])); ++i) {
-        if (!pf_finite(v[i])) {
+        if (!GG_ISFINITE(v[i])) {
             return 0;
         }
     }
@@ -455,7 +180,7 @@ static int pf_nsampled(const gg_pf_config_t *c)
 
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
 {
-    gg_pf_rng_t rng;
+    gg_rng_t rng;
     int i;
     int k;
     gg_status_t s;
@@ -471,9 +196,9 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     if (cfg->reg_bw > 0.0) { /* h = reg_bw (4 / ((d + 2) N))^(1 / (d + 4)) */
         double lh = 0.0;
         const double nxd = (double)nx;
-        s = gg_pf_log(4.0 / ((nxd + 2.0) * (double)cfg->n), &lh);
+        s = gg_log_d(4.0 / ((nxd + 2.0) * (double)cfg->n), &lh);
         if (s == GG_OK) {
-            s = gg_pf_exp(lh / (nxd + 4.0), &h);
+            s = gg_exp_d(lh / (nxd + 4.0), &h);
         }
         if (s != GG_OK) {
             return GG_ERR_CONFIG;
@@ -483,11 +208,11 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
             return GG_ERR_CONFIG;
         }
     }
-    s = gg_pf_rng_seed(&rng, cfg->seed);
+    s = gg_rng_seed(&rng, cfg->seed);
     for (i = 0; (i < cfg->n) && (s == GG_OK); ++i) {
         for (k = 0; (k < nx) && (s == GG_OK); ++k) {
             double z = 0.0;
-            s = gg_pf_rng_normal(&rng, &z);
+            s = gg_rng_normal(&rng, &z);
             st->xs[i][k] = z * ((k < 2) ? cfg->sigma0_pos : ((k < 4) ? cfg->sigma0_vel : cfg->sigma0_acc));
         }
         for (k = nx; k < GG_PF_NX; ++k) {
@@ -542,7 +267,7 @@ static gg_status_t pf_resample(gg_pf_t *st)
     int i = 0;
     int j;
     int k;
-    gg_status_t s = gg_pf_rng_uniform(&st->rng, &u0);
+    gg_status_t s = gg_rng_uniform(&st->rng, &u0);
     if (s != GG_OK) {
         return s;
     }
@@ -615,7 +340,7 @@ static void pf_moments(const gg_pf_t *st, int nx, pf_kernel_t *kn)
             p -= kn->el[j][q] * kn->el[j][q];
         }
         if ((cv[j][j] > 0.0) && (p > (1e-12 * cv[j][j]))) {
-            const double d = pf_sqrt(p);
+            const double d = gg_sqrt_d(p);
             kn->el[j][j] = d;
             for (k = j + 1; k < nx; ++k) {
                 double a = cv[k][j];
@@ -633,14 +358,14 @@ static void pf_moments(const gg_pf_t *st, int nx, pf_kernel_t *kn)
 static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
 {
     const double h = st->reg_h;
-    const double a = pf_sqrt(1.0 - (h * h));
+    const double a = gg_sqrt_d(1.0 - (h * h));
     int i;
     int j;
     int k;
     for (i = 0; i < st->cfg.n; ++i) {
         double z[GG_PF_NX];
         for (j = 0; j < nx; ++j) {
-            const gg_status_t s = gg_pf_rng_normal(&st->rng, &z[j]);
+            const gg_status_t s = gg_rng_normal(&st->rng, &z[j]);
             if (s != GG_OK) {
                 return s;
             }
@@ -666,10 +391,11 @@ typedef struct {
 static pf_radii_t pf_radii(double sl, double h)
 {
     pf_radii_t r;
-    const double w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
-    const double nr = PF_WGS84_A / pf_sqrt(w2);
-    r.rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + h;
-    r.rnh = nr + h;
+    double rm = 0.0;
+    double rn = 0.0;
+    gg_geo_radii(sl, &rm, &rn);
+    r.rm = rm + h;
+    r.rnh = rn + h;
     return r;
 }
 
@@ -718,7 +444,7 @@ static void pf_rb_model_at(const gg_pf_config_t *cfg, double sl, double cl, pf_r
     int i;
     int j;
     int t;
-    k.ws2 = PF_G0 / pf_sqrt(r.rm * r.rnh);
+    k.ws2 = PF_G0 / gg_sqrt_d(r.rm * r.rnh);
     k.fcor = 2.0 * PF_OMEGA_E * sl;
     k.wn = (PF_OMEGA_E * cl) + (ve / r.rnh);
     k.we = -vn / r.rm;
@@ -788,14 +514,14 @@ gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, doub
     if ((cfg == NULL) || (F == NULL) || (Q == NULL) || (tmp == NULL)) {
         return GG_ERR_NULL;
     }
-    if (!pf_finite(lat) || !pf_finite(h) || !pf_finite(vn) || !pf_finite(ve) || !pf_finite(cfg->dt)) {
+    if (!GG_ISFINITE(lat) || !GG_ISFINITE(h) || !GG_ISFINITE(vn) || !GG_ISFINITE(ve) || !GG_ISFINITE(cfg->dt)) {
         return GG_ERR_NONFINITE;
     }
     if ((lat > 1.55) || (lat < -1.55) || (h < -1e4) || (h > 1e5) || (vn > 1e3) || (vn < -1e3) || (ve > 1e3) ||
         (ve < -1e3) || !(cfg->dt > 0.0)) {
         return GG_ERR_RANGE;
     }
-    s = gg_pf_sincos(lat, &sl, &cl);
+    s = gg_sincos_d(lat, &sl, &cl);
     if (s == GG_OK) {
         pf_rb_model_at(cfg, sl, cl, pf_radii(sl, h), vn, ve, F, Q, tmp);
     }
@@ -846,7 +572,7 @@ static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl,
         }
     }
     det = (S[0][0] * S[1][1]) - (S[0][1] * S[0][1]);
-    if (!(S[0][0] > 0.0) || !(det > 0.0) || !pf_finite(det)) {
+    if (!(S[0][0] > 0.0) || !(det > 0.0) || !GG_ISFINITE(det)) {
         return GG_ERR_CONFIG; /* cannot happen with q_vel > 0 and a finite P */
     }
     for (i = 0; i < GG_PF_NL; ++i) { /* K = S_lr S_rr^-1 */
@@ -858,7 +584,7 @@ static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl,
             const double a = S[2 + i][2 + j] - ((kg[i][0] * S[2 + j][0]) + (kg[i][1] * S[2 + j][1]));
             pn[i][j] = a;
             pn[j][i] = a;
-            if (!pf_finite(a)) {
+            if (!GG_ISFINITE(a)) {
                 ok = 0;
             }
         }
@@ -873,9 +599,9 @@ static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl,
             st->P[i][j] = pn[i][j];
         }
     }
-    st->rb_L[0] = pf_sqrt(S[0][0]);
+    st->rb_L[0] = gg_sqrt_d(S[0][0]);
     st->rb_L[1] = S[1][0] / st->rb_L[0];
-    st->rb_L[2] = pf_sqrt(det / S[0][0]);
+    st->rb_L[2] = gg_sqrt_d(det / S[0][0]);
     return GG_OK;
 }
 
@@ -916,7 +642,7 @@ static void pf_rb_particle(gg_pf_t *st, int i, double z0, double z1)
 static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
 {
     const double h = st->reg_h;
-    const double a = pf_sqrt(1.0 - (h * h));
+    const double a = gg_sqrt_d(1.0 - (h * h));
     const double l00 = kn->el[0][0];
     const double l10 = kn->el[1][0];
     const double l11 = kn->el[1][1];
@@ -927,9 +653,9 @@ static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
         double z1 = 0.0;
         double y0 = 0.0;
         double y1 = 0.0;
-        gg_status_t s = gg_pf_rng_normal(&st->rng, &z0);
+        gg_status_t s = gg_rng_normal(&st->rng, &z0);
         if (s == GG_OK) {
-            s = gg_pf_rng_normal(&st->rng, &z1);
+            s = gg_rng_normal(&st->rng, &z1);
         }
         if (s != GG_OK) {
             return s;
@@ -967,8 +693,8 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     if (st->shot_open != 0) {
         return GG_ERR_SEQUENCE; /* the previous shot was not ended */
     }
-    if (!pf_finite(in->lat) || !pf_finite(in->lon) || !pf_finite(in->h) || !pf_finite(in->vn) ||
-        !pf_finite(in->ve) || ((in->shot_ok != 0) && (!pf_finite(in->s0) || !pf_finite(in->s1)))) {
+    if (!GG_ISFINITE(in->lat) || !GG_ISFINITE(in->lon) || !GG_ISFINITE(in->h) || !GG_ISFINITE(in->vn) ||
+        !GG_ISFINITE(in->ve) || ((in->shot_ok != 0) && (!GG_ISFINITE(in->s0) || !GG_ISFINITE(in->s1)))) {
         return GG_ERR_NONFINITE;
     }
     if ((in->lat > 1.55) || (in->lat < -1.55) || (in->lon > 7.0) || (in->lon < -7.0) || (in->h < -1e4) ||
@@ -978,7 +704,7 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     }
     c = &st->cfg;
     /* geometry first (the only failure mode after validation): state untouched on error */
-    s = gg_pf_sincos(in->lat, &sl, &cl);
+    s = gg_sincos_d(in->lat, &sl, &cl);
     if (s != GG_OK) {
         return s;
     }
@@ -991,7 +717,7 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     }
     st->sh_rm = r.rm;                                  /* meridian radius + h */
     st->sh_rn = r.rnh * cl;                            /* (prime vertical + h) cos(lat) */
-    st->sh_ws2 = PF_G0 / pf_sqrt(r.rm * r.rnh);        /* Schuler w_s^2 = g0 / R */
+    st->sh_ws2 = PF_G0 / gg_sqrt_d(r.rm * r.rnh);        /* Schuler w_s^2 = g0 / R */
     st->sh_fcor = 2.0 * PF_OMEGA_E * sl;                    /* Coriolis 2 Omega sinL */
     st->sh_in = *in;
     st->sh_next = 0;
@@ -1045,9 +771,9 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
         double z[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         /* 1. predict (the generator draws in particle order: chunking gives the same sequence) */
         if (c->model == GG_PF_MODEL_RBPF) {
-            s = gg_pf_rng_normal(&st->rng, &z[0]);
+            s = gg_rng_normal(&st->rng, &z[0]);
             if (s == GG_OK) {
-                s = gg_pf_rng_normal(&st->rng, &z[1]);
+                s = gg_rng_normal(&st->rng, &z[1]);
             }
             if (s == GG_OK) {
                 pf_rb_particle(st, i, z[0], z[1]);
@@ -1056,7 +782,7 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
             for (k = 0; (k < nx) && (k < 6) && (s == GG_OK); ++k) {
                 /* the RW model draws all four (as before); the INS model only where q > 0 */
                 if ((c->model == GG_PF_MODEL_RW) || (qk[k] > 0.0)) {
-                    s = gg_pf_rng_normal(&st->rng, &z[k]);
+                    s = gg_rng_normal(&st->rng, &z[k]);
                 }
                 z[k] *= qk[k];
             }
@@ -1087,7 +813,7 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
             double d = 0.0;
             gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + (st->x[i][0] / st->sh_rm),
                                         in->lon + (st->x[i][1] / st->sh_rn), in->h, &g);
-            if ((sm == GG_OK) && pf_finite(g)) {
+            if ((sm == GG_OK) && GG_ISFINITE(g)) {
                 sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, amp, scale * g, &d);
             } else {
                 sm = GG_ERR_RANGE;
@@ -1145,12 +871,12 @@ gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out)
         for (i = 0; (i < n) && (st->sh_have != 0); ++i) {
             double e = 0.0;
             if (st->ll[i] <= 0.0) {
-                (void)gg_pf_exp(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
+                (void)gg_exp_d(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
             }
             st->w[i] *= e;
             sw += st->w[i];
         }
-        if ((st->sh_have == 0) || !(sw > 0.0) || !pf_finite(sw)) {
+        if ((st->sh_have == 0) || !(sw > 0.0) || !GG_ISFINITE(sw)) {
             for (i = 0; i < n; ++i) {
                 st->w[i] = 1.0 / (double)n;
             }
