@@ -14,11 +14,6 @@
 #include "ggins/quat.h"
 #include "mmukf_int.h"
 
-static int fin(double v)
-{
-    return isfinite(v) ? 1 : 0;
-}
-
 /* the six independent components (xx yy zz xy xz yz, Gao eq. 31 order) of a symmetric matrix */
 static void sym6(double m[3][3], double v[6]) /* not const: C11 cannot pass a double[3][3] as const */
 {
@@ -73,15 +68,15 @@ static gg_status_t cfg_ok(const gg_mm_config_t *c)
                         c->sig0_ba_mps2, c->arw_rad_rts, c->vrw_mps_rts, c->bg_rw, c->ba_rw,
                         c->lambda, c->gate_nis, c->offdiag_ratio};
     for (size_t k = 0; k < (sizeof(v) / sizeof(v[0])); ++k) {
-        if (!fin(v[k]) || (v[k] < 0.0)) {
+        if (!GG_ISFINITE(v[k]) || (v[k] < 0.0)) {
             return GG_ERR_CONFIG;
         }
     }
-    if ((c->dt_s <= 0.0) || (c->dt_s > 1.0) || (c->update_period_s < c->dt_s) ||
+    if ((c->dt_s <= 0.0) || (c->dt_s > GG_LIM_MM_DT_MAX_S) || (c->update_period_s < c->dt_s) ||
         ((c->sigma_meas_s2 + c->sigma_db_s2) <= 0.0) || (c->sig0_att_rad <= 0.0) ||
         (c->sig0_att_rad > 0.5) || (c->sig0_vel_mps <= 0.0) || (c->sig0_pos_m <= 0.0) ||
         (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (mm_nav_ok(&c->init) == 0) ||
-        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) || (c->offdiag_ratio > 10.0)) {
+        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) || (c->offdiag_ratio > GG_LIM_MM_OFFDIAG_MAX)) {
         return GG_ERR_CONFIG;
     }
     return GG_OK;
@@ -416,27 +411,29 @@ gg_status_t gg_mm_step(gg_mm_t *st, const gg_mm_imu_t *imu, const gg_mm_meas_t *
         return GG_ERR_NOT_INIT;
     }
     for (int k = 0; k < 3; ++k) {
-        if (!fin(imu->omega_b[k]) || !fin(imu->f_b[k]) || (imu->omega_b[k] > 10.0) ||
-            (imu->omega_b[k] < -10.0) || (imu->f_b[k] > 200.0) || (imu->f_b[k] < -200.0)) {
+        if (!GG_ISFINITE(imu->omega_b[k]) || !GG_ISFINITE(imu->f_b[k]) || (imu->omega_b[k] > GG_LIM_MM_W_MAX_RPS) ||
+            (imu->omega_b[k] < -GG_LIM_MM_W_MAX_RPS) || (imu->f_b[k] > GG_LIM_MM_F_MAX_MPS2) ||
+            (imu->f_b[k] < -GG_LIM_MM_F_MAX_MPS2)) {
             st->health = GG_MM_H_BAD_INPUT;
             return GG_ERR_RANGE;
         }
     }
     if (meas != NULL) {
         for (int k = 0; k < 6; ++k) {
-            if (!fin(meas->gamma_b[k]) || (meas->gamma_b[k] > 1.0e-4) || (meas->gamma_b[k] < -1.0e-4)) {
+            if (!GG_ISFINITE(meas->gamma_b[k]) || (meas->gamma_b[k] > GG_LIM_MM_GAMMA_MAX_S2) ||
+                (meas->gamma_b[k] < -GG_LIM_MM_GAMMA_MAX_S2)) {
                 st->health = GG_MM_H_BAD_INPUT;
                 return GG_ERR_RANGE;
             }
         }
-        if ((meas->gyro_term < 0) || (meas->gyro_term > 1) || !fin(meas->sigma_omega_rps) ||
+        if ((meas->gyro_term < 0) || (meas->gyro_term > 1) || !GG_ISFINITE(meas->sigma_omega_rps) ||
             (meas->sigma_omega_rps < 0.0) || (meas->sigma_omega_rps > 1.0)) {
             st->health = GG_MM_H_BAD_INPUT;
             return GG_ERR_RANGE;
         }
         for (int k = 0; k < 3; ++k) {
-            if ((meas->gyro_term != 0) && (!fin(meas->omega_b[k]) || (meas->omega_b[k] > 10.0) ||
-                                           (meas->omega_b[k] < -10.0))) {
+            if ((meas->gyro_term != 0) && (!GG_ISFINITE(meas->omega_b[k]) || (meas->omega_b[k] > GG_LIM_MM_W_MAX_RPS) ||
+                                           (meas->omega_b[k] < -GG_LIM_MM_W_MAX_RPS))) {
                 st->health = GG_MM_H_BAD_INPUT;
                 return GG_ERR_RANGE;
             }

@@ -12,11 +12,6 @@
 #include "ggins/limits.h"
 #include "ggins/quat.h"
 
-static int fin(double v)
-{
-    return isfinite(v) ? 1 : 0;
-}
-
 /* sin, cos of a double angle through gg_sincos */
 static gg_status_t sc(double x, double *s, double *c)
 {
@@ -41,16 +36,16 @@ static gg_status_t qexp_d(const double th[3], gg_real_t q[4])
 int mm_nav_ok(const gg_mm_nav_t *x)
 {
     for (int k = 0; k < 4; ++k) {
-        if (!fin(x->q[k])) {
+        if (!GG_ISFINITE(x->q[k])) {
             return 0;
         }
     }
     for (int k = 0; k < 3; ++k) {
-        if (!fin(x->v[k]) || !fin(x->bg[k]) || !fin(x->ba[k])) {
+        if (!GG_ISFINITE(x->v[k]) || !GG_ISFINITE(x->bg[k]) || !GG_ISFINITE(x->ba[k])) {
             return 0;
         }
     }
-    if (!fin(x->lat) || !fin(x->lon) || !fin(x->h) || (x->lat > GG_LIM_LAT_MAX_RAD) ||
+    if (!GG_ISFINITE(x->lat) || !GG_ISFINITE(x->lon) || !GG_ISFINITE(x->h) || (x->lat > GG_LIM_LAT_MAX_RAD) ||
         (x->lat < -GG_LIM_LAT_MAX_RAD) || (x->h < GG_LIM_MM_H_MIN_M) || (x->h > GG_LIM_MM_H_MAX_M)) {
         return 0;
     }
@@ -63,7 +58,7 @@ gg_status_t gg_mm_mech(gg_mm_nav_t *xio, const gg_mm_imu_t *imu, double dt, int3
     if ((xio == NULL) || (imu == NULL)) {
         return GG_ERR_NULL;
     }
-    if (!fin(dt) || (dt <= 0.0) || (dt > 1.0) || (mm_nav_ok(xio) == 0)) {
+    if (!GG_ISFINITE(dt) || (dt <= 0.0) || (dt > GG_LIM_MM_DT_MAX_S) || (mm_nav_ok(xio) == 0)) {
         return GG_ERR_RANGE;
     }
     /* cppcheck-suppress misra-c2012-9.3 */
@@ -198,7 +193,7 @@ gg_status_t gg_mm_error(const gg_mm_nav_t *a, const gg_mm_nav_t *b, double d[GG_
 gg_status_t mm_apply(const gg_mm_nav_t *b, const double *d, gg_mm_nav_t *a)
 {
     for (int k = 0; k < GG_MM_NX; ++k) {
-        if (!fin(d[k])) {
+        if (!GG_ISFINITE(d[k])) {
             return GG_ERR_NONFINITE;
         }
     }

@@ -42,8 +42,8 @@ static int n3_in_limits(const gg_nav3d_config_t *cfg)
     if ((rn < GG_LIM_R_MIN_M) || (rn > GG_LIM_R_MAX_M) ||
         (sqrtl(gg_vec3_dot(cfg->v0_e, cfg->v0_e)) > GG_LIM_V_MAX_MPS) ||
         (sqrtl(gg_vec3_dot(cfg->g0_e, cfg->g0_e)) > GG_LIM_G_MAX_MPS2) || (cfg->dt_us > GG_LIM_DT_MAX_US) ||
-        (cfg->f_max > GG_LIM_F_MAX_MPS2) || (cfg->asym_max > 1.0) ||
-        (cfg->omega_ie > 1.0e-3L)) {
+        (cfg->f_max > GG_LIM_F_MAX_MPS2) || (cfg->asym_max > GG_LIM_ASYM_MAX) ||
+        (cfg->omega_ie > GG_LIM_OMEGA_IE_MAX_RPS)) {
         ok = 0;
     }
     for (k = 0U; k < 3U; ++k) {

@@ -517,8 +517,9 @@ gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, doub
     if (!GG_ISFINITE(lat) || !GG_ISFINITE(h) || !GG_ISFINITE(vn) || !GG_ISFINITE(ve) || !GG_ISFINITE(cfg->dt)) {
         return GG_ERR_NONFINITE;
     }
-    if ((lat > 1.55) || (lat < -1.55) || (h < -1e4) || (h > 1e5) || (vn > 1e3) || (vn < -1e3) || (ve > 1e3) ||
-        (ve < -1e3) || !(cfg->dt > 0.0)) {
+    if ((lat > GG_LIM_PF_LAT_MAX_RAD) || (lat < -GG_LIM_PF_LAT_MAX_RAD) || (h < GG_LIM_PF_H_MIN_M) ||
+        (h > GG_LIM_PF_H_MAX_M) || (vn > GG_LIM_PF_V_MAX_MPS) || (vn < -GG_LIM_PF_V_MAX_MPS) ||
+        (ve > GG_LIM_PF_V_MAX_MPS) || (ve < -GG_LIM_PF_V_MAX_MPS) || !(cfg->dt > 0.0)) {
         return GG_ERR_RANGE;
     }
     s = gg_sincos_d(lat, &sl, &cl);
@@ -697,9 +698,12 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
         !GG_ISFINITE(in->ve) || ((in->shot_ok != 0) && (!GG_ISFINITE(in->s0) || !GG_ISFINITE(in->s1)))) {
         return GG_ERR_NONFINITE;
     }
-    if ((in->lat > 1.55) || (in->lat < -1.55) || (in->lon > 7.0) || (in->lon < -7.0) || (in->h < -1e4) ||
-        (in->h > 1e5) || (in->vn > 1e3) || (in->vn < -1e3) || (in->ve > 1e3) || (in->ve < -1e3) ||
-        ((in->shot_ok != 0) && ((in->s0 > 10.0) || (in->s0 < -10.0) || (in->s1 > 10.0) || (in->s1 < -10.0)))) {
+    if ((in->lat > GG_LIM_PF_LAT_MAX_RAD) || (in->lat < -GG_LIM_PF_LAT_MAX_RAD) ||
+        (in->lon > GG_LIM_PF_LON_MAX_RAD) || (in->lon < -GG_LIM_PF_LON_MAX_RAD) || (in->h < GG_LIM_PF_H_MIN_M) ||
+        (in->h > GG_LIM_PF_H_MAX_M) || (in->vn > GG_LIM_PF_V_MAX_MPS) || (in->vn < -GG_LIM_PF_V_MAX_MPS) ||
+        (in->ve > GG_LIM_PF_V_MAX_MPS) || (in->ve < -GG_LIM_PF_V_MAX_MPS) ||
+        ((in->shot_ok != 0) && ((in->s0 > GG_LIM_PF_S_MAX) || (in->s0 < -GG_LIM_PF_S_MAX) ||
+                                (in->s1 > GG_LIM_PF_S_MAX) || (in->s1 < -GG_LIM_PF_S_MAX)))) {
         return GG_ERR_RANGE;
     }
     c = &st->cfg;

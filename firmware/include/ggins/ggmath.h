@@ -32,11 +32,9 @@
 #ifndef GGINS_GGMATH_H
 #define GGINS_GGMATH_H
 
+#include "ggins/limits.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
-
-/** Largest |x| gg_sincos accepts, rad. */
-#define GG_MATH_ARG_MAX 1.0e6L
 
 /** pi to the precision of gg_real_t. */
 #define GG_PI 3.141592653589793238462643383279502884L

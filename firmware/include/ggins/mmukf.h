@@ -58,7 +58,10 @@
 
 #define GG_MM_NX 15
 #define GG_MM_NSIG ((2 * GG_MM_NX) + 1)
-#define GG_MM_MAX_PASSES 40
+#if GG_MM_NX > GG_UKF_NX_MAX
+#error "the map-matching error state does not fit the UKF core (GG_UKF_NX_MAX, limits.h)"
+#endif
+/* GG_MM_MAX_PASSES and the input ranges: limits.h */
 
 /* health bits (output) */
 #define GG_MM_H_UKF_FAIL 0x01u   /**< UKF rejected an operation (not PD / model): see ukf health */

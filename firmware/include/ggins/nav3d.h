@@ -94,6 +94,7 @@
 #include "ggins/gmodel.h"
 #include "ggins/gravdr.h"
 #include "ggins/hal.h"
+#include "ggins/limits.h"
 #include "ggins/mech.h"
 #include "ggins/nav2d.h"
 #include "ggins/real.h"
@@ -103,9 +104,6 @@
 /** Platform kinds (gg_nav3d_config_t.platform). */
 #define GG_PLATFORM_STABILIZED 0 /**< space-stabilized: perfect inertial attitude reference */
 #define GG_PLATFORM_STRAPDOWN 1  /**< body-fixed sensors, attitude from the gyros */
-
-/** Gyro range: |w| above it is out of range, rad/s (~573 deg/s). */
-#define GG_LIM_W_MAX_RPS 10.0
 
 /** Lost frames a step may bridge (see nav2d.h). */
 #define GG_NAV3D_MAX_BRIDGE 100

@@ -93,15 +93,17 @@
 
 #include "ggins/ggrand.h"
 #include "ggins/gmap.h"
+#include "ggins/limits.h"
 #include "ggins/status.h"
 
-#ifndef GG_PF_MAX
-#define GG_PF_MAX 500
-#endif
+/* GG_PF_MAX (particles, overridable) and the input ranges: limits.h */
 /** State per particle: dN, dE, dvN, dvE, daN, daE (models RW, INS: the first 4 / 6);
  *  RBPF: dN, dE and the mean of the 10 linear states (dvN, dvE, aN, aE, aD, jN, jE, jD, bN, bE). */
 #define GG_PF_NX 12
 #define GG_PF_NL 10 /**< linear states of the RBPF */
+#if GG_PF_NL != (GG_PF_NX - 2)
+#error "the RBPF samples the two position states; the rest are its linear states"
+#endif
 
 #define GG_PF_MODEL_RW 0   /**< random-walk velocity, no specific-force state */
 #define GG_PF_MODEL_INS 1  /**< horizontal INS error dynamics (Schuler, Coriolis) */
