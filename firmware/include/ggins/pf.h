@@ -80,10 +80,10 @@
  * sqrt2 |sin(dphi/2)|; the distance to it is found by the trig-free iteration
  * of the evolute (4 iterations, only sqrt), times A.
  *
- * Random numbers: xoshiro256** (Blackman & Vigna 2018) seeded by splitmix64;
- * normals by Marsaglia's polar method with the module's own log (no libm).
+ * Random numbers: the firmware's generator (ggrand.h: xoshiro256** seeded by
+ * splitmix64, normals by Marsaglia's polar method, no libm).
  * Deterministic: the same seed and inputs give bit-identical results.
- * No heap: GG_PF_MAX particles held in the state (compile-time, default 500).
+ * No heap: GG_PF_MAX particles held in the state (compile-time, limits.h, default 500).
  * Units SI, angles rad, lat/lon geodetic WGS-84, h metres above the ellipsoid.
  */
 #ifndef GGINS_PF_H
