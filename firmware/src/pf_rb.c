@@ -223,32 +223,3 @@ gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl, double
     st->rb_L[2] = gg_sqrt_d(det / S[0][0]);
     return GG_OK;
 }
-
-/* RBPF prediction of particle i with the drawn normals (z0, z1):
- * e = L z, r <- F_rr r + F_rl m + e, m <- F_lr r + F_ll m + K e. */
-void pf_rb_particle(gg_pf_t *st, int i, double z0, double z1)
-{
-    double xn[GG_PF_NX];
-    const double e0 = st->rb_L[0] * z0;
-    const double e1 = (st->rb_L[1] * z0) + (st->rb_L[2] * z1);
-    int j;
-    int q;
-    for (j = 0; j < PF_RB_NDYN; ++j) {
-        double a = 0.0;
-        for (q = 0; q < GG_PF_NX; ++q) {
-            a += st->rb_F[j][q] * st->x[i][q];
-        }
-        xn[j] = a;
-    }
-    for (j = PF_RB_NDYN; j < GG_PF_NX; ++j) { /* gyro bias and accelerometer error: F rows = I exactly */
-        xn[j] = st->x[i][j];
-    }
-    xn[0] += e0;
-    xn[1] += e1;
-    for (j = 0; j < GG_PF_NL; ++j) {
-        xn[2 + j] += (st->rb_K[j][0] * e0) + (st->rb_K[j][1] * e1);
-    }
-    for (j = 0; j < GG_PF_NX; ++j) {
-        st->x[i][j] = xn[j];
-    }
-}
