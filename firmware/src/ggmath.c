@@ -2,6 +2,7 @@
 #include "ggins/ggmath.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* pi/2 in four parts of at most 32 significant bits each (exact doubles) */
 #define PIO2_1 0x1.921fb544p+0L
@@ -177,5 +178,182 @@ gg_status_t gg_atan2(gg_real_t y, gg_real_t x, gg_real_t *a)
         t = GG_PI - t;
     }
     *a = (y < 0.0L) ? -t : t;
+    return GG_OK;
+}
+
+/* ---- double precision (see ggmath.h) ---- */
+
+#define LN2_HI 6.93147180369123816490e-01 /* fdlibm split of ln 2 */
+#define LN2_LO 1.90821492927058770002e-10
+#define PIO2_HI_D 1.57079632673412561417e+00 /* pi/2 split (double) */
+#define PIO2_LO_D 6.07710050650619224932e-11
+
+static double round_d(double x)
+{
+    return (x >= 0.0) ? (double)(int64_t)(x + 0.5) : -(double)(int64_t)(0.5 - x);
+}
+
+/* Powers 2^(2^j) and 2^-(2^j), j = 9..0 (exact binary values). */
+static const double p2[10] = {1.3407807929942597e+154, 1.157920892373162e+77, 3.402823669209385e+38,
+                                1.8446744073709552e+19, 4294967296.0, 65536.0, 256.0, 16.0, 4.0, 2.0};
+static const int32_t p2exp[10] = {512, 256, 128, 64, 32, 16, 8, 4, 2, 1};
+static const double p2inv[10] = {7.458340731200207e-155, 8.636168555094445e-78, 2.938735877055719e-39,
+                                   5.421010862427522e-20, 2.3283064365386963e-10, 1.52587890625e-05,
+                                   0.00390625, 0.0625, 0.25, 0.5};
+
+/* y 2^k for |k| <= 1023 by binary decomposition of k (each factor exact). */
+static double ldexp_d(double y, int32_t k)
+{
+    double r = y;
+    int32_t a = (k < 0) ? -k : k;
+    int32_t j;
+    for (j = 0; j < 10; ++j) {
+        const int32_t b = p2exp[j];
+        if (a >= b) {
+            r *= (k < 0) ? p2inv[j] : p2[j];
+            a -= b;
+        }
+    }
+    return r;
+}
+
+gg_status_t gg_exp_d(double x, double *y)
+{
+    double k;
+    double r;
+    double p;
+    int i;
+    if (y == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (!GG_ISFINITE(x)) {
+        return GG_ERR_NONFINITE;
+    }
+    if (x > 709.0) {
+        return GG_ERR_RANGE;
+    }
+    if (x < -745.0) {
+        *y = 0.0;
+        return GG_OK;
+    }
+    /* x = k ln2 + r, |r| <= ln2/2; Taylor to r^14 (error < 1e-17 relative) */
+    k = round_d(x / (LN2_HI + LN2_LO));
+    r = (x - (k * LN2_HI)) - (k * LN2_LO);
+    p = 1.0;
+    for (i = 14; i >= 1; --i) {
+        p = 1.0 + ((p * r) / (double)i);
+    }
+    if (k < -1000.0) { /* result subnormal: two steps keep the factors in range */
+        *y = ldexp_d(ldexp_d(p, (int32_t)k + 600), -600);
+    } else {
+        *y = ldexp_d(p, (int32_t)k);
+    }
+    return GG_OK;
+}
+
+gg_status_t gg_log_d(double x, double *y)
+{
+    int32_t j;
+    int32_t e;
+    double m;
+    double z;
+    double z2;
+    double s;
+    double t;
+    int i;
+    if (y == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (!GG_ISFINITE(x)) {
+        return GG_ERR_NONFINITE;
+    }
+    if (!(x > 0.0)) {
+        return GG_ERR_RANGE;
+    }
+    /* x = m 2^e, m in [1, 2): greedy binary search on the exponent (exact scalings) */
+    e = 0;
+    m = x;
+    if (m < 2.2250738585072014e-308) { /* subnormal: scale by 2^54 first */
+        m *= 18014398509481984.0;
+        e = -54;
+    }
+    for (j = 0; j < 10; ++j) {
+        const int32_t b = p2exp[j];
+        if (m >= p2[j]) {
+            m *= p2inv[j];
+            e += b;
+        }
+    }
+    for (j = 0; j < 10; ++j) {
+        const int32_t b = p2exp[j];
+        if ((m * p2[j]) < 2.0) {
+            m *= p2[j];
+            e -= b;
+        }
+    }
+    if (m > 1.4142135623730951) {
+        m *= 0.5;
+        e += 1;
+    }
+    /* ln m = 2 atanh z, z = (m-1)/(m+1), |z| <= 0.1716: series to z^25 */
+    z = (m - 1.0) / (m + 1.0);
+    z2 = z * z;
+    s = 0.0;
+    for (i = 25; i >= 1; i -= 2) {
+        s = (s * z2) + (1.0 / (double)i);
+    }
+    t = 2.0 * z * s;
+    *y = (((double)e * LN2_HI) + t) + ((double)e * LN2_LO);
+    return GG_OK;
+}
+
+gg_status_t gg_sincos_d(double x, double *s, double *c)
+{
+    double j;
+    double r;
+    double r2;
+    double ps;
+    double pc;
+    double ss;
+    double cc;
+    int i;
+    int64_t q;
+    if ((s == NULL) || (c == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (!GG_ISFINITE(x)) {
+        return GG_ERR_NONFINITE;
+    }
+    if ((x > (double)GG_MATH_ARG_MAX) || (x < -(double)GG_MATH_ARG_MAX)) {
+        return GG_ERR_RANGE;
+    }
+    /* x = j pi/2 + r, |r| <= pi/4; Taylor to r^17 / r^16 */
+    j = round_d(x / (PIO2_HI_D + PIO2_LO_D));
+    r = (x - (j * PIO2_HI_D)) - (j * PIO2_LO_D);
+    r2 = r * r;
+    ps = 1.0;
+    for (i = 17; i >= 3; i -= 2) {
+        const int im1 = i - 1;
+        ps = 1.0 - ((ps * r2) / ((double)i * (double)im1));
+    }
+    ps *= r;
+    pc = 1.0;
+    for (i = 16; i >= 2; i -= 2) {
+        const int im1 = i - 1;
+        pc = 1.0 - ((pc * r2) / ((double)i * (double)im1));
+    }
+    q = (int64_t)j;
+    q = ((q % 4) + 4) % 4;
+    if (q == 0) {
+        ss = ps; cc = pc;
+    } else if (q == 1) {
+        ss = pc; cc = -ps;
+    } else if (q == 2) {
+        ss = -ps; cc = -pc;
+    } else {
+        ss = -pc; cc = ps;
+    }
+    *s = ss;
+    *c = cc;
     return GG_OK;
 }

@@ -3,9 +3,9 @@
 
 #include <string.h>
 
-/* |lat| limit of a tile: 89 deg, rad (the grid is in geodetic lat/lon). */
-#define GMAP_LAT_MAX 1.5533430342749532
-#define GMAP_PI 3.14159265358979323846
+#include "ggins/ggmath.h"
+
+/* tolerance of the tile-edge test, in grid cells */
 #define GMAP_EDGE_EPS 1.0e-9L
 
 static int geometry_ok(int32_t nlat, int32_t nlon, double lat0, double lon0, double dlat,
@@ -29,7 +29,8 @@ static int geometry_ok(int32_t nlat, int32_t nlon, double lat0, double lon0, dou
     const int32_t nlon1 = nlon - 1;
     const double lat1 = lat0 + (dlat * (double)nlat1);
     const double lon1 = lon0 + (dlon * (double)nlon1);
-    if ((lat0 < -GMAP_LAT_MAX) || (lat1 > GMAP_LAT_MAX) || (lon0 < -GMAP_PI) || (lon1 > GMAP_PI)) {
+    if ((lat0 < -GG_LIM_LAT_MAX_RAD) || (lat1 > GG_LIM_LAT_MAX_RAD) || (lon0 < -(double)GG_PI) ||
+        (lon1 > (double)GG_PI)) {
         return 0;
     }
     return 1;

@@ -11,360 +11,8 @@
 #include <string.h>
 
 #include "ggins/ggmath.h"
-
-/* WGS-84 (NIMA TR8350.2 Table 3.1 and derived constants) */
-#define MM_A 6378137.0
-#define MM_F (1.0 / 298.257223563)
-#define MM_E2 6.69437999014e-3
-#define MM_W 7.292115e-5
-#define MM_GE 9.7803253359      /* normal gravity at the equator */
-#define MM_K 0.00193185265241   /* Somigliana constant */
-#define MM_M 0.00344978650684   /* w^2 a^2 b / GM */
-#define MM_LAT_MAX 1.5533430342749532 /* 89 deg */
-
-static double msqrt(double v)
-{
-    return (double)sqrtl((long double)v);
-}
-
-static int fin(double v)
-{
-    return isfinite(v) ? 1 : 0;
-}
-
-static gg_status_t sc(double x, double *s, double *c)
-{
-    gg_real_t ls;
-    gg_real_t lc;
-    const gg_status_t st = gg_sincos((gg_real_t)x, &ls, &lc);
-    if (st != GG_OK) {
-        return st;
-    }
-    *s = (double)ls;
-    *c = (double)lc;
-    return GG_OK;
-}
-
-static void mm_qmul(const double a[4], const double b[4], double r[4])
-{
-    double t[4];
-    t[0] = (a[0] * b[0]) - (a[1] * b[1]) - (a[2] * b[2]) - (a[3] * b[3]);
-    t[1] = (a[0] * b[1]) + (a[1] * b[0]) + (a[2] * b[3]) - (a[3] * b[2]);
-    t[2] = ((a[0] * b[2]) - (a[1] * b[3])) + (a[2] * b[0]) + (a[3] * b[1]);
-    t[3] = (((a[0] * b[3]) + (a[1] * b[2])) - (a[2] * b[1])) + (a[3] * b[0]);
-    (void)memcpy(r, t, sizeof t);
-}
-
-static gg_status_t qexp(const double th[3], double q[4])
-{
-    const double a2 = (th[0] * th[0]) + (th[1] * th[1]) + (th[2] * th[2]);
-    if (a2 < 1.0e-16) {
-        const double k = 0.5 * (1.0 - (a2 / 24.0));
-        q[0] = 1.0 - (a2 / 8.0);
-        q[1] = k * th[0];
-        q[2] = k * th[1];
-        q[3] = k * th[2];
-        return GG_OK;
-    }
-    const double a = msqrt(a2);
-    double s;
-    double c;
-    const gg_status_t st = sc(0.5 * a, &s, &c);
-    if (st != GG_OK) {
-        return st;
-    }
-    q[0] = c;
-    q[1] = s * th[0] / a;
-    q[2] = s * th[1] / a;
-    q[3] = s * th[2] / a;
-    return GG_OK;
-}
-
-static gg_status_t qlog(const double qin[4], double th[3])
-{
-    double q[4];
-    const double sg = (qin[0] < 0.0) ? -1.0 : 1.0;
-    for (int k = 0; k < 4; ++k) {
-        q[k] = sg * qin[k];
-    }
-    const double n = msqrt((q[1] * q[1]) + (q[2] * q[2]) + (q[3] * q[3]));
-    if (n < 1.0e-9) {
-        const double k = 2.0 / q[0];
-        th[0] = k * q[1];
-        th[1] = k * q[2];
-        th[2] = k * q[3];
-        return GG_OK;
-    }
-    gg_real_t ang;
-    const gg_status_t st = gg_atan2((gg_real_t)n, (gg_real_t)q[0], &ang);
-    if (st != GG_OK) {
-        return st;
-    }
-    const double k = 2.0 * (double)ang / n;
-    th[0] = k * q[1];
-    th[1] = k * q[2];
-    th[2] = k * q[3];
-    return GG_OK;
-}
-
-static void qnorm(double q[4])
-{
-    const double n = msqrt((q[0] * q[0]) + (q[1] * q[1]) + (q[2] * q[2]) + (q[3] * q[3]));
-    for (int k = 0; k < 4; ++k) {
-        q[k] /= n;
-    }
-}
-
-/* C_b_n of q (body to NED) */
-static void qdcm(const double q[4], double C[3][3])
-{
-    const double w = q[0];
-    const double x = q[1];
-    const double y = q[2];
-    const double z = q[3];
-    C[0][0] = 1.0 - (2.0 * ((y * y) + (z * z)));
-    C[0][1] = 2.0 * ((x * y) - (w * z));
-    C[0][2] = 2.0 * ((x * z) + (w * y));
-    C[1][0] = 2.0 * ((x * y) + (w * z));
-    C[1][1] = 1.0 - (2.0 * ((x * x) + (z * z)));
-    C[1][2] = 2.0 * ((y * z) - (w * x));
-    C[2][0] = 2.0 * ((x * z) - (w * y));
-    C[2][1] = 2.0 * ((y * z) + (w * x));
-    C[2][2] = 1.0 - (2.0 * ((x * x) + (y * y)));
-}
-
-static void mv(double C[3][3], const double v[3], double r[3])
-{
-    for (int i = 0; i < 3; ++i) {
-        r[i] = (C[i][0] * v[0]) + (C[i][1] * v[1]) + (C[i][2] * v[2]);
-    }
-}
-
-/* meridian and prime-vertical radii (Gao eqs. 9-10) */
-static void radii(double s, double *rm, double *rn)
-{
-    const double d = 1.0 - (MM_E2 * s * s);
-    const double sd = msqrt(d);
-    *rn = MM_A / sd;
-    *rm = MM_A * (1.0 - MM_E2) / (d * sd);
-}
-
-gg_status_t gg_mm_normal_gravity(double lat, double h, double *g)
-{
-    if (g == NULL) {
-        return GG_ERR_NULL;
-    }
-    double s;
-    double c;
-    const gg_status_t st = sc(lat, &s, &c);
-    if (st != GG_OK) {
-        return st;
-    }
-    const double s2 = s * s;
-    const double g0 = (MM_GE * (1.0 + (MM_K * s2))) / msqrt(1.0 - (MM_E2 * s2));
-    *g = g0 * (1.0 - 2.0 / MM_A * (1.0 + MM_F + MM_M - 2.0 * MM_F * s2) * h + 3.0 / (MM_A * MM_A) * h * h);
-    return GG_OK;
-}
-
-static int nav_ok(const gg_mm_nav_t *x)
-{
-    for (int k = 0; k < 4; ++k) {
-        if (!fin(x->q[k])) {
-            return 0;
-        }
-    }
-    for (int k = 0; k < 3; ++k) {
-        if (!fin(x->v[k]) || !fin(x->bg[k]) || !fin(x->ba[k])) {
-            return 0;
-        }
-    }
-    if (!fin(x->lat) || !fin(x->lon) || !fin(x->h) || (x->lat > MM_LAT_MAX) ||
-        (x->lat < -MM_LAT_MAX) || (x->h < -1.0e5) || (x->h > 1.0e6)) {
-        return 0;
-    }
-    return 1;
-}
-
-gg_status_t gg_mm_mech(gg_mm_nav_t *xio, const gg_mm_imu_t *imu, double dt, int32_t vertical_hold,
-                       double h_hold, double vd_hold)
-{
-    if ((xio == NULL) || (imu == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (!fin(dt) || (dt <= 0.0) || (dt > 1.0) || (nav_ok(xio) == 0)) {
-        return GG_ERR_RANGE;
-    }
-    /* cppcheck-suppress misra-c2012-9.3 */
-    gg_mm_nav_t x = *xio;
-    double s;
-    double c;
-    gg_status_t st = sc(x.lat, &s, &c);
-    if (st != GG_OK) {
-        return st;
-    }
-    double rm;
-    double rn;
-    double g;
-    radii(s, &rm, &rn);
-    st = gg_mm_normal_gravity(x.lat, x.h, &g);
-    if (st != GG_OK) {
-        return st;
-    }
-    const double w_ie[3] = {MM_W * c, 0.0, -MM_W * s};
-    const double w_en[3] = {x.v[1] / (rn + x.h), -x.v[0] / (rm + x.h), -x.v[1] * s / (c * (rn + x.h))};
-    double w[3];
-    double f[3];
-    double th[3];
-    double thh[3];
-    double thn[3];
-    for (int k = 0; k < 3; ++k) {
-        w[k] = imu->omega_b[k] - x.bg[k];
-        f[k] = imu->f_b[k] - x.ba[k];
-        th[k] = w[k] * dt;
-        thh[k] = 0.5 * th[k];
-        thn[k] = -(w_ie[k] + w_en[k]) * dt;
-    }
-    double qb[4];
-    double qh[4];
-    double qn[4];
-    double qnh[4];
-    double qm[4];
-    double qt[4];
-    double C[3][3];
-    double fn[3];
-    double thnh[3];
-    for (int k = 0; k < 3; ++k) {
-        thnh[k] = 0.5 * thn[k];
-    }
-    if ((qexp(th, qb) != GG_OK) || (qexp(thh, qh) != GG_OK) || (qexp(thn, qn) != GG_OK) ||
-        (qexp(thnh, qnh) != GG_OK)) {
-        return GG_ERR_RANGE;
-    }
-    /* mid-step attitude for the specific force (body AND navigation frame
-     * rotated by half a step) */
-    mm_qmul(x.q, qh, qt);
-    mm_qmul(qnh, qt, qm);
-    qdcm(qm, C);
-    mv(C, f, fn);
-    double q1[4];
-    mm_qmul(x.q, qb, q1);
-    mm_qmul(qn, q1, x.q);
-    qnorm(x.q);
-    const double a[3] = {(2.0 * w_ie[0]) + w_en[0], (2.0 * w_ie[1]) + w_en[1], (2.0 * w_ie[2]) + w_en[2]};
-    const double cor[3] = {(a[1] * x.v[2]) - (a[2] * x.v[1]), (a[2] * x.v[0]) - (a[0] * x.v[2]),
-                           (a[0] * x.v[1]) - (a[1] * x.v[0])};
-    double vn[3];
-    vn[0] = x.v[0] + (fn[0] - cor[0]) * dt;
-    vn[1] = x.v[1] + (fn[1] - cor[1]) * dt;
-    vn[2] = x.v[2] + (fn[2] + g - cor[2]) * dt;
-    if (vertical_hold != 0) {
-        vn[2] = vd_hold;
-    }
-    x.lat += 0.5 * (x.v[0] + vn[0]) / (rm + x.h) * dt;
-    x.lon += 0.5 * (x.v[1] + vn[1]) / ((rn + x.h) * c) * dt;
-    x.h -= 0.5 * (x.v[2] + vn[2]) * dt;
-    if (vertical_hold != 0) {
-        x.h = h_hold;
-    }
-    x.v[0] = vn[0];
-    x.v[1] = vn[1];
-    x.v[2] = vn[2];
-    if (nav_ok(&x) == 0) {
-        return GG_ERR_RANGE;
-    }
-    *xio = x;
-    return GG_OK;
-}
-
-gg_status_t gg_mm_error(const gg_mm_nav_t *a, const gg_mm_nav_t *b, double d[GG_MM_NX])
-{
-    if ((a == NULL) || (b == NULL) || (d == NULL)) {
-        return GG_ERR_NULL;
-    }
-    double s;
-    double c;
-    double rm;
-    double rn;
-    double qi[4];
-    double qe[4];
-    double phi[3];
-    gg_status_t st = sc(b->lat, &s, &c);
-    if (st != GG_OK) {
-        return st;
-    }
-    radii(s, &rm, &rn);
-    qi[0] = b->q[0];
-    qi[1] = -b->q[1];
-    qi[2] = -b->q[2];
-    qi[3] = -b->q[3];
-    mm_qmul(a->q, qi, qe); /* C_a = Exp(phi) C_b */
-    st = qlog(qe, phi);
-    if (st != GG_OK) {
-        return st;
-    }
-    for (int k = 0; k < 3; ++k) {
-        d[k] = phi[k];
-        d[3 + k] = a->v[k] - b->v[k];
-        d[9 + k] = a->bg[k] - b->bg[k];
-        d[12 + k] = a->ba[k] - b->ba[k];
-    }
-    d[6] = (a->lat - b->lat) * (rm + b->h);
-    d[7] = (a->lon - b->lon) * (rn + b->h) * c;
-    d[8] = -(a->h - b->h);
-    return GG_OK;
-}
-
-/* a = b (+) d */
-static gg_status_t apply(const gg_mm_nav_t *b, const double *d, gg_mm_nav_t *a)
-{
-    for (int k = 0; k < GG_MM_NX; ++k) {
-        if (!fin(d[k])) {
-            return GG_ERR_NONFINITE;
-        }
-    }
-    double s;
-    double c;
-    double rm;
-    double rn;
-    double qe[4];
-    gg_status_t st = sc(b->lat, &s, &c);
-    if (st != GG_OK) {
-        return st;
-    }
-    radii(s, &rm, &rn);
-    st = qexp(d, qe);
-    if (st != GG_OK) {
-        return st;
-    }
-    /* cppcheck-suppress misra-c2012-9.3 */
-    gg_mm_nav_t r = *b;
-    mm_qmul(qe, b->q, r.q);
-    qnorm(r.q);
-    for (int k = 0; k < 3; ++k) {
-        r.v[k] = b->v[k] + d[3 + k];
-        r.bg[k] = b->bg[k] + d[9 + k];
-        r.ba[k] = b->ba[k] + d[12 + k];
-    }
-    r.lat = b->lat + (d[6] / (rm + b->h));
-    r.lon = b->lon + (d[7] / ((rn + b->h) * c));
-    r.h = b->h - d[8];
-    if (nav_ok(&r) == 0) {
-        return GG_ERR_RANGE;
-    }
-    *a = r;
-    return GG_OK;
-}
-
-gg_status_t gg_mm_apply(const gg_mm_nav_t *b, const double d[GG_MM_NX], gg_mm_nav_t *a)
-{
-    if ((b == NULL) || (d == NULL) || (a == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (nav_ok(b) == 0) {
-        return GG_ERR_RANGE;
-    }
-    return apply(b, d, a);
-}
+#include "ggins/quat.h"
+#include "mmukf_int.h"
 
 /* the six independent components (xx yy zz xy xz yz, Gao eq. 31 order) of a symmetric matrix */
 static void sym6(double m[3][3], double v[6]) /* not const: C11 cannot pass a double[3][3] as const */
@@ -390,26 +38,23 @@ gg_status_t gg_mm_predict_gradient(const gg_gmap_t *map, const gg_mm_nav_t *x, d
     if (st != GG_OK) {
         return st;
     }
-    gg_real_t gm[3][3];
-    (void)gg_gmap_to_matrix(smp.gamma, gm);
-    double Gn[3][3];
-    double C[3][3];
-    double T[3][3];
+    gg_mat3_t gn;
+    const gg_mat3_t *gnp = &gn;
+    gg_real_t q[4];
+    gg_real_t C[3][3];
+    gg_real_t Ct[3][3];
+    gg_real_t gb[3][3];
     double Gb[3][3];
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            Gn[i][j] = (double)gm[i][j];
-        }
+    (void)gg_gmap_to_matrix(smp.gamma, gn.m);
+    for (int k = 0; k < 4; ++k) {
+        q[k] = (gg_real_t)x->q[k];
     }
-    qdcm(x->q, C); /* C_b_n; Gamma_b = C^T Gamma_n C (Gao eq. 30 / A4) */
+    gg_quat_to_dcm(q, C); /* C_b_n; Gamma_b = C^T Gamma_n C (Gao eq. 30 / A4) */
+    gg_mat3_transpose(C, Ct);
+    gg_mat3_similarity(Ct, gnp->m, gb);
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
-            T[i][j] = (Gn[i][0] * C[0][j]) + (Gn[i][1] * C[1][j]) + (Gn[i][2] * C[2][j]);
-        }
-    }
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            Gb[i][j] = (C[0][i] * T[0][j]) + (C[1][i] * T[1][j]) + (C[2][i] * T[2][j]);
+            Gb[i][j] = (double)gb[i][j];
         }
     }
     sym6(Gb, g6);
@@ -423,15 +68,15 @@ static gg_status_t cfg_ok(const gg_mm_config_t *c)
                         c->sig0_ba_mps2, c->arw_rad_rts, c->vrw_mps_rts, c->bg_rw, c->ba_rw,
                         c->lambda, c->gate_nis, c->offdiag_ratio};
     for (size_t k = 0; k < (sizeof(v) / sizeof(v[0])); ++k) {
-        if (!fin(v[k]) || (v[k] < 0.0)) {
+        if (!GG_ISFINITE(v[k]) || (v[k] < 0.0)) {
             return GG_ERR_CONFIG;
         }
     }
-    if ((c->dt_s <= 0.0) || (c->dt_s > 1.0) || (c->update_period_s < c->dt_s) ||
+    if ((c->dt_s <= 0.0) || (c->dt_s > GG_LIM_MM_DT_MAX_S) || (c->update_period_s < c->dt_s) ||
         ((c->sigma_meas_s2 + c->sigma_db_s2) <= 0.0) || (c->sig0_att_rad <= 0.0) ||
         (c->sig0_att_rad > 0.5) || (c->sig0_vel_mps <= 0.0) || (c->sig0_pos_m <= 0.0) ||
-        (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (nav_ok(&c->init) == 0) ||
-        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) || (c->offdiag_ratio > 10.0)) {
+        (c->sig0_bg_rps <= 0.0) || (c->sig0_ba_mps2 <= 0.0) || (mm_nav_ok(&c->init) == 0) ||
+        (c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) || (c->offdiag_ratio > GG_LIM_MM_OFFDIAG_MAX)) {
         return GG_ERR_CONFIG;
     }
     return GG_OK;
@@ -446,7 +91,7 @@ static gg_status_t redraw(gg_mm_t *st, const gg_mm_nav_t *nominal, gg_mm_nav_t s
         return s;
     }
     for (int32_t i = 0; i < ns; ++i) {
-        s = apply(nominal, st->ukf.chi[i], &sig[i]);
+        s = mm_apply(nominal, st->ukf.chi[i], &sig[i]);
         if (s != GG_OK) {
             return s;
         }
@@ -564,7 +209,7 @@ static gg_status_t meas_model(void *ctx, const double *x, double *z)
     /* cppcheck-suppress misra-c2012-11.5 */
     hctx_t *c = (hctx_t *)ctx;
     gg_mm_nav_t s;
-    gg_status_t st = apply(c->nominal, x, &s);
+    gg_status_t st = mm_apply(c->nominal, x, &s);
     if (st != GG_OK) {
         return st;
     }
@@ -582,7 +227,7 @@ static void fill_out(const gg_mm_t *st, int32_t updated, double nis, gg_mm_outpu
 {
     out->nav = st->sig[0];
     for (int i = 0; i < GG_MM_NX; ++i) {
-        out->sigma[i] = msqrt(st->ukf.P[i][i]);
+        out->sigma[i] = gg_sqrt_d(st->ukf.P[i][i]);
         for (int j = 0; j < GG_MM_NX; ++j) {
             out->P[i][j] = st->ukf.P[i][j];
         }
@@ -627,7 +272,7 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
     } else {
         /* inject the predicted mean, so the update is linearised about it */
         gg_mm_nav_t injected;
-        if (apply(&nominal0, st->ukf.x, &injected) == GG_OK) {
+        if (mm_apply(&nominal0, st->ukf.x, &injected) == GG_OK) {
             nominal = injected;
         } else {
             st->health |= GG_MM_H_UKF_FAIL;
@@ -724,7 +369,7 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
             }
             accepted_any = 1;
             gg_mm_nav_t injected;
-            if (apply(&nominal, st->ukf.x, &injected) != GG_OK) {
+            if (mm_apply(&nominal, st->ukf.x, &injected) != GG_OK) {
                 st->health |= GG_MM_H_UKF_FAIL;
                 st->n_fail++;
                 break;
@@ -766,27 +411,29 @@ gg_status_t gg_mm_step(gg_mm_t *st, const gg_mm_imu_t *imu, const gg_mm_meas_t *
         return GG_ERR_NOT_INIT;
     }
     for (int k = 0; k < 3; ++k) {
-        if (!fin(imu->omega_b[k]) || !fin(imu->f_b[k]) || (imu->omega_b[k] > 10.0) ||
-            (imu->omega_b[k] < -10.0) || (imu->f_b[k] > 200.0) || (imu->f_b[k] < -200.0)) {
+        if (!GG_ISFINITE(imu->omega_b[k]) || !GG_ISFINITE(imu->f_b[k]) || (imu->omega_b[k] > GG_LIM_MM_W_MAX_RPS) ||
+            (imu->omega_b[k] < -GG_LIM_MM_W_MAX_RPS) || (imu->f_b[k] > GG_LIM_MM_F_MAX_MPS2) ||
+            (imu->f_b[k] < -GG_LIM_MM_F_MAX_MPS2)) {
             st->health = GG_MM_H_BAD_INPUT;
             return GG_ERR_RANGE;
         }
     }
     if (meas != NULL) {
         for (int k = 0; k < 6; ++k) {
-            if (!fin(meas->gamma_b[k]) || (meas->gamma_b[k] > 1.0e-4) || (meas->gamma_b[k] < -1.0e-4)) {
+            if (!GG_ISFINITE(meas->gamma_b[k]) || (meas->gamma_b[k] > GG_LIM_MM_GAMMA_MAX_S2) ||
+                (meas->gamma_b[k] < -GG_LIM_MM_GAMMA_MAX_S2)) {
                 st->health = GG_MM_H_BAD_INPUT;
                 return GG_ERR_RANGE;
             }
         }
-        if ((meas->gyro_term < 0) || (meas->gyro_term > 1) || !fin(meas->sigma_omega_rps) ||
+        if ((meas->gyro_term < 0) || (meas->gyro_term > 1) || !GG_ISFINITE(meas->sigma_omega_rps) ||
             (meas->sigma_omega_rps < 0.0) || (meas->sigma_omega_rps > 1.0)) {
             st->health = GG_MM_H_BAD_INPUT;
             return GG_ERR_RANGE;
         }
         for (int k = 0; k < 3; ++k) {
-            if ((meas->gyro_term != 0) && (!fin(meas->omega_b[k]) || (meas->omega_b[k] > 10.0) ||
-                                           (meas->omega_b[k] < -10.0))) {
+            if ((meas->gyro_term != 0) && (!GG_ISFINITE(meas->omega_b[k]) || (meas->omega_b[k] > GG_LIM_MM_W_MAX_RPS) ||
+                                           (meas->omega_b[k] < -GG_LIM_MM_W_MAX_RPS))) {
                 st->health = GG_MM_H_BAD_INPUT;
                 return GG_ERR_RANGE;
             }

@@ -5,292 +5,15 @@
 
 #include <stddef.h>
 
+#include "ggins/geo.h"
 #include "ggins/ggmath.h"
+#include "ggins/quat.h"
+#include "nav3d_int.h"
 
 #define N_ACC_3D 6
 /* a residual below double resolution can never exceed ulp(f_max)/2 (nav2d.c) */
 /* |q0| must be 1 to this tolerance */
 #define Q_NORM_TOL 1.0e-6L
-/* geodetic conversion: no point within this distance of the centre, m */
-#define R_GEODETIC_MIN_M 1.0e5L
-#define BOWRING_ITER 4U
-
-static gg_real_t dot3(const gg_real_t a[3], const gg_real_t b[3])
-{
-    return (a[0] * b[0]) + (a[1] * b[1]) + (a[2] * b[2]);
-}
-
-/* v_out = R3(theta) v (sign +1) or R3(-theta) v (sign -1); (s, c) = sin, cos theta */
-static void rot3(gg_real_t s, gg_real_t c, int sign, const gg_real_t v[3], gg_real_t o[3])
-{
-    const gg_real_t ss = (sign > 0) ? s : -s;
-    const gg_real_t x = (c * v[0]) - (ss * v[1]);
-    const gg_real_t y = (ss * v[0]) + (c * v[1]);
-    o[0] = x;
-    o[1] = y;
-    o[2] = v[2];
-}
-
-/* p (x) q, scalar first */
-static void qmul(const gg_real_t p[4], const gg_real_t q[4], gg_real_t o[4])
-{
-    const gg_real_t w = (p[0] * q[0]) - (p[1] * q[1]) - (p[2] * q[2]) - (p[3] * q[3]);
-    const gg_real_t x = (p[0] * q[1]) + (p[1] * q[0]) + (p[2] * q[3]) - (p[3] * q[2]);
-    const gg_real_t y = (p[0] * q[2]) - (p[1] * q[3]) + (p[2] * q[0]) + (p[3] * q[1]);
-    const gg_real_t z = (p[0] * q[3]) + (p[1] * q[2]) - (p[2] * q[1]) + (p[3] * q[0]);
-    o[0] = w;
-    o[1] = x;
-    o[2] = y;
-    o[3] = z;
-}
-
-/* direction-cosine matrix of a unit quaternion (maps the rotated frame's
- * vectors into the reference frame) */
-static void q_to_dcm(const gg_real_t q[4], gg_real_t c[3][3])
-{
-    const gg_real_t w = q[0];
-    const gg_real_t x = q[1];
-    const gg_real_t y = q[2];
-    const gg_real_t z = q[3];
-    c[0][0] = 1.0L - (2.0L * ((y * y) + (z * z)));
-    c[0][1] = 2.0L * ((x * y) - (w * z));
-    c[0][2] = 2.0L * ((x * z) + (w * y));
-    c[1][0] = 2.0L * ((x * y) + (w * z));
-    c[1][1] = 1.0L - (2.0L * ((x * x) + (z * z)));
-    c[1][2] = 2.0L * ((y * z) - (w * x));
-    c[2][0] = 2.0L * ((x * z) - (w * y));
-    c[2][1] = 2.0L * ((y * z) + (w * x));
-    c[2][2] = 1.0L - (2.0L * ((x * x) + (y * y)));
-}
-
-static gg_status_t q_normalize(gg_real_t q[4])
-{
-    const gg_real_t n2 = (q[0] * q[0]) + (q[1] * q[1]) + (q[2] * q[2]) + (q[3] * q[3]);
-    gg_real_t inv;
-    size_t j;
-    if (!GG_ISFINITE(n2) || !(n2 > 0.5L)) {
-        return GG_ERR_RANGE;
-    }
-    inv = 1.0L / sqrtl(n2);
-    for (j = 0U; j < 4U; ++j) {
-        q[j] *= inv;
-    }
-    return GG_OK;
-}
-
-/* a 3x3 matrix in a struct: a pointer to a const one yields const rows, so
- * functions taking const gg_real_t m[3][3] accept it without casts */
-typedef struct {
-    gg_real_t m[3][3];
-} mat33_t;
-
-static void mat_copy(gg_real_t src[3][3], mat33_t *dst)
-{
-    size_t j;
-    size_t k;
-    for (j = 0U; j < 3U; ++j) {
-        for (k = 0U; k < 3U; ++k) {
-            dst->m[j][k] = src[j][k];
-        }
-    }
-}
-
-/* y = C x */
-static void mat_vec(gg_real_t c[3][3], const gg_real_t x[3], gg_real_t y[3])
-{
-    size_t j;
-    for (j = 0U; j < 3U; ++j) {
-        y[j] = (c[j][0] * x[0]) + (c[j][1] * x[1]) + (c[j][2] * x[2]);
-    }
-}
-
-/* o = C m C^T */
-static void similarity(gg_real_t c[3][3], const gg_real_t m[3][3], gg_real_t o[3][3])
-{
-    gg_real_t t[3][3];
-    size_t j;
-    size_t k;
-    size_t l;
-    for (j = 0U; j < 3U; ++j) {
-        for (k = 0U; k < 3U; ++k) {
-            t[j][k] = 0.0L;
-            for (l = 0U; l < 3U; ++l) {
-                t[j][k] += c[j][l] * m[l][k];
-            }
-        }
-    }
-    for (j = 0U; j < 3U; ++j) {
-        for (k = 0U; k < 3U; ++k) {
-            o[j][k] = 0.0L;
-            for (l = 0U; l < 3U; ++l) {
-                o[j][k] += t[j][l] * c[k][l];
-            }
-        }
-    }
-}
-
-/* R3(theta) as a matrix, sign -1 for R3(-theta) */
-static void rot3_mat(gg_real_t s, gg_real_t c, int sign, gg_real_t m[3][3])
-{
-    const gg_real_t ss = (sign > 0) ? s : -s;
-    m[0][0] = c;
-    m[0][1] = -ss;
-    m[0][2] = 0.0L;
-    m[1][0] = ss;
-    m[1][1] = c;
-    m[1][2] = 0.0L;
-    m[2][0] = 0.0L;
-    m[2][1] = 0.0L;
-    m[2][2] = 1.0L;
-}
-
-/* ---------------------------------------------------------------- geodesy */
-
-static gg_real_t wgs84_e2(void)
-{
-    return GG_WGS84_F * (2.0L - GG_WGS84_F);
-}
-
-/* Geodetic latitude as (sin, cos), longitude as (sin, cos) and height of an
- * ECEF point, without trigonometric functions: Bowring's iteration on the
- * parametric latitude beta (tan beta = (1 - f) tan phi), carried as the
- * vector (cos beta, sin beta), BOWRING_ITER times. */
-typedef struct {
-    gg_real_t sphi;
-    gg_real_t cphi;
-    gg_real_t slam;
-    gg_real_t clam;
-    gg_real_t h;
-    gg_real_t pp;   /* (pp, zz): direction of the normal, for atan2 */
-    gg_real_t zz;
-} geo_t;
-
-static gg_status_t geodetic_core(const gg_real_t r_e[3], geo_t *g)
-{
-    const gg_real_t a = GG_WGS84_A_M;
-    const gg_real_t f = GG_WGS84_F;
-    const gg_real_t b = a * (1.0L - f);
-    const gg_real_t e2 = wgs84_e2();
-    const gg_real_t ep2 = e2 / (1.0L - e2);
-    gg_real_t p;
-    gg_real_t cb;
-    gg_real_t sb;
-    gg_real_t pp;
-    gg_real_t zz;
-    gg_real_t n;
-    unsigned it;
-    if (gg_finite3(r_e) == 0) {
-        return GG_ERR_NONFINITE;
-    }
-    if (dot3(r_e, r_e) < (R_GEODETIC_MIN_M * R_GEODETIC_MIN_M)) {
-        return GG_ERR_RANGE;
-    }
-    p = sqrtl((r_e[0] * r_e[0]) + (r_e[1] * r_e[1]));
-    cb = p * (1.0L - f);
-    sb = r_e[2];
-    pp = p;
-    zz = r_e[2];
-    for (it = 0U; it < BOWRING_ITER; ++it) {
-        n = sqrtl((cb * cb) + (sb * sb));
-        cb /= n;
-        sb /= n;
-        pp = p - (e2 * a * cb * cb * cb);
-        zz = r_e[2] + (ep2 * b * sb * sb * sb);
-        cb = pp;
-        sb = (1.0L - f) * zz;
-    }
-    n = sqrtl((pp * pp) + (zz * zz));
-    g->cphi = pp / n;
-    g->sphi = zz / n;
-    g->pp = pp;
-    g->zz = zz;
-    if (p > 0.0L) {
-        g->clam = r_e[0] / p;
-        g->slam = r_e[1] / p;
-    } else {
-        g->clam = 1.0L; /* on the axis: longitude 0 by convention */
-        g->slam = 0.0L;
-    }
-    g->h = (p * g->cphi) + (r_e[2] * g->sphi) - (a * sqrtl(1.0L - (e2 * g->sphi * g->sphi)));
-    return GG_OK;
-}
-
-gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg_real_t *lon,
-                                      gg_real_t *h)
-{
-    geo_t g;
-    gg_real_t la = 0.0L;
-    gg_real_t lo = 0.0L;
-    gg_status_t st;
-    if ((r_e == NULL) || (lat == NULL) || (lon == NULL) || (h == NULL)) {
-        return GG_ERR_NULL;
-    }
-    st = geodetic_core(r_e, &g);
-    if (st == GG_OK) {
-        st = gg_atan2(g.zz, g.pp, &la);
-    }
-    if (st == GG_OK) {
-        st = gg_atan2(r_e[1], r_e[0], &lo);
-    }
-    if (st == GG_OK) {
-        *lat = la;
-        *lon = lo;
-        *h = g.h;
-    }
-    return st;
-}
-
-gg_status_t gg_nav3d_geodetic_to_ecef(gg_real_t lat, gg_real_t lon, gg_real_t h, gg_real_t r_e[3])
-{
-    const gg_real_t e2 = wgs84_e2();
-    gg_real_t sl;
-    gg_real_t cl;
-    gg_real_t so;
-    gg_real_t co;
-    gg_status_t st;
-    if (r_e == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!GG_ISFINITE(h)) {
-        return GG_ERR_NONFINITE;
-    }
-    st = gg_sincos(lat, &sl, &cl);
-    if (st == GG_OK) {
-        st = gg_sincos(lon, &so, &co);
-    }
-    if (st == GG_OK) {
-        const gg_real_t n = GG_WGS84_A_M / sqrtl(1.0L - (e2 * sl * sl));
-        r_e[0] = (n + h) * cl * co;
-        r_e[1] = (n + h) * cl * so;
-        r_e[2] = ((n * (1.0L - e2)) + h) * sl;
-    }
-    return st;
-}
-
-/* Geodetic height and the north/east/down axes in ECEF (rows of C_e_n) at
- * r_e; the up unit vector (the ellipsoid normal) is minus the third row. */
-static gg_status_t local_frame(const gg_real_t r_e[3], gg_real_t *h, gg_real_t c_e_n[3][3])
-{
-    geo_t g;
-    const gg_status_t st = geodetic_core(r_e, &g);
-    if (st == GG_OK) {
-        const gg_real_t sl = g.sphi;
-        const gg_real_t cl = g.cphi;
-        const gg_real_t so = g.slam;
-        const gg_real_t co = g.clam;
-        *h = g.h;
-        c_e_n[0][0] = -sl * co; /* north */
-        c_e_n[0][1] = -sl * so;
-        c_e_n[0][2] = cl;
-        c_e_n[1][0] = -so;      /* east */
-        c_e_n[1][1] = co;
-        c_e_n[1][2] = 0.0L;
-        c_e_n[2][0] = -cl * co; /* down */
-        c_e_n[2][1] = -cl * so;
-        c_e_n[2][2] = -sl;
-    }
-    return st;
-}
 
 /* ---------------------------------------------------------------- config */
 
@@ -313,14 +36,14 @@ static int cfg_finite(const gg_nav3d_config_t *cfg)
 
 static int n3_in_limits(const gg_nav3d_config_t *cfg)
 {
-    const gg_real_t rn = sqrtl(dot3(cfg->r0_e, cfg->r0_e));
+    const gg_real_t rn = sqrtl(gg_vec3_dot(cfg->r0_e, cfg->r0_e));
     int ok = 1;
     size_t k;
     if ((rn < GG_LIM_R_MIN_M) || (rn > GG_LIM_R_MAX_M) ||
-        (sqrtl(dot3(cfg->v0_e, cfg->v0_e)) > GG_LIM_V_MAX_MPS) ||
-        (sqrtl(dot3(cfg->g0_e, cfg->g0_e)) > GG_LIM_G_MAX_MPS2) || (cfg->dt_us > GG_LIM_DT_MAX_US) ||
-        (cfg->f_max > GG_LIM_F_MAX_MPS2) || (cfg->asym_max > 1.0) ||
-        (cfg->omega_ie > 1.0e-3L)) {
+        (sqrtl(gg_vec3_dot(cfg->v0_e, cfg->v0_e)) > GG_LIM_V_MAX_MPS) ||
+        (sqrtl(gg_vec3_dot(cfg->g0_e, cfg->g0_e)) > GG_LIM_G_MAX_MPS2) || (cfg->dt_us > GG_LIM_DT_MAX_US) ||
+        (cfg->f_max > GG_LIM_F_MAX_MPS2) || (cfg->asym_max > GG_LIM_ASYM_MAX) ||
+        (cfg->omega_ie > GG_LIM_OMEGA_IE_MAX_RPS)) {
         ok = 0;
     }
     for (k = 0U; k < 3U; ++k) {
@@ -558,12 +281,6 @@ typedef struct {
 
 /* ---------------------------------------------------------------- state */
 
-/* C_b_i of the current attitude */
-static void c_b_i(const gg_nav3d_t *nav, gg_real_t c[3][3])
-{
-    q_to_dcm(nav->q_b_i, c);
-}
-
 /* current G in ECI as compensated values, at the mechanization's position */
 static gg_status_t current_g_i(gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_acc_t g_i[3],
                                uint32_t *health)
@@ -580,14 +297,14 @@ static gg_status_t current_g_i(gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_acc
         st = gg_mech_get(&nav->mech, r_i, v_i);
         if (st == GG_OK) {
             gg_real_t r_e[3];
-            rot3(s, c, -1, r_i, r_e);
+            gg_rot3(s, c, -1, r_i, r_e);
             st = gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, r_e, g_e, &mflags);
         }
         if ((mflags & GG_GMODEL_OUTSIDE_GRID) != 0U) {
             *health |= GG_HEALTH_MODEL_OUTSIDE;
         }
         if (st == GG_OK) {
-            rot3(s, c, +1, g_e, hi);
+            gg_rot3(s, c, +1, g_e, hi);
             lo[0] = 0.0L;
             lo[1] = 0.0L;
             lo[2] = 0.0L;
@@ -602,8 +319,8 @@ static gg_status_t current_g_i(gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_acc
                 gh[j] = ge[j].hi;
                 gl[j] = ge[j].lo;
             }
-            rot3(s, c, +1, gh, hi);
-            rot3(s, c, +1, gl, lo);
+            gg_rot3(s, c, +1, gh, hi);
+            gg_rot3(s, c, +1, gl, lo);
         }
     }
     if (st == GG_OK) {
@@ -628,13 +345,13 @@ static gg_status_t n3_start(gg_nav3d_t *nav, const step_in_t *in)
     for (j = 0U; j < 4U; ++j) {
         nav->q_b_i[j] = nav->cfg.q0_b_e[j];
     }
-    st = q_normalize(nav->q_b_i);
+    st = gg_quat_normalize(nav->q_b_i);
     if (st != GG_OK) {
         return st;
     }
-    c_b_i(nav, c);
-    similarity(c, in->gamma_b, gamma_i);
-    mat_vec(c, in->f_b, f_i);
+    gg_quat_to_dcm(nav->q_b_i, c);
+    gg_mat3_similarity(c, in->gamma_b, gamma_i);
+    gg_mat3_vec(c, in->f_b, f_i);
     for (j = 0U; j < 3U; ++j) {
         g0[j] = nav->cfg.g0_e[j];
     }
@@ -687,67 +404,6 @@ static gg_status_t n3_start(gg_nav3d_t *nav, const step_in_t *in)
     return st;
 }
 
-/* q' = 1/2 q (x) (0, w) */
-static void qdot(const gg_real_t q[4], const gg_real_t w[3], gg_real_t d[4])
-{
-    const gg_real_t p[4] = {0.0L, w[0], w[1], w[2]};
-    size_t j;
-    qmul(q, p, d);
-    for (j = 0U; j < 4U; ++j) {
-        d[j] *= 0.5L;
-    }
-}
-
-/* Fourth-order Runge-Kutta attitude step with the rate interpolated through
- * the samples k-2 .. k+1, or by cubic Hermite with the measured angular
- * accelerations wd1 (at k+1) and nav->omega_dot_b (at k) on the first two steps (nav3d.h). */
-static gg_status_t attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3], const gg_real_t wd1[3])
-{
-    const gg_real_t h = nav->dt_s;
-    gg_real_t wm[3];
-    gg_real_t k1[4];
-    gg_real_t k2[4];
-    gg_real_t k3[4];
-    gg_real_t k4[4];
-    gg_real_t qt[4];
-    gg_real_t q[4];
-    size_t j;
-    for (j = 0U; j < 3U; ++j) {
-        if (nav->n_w >= 3) {
-            /* cubic through t_k - 2h, t_k - h, t_k, t_k + h at t_k + h/2:
-             * Lagrange weights 1/16, -5/16, 15/16, 5/16 */
-            wm[j] = (nav->w_km2[j] - (5.0L * nav->w_km1[j]) + (15.0L * nav->w_k[j]) +
-                     (5.0L * w1[j])) * 0.0625L;
-        } else {
-            /* cubic Hermite at h/2: (w_k + w1)/2 + h/8 (wd_k - wd1) */
-            wm[j] = (0.5L * (nav->w_k[j] + w1[j])) + ((0.125L * h) * (nav->omega_dot_b[j] - wd1[j]));
-        }
-    }
-    qdot(nav->q_b_i, nav->w_k, k1);
-    for (j = 0U; j < 4U; ++j) {
-        qt[j] = nav->q_b_i[j] + (0.5L * h * k1[j]);
-    }
-    qdot(qt, wm, k2);
-    for (j = 0U; j < 4U; ++j) {
-        qt[j] = nav->q_b_i[j] + (0.5L * h * k2[j]);
-    }
-    qdot(qt, wm, k3);
-    for (j = 0U; j < 4U; ++j) {
-        qt[j] = nav->q_b_i[j] + (h * k3[j]);
-    }
-    qdot(qt, w1, k4);
-    for (j = 0U; j < 4U; ++j) {
-        q[j] = nav->q_b_i[j] + ((h / 6.0L) * (k1[j] + (2.0L * (k2[j] + k3[j])) + k4[j]));
-    }
-    if (q_normalize(q) != GG_OK) {
-        return GG_ERR_RANGE;
-    }
-    for (j = 0U; j < 4U; ++j) {
-        nav->q_b_i[j] = q[j];
-    }
-    return GG_OK;
-}
-
 static uint32_t n3_baro_health(uint32_t vh)
 {
     uint32_t h = 0U;
@@ -769,8 +425,8 @@ static gg_status_t n3_baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t 
     gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
     if (st == GG_OK) {
         gg_real_t r_e[3];
-        rot3(nav->sin_th, nav->cos_th, -1, r_i, r_e);
-        st = local_frame(r_e, &h, cen);
+        gg_rot3(nav->sin_th, nav->cos_th, -1, r_i, r_e);
+        st = gg_geo_local_frame(r_e, &h, cen);
     }
     if (st == GG_OK) {
         nav->h_ins = h;
@@ -796,7 +452,7 @@ static gg_status_t n3_baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t 
                 u_e[j] = -cen[2][j]; /* up = -down */
                 dr_e[j] = vo.dh_m * u_e[j];
             }
-            rot3(nav->sin_th, nav->cos_th, +1, u_e, u_i);
+            gg_rot3(nav->sin_th, nav->cos_th, +1, u_e, u_i);
             for (j = 0U; j < 3U; ++j) {
                 dr_i[j] = vo.dh_m * u_i[j];
                 dv_i[j] = vo.dv_mps * u_i[j];
@@ -806,8 +462,8 @@ static gg_status_t n3_baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t 
              * v_i moves by w x dr as well */
             dv_i[0] -= nav->omega_ie * dr_i[1];
             dv_i[1] += nav->omega_ie * dr_i[0];
-            mat_vec(nav->gamma_e, dr_e, dg_e);
-            rot3(nav->sin_th, nav->cos_th, +1, dg_e, dg_i);
+            gg_mat3_vec(nav->gamma_e, dr_e, dg_e);
+            gg_rot3(nav->sin_th, nav->cos_th, +1, dg_e, dg_i);
             for (j = 0U; j < 3U; ++j) {
                 da[j] = dg_i[j] - ((vo.a_c - nav->a_c) * u_i[j]);
             }
@@ -837,12 +493,12 @@ static gg_status_t up_i(const gg_nav3d_t *nav, gg_real_t s, gg_real_t c, gg_real
     gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
     if (st == GG_OK) {
         gg_real_t r_e[3];
-        rot3(s, c, -1, r_i, r_e);
-        st = local_frame(r_e, &h, cen);
+        gg_rot3(s, c, -1, r_i, r_e);
+        st = gg_geo_local_frame(r_e, &h, cen);
     }
     if (st == GG_OK) {
         const gg_real_t u_e[3] = {-cen[2][0], -cen[2][1], -cen[2][2]};
-        rot3(s, c, +1, u_e, u_i);
+        gg_rot3(s, c, +1, u_e, u_i);
     }
     return st;
 }
@@ -876,14 +532,14 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
         t0 = gg_task_cycles(hal);
         st = gg_sincos(th1, &s1, &c1);
         if ((st == GG_OK) && (nav->cfg.platform == GG_PLATFORM_STRAPDOWN)) {
-            st = attitude_step(nav, in->w, in->omega_dot);
+            st = n3_attitude_step(nav, in->w, in->omega_dot);
         }
         if (st == GG_OK) {
             gg_real_t cb[3][3];
             gg_real_t v_k[3];
-            c_b_i(nav, cb);
-            similarity(cb, in->gamma_b, gamma_i);
-            mat_vec(cb, in->f_b, f_i);
+            gg_quat_to_dcm(nav->q_b_i, cb);
+            gg_mat3_similarity(cb, in->gamma_b, gamma_i);
+            gg_mat3_vec(cb, in->f_b, f_i);
             st = gg_mech_get(&nav->mech, r_k, v_k);
         }
         t1 = gg_task_cycles(hal);
@@ -900,17 +556,17 @@ static gg_status_t n3_advance(gg_nav3d_t *nav, const gg_frame_t *fr, const step_
             const gg_real_t ds = 2.0L * sh * cm;
             gg_real_t dr_e[3];
             gg_real_t r_inv[3][3];
-            rot3(s1, c1, -1, dr_i, dr_e);
+            gg_rot3(s1, c1, -1, dr_i, dr_e);
             dr_e[0] += (dc * r_k[0]) + (ds * r_k[1]);
             dr_e[1] += (-ds * r_k[0]) + (dc * r_k[1]);
-            rot3_mat(s1, c1, -1, r_inv);
-            mat33_t gi;
-            const mat33_t *gip = &gi;
-            mat33_t ge;
-            const mat33_t *gep = &ge;
-            mat_copy(gamma_i, &gi);
-            similarity(r_inv, gip->m, nav->gamma_e);
-            mat_copy(nav->gamma_e, &ge);
+            gg_rot3_mat(s1, c1, -1, r_inv);
+            gg_mat3_t gi;
+            const gg_mat3_t *gip = &gi;
+            gg_mat3_t ge;
+            const gg_mat3_t *gep = &ge;
+            gg_mat3_copy(gamma_i, &gi);
+            gg_mat3_similarity(r_inv, gip->m, nav->gamma_e);
+            gg_mat3_copy(nav->gamma_e, &ge);
             if (nav->cfg.gravity_mode == GG_GRAVITY_GRADIOMETER) {
                 st = gg_gravdr_step(&nav->gravdr, gep->m, dr_e);
             }
@@ -1083,169 +739,6 @@ static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4]
         }
     }
     p[3] = in->trace;
-}
-
-static void n3_fill_output(const gg_nav3d_t *nav, const gg_frame_t *fr, gg_status_t status,
-                        uint32_t health, gg_nav3d_output_t *out)
-{
-    const gg_nav3d_output_t empty = {0};
-    size_t j;
-    size_t k;
-    *out = empty;
-    out->utime = fr->utime;
-    out->seq = fr->seq;
-    out->status = (int32_t)status;
-    out->health = health;
-    if ((nav->started == 0) || (nav->mech.initialized == 0)) {
-        gg_real_t lat = 0.0L;
-        gg_real_t lon = 0.0L;
-        gg_real_t h = 0.0L;
-        out->health |= GG_HEALTH_NOT_INIT;
-        if (nav->configured != 0) {
-            for (j = 0U; j < 3U; ++j) {
-                out->r_e[j] = (double)nav->cfg.r0_e[j];
-                out->v_e[j] = (double)nav->cfg.v0_e[j];
-                out->g_e[j] = (double)nav->cfg.g0_e[j];
-            }
-            if (gg_nav3d_ecef_to_geodetic(nav->cfg.r0_e, &lat, &lon, &h) == GG_OK) {
-                out->lat_rad = (double)lat;
-                out->lon_rad = (double)lon;
-                out->h_m = (double)h;
-            }
-        }
-        return;
-    }
-    {
-        const gg_real_t s = nav->sin_th;
-        const gg_real_t c = nav->cos_th;
-        const gg_real_t w = nav->omega_ie;
-        const gg_real_t th = w * ((gg_real_t)nav->n_steps * nav->dt_s);
-        gg_real_t rh[3];
-        gg_real_t rl[3];
-        gg_real_t reh[3];
-        gg_real_t rel[3];
-        gg_real_t r_e[3];
-        gg_real_t v_rel[3];
-        gg_real_t v_e[3];
-        gg_real_t cen[3][3];
-        gg_real_t cb[3][3];
-        gg_real_t cbe[3][3];
-        gg_real_t cbn[3][3];
-        gg_real_t r_inv[3][3];
-        gg_real_t lat = 0.0L;
-        gg_real_t lon = 0.0L;
-        gg_real_t h = 0.0L;
-        gg_real_t sh = 0.0L;
-        gg_real_t ch = 1.0L;
-        gg_real_t a = 0.0L;
-        gg_acc_t ra[3];
-        gg_acc_t va[3];
-        if (gg_mech_get_acc(&nav->mech, ra, va) != GG_OK) {
-            out->health |= GG_HEALTH_NOT_INIT;
-            return;
-        }
-        for (j = 0U; j < 3U; ++j) {
-            rh[j] = ra[j].hi;
-            rl[j] = ra[j].lo;
-            v_rel[j] = gg_acc_value(&va[j]);
-        }
-        rot3(s, c, -1, rh, reh);
-        rot3(s, c, -1, rl, rel);
-        for (j = 0U; j < 3U; ++j) {
-            r_e[j] = reh[j] + rel[j];
-            out->r_e[j] = (double)r_e[j];
-            out->r_e_lo[j] = (double)(r_e[j] - (gg_real_t)out->r_e[j]);
-        }
-        /* Earth-relative velocity: v_i - omega x r_i, rotated into ECEF */
-        {
-            const gg_real_t r0 = rh[0] + rl[0];
-            const gg_real_t r1 = rh[1] + rl[1];
-            v_rel[0] += w * r1;
-            v_rel[1] -= w * r0;
-        }
-        rot3(s, c, -1, v_rel, v_e);
-        if ((local_frame(r_e, &h, cen) != GG_OK) ||
-            (gg_nav3d_ecef_to_geodetic(r_e, &lat, &lon, &h) != GG_OK)) {
-            out->health |= GG_HEALTH_NOT_INIT;
-        }
-        out->lat_rad = (double)lat;
-        out->lon_rad = (double)lon;
-        out->h_m = (double)h;
-        {
-            gg_real_t vn[3];
-            mat_vec(cen, v_e, vn);
-            for (j = 0U; j < 3U; ++j) {
-                out->v_e[j] = (double)v_e[j];
-                out->v_n[j] = (double)vn[j];
-            }
-        }
-        if (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) {
-            gg_real_t g[3] = {0.0L, 0.0L, 0.0L};
-            (void)gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, r_e, g, NULL);
-            for (j = 0U; j < 3U; ++j) {
-                out->g_e[j] = (double)g[j];
-            }
-        } else {
-            gg_acc_t g[3];
-            if (gg_gravdr_get_acc(&nav->gravdr, g) == GG_OK) {
-                for (j = 0U; j < 3U; ++j) {
-                    const gg_real_t gv = gg_acc_value(&g[j]);
-                    out->g_e[j] = (double)gv;
-                    out->g_e_lo[j] = (double)(gv - (gg_real_t)out->g_e[j]);
-                }
-            }
-        }
-        /* attitude: C_b_e = R3(-theta) C_b_i; q_b_e = q_i_e (x) q_b_i with
-         * q_i_e = (cos theta/2, 0, 0, -sin theta/2) */
-        c_b_i(nav, cb);
-        rot3_mat(s, c, -1, r_inv);
-        for (j = 0U; j < 3U; ++j) {
-            for (k = 0U; k < 3U; ++k) {
-                cbe[j][k] = (r_inv[j][0] * cb[0][k]) + (r_inv[j][1] * cb[1][k]) +
-                            (r_inv[j][2] * cb[2][k]);
-            }
-        }
-        for (j = 0U; j < 3U; ++j) {
-            for (k = 0U; k < 3U; ++k) {
-                cbn[j][k] = (cen[j][0] * cbe[0][k]) + (cen[j][1] * cbe[1][k]) +
-                            (cen[j][2] * cbe[2][k]);
-            }
-        }
-        if (gg_sincos(0.5L * th, &sh, &ch) == GG_OK) {
-            const gg_real_t qie[4] = {ch, 0.0L, 0.0L, -sh};
-            gg_real_t qbe[4];
-            qmul(qie, nav->q_b_i, qbe);
-            for (j = 0U; j < 4U; ++j) {
-                out->q_b_e[j] = (double)qbe[j];
-            }
-        }
-        if (gg_atan2(cbn[2][1], cbn[2][2], &a) == GG_OK) {
-            out->rpy_rad[0] = (double)a;
-        }
-        if (gg_atan2(-cbn[2][0], sqrtl((cbn[2][1] * cbn[2][1]) + (cbn[2][2] * cbn[2][2])), &a) ==
-            GG_OK) {
-            out->rpy_rad[1] = (double)a;
-        }
-        if (gg_atan2(cbn[1][0], cbn[0][0], &a) == GG_OK) {
-            out->rpy_rad[2] = (double)a;
-        }
-        out->t_s = (double)((gg_real_t)nav->n_steps * nav->dt_s);
-    }
-    for (j = 0U; j < 3U; ++j) {
-        out->f_b[j] = (double)nav->f_b[j];
-        out->omega_b[j] = (double)nav->w_k[j];
-        out->omega_dot_b[j] = (double)nav->omega_dot_b[j];
-        for (k = 0U; k < 3U; ++k) {
-            out->gamma_e[j][k] = (double)nav->gamma_e[j][k];
-            out->gamma_b[j][k] = (double)nav->gamma_b[j][k];
-        }
-    }
-    for (j = 0U; j < 4U; ++j) {
-        out->parity[j] = (double)nav->parity[j];
-    }
-    out->h_ins_m = (double)nav->h_ins;
-    out->baro_innov_m = (double)nav->baro_innov;
-    out->g_up_corr = (double)nav->a_c;
 }
 
 gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,

@@ -1,414 +1,16 @@
 /**
  * @file pf.c
  * @brief Bootstrap particle filter for cold-atom partial-gradient position fixing
- *        (Phillips et al., section IV). See pf.h.
+ *        (Phillips et al., section IV), the filter core: configuration, the shot
+ *        (predict, weigh, normalise, resample, regularise, output). The
+ *        measurement model is in pf_meas.c, the Rao-Blackwellised process model in
+ *        pf_rb.c. See pf.h.
  */
-#include "ggins/pf.h"
+#include "pf_int.h"
 
-#include <math.h>
+#include "ggins/geo.h"
+#include "ggins/ggmath.h"
 
-#define PF_LN2_HI 6.93147180369123816490e-01 /* fdlibm split of ln 2 */
-#define PF_LN2_LO 1.90821492927058770002e-10
-#define PF_PIO2_HI 1.57079632673412561417e+00 /* pi/2 split */
-#define PF_PIO2_LO 6.07710050650619224932e-11
-#define PF_WGS84_A 6378137.0
-#define PF_WGS84_E2 6.69437999014e-3
-#define PF_G0 9.80665         /* m/s^2, Schuler frequency w_s^2 = g0 / R */
-#define PF_OMEGA_E 7.292115e-5 /* rad/s, Earth rate (Coriolis) */
-
-static double pf_sqrt(double x)
-{
-    return (double)sqrtl((long double)x);
-}
-
-static int pf_finite(double x)
-{
-    return (x == x) && ((x - x) == 0.0);
-}
-
-static double pf_round(double x)
-{
-    return (x >= 0.0) ? (double)(int64_t)(x + 0.5) : -(double)(int64_t)(0.5 - x);
-}
-
-/* Powers 2^(2^j) and 2^-(2^j), j = 9..0 (exact binary values). */
-static const double pf_p2[10] = {1.3407807929942597e+154, 1.157920892373162e+77, 3.402823669209385e+38,
-                                1.8446744073709552e+19, 4294967296.0, 65536.0, 256.0, 16.0, 4.0, 2.0};
-static const int32_t pf_p2exp[10] = {512, 256, 128, 64, 32, 16, 8, 4, 2, 1};
-static const double pf_p2inv[10] = {7.458340731200207e-155, 8.636168555094445e-78, 2.938735877055719e-39,
-                                   5.421010862427522e-20, 2.3283064365386963e-10, 1.52587890625e-05,
-                                   0.00390625, 0.0625, 0.25, 0.5};
-
-/* y 2^k for |k| <= 1023 by binary decomposition of k (each factor exact). */
-static double pf_ldexp(double y, int32_t k)
-{
-    double r = y;
-    int32_t a = (k < 0) ? -k : k;
-    int32_t j;
-    for (j = 0; j < 10; ++j) {
-        const int32_t b = pf_p2exp[j];
-        if (a >= b) {
-            r *= (k < 0) ? pf_p2inv[j] : pf_p2[j];
-            a -= b;
-        }
-    }
-    return r;
-}
-
-gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed)
-{
-    uint64_t z = seed;
-    int i;
-    if (r == NULL) {
-        return GG_ERR_NULL;
-    }
-    for (i = 0; i < 4; ++i) { /* splitmix64 */
-        uint64_t t;
-        z += 0x9E3779B97F4A7C15ull;
-        t = z;
-        t = (t ^ (t >> 30)) * 0xBF58476D1CE4E5B9ull;
-        t = (t ^ (t >> 27)) * 0x94D049BB133111EBull;
-        r->s[i] = t ^ (t >> 31);
-    }
-    return GG_OK;
-}
-
-static uint64_t pf_rotl(uint64_t x, uint32_t k)
-{
-    const uint32_t rk = 64u - k;
-    return (x << k) | (x >> rk);
-}
-
-gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v)
-{
-    uint64_t t;
-    if ((r == NULL) || (v == NULL)) {
-        return GG_ERR_NULL;
-    }
-    *v = pf_rotl(r->s[1] * 5u, 7u) * 9u; /* xoshiro256** */
-    t = r->s[1] << 17;
-    r->s[2] ^= r->s[0];
-    r->s[3] ^= r->s[1];
-    r->s[1] ^= r->s[2];
-    r->s[0] ^= r->s[3];
-    r->s[2] ^= t;
-    r->s[3] = pf_rotl(r->s[3], 45u);
-    return GG_OK;
-}
-
-gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u)
-{
-    uint64_t v = 0;
-    gg_status_t s;
-    if (u == NULL) {
-        return GG_ERR_NULL;
-    }
-    s = gg_pf_rng_u64(r, &v);
-    if (s != GG_OK) {
-        return s;
-    }
-    *u = (double)(v >> 11) * (1.0 / 9007199254740992.0);
-    return GG_OK;
-}
-
-gg_status_t gg_pf_exp(double x, double *y)
-{
-    double k;
-    double r;
-    double p;
-    int i;
-    if (y == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(x)) {
-        return GG_ERR_NONFINITE;
-    }
-    if (x > 709.0) {
-        return GG_ERR_RANGE;
-    }
-    if (x < -745.0) {
-        *y = 0.0;
-        return GG_OK;
-    }
-    /* x = k ln2 + r, |r| <= ln2/2; Taylor to r^14 (error < 1e-17 relative) */
-    k = pf_round(x / (PF_LN2_HI + PF_LN2_LO));
-    r = (x - (k * PF_LN2_HI)) - (k * PF_LN2_LO);
-    p = 1.0;
-    for (i = 14; i >= 1; --i) {
-        p = 1.0 + ((p * r) / (double)i);
-    }
-    if (k < -1000.0) { /* result subnormal: two steps keep the factors in range */
-        *y = pf_ldexp(pf_ldexp(p, (int32_t)k + 600), -600);
-    } else {
-        *y = pf_ldexp(p, (int32_t)k);
-    }
-    return GG_OK;
-}
-
-gg_status_t gg_pf_log(double x, double *y)
-{
-    int32_t j;
-    int32_t e;
-    double m;
-    double z;
-    double z2;
-    double s;
-    double t;
-    int i;
-    if (y == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(x)) {
-        return GG_ERR_NONFINITE;
-    }
-    if (!(x > 0.0)) {
-        return GG_ERR_RANGE;
-    }
-    /* x = m 2^e, m in [1, 2): greedy binary search on the exponent (exact scalings) */
-    e = 0;
-    m = x;
-    if (m < 2.2250738585072014e-308) { /* subnormal: scale by 2^54 first */
-        m *= 18014398509481984.0;
-        e = -54;
-    }
-    for (j = 0; j < 10; ++j) {
-        const int32_t b = pf_p2exp[j];
-        if (m >= pf_p2[j]) {
-            m *= pf_p2inv[j];
-            e += b;
-        }
-    }
-    for (j = 0; j < 10; ++j) {
-        const int32_t b = pf_p2exp[j];
-        if ((m * pf_p2[j]) < 2.0) {
-            m *= pf_p2[j];
-            e -= b;
-        }
-    }
-    if (m > 1.4142135623730951) {
-        m *= 0.5;
-        e += 1;
-    }
-    /* ln m = 2 atanh z, z = (m-1)/(m+1), |z| <= 0.1716: series to z^25 */
-    z = (m - 1.0) / (m + 1.0);
-    z2 = z * z;
-    s = 0.0;
-    for (i = 25; i >= 1; i -= 2) {
-        s = (s * z2) + (1.0 / (double)i);
-    }
-    t = 2.0 * z * s;
-    *y = (((double)e * PF_LN2_HI) + t) + ((double)e * PF_LN2_LO);
-    return GG_OK;
-}
-
-gg_status_t gg_pf_sincos(double x, double *s, double *c)
-{
-    double j;
-    double r;
-    double r2;
-    double ps;
-    double pc;
-    double ss;
-    double cc;
-    int i;
-    int64_t q;
-    if ((s == NULL) || (c == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(x)) {
-        return GG_ERR_NONFINITE;
-    }
-    if ((x > 1e6) || (x < -1e6)) {
-        return GG_ERR_RANGE;
-    }
-    /* x = j pi/2 + r, |r| <= pi/4; Taylor to r^17 / r^16 */
-    j = pf_round(x / (PF_PIO2_HI + PF_PIO2_LO));
-    r = (x - (j * PF_PIO2_HI)) - (j * PF_PIO2_LO);
-    r2 = r * r;
-    ps = 1.0;
-    for (i = 17; i >= 3; i -= 2) {
-        const int im1 = i - 1;
-        ps = 1.0 - ((ps * r2) / ((double)i * (double)im1));
-    }
-    ps *= r;
-    pc = 1.0;
-    for (i = 16; i >= 2; i -= 2) {
-        const int im1 = i - 1;
-        pc = 1.0 - ((pc * r2) / ((double)i * (double)im1));
-    }
-    q = (int64_t)j;
-    q = ((q % 4) + 4) % 4;
-    if (q == 0) {
-        ss = ps; cc = pc;
-    } else if (q == 1) {
-        ss = pc; cc = -ps;
-    } else if (q == 2) {
-        ss = -ps; cc = -pc;
-    } else {
-        ss = -pc; cc = ps;
-    }
-    *s = ss;
-    *c = cc;
-    return GG_OK;
-}
-
-gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z)
-{
-    int k;
-    if ((r == NULL) || (z == NULL)) {
-        return GG_ERR_NULL;
-    }
-    /* Marsaglia polar method; acceptance pi/4, so 64 tries fail with p < 1e-42 */
-    for (k = 0; k < 64; ++k) {
-        double u = 0.0;
-        double v = 0.0;
-        double q;
-        double lq = 0.0;
-        gg_status_t s = gg_pf_rng_uniform(r, &u);
-        if (s == GG_OK) {
-            s = gg_pf_rng_uniform(r, &v);
-        }
-        if (s != GG_OK) {
-            return s;
-        }
-        u = (2.0 * u) - 1.0;
-        v = (2.0 * v) - 1.0;
-        q = (u * u) + (v * v);
-        if ((q > 0.0) && (q < 1.0)) {
-            s = gg_pf_log(q, &lq);
-            if (s != GG_OK) {
-                return s;
-            }
-            *z = u * pf_sqrt(-2.0 * lq / q);
-            return GG_OK;
-        }
-    }
-    return GG_ERR_RANGE;
-}
-
-/* Distance from (px, py) to the ellipse (a cos t, b sin t), a, b > 0: the
- * trig-free evolute iteration (tangent-point update along the evolute, then
- * renormalisation of (cos t, sin t)), 4 iterations. */
-static double pf_ellipse_dist_axes(double px, double py, double a, double b)
-{
-    double tx = 0.70710678118654752;
-    double ty = 0.70710678118654752;
-    const double ax = (px < 0.0) ? -px : px;
-    const double ay = (py < 0.0) ? -py : py;
-    double dx;
-    double dy;
-    int it;
-    for (it = 0; it < 4; ++it) {
-        double ex;
-        double ey;
-        double rx;
-        double ry;
-        double qx;
-        double qy;
-        double rr;
-        double qq;
-        double t;
-        const double x = a * tx;
-        const double y = b * ty;
-        ex = (((a * a) - (b * b)) * tx * tx * tx) / a;
-        ey = (((b * b) - (a * a)) * ty * ty * ty) / b;
-        rx = x - ex;
-        ry = y - ey;
-        qx = ax - ex;
-        qy = ay - ey;
-        rr = pf_sqrt((rx * rx) + (ry * ry));
-        qq = pf_sqrt((qx * qx) + (qy * qy));
-        if (qq > 0.0) {
-            tx = (((qx * rr) / qq) + ex) / a;
-            ty = (((qy * rr) / qq) + ey) / b;
-        }
-        tx = (tx < 0.0) ? 0.0 : ((tx > 1.0) ? 1.0 : tx);
-        ty = (ty < 0.0) ? 0.0 : ((ty > 1.0) ? 1.0 : ty);
-        t = pf_sqrt((tx * tx) + (ty * ty));
-        if (t > 0.0) {
-            tx /= t;
-            ty /= t;
-        }
-    }
-    dx = ax - (a * tx);
-    dy = ay - (b * ty);
-    return pf_sqrt((dx * dx) + (dy * dy));
-}
-
-gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, double amp, double dphi,
-                                   double *d)
-{
-    double sh = 0.0;
-    double ch = 0.0;
-    double u;
-    double v;
-    double p;
-    double q;
-    double a;
-    double b;
-    gg_status_t st;
-    if (d == NULL) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(s0) || !pf_finite(s1) || !pf_finite(c0) || !pf_finite(c1) || !pf_finite(amp) ||
-        !pf_finite(dphi)) {
-        return GG_ERR_NONFINITE;
-    }
-    if (!(amp > 0.0)) {
-        return GG_ERR_RANGE;
-    }
-    st = gg_pf_sincos(0.5 * dphi, &sh, &ch);
-    if (st != GG_OK) {
-        return st;
-    }
-    u = (c0 - s0) / amp;
-    v = (c1 - s1) / amp;
-    p = (u + v) * 0.70710678118654752;
-    q = (u - v) * 0.70710678118654752;
-    a = 1.4142135623730951 * ((ch < 0.0) ? -ch : ch);
-    b = 1.4142135623730951 * ((sh < 0.0) ? -sh : sh);
-    if (a < 1e-9) {
-        a = 1e-9; /* degenerate ellipse (a line): keep the iteration finite */
-    }
-    if (b < 1e-9) {
-        b = 1e-9;
-    }
-    *d = amp * pf_ellipse_dist_axes(p, q, a, b);
-    return GG_OK;
-}
-
-static gg_status_t pf_gmap_gzz(const void *ctx, double lat, double lon, double h, double *gzz)
-{
-    gg_gmap_sample_t smp;
-    gg_status_t s;
-    if ((ctx == NULL) || (gzz == NULL)) {
-        return GG_ERR_NULL;
-    }
-    /* MISRA 11.5 deviation: the ops table's context is a void pointer by design (pf.h); it is
-     * set only by gg_pf_map_from_gmap to a gg_gmap_t. MISRA 12.2: false positive on the
-     * constant mask macros of gmap.h (shift by GG_GMAP_C_DD = 2). */
-    /* cppcheck-suppress misra-c2012-11.5 */
-    s = gg_gmap_eval((const gg_gmap_t *)ctx, (gg_real_t)lat, (gg_real_t)lon, (gg_real_t)h,
-                     /* cppcheck-suppress misra-c2012-12.2 */
-                     GG_GMAP_MASK_DD | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
-    if (s == GG_OK) {
-        *gzz = (double)smp.gamma[GG_GMAP_C_DD];
-    }
-    return s;
-}
-
-gg_status_t gg_pf_map_from_gmap(const gg_gmap_t *gm, gg_pf_map_t *map)
-{
-    if ((gm == NULL) || (map == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (!gm->initialized) {
-        return GG_ERR_NOT_INIT;
-    }
-    map->gzz = pf_gmap_gzz;
-    map->ctx = gm;
-    return GG_OK;
-}
 
 static int pf_cfg_ok(const gg_pf_config_t *c)
 {
@@ -418,7 +20,7 @@ static int pf_cfg_ok(const gg_pf_config_t *c)
                         c->sigma0_bias, c->q_bias};
     unsigned i;
     for (i = 0; i < ((sizeof v) / (sizeof v[0])); ++i) {
-        if (!pf_finite(v[i])) {
+        if (!GG_ISFINITE(v[i])) {
             return 0;
         }
     }
@@ -455,7 +57,7 @@ static int pf_nsampled(const gg_pf_config_t *c)
 
 gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
 {
-    gg_pf_rng_t rng;
+    gg_rng_t rng;
     int i;
     int k;
     gg_status_t s;
@@ -471,9 +73,9 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     if (cfg->reg_bw > 0.0) { /* h = reg_bw (4 / ((d + 2) N))^(1 / (d + 4)) */
         double lh = 0.0;
         const double nxd = (double)nx;
-        s = gg_pf_log(4.0 / ((nxd + 2.0) * (double)cfg->n), &lh);
+        s = gg_log_d(4.0 / ((nxd + 2.0) * (double)cfg->n), &lh);
         if (s == GG_OK) {
-            s = gg_pf_exp(lh / (nxd + 4.0), &h);
+            s = gg_exp_d(lh / (nxd + 4.0), &h);
         }
         if (s != GG_OK) {
             return GG_ERR_CONFIG;
@@ -483,11 +85,11 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
             return GG_ERR_CONFIG;
         }
     }
-    s = gg_pf_rng_seed(&rng, cfg->seed);
+    s = gg_rng_seed(&rng, cfg->seed);
     for (i = 0; (i < cfg->n) && (s == GG_OK); ++i) {
         for (k = 0; (k < nx) && (s == GG_OK); ++k) {
             double z = 0.0;
-            s = gg_pf_rng_normal(&rng, &z);
+            s = gg_rng_normal(&rng, &z);
             st->xs[i][k] = z * ((k < 2) ? cfg->sigma0_pos : ((k < 4) ? cfg->sigma0_vel : cfg->sigma0_acc));
         }
         for (k = nx; k < GG_PF_NX; ++k) {
@@ -542,7 +144,7 @@ static gg_status_t pf_resample(gg_pf_t *st)
     int i = 0;
     int j;
     int k;
-    gg_status_t s = gg_pf_rng_uniform(&st->rng, &u0);
+    gg_status_t s = gg_rng_uniform(&st->rng, &u0);
     if (s != GG_OK) {
         return s;
     }
@@ -615,7 +217,7 @@ static void pf_moments(const gg_pf_t *st, int nx, pf_kernel_t *kn)
             p -= kn->el[j][q] * kn->el[j][q];
         }
         if ((cv[j][j] > 0.0) && (p > (1e-12 * cv[j][j]))) {
-            const double d = pf_sqrt(p);
+            const double d = gg_sqrt_d(p);
             kn->el[j][j] = d;
             for (k = j + 1; k < nx; ++k) {
                 double a = cv[k][j];
@@ -633,14 +235,14 @@ static void pf_moments(const gg_pf_t *st, int nx, pf_kernel_t *kn)
 static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
 {
     const double h = st->reg_h;
-    const double a = pf_sqrt(1.0 - (h * h));
+    const double a = gg_sqrt_d(1.0 - (h * h));
     int i;
     int j;
     int k;
     for (i = 0; i < st->cfg.n; ++i) {
         double z[GG_PF_NX];
         for (j = 0; j < nx; ++j) {
-            const gg_status_t s = gg_pf_rng_normal(&st->rng, &z[j]);
+            const gg_status_t s = gg_rng_normal(&st->rng, &z[j]);
             if (s != GG_OK) {
                 return s;
             }
@@ -656,258 +258,6 @@ static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
     return GG_OK;
 }
 
-/* WGS-84 radii at geodetic latitude (sin sl) and height h: meridian radius + h and
- * prime-vertical radius + h. */
-typedef struct {
-    double rm;
-    double rnh;
-} pf_radii_t;
-
-static pf_radii_t pf_radii(double sl, double h)
-{
-    pf_radii_t r;
-    const double w2 = 1.0 - (PF_WGS84_E2 * sl * sl);
-    const double nr = PF_WGS84_A / pf_sqrt(w2);
-    r.rm = ((nr * (1.0 - PF_WGS84_E2)) / w2) + h;
-    r.rnh = nr + h;
-    return r;
-}
-
-/* ---- Rao-Blackwellised model (GG_PF_MODEL_RBPF) ---- */
-
-#define PF_RB_TERMS 12 /* Taylor terms of exp(A dt) and of the noise integral */
-#define PF_RB_NDYN 7   /* states 0..6 move; 7..11 (j, b) are constant in the model (rows of F = I) */
-
-/* Continuous-time couplings of the RBPF model (see pf.h). */
-typedef struct {
-    double ws2;  /* Schuler w_s^2 */
-    double fcor; /* 2 Omega sinL */
-    double wn;   /* w_in = Omega + rho, NED */
-    double we;
-    double wd;
-} pf_rb_coef_t;
-
-/* out = A m for the sparse A of the model (out distinct from m; m only read - not const-qualified
- * because C11 does not convert double (*)[N] to const double (*)[N] implicitly). */
-static void pf_rb_amul(const pf_rb_coef_t *k, double m[GG_PF_NX][GG_PF_NX], double out[GG_PF_NX][GG_PF_NX])
-{
-    int j;
-    int i;
-    for (j = 0; j < GG_PF_NX; ++j) {
-        out[0][j] = m[2][j];
-        out[1][j] = m[3][j];
-        out[2][j] = (((-k->ws2 * m[0][j]) - (k->fcor * m[3][j])) + m[4][j]) + m[10][j];
-        out[3][j] = (((-k->ws2 * m[1][j]) + (k->fcor * m[2][j])) + m[5][j]) + m[11][j];
-        out[4][j] = ((k->wd * m[5][j]) + (k->wn * m[6][j])) + m[7][j];
-        out[5][j] = ((-k->wd * m[4][j]) + (k->we * m[6][j])) + m[8][j];
-        out[6][j] = ((-k->wn * m[4][j]) - (k->we * m[5][j])) + m[9][j];
-        for (i = 7; i < GG_PF_NX; ++i) {
-            out[i][j] = 0.0;
-        }
-    }
-}
-
-/* F and Q of one step (gg_pf_rb_model) from validated inputs: sin, cos of the latitude and the radii. */
-static void pf_rb_model_at(const gg_pf_config_t *cfg, double sl, double cl, pf_radii_t r, double vn, double ve,
-                           double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
-                           double tmp[GG_PF_NX][GG_PF_NX])
-{
-    pf_rb_coef_t k;
-    double qc[GG_PF_NX];
-    double coef;
-    int i;
-    int j;
-    int t;
-    k.ws2 = PF_G0 / pf_sqrt(r.rm * r.rnh);
-    k.fcor = 2.0 * PF_OMEGA_E * sl;
-    k.wn = (PF_OMEGA_E * cl) + (ve / r.rnh);
-    k.we = -vn / r.rm;
-    k.wd = (-PF_OMEGA_E * sl) - ((ve * sl) / (cl * r.rnh));
-    {
-        const double dt = cfg->dt;
-        qc[0] = (cfg->q_pos * cfg->q_pos) / dt;
-        qc[1] = qc[0];
-        qc[2] = (cfg->q_vel * cfg->q_vel) / dt;
-        qc[3] = qc[2];
-        qc[4] = (cfg->q_acc * cfg->q_acc) / dt;
-        qc[5] = qc[4];
-        qc[6] = qc[4];
-        qc[7] = (cfg->q_jerk * cfg->q_jerk) / dt;
-        qc[8] = qc[7];
-        qc[9] = qc[7];
-        qc[10] = (cfg->q_bias * cfg->q_bias) / dt;
-        qc[11] = qc[10];
-    }
-    /* Q = sum_t T_t dt^(t+1) / (t+1)!, T_0 = Qc, T_t = A T_(t-1) + T_(t-1) A^T (the derivatives
-     * of e^(As) Qc e^(A^T s) at s = 0); F serves as the buffer of T here */
-    for (i = 0; i < GG_PF_NX; ++i) {
-        for (j = 0; j < GG_PF_NX; ++j) {
-            F[i][j] = (i == j) ? qc[i] : 0.0;
-            Q[i][j] = F[i][j] * cfg->dt;
-        }
-    }
-    coef = cfg->dt;
-    for (t = 1; t < PF_RB_TERMS; ++t) {
-        pf_rb_amul(&k, F, tmp);
-        coef *= cfg->dt / ((double)t + 1.0);
-        for (i = 0; i < GG_PF_NX; ++i) {
-            for (j = 0; j < GG_PF_NX; ++j) {
-                F[i][j] = tmp[i][j] + tmp[j][i];
-            }
-        }
-        for (i = 0; i < GG_PF_NX; ++i) {
-            for (j = 0; j < GG_PF_NX; ++j) {
-                Q[i][j] += coef * F[i][j];
-            }
-        }
-    }
-    /* F = exp(A dt) by Horner: F = I + A dt (I + A dt / 2 (I + ... (I + A dt / K))) */
-    for (i = 0; i < GG_PF_NX; ++i) {
-        for (j = 0; j < GG_PF_NX; ++j) {
-            F[i][j] = (i == j) ? 1.0 : 0.0;
-        }
-    }
-    for (t = PF_RB_TERMS; t >= 1; --t) {
-        const double f = cfg->dt / (double)t;
-        pf_rb_amul(&k, F, tmp);
-        for (i = 0; i < GG_PF_NX; ++i) {
-            for (j = 0; j < GG_PF_NX; ++j) {
-                F[i][j] = ((i == j) ? 1.0 : 0.0) + (f * tmp[i][j]);
-            }
-        }
-    }
-}
-
-gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, double vn, double ve,
-                           double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
-                           double tmp[GG_PF_NX][GG_PF_NX])
-{
-    double sl = 0.0;
-    double cl = 1.0;
-    gg_status_t s;
-    if ((cfg == NULL) || (F == NULL) || (Q == NULL) || (tmp == NULL)) {
-        return GG_ERR_NULL;
-    }
-    if (!pf_finite(lat) || !pf_finite(h) || !pf_finite(vn) || !pf_finite(ve) || !pf_finite(cfg->dt)) {
-        return GG_ERR_NONFINITE;
-    }
-    if ((lat > 1.55) || (lat < -1.55) || (h < -1e4) || (h > 1e5) || (vn > 1e3) || (vn < -1e3) || (ve > 1e3) ||
-        (ve < -1e3) || !(cfg->dt > 0.0)) {
-        return GG_ERR_RANGE;
-    }
-    s = gg_pf_sincos(lat, &sl, &cl);
-    if (s == GG_OK) {
-        pf_rb_model_at(cfg, sl, cl, pf_radii(sl, h), vn, ve, F, Q, tmp);
-    }
-    return s;
-}
-
-/* RBPF prediction, the part shared by all particles (pf.h, model GG_PF_MODEL_RBPF):
- * F, Q of the step, the joint prediction covariance S given r, the Cholesky factor of
- * S_rr and K = S_lr S_rr^-1 (kept in the state for the per-particle part) and the new
- * P (committed). Particles and P untouched on error. */
-static gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl, double cl, pf_radii_t r)
-{
-    double (*F)[GG_PF_NX] = st->rb_F;
-    double (*S)[GG_PF_NX] = st->rb_Q;
-    double (*G)[GG_PF_NX] = st->rb_T;
-    double pn[GG_PF_NL][GG_PF_NL];
-    double kg[GG_PF_NL][2];
-    double det;
-    int i;
-    int j;
-    int q;
-    int ok = 1;
-    pf_rb_model_at(&st->cfg, sl, cl, r, in->vn, in->ve, F, S, G);
-    /* G = F_(.,l) P; S = G F_(.,l)^T + Q: the joint prediction covariance given r */
-    for (i = 0; i < GG_PF_NX; ++i) {
-        for (j = 0; j < GG_PF_NL; ++j) {
-            double a = 0.0;
-            for (q = 0; q < GG_PF_NL; ++q) {
-                a += F[i][2 + q] * st->P[q][j];
-            }
-            G[i][j] = a;
-        }
-    }
-    for (i = 0; i < GG_PF_NX; ++i) {
-        for (j = 0; j < GG_PF_NX; ++j) {
-            double a = 0.0;
-            for (q = 0; q < GG_PF_NL; ++q) {
-                a += G[i][q] * F[j][2 + q];
-            }
-            S[i][j] += a;
-        }
-    }
-    for (i = 0; i < GG_PF_NX; ++i) { /* exactly symmetric */
-        for (j = 0; j < i; ++j) {
-            const double a = 0.5 * (S[i][j] + S[j][i]);
-            S[i][j] = a;
-            S[j][i] = a;
-        }
-    }
-    det = (S[0][0] * S[1][1]) - (S[0][1] * S[0][1]);
-    if (!(S[0][0] > 0.0) || !(det > 0.0) || !pf_finite(det)) {
-        return GG_ERR_CONFIG; /* cannot happen with q_vel > 0 and a finite P */
-    }
-    for (i = 0; i < GG_PF_NL; ++i) { /* K = S_lr S_rr^-1 */
-        kg[i][0] = ((S[2 + i][0] * S[1][1]) - (S[2 + i][1] * S[1][0])) / det;
-        kg[i][1] = ((S[2 + i][1] * S[0][0]) - (S[2 + i][0] * S[0][1])) / det;
-    }
-    for (i = 0; i < GG_PF_NL; ++i) { /* P = S_ll - K S_lr^T */
-        for (j = 0; j <= i; ++j) {
-            const double a = S[2 + i][2 + j] - ((kg[i][0] * S[2 + j][0]) + (kg[i][1] * S[2 + j][1]));
-            pn[i][j] = a;
-            pn[j][i] = a;
-            if (!pf_finite(a)) {
-                ok = 0;
-            }
-        }
-    }
-    if (ok == 0) {
-        return GG_ERR_CONFIG;
-    }
-    for (i = 0; i < GG_PF_NL; ++i) {
-        st->rb_K[i][0] = kg[i][0];
-        st->rb_K[i][1] = kg[i][1];
-        for (j = 0; j < GG_PF_NL; ++j) {
-            st->P[i][j] = pn[i][j];
-        }
-    }
-    st->rb_L[0] = pf_sqrt(S[0][0]);
-    st->rb_L[1] = S[1][0] / st->rb_L[0];
-    st->rb_L[2] = pf_sqrt(det / S[0][0]);
-    return GG_OK;
-}
-
-/* RBPF prediction of particle i with the drawn normals (z0, z1):
- * e = L z, r <- F_rr r + F_rl m + e, m <- F_lr r + F_ll m + K e. */
-static void pf_rb_particle(gg_pf_t *st, int i, double z0, double z1)
-{
-    double xn[GG_PF_NX];
-    const double e0 = st->rb_L[0] * z0;
-    const double e1 = (st->rb_L[1] * z0) + (st->rb_L[2] * z1);
-    int j;
-    int q;
-    for (j = 0; j < PF_RB_NDYN; ++j) {
-        double a = 0.0;
-        for (q = 0; q < GG_PF_NX; ++q) {
-            a += st->rb_F[j][q] * st->x[i][q];
-        }
-        xn[j] = a;
-    }
-    for (j = PF_RB_NDYN; j < GG_PF_NX; ++j) { /* gyro bias and accelerometer error: F rows = I exactly */
-        xn[j] = st->x[i][j];
-    }
-    xn[0] += e0;
-    xn[1] += e1;
-    for (j = 0; j < GG_PF_NL; ++j) {
-        xn[2 + j] += (st->rb_K[j][0] * e0) + (st->rb_K[j][1] * e1);
-    }
-    for (j = 0; j < GG_PF_NX; ++j) {
-        st->x[i][j] = xn[j];
-    }
-}
-
 /* RBPF regularisation after resampling: Liu-West kernel on the position (d = 2),
  * the linear means shifted along the cloud's regression on the position:
  * with L the Cholesky factor of the cloud's covariance (columns 0, 1: L_rr, L_mr),
@@ -916,7 +266,7 @@ static void pf_rb_particle(gg_pf_t *st, int i, double z0, double z1)
 static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
 {
     const double h = st->reg_h;
-    const double a = pf_sqrt(1.0 - (h * h));
+    const double a = gg_sqrt_d(1.0 - (h * h));
     const double l00 = kn->el[0][0];
     const double l10 = kn->el[1][0];
     const double l11 = kn->el[1][1];
@@ -927,9 +277,9 @@ static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
         double z1 = 0.0;
         double y0 = 0.0;
         double y1 = 0.0;
-        gg_status_t s = gg_pf_rng_normal(&st->rng, &z0);
+        gg_status_t s = gg_rng_normal(&st->rng, &z0);
         if (s == GG_OK) {
-            s = gg_pf_rng_normal(&st->rng, &z1);
+            s = gg_rng_normal(&st->rng, &z1);
         }
         if (s != GG_OK) {
             return s;
@@ -967,18 +317,21 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     if (st->shot_open != 0) {
         return GG_ERR_SEQUENCE; /* the previous shot was not ended */
     }
-    if (!pf_finite(in->lat) || !pf_finite(in->lon) || !pf_finite(in->h) || !pf_finite(in->vn) ||
-        !pf_finite(in->ve) || ((in->shot_ok != 0) && (!pf_finite(in->s0) || !pf_finite(in->s1)))) {
+    if (!GG_ISFINITE(in->lat) || !GG_ISFINITE(in->lon) || !GG_ISFINITE(in->h) || !GG_ISFINITE(in->vn) ||
+        !GG_ISFINITE(in->ve) || ((in->shot_ok != 0) && (!GG_ISFINITE(in->s0) || !GG_ISFINITE(in->s1)))) {
         return GG_ERR_NONFINITE;
     }
-    if ((in->lat > 1.55) || (in->lat < -1.55) || (in->lon > 7.0) || (in->lon < -7.0) || (in->h < -1e4) ||
-        (in->h > 1e5) || (in->vn > 1e3) || (in->vn < -1e3) || (in->ve > 1e3) || (in->ve < -1e3) ||
-        ((in->shot_ok != 0) && ((in->s0 > 10.0) || (in->s0 < -10.0) || (in->s1 > 10.0) || (in->s1 < -10.0)))) {
+    if ((in->lat > GG_LIM_PF_LAT_MAX_RAD) || (in->lat < -GG_LIM_PF_LAT_MAX_RAD) ||
+        (in->lon > GG_LIM_PF_LON_MAX_RAD) || (in->lon < -GG_LIM_PF_LON_MAX_RAD) || (in->h < GG_LIM_PF_H_MIN_M) ||
+        (in->h > GG_LIM_PF_H_MAX_M) || (in->vn > GG_LIM_PF_V_MAX_MPS) || (in->vn < -GG_LIM_PF_V_MAX_MPS) ||
+        (in->ve > GG_LIM_PF_V_MAX_MPS) || (in->ve < -GG_LIM_PF_V_MAX_MPS) ||
+        ((in->shot_ok != 0) && ((in->s0 > GG_LIM_PF_S_MAX) || (in->s0 < -GG_LIM_PF_S_MAX) ||
+                                (in->s1 > GG_LIM_PF_S_MAX) || (in->s1 < -GG_LIM_PF_S_MAX)))) {
         return GG_ERR_RANGE;
     }
     c = &st->cfg;
     /* geometry first (the only failure mode after validation): state untouched on error */
-    s = gg_pf_sincos(in->lat, &sl, &cl);
+    s = gg_sincos_d(in->lat, &sl, &cl);
     if (s != GG_OK) {
         return s;
     }
@@ -991,7 +344,7 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     }
     st->sh_rm = r.rm;                                  /* meridian radius + h */
     st->sh_rn = r.rnh * cl;                            /* (prime vertical + h) cos(lat) */
-    st->sh_ws2 = PF_G0 / pf_sqrt(r.rm * r.rnh);        /* Schuler w_s^2 = g0 / R */
+    st->sh_ws2 = PF_G0 / gg_sqrt_d(r.rm * r.rnh);        /* Schuler w_s^2 = g0 / R */
     st->sh_fcor = 2.0 * PF_OMEGA_E * sl;                    /* Coriolis 2 Omega sinL */
     st->sh_in = *in;
     st->sh_next = 0;
@@ -1045,9 +398,9 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
         double z[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         /* 1. predict (the generator draws in particle order: chunking gives the same sequence) */
         if (c->model == GG_PF_MODEL_RBPF) {
-            s = gg_pf_rng_normal(&st->rng, &z[0]);
+            s = gg_rng_normal(&st->rng, &z[0]);
             if (s == GG_OK) {
-                s = gg_pf_rng_normal(&st->rng, &z[1]);
+                s = gg_rng_normal(&st->rng, &z[1]);
             }
             if (s == GG_OK) {
                 pf_rb_particle(st, i, z[0], z[1]);
@@ -1056,7 +409,7 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
             for (k = 0; (k < nx) && (k < 6) && (s == GG_OK); ++k) {
                 /* the RW model draws all four (as before); the INS model only where q > 0 */
                 if ((c->model == GG_PF_MODEL_RW) || (qk[k] > 0.0)) {
-                    s = gg_pf_rng_normal(&st->rng, &z[k]);
+                    s = gg_rng_normal(&st->rng, &z[k]);
                 }
                 z[k] *= qk[k];
             }
@@ -1087,7 +440,7 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
             double d = 0.0;
             gg_status_t sm = c->map.gzz(c->map.ctx, in->lat + (st->x[i][0] / st->sh_rm),
                                         in->lon + (st->x[i][1] / st->sh_rn), in->h, &g);
-            if ((sm == GG_OK) && pf_finite(g)) {
+            if ((sm == GG_OK) && GG_ISFINITE(g)) {
                 sm = gg_pf_ellipse_distance(in->s0, in->s1, c->c0, c->c1, amp, scale * g, &d);
             } else {
                 sm = GG_ERR_RANGE;
@@ -1145,12 +498,12 @@ gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out)
         for (i = 0; (i < n) && (st->sh_have != 0); ++i) {
             double e = 0.0;
             if (st->ll[i] <= 0.0) {
-                (void)gg_pf_exp(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
+                (void)gg_exp_d(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
             }
             st->w[i] *= e;
             sw += st->w[i];
         }
-        if ((st->sh_have == 0) || !(sw > 0.0) || !pf_finite(sw)) {
+        if ((st->sh_have == 0) || !(sw > 0.0) || !GG_ISFINITE(sw)) {
             for (i = 0; i < n; ++i) {
                 st->w[i] = 1.0 / (double)n;
             }

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "ggins/mmukf.h"
+#include "ggins/ggmath.h"
 #include "ggins/pf.h"
 #include "m7_startup.h"
 
@@ -99,8 +100,8 @@ int main(void)
         double s1 = 0.0;
         double c1 = 1.0;
         gg_pf_input_t in;
-        (void)gg_pf_sincos(0.7 * (double)k, &s0, &c0);
-        (void)gg_pf_sincos((0.7 * (double)k) + 1.16, &s1, &c1);
+        (void)gg_sincos_d(0.7 * (double)k, &s0, &c0);
+        (void)gg_sincos_d((0.7 * (double)k) + 1.16, &s1, &c1);
         in.lat = 0.8 + (25.0 * 4.0e-5);
         in.lon = -0.03 + (25.0 * 6.0e-5);
         in.h = 3000.0;

@@ -1,5 +1,6 @@
 /* ggmath (sin, cos, atan2 without libm) against the C library's sinl, cosl,
- * atan2l: an independent implementation. */
+ * atan2l: an independent implementation; likewise the double-precision exp,
+ * log, sin and cos against exp, log, sin, cos. */
 #include "test_common.h"
 #include "ggins/ggmath.h"
 
@@ -90,6 +91,43 @@ static void test_atan2_vs_libm(void **state)
     assert_int_equal(gg_atan2(1.0L, INFINITY, &z), GG_ERR_NONFINITE);
 }
 
+static double rel(double a, double b) { return fabs(a - b) / fmax(fabs(b), 1e-300); }
+
+/* the double-precision set (gg_exp_d, gg_log_d, gg_sincos_d) against libm */
+static void test_double_vs_libm(void **state)
+{
+    (void)state;
+    double worst_e = 0, worst_l = 0, worst_s = 0;
+    for (int i = 0; i <= 20000; ++i) {
+        const double x = -740.0 + 1449.0 * i / 20000.0, y = 0;
+        double e = 0;
+        assert_int_equal(gg_exp_d(x, &e), GG_OK);
+        if (x > -700) worst_e = fmax(worst_e, rel(e, exp(x)));
+        const double lx = exp(-700.0 + 1400.0 * i / 20000.0) * (1.0 + 0.37 * (i % 7));
+        double l = 0;
+        assert_int_equal(gg_log_d(lx, &l), GG_OK);
+        worst_l = fmax(worst_l, fabs(l - log(lx)) / fmax(1.0, fabs(log(lx))));
+        const double a = -1000.0 + 2000.0 * i / 20000.0 + 1e-3 * i;
+        double s = 0, c = 0;
+        assert_int_equal(gg_sincos_d(a, &s, &c), GG_OK);
+        worst_s = fmax(worst_s, fmax(fabs(s - sin(a)), fabs(c - cos(a))));
+        (void)y;
+    }
+    printf("exp rel %.2e, log %.2e, sincos abs %.2e\n", worst_e, worst_l, worst_s);
+    assert_true(worst_e < 1e-14);
+    assert_true(worst_l < 1e-15);
+    assert_true(worst_s < 1e-13); /* |x| up to 1e3: reduction error ~ |x| eps */
+    double y = 0, s = 0, c = 0;
+    assert_int_equal(gg_log_d(0.0, &y), GG_ERR_RANGE);
+    assert_int_equal(gg_log_d(NAN, &y), GG_ERR_NONFINITE);
+    assert_int_equal(gg_exp_d(710.0, &y), GG_ERR_RANGE);
+    assert_int_equal(gg_exp_d(-800.0, &y), GG_OK);
+    assert_true(y == 0.0);
+    assert_int_equal(gg_sincos_d(INFINITY, &s, &c), GG_ERR_NONFINITE);
+    assert_int_equal(gg_log_d(4.9e-324, &y), GG_OK); /* subnormal */
+    assert_true(fabs(y - log(4.9e-324)) < 1e-12);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -97,6 +135,7 @@ int main(void)
         cmocka_unit_test(test_sincos_identities),
         cmocka_unit_test(test_sincos_bad_input),
         cmocka_unit_test(test_atan2_vs_libm),
+        cmocka_unit_test(test_double_vs_libm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

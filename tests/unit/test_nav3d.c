@@ -427,12 +427,12 @@ static void test_geodetic(void **state)
             const long double lon = -3.0L + 0.13L * (long double)(i + 90) / 5.0L;
             long double r[3], la, lo, h;
             geo2ecef(lat, lon, hs[hh], r);
-            assert_int_equal(gg_nav3d_ecef_to_geodetic(r, &la, &lo, &h), GG_OK);
+            assert_int_equal(gg_geo_ecef_to_geodetic(r, &la, &lo, &h), GG_OK);
             worst_ang = fmaxl(worst_ang, fabsl(la - lat));
             if (i != 90 && i != -90) worst_ang = fmaxl(worst_ang, fabsl(remainderl(lo - lon, 2 * 3.14159265358979323846L)));
             worst_h = fmaxl(worst_h, fabsl(h - hs[hh]));
             long double r2[3];
-            assert_int_equal(gg_nav3d_geodetic_to_ecef(lat, lon, hs[hh], r2), GG_OK);
+            assert_int_equal(gg_geo_geodetic_to_ecef(lat, lon, hs[hh], r2), GG_OK);
             assert_true(norm3l(r, r2) < 1e-8L);
         }
     }
@@ -441,7 +441,7 @@ static void test_geodetic(void **state)
     assert_true(worst_h < 1e-10L);
     long double la, lo, h;
     const long double centre[3] = {10.0L, 0.0L, 0.0L};
-    assert_int_equal(gg_nav3d_ecef_to_geodetic(centre, &la, &lo, &h), GG_ERR_RANGE);
+    assert_int_equal(gg_geo_ecef_to_geodetic(centre, &la, &lo, &h), GG_ERR_RANGE);
 }
 
 /* Bad input is rejected, flagged, and leaves the state untouched. */

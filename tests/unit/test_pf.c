@@ -1,5 +1,4 @@
-/* Particle filter (pf.h) against independent truth: its math kernels against
- * libm; the generator's sample statistics and a Kolmogorov-Smirnov test against
+/* Particle filter (pf.h) against independent truth: the generator's sample statistics and a Kolmogorov-Smirnov test against
  * erf; the ellipse distance against brute-force minimisation over the ellipse;
  * the posterior of a static 1-D problem (known linear map, no process noise, no
  * resampling: the weighted particles are importance samples of the posterior)
@@ -13,41 +12,6 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-static double rel(double a, double b) { return fabs(a - b) / fmax(fabs(b), 1e-300); }
-
-static void test_math(void **state)
-{
-    (void)state;
-    double worst_e = 0, worst_l = 0, worst_s = 0;
-    for (int i = 0; i <= 20000; ++i) {
-        const double x = -740.0 + 1449.0 * i / 20000.0, y = 0;
-        double e = 0;
-        assert_int_equal(gg_pf_exp(x, &e), GG_OK);
-        if (x > -700) worst_e = fmax(worst_e, rel(e, exp(x)));
-        const double lx = exp(-700.0 + 1400.0 * i / 20000.0) * (1.0 + 0.37 * (i % 7));
-        double l = 0;
-        assert_int_equal(gg_pf_log(lx, &l), GG_OK);
-        worst_l = fmax(worst_l, fabs(l - log(lx)) / fmax(1.0, fabs(log(lx))));
-        const double a = -1000.0 + 2000.0 * i / 20000.0 + 1e-3 * i;
-        double s = 0, c = 0;
-        assert_int_equal(gg_pf_sincos(a, &s, &c), GG_OK);
-        worst_s = fmax(worst_s, fmax(fabs(s - sin(a)), fabs(c - cos(a))));
-        (void)y;
-    }
-    printf("exp rel %.2e, log %.2e, sincos abs %.2e\n", worst_e, worst_l, worst_s);
-    assert_true(worst_e < 1e-14);
-    assert_true(worst_l < 1e-15);
-    assert_true(worst_s < 1e-13); /* |x| up to 1e3: reduction error ~ |x| eps */
-    double y = 0, s = 0, c = 0;
-    assert_int_equal(gg_pf_log(0.0, &y), GG_ERR_RANGE);
-    assert_int_equal(gg_pf_log(NAN, &y), GG_ERR_NONFINITE);
-    assert_int_equal(gg_pf_exp(710.0, &y), GG_ERR_RANGE);
-    assert_int_equal(gg_pf_exp(-800.0, &y), GG_OK);
-    assert_true(y == 0.0);
-    assert_int_equal(gg_pf_sincos(INFINITY, &s, &c), GG_ERR_NONFINITE);
-    assert_int_equal(gg_pf_log(4.9e-324, &y), GG_OK); /* subnormal */
-    assert_true(fabs(y - log(4.9e-324)) < 1e-12);
-}
 
 static int cmp_d(const void *a, const void *b)
 {
@@ -59,13 +23,13 @@ static void test_rng(void **state)
 {
     (void)state;
     static double z[100000];
-    gg_pf_rng_t r;
+    gg_rng_t r;
     const int n = 100000;
-    assert_int_equal(gg_pf_rng_seed(&r, 42), GG_OK);
+    assert_int_equal(gg_rng_seed(&r, 42), GG_OK);
     double mu = 0, m2 = 0;
     for (int i = 0; i < n; ++i) {
         double u = 0;
-        assert_int_equal(gg_pf_rng_uniform(&r, &u), GG_OK);
+        assert_int_equal(gg_rng_uniform(&r, &u), GG_OK);
         assert_true(u >= 0.0 && u < 1.0);
         mu += u; m2 += u * u;
     }
@@ -74,7 +38,7 @@ static void test_rng(void **state)
     assert_near(m2 - mu * mu, 1.0 / 12, 5 * sqrt(1.0 / 180 / n));
     double m1 = 0, v = 0, k4 = 0;
     for (int i = 0; i < n; ++i) {
-        assert_int_equal(gg_pf_rng_normal(&r, &z[i]), GG_OK);
+        assert_int_equal(gg_rng_normal(&r, &z[i]), GG_OK);
         m1 += z[i]; v += z[i] * z[i]; k4 += z[i] * z[i] * z[i] * z[i];
     }
     m1 /= n; v /= n; k4 /= n;
@@ -116,13 +80,13 @@ static double brute_dist(double s0, double s1, double c0, double c1, double A, d
 static void test_ellipse_distance(void **state)
 {
     (void)state;
-    gg_pf_rng_t r;
-    gg_pf_rng_seed(&r, 9);
+    gg_rng_t r;
+    gg_rng_seed(&r, 9);
     double worst = 0, worst_near = 0;
     for (int k = 0; k < 3000; ++k) {
         double u1 = 0, u2 = 0, u3 = 0, z = 0;
-        gg_pf_rng_uniform(&r, &u1); gg_pf_rng_uniform(&r, &u2); gg_pf_rng_uniform(&r, &u3);
-        gg_pf_rng_normal(&r, &z);
+        gg_rng_uniform(&r, &u1); gg_rng_uniform(&r, &u2); gg_rng_uniform(&r, &u3);
+        gg_rng_normal(&r, &z);
         const double dphi = 0.05 + 3.0 * u1, A = 0.25, t = 2 * M_PI * u2;
         /* points near the ellipse (the filter's regime) and far from it */
         const double off = (k % 3 == 0) ? 0.3 * (u3 - 0.5) : 0.01 * z;
@@ -183,11 +147,11 @@ static void test_posterior_1d(void **state)
     const double scale = 4 * M_PI / 852.347e-9 * 1.0 * 0.16 * 0.16;
     enum { NS = 10, NG = 4001 };
     double s0[NS], s1[NS];
-    gg_pf_rng_t r;
-    gg_pf_rng_seed(&r, 77);
+    gg_rng_t r;
+    gg_rng_seed(&r, 77);
     for (int k = 0; k < NS; ++k) {
         double u = 0, z0 = 0, z1 = 0;
-        gg_pf_rng_uniform(&r, &u); gg_pf_rng_normal(&r, &z0); gg_pf_rng_normal(&r, &z1);
+        gg_rng_uniform(&r, &u); gg_rng_normal(&r, &z0); gg_rng_normal(&r, &z1);
         const double dphi = scale * (G0 + GE * X), t = 2 * M_PI * u;
         s0[k] = 0.5 - A * cos(t) + 0.5 * sig * z0;
         s1[k] = 0.5 - A * cos(t + dphi) + 0.5 * sig * z1;
@@ -520,11 +484,11 @@ static void test_regularised_resampling(void **state)
             const double h = pow(4.0 / (8.0 * c.n), 1.0 / 10.0); /* Silverman, d = 6 */
             assert_near(a.reg_h, h, 1e-12);
         }
-        gg_pf_rng_t r;
-        gg_pf_rng_seed(&r, 4242u + (uint64_t)sd);
+        gg_rng_t r;
+        gg_rng_seed(&r, 4242u + (uint64_t)sd);
         for (int i = 0; i < c.n; ++i) { /* east and east velocity correlated, north independent */
             double z1 = 0, z2 = 0, z3 = 0;
-            gg_pf_rng_normal(&r, &z1); gg_pf_rng_normal(&r, &z2); gg_pf_rng_normal(&r, &z3);
+            gg_rng_normal(&r, &z1); gg_rng_normal(&r, &z2); gg_rng_normal(&r, &z3);
             a.x[i][1] = 150.0 * z1; a.x[i][3] = 0.3 * z1 + 0.1 * z2; a.x[i][0] = 80.0 * z3;
             for (int k = 4; k < 6; ++k) a.x[i][k] = 0;
             a.x[i][2] = 0;
@@ -919,8 +883,7 @@ static void test_chunked_step(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_math),
-        cmocka_unit_test(test_rng),
+            cmocka_unit_test(test_rng),
         cmocka_unit_test(test_ellipse_distance),
         cmocka_unit_test(test_posterior_1d),
         cmocka_unit_test(test_determinism_and_skip),

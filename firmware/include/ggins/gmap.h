@@ -55,10 +55,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "ggins/limits.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
 
-#define GG_GMAP_MAX_NODES 2500
+/* GG_GMAP_MAX_NODES (nodes of one tile): limits.h */
 #define GG_GMAP_NCOMP 6
 #define GG_GMAP_NVAL 12
 #define GG_GMAP_HEADER_BYTES 88u

@@ -45,12 +45,11 @@
 
 #include <stdint.h>
 
+#include "ggins/limits.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
 
-#define GG_GMODEL_MAX_DEGREE 8
-#define GG_GMODEL_MAX_PM 32      /**< programmed point-mass anomalies */
-#define GG_GMODEL_GRID_MAX 1024  /**< anomaly grid nodes (n_th * n_rho); 16 KiB of doubles */
+/* array sizes GG_GMODEL_MAX_DEGREE, GG_GMODEL_MAX_PM, GG_GMODEL_GRID_MAX: limits.h */
 
 /** gg_gmodel_eval flags */
 #define GG_GMODEL_OUTSIDE_GRID 0x01u

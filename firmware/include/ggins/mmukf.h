@@ -51,13 +51,17 @@
 
 #include <stdint.h>
 
+#include "ggins/geo.h"
 #include "ggins/gmap.h"
 #include "ggins/status.h"
 #include "ggins/ukf.h"
 
 #define GG_MM_NX 15
 #define GG_MM_NSIG ((2 * GG_MM_NX) + 1)
-#define GG_MM_MAX_PASSES 40
+#if GG_MM_NX > GG_UKF_NX_MAX
+#error "the map-matching error state does not fit the UKF core (GG_UKF_NX_MAX, limits.h)"
+#endif
+/* GG_MM_MAX_PASSES and the input ranges: limits.h */
 
 /* health bits (output) */
 #define GG_MM_H_UKF_FAIL 0x01u   /**< UKF rejected an operation (not PD / model): see ukf health */
@@ -175,7 +179,10 @@ gg_status_t gg_mm_apply(const gg_mm_nav_t *b, const double d[GG_MM_NX], gg_mm_na
 /** Predicted body-axes gradient (xx, yy, zz, xy, xz, yz) of a state from the map. */
 gg_status_t gg_mm_predict_gradient(const gg_gmap_t *map, const gg_mm_nav_t *x, double g6[6]);
 
-/** WGS-84 normal gravity (Somigliana + height, TR8350.2 eqs. 4-1, 4-3), m/s^2. */
-gg_status_t gg_mm_normal_gravity(double lat, double h, double *g);
+/** Normal gravity at (lat, h), m/s^2 (gg_geo_normal_gravity of geo.h). */
+static inline gg_status_t gg_mm_normal_gravity(double lat, double h, double *g)
+{
+    return gg_geo_normal_gravity(lat, h, g);
+}
 
 #endif /* GGINS_MMUKF_H */

@@ -82,8 +82,11 @@
  * and navtask.h.
  *
  * Position output: ECEF and geodetic latitude, longitude, height on WGS-84
- * (Bowring's iteration, fixed 4 iterations: error < 1e-15 rad, 1e-9 m
- * below 1e5 m altitude).
+ * (geo.h: the constants, Bowring's iteration).
+ *
+ * Source files: nav3d.c (configuration, frame validation and sequencing,
+ * bridging, the step), nav3d_att.c (strapdown attitude), nav3d_out.c
+ * (output); the algebra in quat.h, the geodesy in geo.h.
  */
 #ifndef GGINS_NAV3D_H
 #define GGINS_NAV3D_H
@@ -92,9 +95,11 @@
 #include "ggins/diff3d.h"
 #include "ggins/fdi3d.h"
 #include "ggins/frame.h"
+#include "ggins/geo.h"
 #include "ggins/gmodel.h"
 #include "ggins/gravdr.h"
 #include "ggins/hal.h"
+#include "ggins/limits.h"
 #include "ggins/mech.h"
 #include "ggins/nav2d.h"
 #include "ggins/navtask.h"
@@ -105,14 +110,6 @@
 /** Platform kinds (gg_nav3d_config_t.platform). */
 #define GG_PLATFORM_STABILIZED 0 /**< space-stabilized: perfect inertial attitude reference */
 #define GG_PLATFORM_STRAPDOWN 1  /**< body-fixed sensors, attitude from the gyros */
-
-/** WGS-84 constants. */
-#define GG_WGS84_A_M 6378137.0L                   /**< semi-major axis, m */
-#define GG_WGS84_F (1.0L / 298.257223563L)        /**< flattening */
-#define GG_WGS84_OMEGA_IE 7.292115e-5L            /**< Earth rotation rate, rad/s */
-
-/** Gyro range: |w| above it is out of range, rad/s (~573 deg/s). */
-#define GG_LIM_W_MAX_RPS 10.0
 
 /** Lost frames a step may bridge (see nav2d.h). */
 #define GG_NAV3D_MAX_BRIDGE 100
@@ -222,15 +219,6 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg);
  *  untouched). hal may be NULL; when given, its cycle counter times the modules. */
 gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav3d_output_t *out);
-
-/** Geodetic latitude, longitude (rad) and height (m) of an ECEF point (WGS-84).
- *  GG_ERR_RANGE within 1e5 m of the Earth's centre. */
-gg_status_t gg_nav3d_ecef_to_geodetic(const gg_real_t r_e[3], gg_real_t *lat, gg_real_t *lon,
-                                      gg_real_t *h);
-
-/** ECEF point of geodetic latitude, longitude (rad) and height (m). */
-gg_status_t gg_nav3d_geodetic_to_ecef(gg_real_t lat, gg_real_t lon, gg_real_t h,
-                                      gg_real_t r_e[3]);
 
 /** One cycle of the 3-D task: read a frame through the HAL, step, publish
  *  through hal->write_output3d. GG_ERR_NO_DATA when the HAL had no frame. */

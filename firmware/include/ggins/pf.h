@@ -80,10 +80,10 @@
  * sqrt2 |sin(dphi/2)|; the distance to it is found by the trig-free iteration
  * of the evolute (4 iterations, only sqrt), times A.
  *
- * Random numbers: xoshiro256** (Blackman & Vigna 2018) seeded by splitmix64;
- * normals by Marsaglia's polar method with the module's own log (no libm).
+ * Random numbers: the firmware's generator (ggrand.h: xoshiro256** seeded by
+ * splitmix64, normals by Marsaglia's polar method, no libm).
  * Deterministic: the same seed and inputs give bit-identical results.
- * No heap: GG_PF_MAX particles held in the state (compile-time, default 500).
+ * No heap: GG_PF_MAX particles held in the state (compile-time, limits.h, default 500).
  * Units SI, angles rad, lat/lon geodetic WGS-84, h metres above the ellipsoid.
  */
 #ifndef GGINS_PF_H
@@ -91,16 +91,19 @@
 
 #include <stdint.h>
 
+#include "ggins/ggrand.h"
 #include "ggins/gmap.h"
+#include "ggins/limits.h"
 #include "ggins/status.h"
 
-#ifndef GG_PF_MAX
-#define GG_PF_MAX 500
-#endif
+/* GG_PF_MAX (particles, overridable) and the input ranges: limits.h */
 /** State per particle: dN, dE, dvN, dvE, daN, daE (models RW, INS: the first 4 / 6);
  *  RBPF: dN, dE and the mean of the 10 linear states (dvN, dvE, aN, aE, aD, jN, jE, jD, bN, bE). */
 #define GG_PF_NX 12
 #define GG_PF_NL 10 /**< linear states of the RBPF */
+#if GG_PF_NL != (GG_PF_NX - 2)
+#error "the RBPF samples the two position states; the rest are its linear states"
+#endif
 
 #define GG_PF_MODEL_RW 0   /**< random-walk velocity, no specific-force state */
 #define GG_PF_MODEL_INS 1  /**< horizontal INS error dynamics (Schuler, Coriolis) */
@@ -112,10 +115,6 @@ typedef struct {
     gg_status_t (*gzz)(const void *ctx, double lat_rad, double lon_rad, double h_m, double *gzz);
     const void *ctx;
 } gg_pf_map_t;
-
-typedef struct {
-    uint64_t s[4];
-} gg_pf_rng_t;
 
 typedef struct {
     int n;                /**< particles, 1..GG_PF_MAX */
@@ -193,7 +192,7 @@ typedef struct {
     uint32_t sh_health;
     int shot_open;
     gg_pf_config_t cfg;
-    gg_pf_rng_t rng;
+    gg_rng_t rng;
     double corr[2];
     uint32_t n_steps;
     uint32_t n_updates;
@@ -234,13 +233,6 @@ gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out);
 gg_status_t gg_pf_rb_model(const gg_pf_config_t *cfg, double lat, double h, double vn, double ve,
                            double F[GG_PF_NX][GG_PF_NX], double Q[GG_PF_NX][GG_PF_NX],
                            double tmp[GG_PF_NX][GG_PF_NX]);
-gg_status_t gg_pf_rng_seed(gg_pf_rng_t *r, uint64_t seed);
-gg_status_t gg_pf_rng_u64(gg_pf_rng_t *r, uint64_t *v);
-gg_status_t gg_pf_rng_uniform(gg_pf_rng_t *r, double *u);  /**< [0, 1), 53 bits */
-gg_status_t gg_pf_rng_normal(gg_pf_rng_t *r, double *z);   /**< N(0, 1) */
-gg_status_t gg_pf_exp(double x, double *y);                /**< x <= 709 */
-gg_status_t gg_pf_log(double x, double *y);                /**< x > 0 */
-gg_status_t gg_pf_sincos(double x, double *s, double *c);  /**< |x| <= 1e6 */
 /** Minimum distance of (s0, s1) to the ellipse s0 = c0 - A cos t, s1 = c1 - A cos(t + dphi). */
 gg_status_t gg_pf_ellipse_distance(double s0, double s1, double c0, double c1, double amp, double dphi,
                                    double *d);

@@ -53,10 +53,10 @@
 
 #include <stdint.h>
 
+#include "ggins/limits.h"
 #include "ggins/status.h"
 
-#define GG_UKF_NX_MAX 16
-#define GG_UKF_NZ_MAX 6
+/* array sizes GG_UKF_NX_MAX, GG_UKF_NZ_MAX: limits.h */
 #define GG_UKF_NSIG_MAX ((2 * GG_UKF_NX_MAX) + 1)
 /** relative pivot threshold of the Cholesky factorisation */
 #define GG_UKF_PIVOT_MIN 1.0e-15

@@ -1,0 +1,80 @@
+/**
+ * @file limits.h
+ * @brief Every fixed limit of the firmware's modules in one place: the sizes
+ *        of their fixed arrays (no heap) and the ranges their inputs are
+ *        validated against. Checked at compile time where a relation between
+ *        them must hold (#error, as NASA cFE's platform configuration does).
+ *
+ * A build may override the array sizes marked "overridable" on the compiler
+ * command line (-DGG_PF_MAX=1000); the checks below then reject an
+ * inconsistent choice before any code is compiled.
+ */
+#ifndef GGINS_LIMITS_H
+#define GGINS_LIMITS_H
+
+/* ---- elementary functions (ggmath.h) ---- */
+/** Largest |x| gg_sincos and gg_sincos_d accept, rad (the four-part
+ *  reduction of pi/2 is exact for |k| <= 2^20). */
+#define GG_MATH_ARG_MAX 1.0e6L
+
+/* ---- geometry (geo.h) ---- */
+/** No geodetic conversion within this distance of the Earth's centre, m. */
+#define GG_GEO_R_MIN_M 1.0e5L
+/** |geodetic latitude| a map tile or a filter state may reach, rad (89 deg:
+ *  the local-level frame's east axis is undefined at the pole). */
+#define GG_LIM_LAT_MAX_RAD 1.5533430342749532
+
+/* ---- 3-D task (nav3d.h; the frame and configuration ranges it shares
+ *      with the 2-D task, GG_LIM_R_MIN_M ... GG_LIM_F_MAX_MPS2, are in nav2d.h) ---- */
+/** Gyro range: |w| above it is out of range, rad/s (~573 deg/s). */
+#define GG_LIM_W_MAX_RPS 10.0
+/** Configured Earth rate, rad/s (about 14 times the Earth's). */
+#define GG_LIM_OMEGA_IE_MAX_RPS 1.0e-3L
+/** Parity flag threshold asym_max, s^-2. */
+#define GG_LIM_ASYM_MAX 1.0
+
+/* ---- gravity model (gmodel.h): array sizes ---- */
+#define GG_GMODEL_MAX_DEGREE 8   /**< zonal degree */
+#define GG_GMODEL_MAX_PM 32      /**< programmed point-mass anomalies */
+#define GG_GMODEL_GRID_MAX 1024  /**< anomaly grid nodes (n_th * n_rho); 16 KiB of doubles */
+
+/* ---- map tiles (gmap.h) ---- */
+#define GG_GMAP_MAX_NODES 2500   /**< nodes of one tile (nlat * nlon) */
+
+/* ---- unscented Kalman filter core (ukf.h): array sizes ---- */
+#define GG_UKF_NX_MAX 16         /**< state dimension */
+#define GG_UKF_NZ_MAX 6          /**< measurement dimension */
+
+/* ---- map-matching UKF (mmukf.h) ---- */
+#define GG_MM_MAX_PASSES 40        /**< progressive update passes */
+#define GG_LIM_MM_H_MIN_M (-1.0e5) /**< state height, m */
+#define GG_LIM_MM_H_MAX_M 1.0e6
+#define GG_LIM_MM_W_MAX_RPS 10.0   /**< |gyro| per axis, rad/s */
+#define GG_LIM_MM_F_MAX_MPS2 200.0 /**< |specific force| per axis, m/s^2 */
+#define GG_LIM_MM_GAMMA_MAX_S2 1.0e-4 /**< |measured gradient component|, s^-2 (1e5 E) */
+#define GG_LIM_MM_DT_MAX_S 1.0     /**< mechanization step, s */
+#define GG_LIM_MM_OFFDIAG_MAX 10.0 /**< offdiag_ratio */
+
+/* ---- particle filter (pf.h) ---- */
+#ifndef GG_PF_MAX
+#define GG_PF_MAX 500              /**< particles (overridable) */
+#endif
+#define GG_LIM_PF_LAT_MAX_RAD 1.55 /**< |INS latitude|, rad */
+#define GG_LIM_PF_LON_MAX_RAD 7.0  /**< |INS longitude|, rad (unwrapped) */
+#define GG_LIM_PF_H_MIN_M (-1.0e4) /**< INS height, m */
+#define GG_LIM_PF_H_MAX_M 1.0e5
+#define GG_LIM_PF_V_MAX_MPS 1.0e3  /**< |INS velocity| per axis, m/s */
+#define GG_LIM_PF_S_MAX 10.0       /**< |fringe signal| of a shot (normalised populations) */
+
+/* ---- compile-time checks ---- */
+#if (GG_PF_MAX < 1) || (GG_PF_MAX > 100000)
+#error "GG_PF_MAX must be in 1..100000 (the state holds 4 arrays of GG_PF_MAX x 12 doubles)"
+#endif
+#if GG_UKF_NZ_MAX < 6
+#error "GG_UKF_NZ_MAX must hold the six tensor components of the map-matching update"
+#endif
+#if (GG_MM_MAX_PASSES < 1) || (GG_GMAP_MAX_NODES < 16) || (GG_GMODEL_GRID_MAX < 4)
+#error "a module limit is below the smallest size its validation accepts"
+#endif
+
+#endif /* GGINS_LIMITS_H */
