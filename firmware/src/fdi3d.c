@@ -322,6 +322,9 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     o.flags = 0U;
     o.rebuilt = 0U;
     o.parity_max = 0.0L;
+    o.excluded = st->excluded;
+    o.excluded_pairs = st->excluded_pairs;
+    *out = o;
     wd_ok = wd_known(st, omega_dot_ref, wd);
     bad = known_bad | st->excluded;
     pairs = st->excluded_pairs;
@@ -351,6 +354,11 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
         }
     }
     if (status != GG_OK) {
+        /* what the checks saw, for the health word; nothing else changes */
+        o.rebuilt = 0U;
+        o.excluded = st->excluded;
+        o.excluded_pairs = st->excluded_pairs;
+        *out = o;
         return status;
     }
     for (p = 0U; p < 3U; ++p) {

@@ -782,7 +782,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_real_t w_now[3];
         gg_real_t wd_ref[3];
         const gg_real_t *wd_p = NULL;
-        gg_fdi3d_output_t fo;
+        gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0.0L};
         size_t j;
         fixed = *frame;
         for (j = 0U; j < 3U; ++j) {

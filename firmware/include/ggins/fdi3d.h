@@ -98,8 +98,9 @@ gg_status_t gg_fdi3d_init(gg_fdi3d_t *st, const gg_fdi3d_config_t *cfg);
  *  angular acceleration the antisymmetric part must show (rad/s^2; ignored
  *  when stabilized; NULL when unknown: cross-axis faults are then not
  *  isolated to a sensor). GG_ERR_SENSOR when the set cannot be accommodated
- *  (f, f_lo and the state untouched); GG_ERR_NONFINITE when a reading not
- *  marked bad is not finite. */
+ *  (f, f_lo and the state untouched; out->flags still says whether a parity
+ *  check fired); GG_ERR_NONFINITE when a reading not marked bad is not
+ *  finite (out untouched). */
 gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
                           const gg_real_t omega_dot_ref[3], double f[6][3], double f_lo[6][3],
                           gg_fdi3d_output_t *out);
