@@ -583,8 +583,13 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
       std::printf("  ... %" PRId64 " mismatching fields in all\n", cmp.count);
   }
   print_problems();
+  // what the run itself did, so that a bit-exact replay of a run that went wrong does not read as a good run
+  std::string flown = "every step of the run";
+  if (frames_lost > 0)
+    flown = std::to_string(frames_lost) + " of the " + nst + " steps not flown (frames hal_sim gave up on)";
+  if (rejected > 0) flown += "; " + std::to_string(rejected) + " steps rejected by the firmware (status != GG_OK)";
   if (code == kExact)
-    std::printf("replay: BIT-EXACT (%" PRId64 " outputs, every step of the run)\n", compared);
+    std::printf("replay: BIT-EXACT (%" PRId64 " outputs, %s)\n", compared, flown.c_str());
   else
     std::printf("replay: %s (%zu problem%s; %" PRId64 " mismatching fields in %" PRId64 " outputs compared)\n",
                 verdict_name(static_cast<Exit>(code)), problems.size(), problems.size() == 1 ? "" : "s", cmp.count,

@@ -227,7 +227,7 @@ def clean(a, log, n, what):
     rc, out = replay(a, log, "--json", log + ".json")
     print(out.rstrip())
     check(rc == EXACT, "%s: clean log bit-exact, exit 0 (got %d)" % (what, rc))
-    check("BIT-EXACT (%d outputs" % n in out, "%s: all %d outputs compared" % (what, n))
+    check("BIT-EXACT (%d outputs, every step of the run" % n in out, "%s: all %d outputs compared" % (what, n))
 
 
 # ---- tests ------------------------------------------------------------------------------
