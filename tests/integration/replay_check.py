@@ -248,12 +248,13 @@ def run2d(a, name, duration, transport=True):
     return log, int(round(duration * 100)) + 1
 
 
-def run3d(a, name, scenario, duration):
+def run3d(a, name, scenario, duration, *extra):
     os.makedirs(a.workdir, exist_ok=True)
     out = os.path.join(a.workdir, name)
     if os.path.exists(out):
         shutil.rmtree(out)
     cmd = [a.ggins_run3d, "--out", out, "--no-plots", "-q", "--scenario", scenario, "--duration", str(duration)]
+    cmd += list(extra)
     print("$ " + " ".join(cmd))
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
     print(p.stdout.rstrip())
@@ -271,11 +272,24 @@ def test_corrupt_2d(a):
     check(rc == UNREADABLE and "not an LCM event log" in out, "a file that is not an LCM log: exit 2 (got %d)" % rc)
 
 
+# transport faults of `ggins run` (the same options on `ggins run3d`, where it has them)
+TRANSPORT = [("--drop-prob", "0.05"), ("--dup-prob", "0.05"), ("--reorder-prob", "0.05"),
+             ("--drop-output-prob", "0.05"), ("--garbage-prob", "0.05")]
+
+
 def test_3d(a):
     lay = layout("nav3d_output_t")
     for name, scenario, duration in (("stab", "3d-stabilized-1h", 10.0), ("strap", "3d-strapdown-1h", 20.0)):
         log, n = run3d(a, name, scenario, duration)
         clean(a, log, n, "3-D " + scenario)
+    helptext = subprocess.run([a.ggins_run3d, "--help"], stdout=subprocess.PIPE, text=True).stdout
+    opts = [x for o in TRANSPORT if o[0] in helptext for x in o]
+    if opts:
+        flog, fn = run3d(a, "strap-transport", "3d-strapdown-1h", 10.0, *opts, "--resend-timeout-ms", "10")
+        clean(a, flog, fn, "3-D with transport faults " + " ".join(opts))
+    else:
+        print("note: ggins run3d has none of the transport fault options %s: no 3-D fault replay"
+              % " ".join(o[0] for o in TRANSPORT))
     with open(log, "rb") as f:
         raw = f.read()
     damage_cases(a, raw, "GGINS_NAV3D", lay, n, "3d")
