@@ -119,7 +119,7 @@ LcmLog parse_lcm_log(std::vector<uint8_t> bytes, int32_t max_data) {
     e.eventnum = num;
     e.timestamp = ts;
     e.offset = pos;
-    e.channel.assign(reinterpret_cast<const char*>(ch), static_cast<size_t>(clen));
+    e.channel = std::string_view(reinterpret_cast<const char*>(ch), static_cast<size_t>(clen));
     e.data = ch + clen;
     e.datalen = dlen;
     log.events.push_back(std::move(e));

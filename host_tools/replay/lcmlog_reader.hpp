@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ggins::replay {
@@ -29,12 +30,17 @@ namespace ggins::replay {
 struct LogEvent {
   int64_t eventnum = 0, timestamp = 0;
   uint64_t offset = 0;  // byte offset of the event's sync word
-  std::string channel;
+  std::string_view channel;  // into LcmLog::bytes
   const uint8_t* data = nullptr;  // into LcmLog::bytes
   int32_t datalen = 0;
 };
 
 struct LcmLog {
+  LcmLog() = default;
+  LcmLog(LcmLog&&) = default;  // the events point into bytes: moved with them, never copied
+  LcmLog& operator=(LcmLog&&) = default;
+  LcmLog(const LcmLog&) = delete;
+  LcmLog& operator=(const LcmLog&) = delete;
   enum class Error {
     kNone,
     kOpen,       // the file cannot be opened or read

@@ -216,6 +216,14 @@ std::vector<uint8_t> encoded(const M& m, int (*enc)(void*, int, const M*), int (
   return b;
 }
 
+// A frame's encoding but for `resent` (transport: differs between copies of one frame).
+std::vector<uint8_t> frame_bytes(ggins_sensor_frame_t m) {
+  m.resent = 0;
+  return encoded<ggins_sensor_frame_t>(
+      m, [](void* d, int n, const ggins_sensor_frame_t* x) { return ggins_sensor_frame_t_encode(d, 0, n, x); },
+      ggins_sensor_frame_t_encoded_size);
+}
+
 struct Options {
   std::string log;
   std::string prefix = "GGINS_";
@@ -230,7 +238,6 @@ struct Common {
   int64_t run_id = 0;
   struct FrameCopies {
     ggins_sensor_frame_t first{};
-    std::vector<uint8_t> bytes;
     int copies = 0;
     bool differ = false;
   };
@@ -257,15 +264,9 @@ Common read_common(const Options& o, const LcmLog& log, int64_t run_id) {
         continue;
       }
       auto& fc = c.frames[m.seq];
-      ggins_sensor_frame_t z = m;
-      z.resent = 0;  // transport: differs between copies of one frame
-      auto b = encoded<ggins_sensor_frame_t>(
-          z, [](void* d, int n, const ggins_sensor_frame_t* x) { return ggins_sensor_frame_t_encode(d, 0, n, x); },
-          ggins_sensor_frame_t_encoded_size);
       if (fc.copies == 0) {
         fc.first = m;
-        fc.bytes = std::move(b);
-      } else if (b != fc.bytes) {
+      } else if (frame_bytes(m) != frame_bytes(fc.first)) {
         fc.differ = true;
       }
       ++fc.copies;
@@ -299,12 +300,15 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   std::vector<typename D::CfgMsg> configs;
   int64_t config_undecodable = 0, nav_undecodable = 0, nav_foreign = 0;
   struct OutCopies {
-    OutMsg first{};
-    int firsts = 0;  // copies with republished == 0
-    OutMsg any{};
-    std::vector<uint8_t> bytes;
+    OutMsg rec{};            // the first publication, else the first copy
+    bool rec_first = false;  // rec is a first publication (republished == 0)
+    int firsts = 0;          // copies with republished == 0
     int copies = 0;
-    bool differ = false;
+    bool differ = false;     // copies differ beyond republished
+  };
+  auto out_bytes = [](OutMsg m) {
+    m.republished = 0;
+    return encoded<OutMsg>(m, D::out_encode, D::out_size);
   };
   std::map<int64_t, OutCopies> outs;
   for (const LogEvent& e : log.events) {
@@ -327,19 +331,17 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
         continue;
       }
       auto& oc = outs[m.seq];
-      OutMsg z = m;
-      z.republished = 0;
-      auto b = encoded<OutMsg>(z, D::out_encode, D::out_size);
       if (oc.copies == 0) {
-        oc.any = m;
-        oc.bytes = std::move(b);
-      } else if (b != oc.bytes) {
-        oc.differ = true;
+        oc.rec = m;
+        oc.rec_first = m.republished == 0;
+      } else {
+        if (out_bytes(m) != out_bytes(oc.rec)) oc.differ = true;
+        if (m.republished == 0 && !oc.rec_first) {
+          oc.rec = m;
+          oc.rec_first = true;
+        }
       }
-      if (m.republished == 0) {
-        if (oc.firsts == 0) oc.first = m;
-        ++oc.firsts;
-      }
+      if (m.republished == 0) ++oc.firsts;
       ++oc.copies;
     }
   }
@@ -423,7 +425,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     if (n_steps && (seq < 0 || seq >= *n_steps)) beyond.push_back(seq);
     if (oc.firsts > 1) twice.push_back(seq);
     if (!c.frames.count(seq)) no_frame.push_back(seq);
-    if ((oc.firsts ? oc.first : oc.any).status != 0) ++rejected;
+    if (oc.rec.status != 0) ++rejected;
   }
   if (n_steps)
     for (int64_t s = 0; s < *n_steps; ++s)
@@ -502,7 +504,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     ggins_frame_from_lcm(&fc.first, &f);
     rh.frame = &f;
     rh.have_out = false;
-    rh.total = recorded ? static_cast<uint32_t>(it->second.any.cycles[GG_MOD_TOTAL]) : 0u;
+    rh.total = recorded ? static_cast<uint32_t>(it->second.rec.cycles[GG_MOD_TOTAL]) : 0u;
     D::cycle(&nav, &hal);
     ++replayed;
     if (!rh.have_out) {
@@ -517,7 +519,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     if (oc.differ) ++out_copies_differ;
     OutMsg rep;
     D::out_to_lcm(&rh.out, run_id, &rep);
-    cmp.message(D::fields(), seq, oc.firsts ? oc.first : oc.any, rep);
+    cmp.message(D::fields(), seq, oc.rec, rep);
     ++compared;
   }
   const int32_t rec_init = c.hal_last ? c.hal_last->init_status : -1;

@@ -117,9 +117,13 @@ def expect(a, name, raw, code, words):
         f.write(raw)
     rc, out = replay(a, path)
     print("--- %s: exit %d\n%s" % (name, rc, "\n".join("    " + ln for ln in out.rstrip().splitlines()[-8:])))
-    check(rc == code, "%s: exit %d (got %d)" % (name, code, rc))
+    ok = rc == code and rc >= 0
+    check(ok, "%s: exit %d (got %d)" % (name, code, rc))
     for w in words:
+        ok = (w in out) and ok
         check(w in out, "%s: the message names the problem (%r)" % (name, w))
+    if ok:
+        os.remove(path)  # kept when a check failed
     return out
 
 
@@ -142,6 +146,9 @@ def damage_cases(a, raw, nav_ch, nav_lay, n, prefix):
     for pct in (50, 90):
         cut = not_boundary(evs, len(raw) * pct // 100)
         expect(a, "%s-truncated-%d" % (prefix, pct), raw[:cut], CORRUPT, ["truncated"])
+    # a cut inside an event header
+    cut = evs[len(evs) * 3 // 5].off + 10
+    expect(a, prefix + "-truncated-in-header", raw[:cut], CORRUPT, ["truncated", "fewer than an event header"])
     # a cut exactly between two events: the framing is intact, the run is not
     cut = evs[len(evs) * 7 // 10].off
     expect(a, prefix + "-cut-at-event", raw[:cut], INCOMPLETE, ["missing", "of the %d steps" % n])
@@ -155,6 +162,9 @@ def damage_cases(a, raw, nav_ch, nav_lay, n, prefix):
     b = bytearray(raw)
     struct.pack_into(">i", b, mid.off + 20, struct.unpack_from(">i", b, mid.off + 20)[0] + 3)  # channel length
     expect(a, prefix + "-header-channel-length", bytes(b), CORRUPT, ["corrupt event header"])
+    b = bytearray(raw)
+    struct.pack_into(">i", b, mid.off + 20, 0)
+    expect(a, prefix + "-channel-length-0", bytes(b), CORRUPT, ["channel length 0", "byte %d" % mid.off])
 
     drop = [e for i, e in enumerate(evs) if i not in of_k]
     expect(a, prefix + "-output-dropped", serialize(drop), INCOMPLETE, ["missing", "seq %d" % k])
