@@ -108,11 +108,31 @@ const char* state_name(int32_t s) {
 }
 
 // "a, b, c, ... (n in all)"
-std::string seq_list(const std::vector<int64_t>& s, size_t keep = 8) {
+std::string seq_list(const std::vector<int64_t>& s, size_t keep = 8, int64_t total = -1) {
+  if (total < 0) total = static_cast<int64_t>(s.size());
   std::string r;
   for (size_t i = 0; i < s.size() && i < keep; ++i) r += (i ? ", " : "") + std::to_string(s[i]);
-  if (s.size() > keep) r += ", ... (" + std::to_string(s.size()) + " in all)";
+  if (total > static_cast<int64_t>(std::min(keep, s.size()))) r += ", ... (" + std::to_string(total) + " in all)";
   return r;
+}
+
+// The seqs of 0 .. n-1 that are not keys of `m` (a map ordered by seq): how many, and
+// the first `keep` of them. Walks the gaps between the keys, never 0 .. n-1 itself
+// (n comes from the log: it may be anything).
+template <class Map>
+int64_t missing_seqs(const Map& m, int64_t n, std::vector<int64_t>& first, size_t keep = 8) {
+  int64_t count = 0, next = 0;  // next: the lowest seq not yet accounted for
+  auto gap = [&](int64_t upto) {  // next .. upto-1 are missing
+    if (upto <= next) return;
+    count += upto - next;
+    for (int64_t s = next; s < upto && first.size() < keep; ++s) first.push_back(s);
+  };
+  for (auto it = m.lower_bound(0); it != m.end() && it->first < n; ++it) {
+    gap(it->first);
+    next = it->first + 1;
+  }
+  gap(n);
+  return count;
 }
 
 // ---- the 2-D and 3-D tasks -------------------------------------------------------------
@@ -420,6 +440,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   }
   // outputs: each seq of 0 .. n_steps-1 once (but for frames hal_sim gave up on), nothing else
   std::vector<int64_t> missing, beyond, twice, no_frame, frames_beyond;
+  int64_t n_missing = 0;
   int64_t rejected = 0;
   for (const auto& [seq, oc] : outs) {
     if (n_steps && (seq < 0 || seq >= *n_steps)) beyond.push_back(seq);
@@ -427,17 +448,16 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     if (!c.frames.count(seq)) no_frame.push_back(seq);
     if (oc.rec.status != 0) ++rejected;
   }
-  if (n_steps)
-    for (int64_t s = 0; s < *n_steps; ++s)
-      if (!outs.count(s)) missing.push_back(s);
+  if (n_steps) n_missing = missing_seqs(outs, *n_steps, missing);
   for (const auto& [seq, fc] : c.frames) {
     (void)fc;
     if (n_steps && (seq < 0 || seq >= *n_steps)) frames_beyond.push_back(seq);
   }
   const std::string nst = n_steps ? std::to_string(*n_steps) : "?";
-  if (!missing.empty() && static_cast<int64_t>(missing.size()) != frames_lost)
-    problems.push_back({kIncomplete, "outputs missing: " + std::to_string(missing.size()) + " of the " + nst +
-                                         " steps of the run have no recorded output (seq " + seq_list(missing) +
+  if (n_missing > 0 && n_missing != frames_lost)
+    problems.push_back({kIncomplete, "outputs missing: " + std::to_string(n_missing) + " of the " + nst +
+                                         " steps of the run have no recorded output (seq " +
+                                         seq_list(missing, 8, n_missing) +
                                          "); hal_sim reported " + std::to_string(frames_lost) + " frames lost"});
   if (!beyond.empty())
     problems.push_back({kIncomplete, "extra outputs: " + std::to_string(beyond.size()) +
@@ -548,7 +568,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
                  {"beyond_n_steps", frames_beyond.size()}};
   r["outputs"] = {{"recorded_seqs", outs.size()},
                   {"compared", compared},
-                  {"missing", missing.size()},
+                  {"missing", n_missing},
                   {"beyond_n_steps", beyond.size()},
                   {"first_publication_twice", twice.size()},
                   {"replayed_without_recorded_output", no_recorded},
@@ -576,7 +596,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
                 c.frames.size(), replayed, skipped, c.frame_undecodable, c.frame_foreign);
     std::printf("outputs: %" PRId64 " compared field by field, bit for bit (all but cycles[], the timing)\n", compared);
     if (no_recorded) std::printf("  %" PRId64 " replayed steps had no recorded output (not compared)\n", no_recorded);
-    if (frames_lost && static_cast<int64_t>(missing.size()) == frames_lost)
+    if (frames_lost && n_missing == frames_lost)
       std::printf("  %" PRId64 " frames hal_sim gave up on (no output, not flown)\n", frames_lost);
     for (const auto& m : cmp.list)
       std::printf("  MISMATCH seq %" PRId64 " %s: recorded %s, replayed %s\n", m.seq, m.field.c_str(), m.recorded.c_str(),

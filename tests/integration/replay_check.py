@@ -195,6 +195,12 @@ def damage_cases(a, raw, nav_ch, nav_lay, n, prefix):
     ctl = [e for e in evs if not (e.ch == "GGINS_CONTROL" and struct.unpack_from(">i", e.data, cmd)[0] == 1)]
     check(len(ctl) < len(evs), "%s: the log has a START message" % prefix)
     expect(a, prefix + "-start-removed", serialize(ctl), INCOMPLETE, ["START"])
+    # a START that promises 2^62 steps: named, and in no time (the gaps are counted, not walked)
+    nst = field_off(layout("run_control_t"), "n_steps")
+    big = [Ev(0, 0, e.ts, e.ch, set_i64(e.data, nst, 1 << 62))
+           if e.ch == "GGINS_CONTROL" and struct.unpack_from(">i", e.data, cmd)[0] == 1 else e for e in evs]
+    expect(a, prefix + "-start-n-steps-2e62", serialize(big), INCOMPLETE,
+           ["outputs missing: %d of the %d steps" % ((1 << 62) - n, 1 << 62)])
 
 
 def field_cases(a, raw, nav_ch, nav_lay, prefix):
