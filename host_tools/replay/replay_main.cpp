@@ -380,7 +380,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     r["bit_exact"] = code == kExact;
     if (!o.json_out.empty()) {
       std::ofstream jf(o.json_out);
-      jf << r.dump(2) << "\n";
+      jf << r.dump(2, ' ', false, json::error_handler_t::replace) << "\n";  // a path need not be UTF-8
     }
     return code;
   };
@@ -652,7 +652,8 @@ int main(int argc, char** argv) {
       "hal_sim's final status (STOPPED) must be there and agree with the outputs (steps,\n"
       "rejected steps).\n\n"
       "Exit status: 0 bit-exact and complete; 1 a difference (listed); 2 bad arguments, a\n"
-      "file that cannot be read or is not an LCM log; 3 nothing to compare (no\n"
+      "file that cannot be read or is not an LCM log (or a comparison table of this build\n"
+      "out of step with its message type); 3 nothing to compare (no\n"
       "configuration, frames or outputs of the run); 4 corrupt or truncated log (an event\n"
       "header with a bad sync word or impossible lengths, an event cut off by the end of\n"
       "the file, event numbers that skip); 5 incomplete record (outputs missing,\n"
