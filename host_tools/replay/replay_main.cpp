@@ -610,6 +610,20 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   if (frames_lost > 0)
     flown = std::to_string(frames_lost) + " of the " + nst + " steps not flown (frames hal_sim gave up on)";
   if (rejected > 0) flown += "; " + std::to_string(rejected) + " steps rejected by the firmware (status != GG_OK)";
+  {
+    // the last step flown: a run that ends in an outage ends on held inputs
+    auto last = outs.end();
+    for (auto it = outs.begin(); it != outs.end(); ++it)
+      if (!n_steps || (it->first >= 0 && it->first < *n_steps)) last = it;
+    if (last != outs.end() && (last->second.rec.outage_s > 0 || last->second.rec.resync_count > 0)) {
+      char b[160];
+      std::snprintf(b, sizeof b, "; at the last step (seq %" PRId64 "): outage %.6g s, %" PRId64 " resyncs, %" PRId64
+                    " coast steps",
+                    last->first, last->second.rec.outage_s, static_cast<int64_t>(last->second.rec.resync_count),
+                    static_cast<int64_t>(last->second.rec.coast_steps));
+      flown += b;
+    }
+  }
   if (code == kExact)
     std::printf("replay: BIT-EXACT (%" PRId64 " outputs, %s)\n", compared, flown.c_str());
   else
