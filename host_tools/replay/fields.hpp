@@ -85,6 +85,7 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kI32, n_cycles, 1, 1, true),     GG_FIELD(T, kI64, cycles, 8, 1, false),
       GG_FIELD(T, kI8, republished, 1, 1, false),  GG_FIELD(T, kI64, resync_count, 1, 1, true),
       GG_FIELD(T, kI64, coast_steps, 1, 1, true),  GG_FIELD(T, kI64, acc_rebuilt, 1, 1, true),
+      GG_FIELD(T, kI64, acc_excluded, 1, 1, true),
       GG_FIELD(T, kF64, outage_s, 1, 1, true),     GG_FIELD(T, kF64, state_lag_s, 1, 1, true),
   };
   return f;
