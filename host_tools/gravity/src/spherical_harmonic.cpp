@@ -1,6 +1,7 @@
 #include "ggins/gravity/spherical_harmonic.hpp"
 
 #include "ggins/gravity/wgs84.hpp"
+#include "sh_engine.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -164,8 +165,15 @@ SphericalHarmonicField::SphericalHarmonicField(ShCoefficients coeffs, int nmax, 
     : k_(std::move(coeffs)), nmax_(nmax < 0 ? k_.nmax : nmax), jmax_(std::max(2, max_order)), prec_(precision) {
   if (nmax_ > k_.nmax) throw std::invalid_argument("SphericalHarmonicField: nmax above the coefficients' degree");
   if (!(k_.gm > 0) || !(k_.a > 0)) throw std::invalid_argument("SphericalHarmonicField: GM and a must be positive");
-  if (prec_ == ShPrecision::Double) fill(td_);
-  else fill(tl_);
+  const int N = nmax_;
+  switch (prec_) {
+    case ShPrecision::LongDouble: el_ = std::make_shared<detail::ShEngine<long double>>(k_, N); break;
+    case ShPrecision::Double: ed_ = std::make_shared<detail::ShEngine<double>>(k_, N); break;
+    case ShPrecision::Mixed:
+      el_ = std::make_shared<detail::ShEngine<long double>>(k_, std::min(N, kMixedSplit));
+      if (N > kMixedSplit) ed_ = std::make_shared<detail::ShEngine<double>>(k_, N, kMixedSplit + 1);
+      break;
+  }
 }
 
 template <class T>
@@ -199,11 +207,15 @@ void SphericalHarmonicField::fill(Tables<T>& t) const {
 }
 
 std::string SphericalHarmonicField::name() const {
-  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + (prec_ == ShPrecision::Double ? ", double" : "") + ")";
+  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + (prec_ == ShPrecision::Double ? ", double" : prec_ == ShPrecision::Mixed ? ", mixed" : "") + ")";
 }
 
 std::vector<ShDerivatives> SphericalHarmonicField::derivatives(const Vec3& r, int order) const {
   if (order < 0 || order > jmax_) throw std::invalid_argument("SphericalHarmonicField::derivatives: order above max_order");
+  std::call_once(tables_once_, [this] {
+    if (prec_ == ShPrecision::LongDouble) fill(tl_);
+    else fill(td_);
+  });
   return prec_ == ShPrecision::Double ? derivatives_impl(td_, r, order) : derivatives_impl(tl_, r, order);
 }
 
@@ -332,13 +344,23 @@ bool SphericalHarmonicField::third(const Vec3& r, Tensor3& t) const {
 }
 
 FieldSample SphericalHarmonicField::eval(const Vec3& r) const {
-  const auto d = derivatives(r, 2);
+  Real v = 0, g[3] = {0, 0, 0}, G[6] = {0, 0, 0, 0, 0, 0};
+  if (el_) {
+    const auto o = el_->eval(r);
+    v += o.v;
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+    for (int i = 0; i < 6; ++i) G[i] += o.gamma[i];
+  }
+  if (ed_) {
+    const auto o = ed_->eval(r);
+    v += o.v;
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+    for (int i = 0; i < 6; ++i) G[i] += o.gamma[i];
+  }
   FieldSample s;
-  s.potential = d[0].value[0];
-  s.g = Vec3(d[1].at(1, 0, 0), d[1].at(0, 1, 0), d[1].at(0, 0, 1));
-  const Real xx = d[2].at(2, 0, 0), yy = d[2].at(0, 2, 0), zz = d[2].at(0, 0, 2);
-  const Real xy = d[2].at(1, 1, 0), xz = d[2].at(1, 0, 1), yz = d[2].at(0, 1, 1);
-  s.gamma << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  s.potential = v;
+  s.g = Vec3(g[0], g[1], g[2]);
+  s.gamma << G[0], G[1], G[2], G[1], G[3], G[4], G[2], G[4], G[5];
   return s;
 }
 

@@ -33,10 +33,17 @@
 #include "ggins/gravity/field.hpp"
 
 #include <array>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
 namespace ggins::gravity {
+
+namespace detail {
+template <class T>
+class ShEngine;
+}
 
 struct ShCoefficients {
   Real gm = 0;   // m^3/s^2
@@ -74,11 +81,21 @@ struct ShDerivatives {
   Real at(int ax, int ay, int az) const;
 };
 
-// Arithmetic of the synthesis. LongDouble (x87, 64-bit mantissa) for total
-// fields at the 1e-19 relative level; Double (SSE, several times faster) is
-// enough for a DISTURBING field (|G| < 1e-2 m/s^2: rounding ~1e-18 m/s^2),
-// e.g. the coefficients from subtract_normal(), used to build fast-path nodes.
-enum class ShPrecision { LongDouble, Double };
+// Arithmetic of the synthesis (eval(); derivatives() and third() use the
+// Cunningham engine, in long double for LongDouble, in double otherwise).
+//  LongDouble: everything in x87 long double (64-bit mantissa): total fields
+//    at the 1e-19 relative level.
+//  Double: everything in double (about 3x faster). Enough for a DISTURBING
+//    field (|G| < 1e-2 m/s^2: rounding ~1e-18 m/s^2), e.g. the coefficients
+//    from subtract_normal(), used to build fast-path nodes. On a total field
+//    the degree-0 term (GM/r^2 = 9.8 m/s^2) alone costs ~1e-15 m/s^2.
+//  Mixed: degrees 0..kMixedSplit in long double, the rest in double: a total
+//    field at the cost of Double, with the rounding of the double part set by
+//    the size of degrees > kMixedSplit (|G| < 1e-4 m/s^2 for the Earth):
+//    ~1e-19 m/s^2 and 1e-14 E (measured against LongDouble in
+//    tests/gravity/test_sh_engine.cpp and test_sh_egm96.cpp).
+enum class ShPrecision { LongDouble, Double, Mixed };
+constexpr int kMixedSplit = 8;
 
 // Coefficients of T = V_model - V_normal (the WGS-84 normal gravitation of
 // NormalField) at the model's GM and a: the normal field's zonal series
@@ -120,8 +137,13 @@ class SphericalHarmonicField final : public Field {
   ShCoefficients k_;
   int nmax_, jmax_;
   ShPrecision prec_;
-  Tables<long double> tl_;
-  Tables<double> td_;
+  // Cunningham tables (derivatives(), third()), built on first use.
+  mutable std::once_flag tables_once_;
+  mutable Tables<long double> tl_;
+  mutable Tables<double> td_;
+  // Point-synthesis engines for eval() (see src/sh_engine.hpp).
+  std::shared_ptr<const detail::ShEngine<long double>> el_;
+  std::shared_ptr<const detail::ShEngine<double>> ed_;
 };
 
 }  // namespace ggins::gravity
