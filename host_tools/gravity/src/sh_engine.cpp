@@ -66,6 +66,14 @@ ShOut<T> ShEngine<T>::eval(const Vec3& rv, bool with_gamma) const {
   if (!(r2 > 0) || !std::isfinite(r2)) throw std::domain_error("SphericalHarmonicField: position at the centre or not finite");
   const T r = std::sqrt(r2), ir = 1 / r;
   const T s1 = x * ir, s2 = y * ir, t = z * ir, q = a_ * ir;
+  // In polar caps (|t| > 1/2) the products t Abar are formed as
+  // sign(t) (Abar - v Abar), v = 1 - |t| = (s1^2 + s2^2) / (1 + |t|): t = z/r
+  // rounded to double is off the unit sphere by ~1e-16, which the steep
+  // polynomials Abar_nm(t) near t = +-1 (dAbar/dt ~ n^2 Abar) turn into a
+  // systematic error (1e-14 m/s^2 at degree 2190 a few metres off the axis);
+  // v carries the distance from the axis to full relative precision.
+  const bool polar = std::fabs(t) > T(0.5);
+  const T v = polar ? (s1 * s1 + s2 * s2) / (1 + std::fabs(t)) : T(0), sg = t < 0 ? T(-1) : T(1);
   const int N = n_;
   thread_local std::vector<T> buf, qn;
   if (buf.size() < 3 * static_cast<std::size_t>(N + 1)) buf.assign(3 * static_cast<std::size_t>(N + 1), 0);
@@ -84,20 +92,16 @@ ShOut<T> ShEngine<T>::eval(const Vec3& rv, bool with_gamma) const {
     const T* c2 = &buf[static_cast<std::size_t>((m + 2) % 3) * (N + 1)];
     const Col* col = &col_[off_[m]] - m;  // col[n]
     T a0 = 0, b0 = 0, a0r = 0, b0r = 0, a0rr = 0, b0rr = 0, a1 = 0, b1 = 0, a1r = 0, b1r = 0, a2 = 0, b2 = 0;
-    // n = m
+    // n = m: its terms are added after the rest of the column (for m = 0 it
+    // is the central term, which would otherwise set the rounding of every
+    // later addition).
     T p2 = 0, p1 = sect_[m];
     c0[m] = p1;
-    {
-      const T cq = col[m].c * qn[m], sv = col[m].s * qn[m];
-      const T w1 = static_cast<T>(m + 1), w2 = static_cast<T>((m + 1) * (m + 2));
-      const T cp = cq * p1, sp = sv * p1;
-      a0 += cp; b0 += sp; a0r += w1 * cp; b0r += w1 * sp; a0rr += w2 * cp; b0rr += w2 * sp;
-    }
     const T k0 = (m == 0) ? isq2 : T(1);
     // n = m + 1 (first derivative only: column m+1 starts here)
     if (m + 1 <= N) {
       const int n = m + 1;
-      const T p = col[n].a * t * p1;
+      const T p = col[n].a * (polar ? sg * (p1 - v * p1) : t * p1);
       c0[n] = p;
       p2 = p1; p1 = p;
       const T cq = col[n].c * qn[n], sv = col[n].s * qn[n];
@@ -110,7 +114,7 @@ ShOut<T> ShEngine<T>::eval(const Vec3& rv, bool with_gamma) const {
     }
     for (int n = m + 2; n <= N; ++n) {
       const Col& e = col[n];
-      const T p = e.a * t * p1 - e.b * p2;
+      const T p = e.a * (polar ? sg * (p1 - v * p1) : t * p1) - e.b * p2;
       c0[n] = p;
       p2 = p1; p1 = p;
       const T cq = e.c * qn[n], sv = e.s * qn[n];
@@ -125,6 +129,12 @@ ShOut<T> ShEngine<T>::eval(const Vec3& rv, bool with_gamma) const {
         const T d2 = k1 * sq[n - m - 1] * sq[n + m + 2] * c2[n];
         a2 += cq * d2; b2 += sv * d2;
       }
+    }
+    {
+      const T cq = col[m].c * qn[m], sv = col[m].s * qn[m], p = c0[m];
+      const T w1 = static_cast<T>(m + 1), w2 = static_cast<T>((m + 1) * (m + 2));
+      const T cp = cq * p, sp = sv * p;
+      a0 += cp; b0 += sp; a0r += w1 * cp; b0r += w1 * sp; a0rr += w2 * cp; b0rr += w2 * sp;
     }
     // Horner in w (X_m = A_m - i B_m); within a chain the derivative
     // accumulators are updated first (they use the previous values).

@@ -33,6 +33,7 @@
 #include "ggins/gravity/field.hpp"
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -50,6 +51,9 @@ struct ShCoefficients {
   Real a = 0;    // reference radius, m
   int nmax = -1;
   std::string source;
+  // Permanent-tide convention of C20: "tide_free", "zero_tide", "mean_tide",
+  // or empty when the file does not say (NASA/NGA ASCII; EGM96 and EGM2008 are tide free).
+  std::string tide_system;
   // Fully-normalised coefficients, index n(n+1)/2 + m.
   std::vector<Real> c, s, sigma_c, sigma_s;
   static std::size_t idx(int n, int m) { return static_cast<std::size_t>(n) * (n + 1) / 2 + m; }
@@ -64,13 +68,29 @@ struct ShCoefficients {
 constexpr Real kEgm96Gm = 3.986004415e14L;
 constexpr Real kEgm96A = 6378136.3L;
 
-// NASA/NGA ASCII: lines "n m C S sigmaC sigmaS" (Fortran D or E exponents).
+// Readers. Every malformed line is reported as "path:line: what is wrong".
+// NASA/NGA ASCII: lines "n m C S [sigmaC sigmaS]" (Fortran D or E exponents).
 // GM and a are not in the file; nmax < 0 reads everything. C00 = 1 when absent.
 ShCoefficients read_nasa_ascii(const std::string& path, Real gm = kEgm96Gm, Real a = kEgm96A, int nmax = -1);
 // ICGEM .gfc (static models, "gfc n m C S [sigmaC sigmaS]" after end_of_head;
-// earth_gravity_constant, radius, max_degree, norm, errors from the header).
+// earth_gravity_constant, radius, max_degree, norm, errors and tide_system
+// from the header; Barthelmes & Foerste, "The ICGEM-format", GFZ 2011).
 // Time-variable models (gfct/trnd/acos/asin) are rejected.
 ShCoefficients read_icgem_gfc(const std::string& path, int nmax = -1);
+// Either format, recognised by the content (an ICGEM header keyword before the
+// first numeric line); gm and a are used for NASA/NGA files only.
+ShCoefficients read_model(const std::string& path, int nmax = -1, Real gm = kEgm96Gm, Real a = kEgm96A);
+// The same model in another permanent-tide convention: C20 shifted by the
+// IERS Conventions (2010) sec. 6.2.2 offsets (zero - free = -4.1736e-9,
+// mean - zero = -4.1736e-9 / k20, k20 = 0.30190). Throws when k.tide_system is empty.
+ShCoefficients to_tide_system(const ShCoefficients& k, const std::string& target);
+
+// A synthetic model for tests and benchmarks at any degree: C00 = 1, degree 1
+// zero, C_nm and S_nm (S_n0 = 0) independent normal deviates with Kaula's rule
+// sigma_n = 1e-5 / n^2 (Kaula 1966, "Theory of Satellite Geodesy", eq. (4.3.2)),
+// a realistic degree variance for the Earth; splitmix64 + Box-Muller, so the
+// set is the same on every platform for a given seed. GM and a of EGM2008.
+ShCoefficients synthetic_kaula(int nmax, std::uint64_t seed = 1);
 
 // Derivatives of order j as the components of a symmetric tensor, indexed by
 // the multi-index (ax, ay, az) with ax+ay+az = j: value d^j V / dx^ax dy^ay dz^az.
