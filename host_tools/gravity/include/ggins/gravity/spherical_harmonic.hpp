@@ -105,15 +105,18 @@ struct ShDerivatives {
 // Cunningham engine, in long double for LongDouble, in double otherwise).
 //  LongDouble: everything in x87 long double (64-bit mantissa): total fields
 //    at the 1e-19 relative level.
-//  Double: everything in double (about 3x faster). Enough for a DISTURBING
-//    field (|G| < 1e-2 m/s^2: rounding ~1e-18 m/s^2), e.g. the coefficients
-//    from subtract_normal(), used to build fast-path nodes. On a total field
-//    the degree-0 term (GM/r^2 = 9.8 m/s^2) alone costs ~1e-15 m/s^2.
+//  Double: everything in double (8x faster than LongDouble). Enough for a
+//    DISTURBING field, e.g. the coefficients from subtract_normal(), used to
+//    build fast-path nodes: EGM96 disturbance to degree 360 agrees with the
+//    long-double total minus the normal field to 2e-17 m/s^2 and 1e-12 E. On a
+//    total field the degree-0 term (GM/r^2 = 9.8 m/s^2) alone costs ~1e-14 m/s^2.
 //  Mixed: degrees 0..kMixedSplit in long double, the rest in double: a total
-//    field at the cost of Double, with the rounding of the double part set by
-//    the size of degrees > kMixedSplit (|G| < 1e-4 m/s^2 for the Earth):
-//    ~1e-19 m/s^2 and 1e-14 E (measured against LongDouble in
-//    tests/gravity/test_sh_engine.cpp and test_sh_egm96.cpp).
+//    field at the cost of Double; the rounding is that of the double part,
+//    about 1e-16 x sum |terms| of degrees > kMixedSplit: EGM96 (degree 360)
+//    5e-17 m/s^2 and 1.4e-12 E from LongDouble, synthetic degree 2190 2e-16
+//    m/s^2 and 4e-11 E (tests/gravity/test_sh_2190.cpp, scripts/bench-field).
+//    LongDouble is where the truth needs it: a total field whose Gamma must be
+//    right below 1e-12 E (Gamma of the 1 m accelerometer differences).
 enum class ShPrecision { LongDouble, Double, Mixed };
 constexpr int kMixedSplit = 8;
 
