@@ -43,6 +43,22 @@ struct ShOut {
   T gamma[6] = {0, 0, 0, 0, 0, 0};  // xx, xy, xz, yy, yz, zz
 };
 
+// The column sums of order m (they depend on r and t only, not on longitude):
+// sum_n q^n (C_nm, S_nm) x {Abar, (n+1) Abar, (n+1)(n+2) Abar, Abar', (n+1) Abar', Abar''}
+// (all carried with the factor 1e-280).
+template <class T>
+struct ColSums {
+  T a0, b0, a0r, b0r, a0rr, b0rr, a1, b1, a1r, b1r, a2, b2;
+};
+
+// Position variables of the synthesis (r, 1/r, s = x/r, q = a/r; the polar-cap
+// form of t, see sh_engine.cpp).
+template <class T>
+struct ShGeom {
+  T r, ir, s1, s2, t, q, v, sg;
+  bool polar;
+};
+
 template <class T>
 class ShEngine {
  public:
@@ -51,18 +67,40 @@ class ShEngine {
   // with_gamma = false skips the second derivatives (about 40 % faster).
   ShOut<T> eval(const Vec3& r, bool with_gamma = true) const;
   int nmax() const { return n_; }
+  T gm() const { return gm_; }
+  T a() const { return a_; }
+  // The two stages of eval: column sums (r, t only; out[m], m = 0..nmax) and
+  // the sum over m with the Cartesian derivatives (needs s1, s2 as well).
+  // A circle of latitude (fixed r and z) shares the first stage.
+  void column_sums(const ShGeom<T>& g, bool with_gamma, ColSums<T>* out) const;
+  ShOut<T> assemble(const ColSums<T>* sums, const ShGeom<T>& g, bool with_gamma) const;
 
  private:
   struct Col {
     T c, s, a, b;
   };
+  // Two neighbouring orders (m0, m0 + 1) at one degree n, one per lane, so that
+  // the two independent column recursions fill the floating-point pipeline
+  // (double only; SSE2 / NEON lanes via the compiler's vector extension).
+  typedef double Lane2 __attribute__((vector_size(16)));
+  struct PairEntry {
+    Lane2 a, b, c, s;
+  };
   int n_;
   T gm_, a_;
   std::vector<std::size_t> off_;  // column m starts at off_[m] (entries n = m..N)
   std::vector<Col> col_;
-  std::vector<T> sect_;           // Abar_mm * scale
+  std::vector<T> sect_;           // Abar_mm * scale (m = 0..N+1)
   std::vector<T> sq_;             // sqrt(k), k = 0..2N+3
+  std::vector<double> rsq_;       // sqrt(N + 3 - k) (reversed), double engine only
+  std::vector<std::size_t> poff_; // pair j (m0 = 2j) starts at poff_[j] (entries n = m0..N)
+  std::vector<PairEntry> pair_;
+  template <bool Polar, bool Gamma>
+  void pair_sums(const ShGeom<double>& g, ColSums<double>* out) const;
 };
+
+template <class T>
+ShGeom<T> sh_geometry(const Vec3& r, T a);
 
 extern template class ShEngine<double>;
 extern template class ShEngine<long double>;
