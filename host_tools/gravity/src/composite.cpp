@@ -21,6 +21,12 @@ FieldSample SumField::eval(const Vec3& r) const {
   return s;
 }
 
+Vec3 SumField::gravitation(const Vec3& r) const {
+  Vec3 g = Vec3::Zero();
+  for (const auto& [w, f] : terms_) g += w * f->gravitation(r);
+  return g;
+}
+
 bool SumField::third(const Vec3& r, Tensor3& t) const {
   Tensor3 acc;
   for (Mat3& m : acc) m.setZero();

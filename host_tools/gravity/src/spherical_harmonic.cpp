@@ -457,6 +457,19 @@ bool SphericalHarmonicField::third(const Vec3& r, Tensor3& t) const {
   return true;
 }
 
+Vec3 SphericalHarmonicField::gravitation(const Vec3& r) const {
+  Real g[3] = {0, 0, 0};
+  if (el_) {
+    const auto o = el_->eval(r, false);
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+  }
+  if (ed_) {
+    const auto o = ed_->eval(r, false);
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+  }
+  return Vec3(g[0], g[1], g[2]);
+}
+
 FieldSample SphericalHarmonicField::eval(const Vec3& r) const {
   Real v = 0, g[3] = {0, 0, 0}, G[6] = {0, 0, 0, 0, 0, 0};
   if (el_) {

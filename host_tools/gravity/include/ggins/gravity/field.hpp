@@ -40,6 +40,10 @@ class Field {
   // Field at r_e (m). Implementations must be thread-safe for concurrent const calls.
   virtual FieldSample eval(const Vec3& r_e) const = 0;
   virtual std::string name() const = 0;
+  // Gravitation alone, eval(r_e).g; models for which G costs less than
+  // (V, G, Gamma) override it (the normal field, lattices, sums, spherical
+  // harmonics give the same bits as eval(r_e).g).
+  virtual Vec3 gravitation(const Vec3& r_e) const { return eval(r_e).g; }
   // Optional: third derivatives at r_e. Returns false (t untouched) when the
   // model does not provide them.
   virtual bool third(const Vec3& r_e, Tensor3& t) const {

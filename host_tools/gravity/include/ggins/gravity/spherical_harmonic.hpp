@@ -137,6 +137,7 @@ class SphericalHarmonicField final : public Field {
   explicit SphericalHarmonicField(ShCoefficients coeffs, int nmax = -1, int max_order = 2,
                                   ShPrecision precision = ShPrecision::LongDouble);
   FieldSample eval(const Vec3& r_e) const override;
+  Vec3 gravitation(const Vec3& r_e) const override;  // without the second derivatives (same bits as eval().g)
   std::string name() const override;
   bool third(const Vec3& r_e, Tensor3& t) const override;  // needs max_order >= 3
   // All partial derivatives of V of orders 0..order (order <= max_order).
