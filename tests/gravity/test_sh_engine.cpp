@@ -191,10 +191,54 @@ static void test_poles_rotated_frame(void**) {
   }
 }
 
+// Circles of latitude (column sums shared along the circle, dual numbers for
+// the derivative of Gamma along a direction in the meridian plane) against
+// the closed-form field and third derivatives of the masses, from pole to pole.
+static void test_circles(void**) {
+  const auto ms = masses();
+  const ShCoefficients k = expand(ms, 360);
+  const Real rr = kA + 3000;
+  for (ShPrecision prec : {ShPrecision::LongDouble, ShPrecision::Double, ShPrecision::Mixed}) {
+    const SphericalHarmonicField f(k, -1, 2, prec);
+    Err e;
+    Real ed = 0, dmax = 0;
+    int n = 0;
+    for (Real latd : {-89.999L, -60.0L, -20.0L, 0.0L, 35.0L, 70.0L, 89.99L, 90.0L}) {
+      const Real lat = latd * static_cast<Real>(M_PI) / 180, nl = lat + 0.003L;  // e: 0.003 rad off radial
+      const Real rho = rr * std::cos(lat), z = rr * std::sin(lat);
+      const auto c = f.circle(rho, z, std::cos(nl), std::sin(nl));
+      for (Real lon : {0.0L, 0.7L, 1.9L, 3.0L, -2.2L, -0.3L}) {
+        const Vec3 r(rho * std::cos(lon), rho * std::sin(lon), z);
+        const Vec3 u(std::cos(nl) * std::cos(lon), std::cos(nl) * std::sin(lon), std::sin(nl));
+        Mat3 dg;
+        e.add(c->eval(lon, &dg), closed_form(ms, r));
+        Tensor3 t;
+        assert_true(PointMassField(kGm).third(r, t));
+        Mat3 want = t[0] * u.x() + t[1] * u.y() + t[2] * u.z();
+        for (const Mass& m : ms) {
+          assert_true(PointMassField(m.gm).third(r - m.s, t));
+          want += t[0] * u.x() + t[1] * u.y() + t[2] * u.z();
+        }
+        ed = std::max(ed, (dg - want).cwiseAbs().maxCoeff());
+        dmax = std::max(dmax, want.cwiseAbs().maxCoeff());
+        ++n;
+      }
+    }
+    const char* name = prec == ShPrecision::Double ? "double" : prec == ShPrecision::Mixed ? "mixed" : "long double";
+    std::printf("  %s circles (%d points, 8 latitudes incl. the pole): V %.1Le G %.1Le Gamma %.1Le E; dGamma/de %.1Le of %.1Le s^-2/m\n",
+                name, n, e.v, e.g, e.G * 1e9L, ed, dmax);
+    const Real tol = prec == ShPrecision::Double ? 2048 : 1;
+    if (prec == ShPrecision::Mixed) assert_true(e.v < 1e-10L && e.g < 2e-17L && e.G < 1e-22L);  // as against Cunningham
+    else assert_true(e.v < 1e-10L * tol && e.g < 1e-17L * tol && e.G < 1e-23L * tol);
+    assert_true(ed < 1e-26L);  // double arithmetic: 1e-16 x |third derivatives| ~1e-12 s^-2/m, amplified by the sums
+  }
+}
+
 int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_vs_cunningham_and_closed_form),
       cmocka_unit_test(test_poles_rotated_frame),
+      cmocka_unit_test(test_circles),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -104,6 +104,24 @@ ShGeom<T> sh_geometry(const Vec3& rv, T a) {
   return g;
 }
 
+ShGeom<Dd> sh_geometry(const Vec3& rv, const Vec3& ev, double a) {
+  const ShGeom<double> g0 = sh_geometry<double>(rv, a);
+  const double e[3] = {static_cast<double>(ev.x()), static_cast<double>(ev.y()), static_cast<double>(ev.z())};
+  const double s[3] = {g0.s1, g0.s2, g0.t};
+  const double dr = s[0] * e[0] + s[1] * e[1] + s[2] * e[2];  // dr/de
+  ShGeom<Dd> g;
+  g.r = Dd(g0.r, dr);
+  g.ir = Dd(g0.ir, -dr * g0.ir * g0.ir);
+  g.s1 = Dd(s[0], (e[0] - s[0] * dr) * g0.ir);  // ds/de = (e - s dr)/r
+  g.s2 = Dd(s[1], (e[1] - s[1] * dr) * g0.ir);
+  g.t = Dd(s[2], (e[2] - s[2] * dr) * g0.ir);
+  g.q = Dd(g0.q, -g0.q * g0.ir * dr);
+  g.polar = g0.polar;
+  g.sg = Dd(g0.sg);
+  g.v = g.polar ? (g.s1 * g.s1 + g.s2 * g.s2) / (Dd(1.0) + g.sg * g.t) : Dd(0.0);
+  return g;
+}
+
 namespace {
 template <class T>
 const T* powers(T q, int N) {
@@ -217,7 +235,7 @@ void ShEngine<T>::column_sums(const ShGeom<T>& g, bool with_gamma, ColSums<T>* o
     thread_local std::vector<T> buf;
     if (buf.size() < 3 * static_cast<std::size_t>(N + 1)) buf.assign(3 * static_cast<std::size_t>(N + 1), 0);
     for (T& b : buf) b = 0;
-    const T isq2 = 1 / std::sqrt(static_cast<T>(2));
+    const T isq2 = static_cast<T>(1 / std::sqrt(2.0L));
     const T* sq = sq_.data();
     for (int m = N; m >= 0; --m) {
       T* c0 = &buf[static_cast<std::size_t>(m % 3) * (N + 1)];
@@ -353,5 +371,9 @@ template ShGeom<double> sh_geometry<double>(const Vec3&, double);
 template ShGeom<long double> sh_geometry<long double>(const Vec3&, long double);
 template class ShEngine<double>;
 template class ShEngine<long double>;
+// dual numbers: tables, column sums and the sum over m (the geometry has its own overload)
+template ShEngine<Dd>::ShEngine(const ShCoefficients&, int, int);
+template void ShEngine<Dd>::column_sums(const ShGeom<Dd>&, bool, ColSums<Dd>*) const;
+template ShOut<Dd> ShEngine<Dd>::assemble(const ColSums<Dd>*, const ShGeom<Dd>&, bool) const;
 
 }  // namespace ggins::gravity::detail

@@ -36,6 +36,25 @@
 
 namespace ggins::gravity::detail {
 
+// A dual number x + d eps (eps^2 = 0): carried through the column sums and
+// the sum over m it gives, beside each quantity, its derivative along one
+// direction (forward-mode automatic differentiation of the synthesis), e.g.
+// d Gamma / dh for map tiles.
+struct Dd {
+  double x = 0, d = 0;
+  Dd() = default;
+  Dd(double v) : x(v) {}  // NOLINT: constants convert implicitly
+  Dd(long double v) : x(static_cast<double>(v)) {}
+  Dd(int v) : x(v) {}
+  Dd(double v, double dv) : x(v), d(dv) {}
+};
+inline Dd operator+(Dd a, Dd b) { return {a.x + b.x, a.d + b.d}; }
+inline Dd operator-(Dd a, Dd b) { return {a.x - b.x, a.d - b.d}; }
+inline Dd operator-(Dd a) { return {-a.x, -a.d}; }
+inline Dd operator*(Dd a, Dd b) { return {a.x * b.x, a.x * b.d + a.d * b.x}; }
+inline Dd operator/(Dd a, Dd b) { const double q = a.x / b.x; return {q, (a.d - q * b.d) / b.x}; }
+inline Dd& operator+=(Dd& a, Dd b) { return a = a + b; }
+
 template <class T>
 struct ShOut {
   T v = 0;
@@ -101,6 +120,8 @@ class ShEngine {
 
 template <class T>
 ShGeom<T> sh_geometry(const Vec3& r, T a);
+// The geometry at r with the derivatives of every variable along e.
+ShGeom<Dd> sh_geometry(const Vec3& r, const Vec3& e, double a);
 
 extern template class ShEngine<double>;
 extern template class ShEngine<long double>;

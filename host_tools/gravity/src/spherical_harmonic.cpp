@@ -457,6 +457,84 @@ bool SphericalHarmonicField::third(const Vec3& r, Tensor3& t) const {
   return true;
 }
 
+// Column sums at the reference point (rho, 0, z), shared by all longitudes.
+class ShCircle final : public FieldCircle {
+ public:
+  ShCircle(const SphericalHarmonicField& f, Real rho, Real z, Real e_rho, Real e_z) : f_(f), rho_(rho) {
+    const Vec3 p0(rho, 0, z);
+    if (f.el_) {
+      gl_ = detail::sh_geometry<long double>(p0, f.el_->a());
+      sl_.resize(f.el_->nmax() + 1);
+      f.el_->column_sums(gl_, true, sl_.data());
+    }
+    if (f.ed_) {
+      gd_ = detail::sh_geometry<double>(p0, f.ed_->a());
+      sd_.resize(f.ed_->nmax() + 1);
+      f.ed_->column_sums(gd_, true, sd_.data());
+    }
+    if (e_rho != 0 || e_z != 0) {
+      std::call_once(f.dual_once_, [&f] { f.edd_ = std::make_shared<detail::ShEngine<detail::Dd>>(f.k_, f.nmax_); });
+      er_ = static_cast<double>(e_rho);
+      gx_ = detail::sh_geometry(p0, Vec3(e_rho, 0, e_z), f.edd_->a().x);
+      sx_.resize(f.edd_->nmax() + 1);
+      f.edd_->column_sums(gx_, true, sx_.data());
+    }
+  }
+  FieldSample eval(Real lon, Mat3* dgamma) const override {
+    const Real c = std::cos(lon), s = std::sin(lon), x = rho_ * c, y = rho_ * s;
+    Real v = 0, g[3] = {0, 0, 0}, G[6] = {0, 0, 0, 0, 0, 0};
+    auto add = [&](const auto& o) {
+      v += o.v;
+      for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+      for (int i = 0; i < 6; ++i) G[i] += o.gamma[i];
+    };
+    if (f_.el_) {
+      detail::ShGeom<long double> h = gl_;
+      h.s1 = x * h.ir; h.s2 = y * h.ir;
+      add(f_.el_->assemble(sl_.data(), h, true));
+    }
+    if (f_.ed_) {
+      detail::ShGeom<double> h = gd_;
+      h.s1 = static_cast<double>(x) * h.ir; h.s2 = static_cast<double>(y) * h.ir;
+      add(f_.ed_->assemble(sd_.data(), h, true));
+    }
+    if (dgamma) {
+      dgamma->setZero();
+      if (!sx_.empty()) {
+        // s(lon) and its derivative along e(lon) = e_rho (cos, sin, 0) + e_z z^:
+        // ds/de = (e - s dr)/r with dr/de the same on the whole circle.
+        detail::ShGeom<detail::Dd> h = gx_;
+        const double ir = h.ir.x, dr = h.r.d, s1 = static_cast<double>(x) * ir, s2 = static_cast<double>(y) * ir;
+        h.s1 = detail::Dd(s1, (er_ * static_cast<double>(c) - s1 * dr) * ir);
+        h.s2 = detail::Dd(s2, (er_ * static_cast<double>(s) - s2 * dr) * ir);
+        const auto o = f_.edd_->assemble(sx_.data(), h, true);
+        *dgamma << o.gamma[0].d, o.gamma[1].d, o.gamma[2].d, o.gamma[1].d, o.gamma[3].d, o.gamma[4].d, o.gamma[2].d,
+            o.gamma[4].d, o.gamma[5].d;
+      }
+    }
+    FieldSample out;
+    out.potential = v;
+    out.g = Vec3(g[0], g[1], g[2]);
+    out.gamma << G[0], G[1], G[2], G[1], G[3], G[4], G[2], G[4], G[5];
+    return out;
+  }
+
+ private:
+  const SphericalHarmonicField& f_;
+  Real rho_;
+  double er_ = 0;
+  detail::ShGeom<long double> gl_{};
+  detail::ShGeom<double> gd_{};
+  detail::ShGeom<detail::Dd> gx_{};
+  std::vector<detail::ColSums<long double>> sl_;
+  std::vector<detail::ColSums<double>> sd_;
+  std::vector<detail::ColSums<detail::Dd>> sx_;
+};
+
+std::unique_ptr<FieldCircle> SphericalHarmonicField::circle(Real rho, Real z, Real e_rho, Real e_z) const {
+  return std::make_unique<ShCircle>(*this, rho, z, e_rho, e_z);
+}
+
 Vec3 SphericalHarmonicField::gravitation(const Vec3& r) const {
   Real g[3] = {0, 0, 0};
   if (el_) {

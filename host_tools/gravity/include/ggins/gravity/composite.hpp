@@ -15,6 +15,7 @@ class SumField final : public Field {
   SumField(std::vector<std::pair<Real, std::shared_ptr<const Field>>> terms, std::string label = "");
   FieldSample eval(const Vec3& r_e) const override;
   Vec3 gravitation(const Vec3& r_e) const override;
+  std::unique_ptr<FieldCircle> circle(Real rho, Real z, Real e_rho = 0, Real e_z = 0) const override;  // the terms' circles
   std::string name() const override;
   bool third(const Vec3& r_e, Tensor3& t) const override;  // when every term provides it
 

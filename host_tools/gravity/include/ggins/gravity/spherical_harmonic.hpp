@@ -44,6 +44,7 @@ namespace ggins::gravity {
 namespace detail {
 template <class T>
 class ShEngine;
+struct Dd;
 }
 
 struct ShCoefficients {
@@ -138,6 +139,16 @@ class SphericalHarmonicField final : public Field {
                                   ShPrecision precision = ShPrecision::LongDouble);
   FieldSample eval(const Vec3& r_e) const override;
   Vec3 gravitation(const Vec3& r_e) const override;  // without the second derivatives (same bits as eval().g)
+  // The circle of latitude (rho cos lon, rho sin lon, z): r and t = z/r, hence
+  // the column sums of the point synthesis (its O(N^2) Legendre part), are the
+  // same at every longitude and are computed once; each longitude then costs
+  // the sum over m, O(N) (the idea of GeographicLib's GravityCircle; Karney).
+  // V, G, Gamma as eval() (same arithmetic, to rounding: the points differ
+  // from eval()'s only by the rounding of rho cos lon, rho sin lon). dgamma
+  // (along e_rho rho^ + e_z z^) by dual numbers through the same synthesis in
+  // double, whatever the precision (its rounding ~1e-16 of |dGamma| is far
+  // below the third() it replaces needs); no max_order requirement.
+  std::unique_ptr<FieldCircle> circle(Real rho, Real z, Real e_rho = 0, Real e_z = 0) const override;
   std::string name() const override;
   bool third(const Vec3& r_e, Tensor3& t) const override;  // needs max_order >= 3
   // All partial derivatives of V of orders 0..order (order <= max_order).
@@ -168,6 +179,10 @@ class SphericalHarmonicField final : public Field {
   // Point-synthesis engines for eval() (see src/sh_engine.hpp).
   std::shared_ptr<const detail::ShEngine<long double>> el_;
   std::shared_ptr<const detail::ShEngine<double>> ed_;
+  // Dual-number engine (all degrees) for circle()'s dgamma, built on first use.
+  mutable std::once_flag dual_once_;
+  mutable std::shared_ptr<const detail::ShEngine<detail::Dd>> edd_;
+  friend class ShCircle;
 };
 
 }  // namespace ggins::gravity
