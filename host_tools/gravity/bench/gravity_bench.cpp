@@ -151,6 +151,26 @@ int main(int argc, char** argv) {
     sh = std::make_shared<SphericalHarmonicField>(read_nasa_ascii(egm), 360);
     const auto anomaly = std::make_shared<SphericalHarmonicField>(subtract_normal(sh->coefficients()), 360, 2, ShPrecision::Double);
     std::printf("%-58s %12.1f\n", "EGM96-360 minus normal, double precision (lattice node)", us_per_eval(*anomaly, pts, 30));
+    {  // circle of latitude: set-up (column sums, once per circle) and each longitude
+      const Vec3 p0 = wgs84::geodetic_to_ecef(lat, 0, 3000);
+      for (bool dg : {false, true}) {
+        const Real er = dg ? std::cos(lat) : 0, ez = dg ? std::sin(lat) : 0;
+        double acc = 0, setup = 1e300, per = 1e300;
+        for (int rep = 0; rep < 3; ++rep) {
+          double t0 = cpu_s();
+          for (int i = 0; i < 10; ++i) acc += static_cast<double>(anomaly->circle(p0.x(), p0.z(), er, ez)->eval(0.1L).g.x());
+          setup = std::min(setup, 1e5 * (cpu_s() - t0));
+          const auto c = anomaly->circle(p0.x(), p0.z(), er, ez);
+          Mat3 d;
+          t0 = cpu_s();
+          for (int i = 0; i < 2000; ++i) acc += static_cast<double>(c->eval(1e-4L * i, dg ? &d : nullptr).gamma(0, 0));
+          per = std::min(per, 1e6 * (cpu_s() - t0) / 2000);
+        }
+        g_sink = g_sink + acc;
+        std::printf("%-58s %12.1f\n", dg ? "  circle of latitude with dGamma/dh: set-up + 1st longitude" : "  circle of latitude: set-up + first longitude", setup);
+        std::printf("%-58s %12.3f\n", dg ? "  circle of latitude with dGamma/dh: each further longitude" : "  circle of latitude: each further longitude", per);
+      }
+    }
     LatticeOptions o;
     o.spacing = 2500; o.points = 8;
     fast_sh = std::make_shared<FastField>(normal, anomaly, o);

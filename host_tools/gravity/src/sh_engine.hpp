@@ -28,6 +28,11 @@
 //   G     = F_r s + phi_p / r,
 //   Gamma = F_rr s s^T + [(P psi) s^T + s (P psi)^T]/r + F_r P/r
 //           + [P M P - E P - s phi_p^T - phi_p s^T] / r^2.
+// Two stages: column sums (r and t only: shared by every point of a circle
+// of latitude) and the sum over m with the Cartesian assembly. The double
+// engine runs the columns m0, m0+1 together in the two lanes of a vector (two
+// independent recursions fill the pipeline); ShEngine<Dd> (dual numbers)
+// gives the derivative of every output along one direction.
 #pragma once
 
 #include "ggins/gravity/spherical_harmonic.hpp"
