@@ -26,6 +26,7 @@ static const struct {
     {"gmap", "onboard gravity-gradient map tile from EGM96 (binary/JSON) for the map-matching filters"},
     {"mapnav", "gravity-gradient map matching UKF (Gao et al.) voyage vs pure inertial, Monte Carlo, NEES/NIS"},
     {"coldatom", "cold-atom partial-gradient particle filter (Phillips et al.): Liverpool-Toulouse flights, sweeps"},
+    {"field", "potential, gravitation and gradient of a model (normal, SH file, anomalies) at points or along a route"},
 };
 
 static void usage(FILE* out) {

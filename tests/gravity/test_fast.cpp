@@ -2,7 +2,10 @@
 // and the Ewald-split point-mass anomaly field against the exact sum.
 #include "test_util.hpp"
 
+#include "ggins/gravity/composite.hpp"
 #include "ggins/gravity/lattice.hpp"
+#include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/spherical_harmonic.hpp"
 #include "ggins/gravity/point_anomaly.hpp"
 #include "ggins/gravity/wgs84.hpp"
 
@@ -114,8 +117,34 @@ static void test_threads(void**) {
   }
 }
 
+// gravitation() is eval().g with the Hessian work left out: the same bits for
+// every model that overrides it (normal field, spherical harmonics in the three
+// precisions, sums, lattices and the fast path), near the surface and near a pole.
+static void test_gravitation_same_bits(void**) {
+  const auto normal = std::make_shared<NormalField>();
+  const ShCoefficients k = synthetic_kaula(60, 3);
+  std::vector<std::shared_ptr<const Field>> fields = {normal};
+  for (ShPrecision p : {ShPrecision::LongDouble, ShPrecision::Double, ShPrecision::Mixed})
+    fields.push_back(std::make_shared<SphericalHarmonicField>(k, 60, 2, p));
+  const auto dist = std::make_shared<SphericalHarmonicField>(subtract_normal(k), 60, 2, ShPrecision::Double);
+  fields.push_back(std::make_shared<SumField>(std::vector<std::pair<Real, std::shared_ptr<const Field>>>{{1.0L, normal}, {1.0L, dist}}));
+  LatticeOptions o;
+  o.spacing = 2500; o.points = 8; o.origin = wgs84::geodetic_to_ecef(0.6L, 0.2L, 3000);
+  fields.push_back(std::make_shared<FastField>(normal, dist, o));
+  int n = 0;
+  for (const auto& f : fields)
+    for (Real lat : {0.6L, 0.6001L, 1.5707L})
+      for (Real h : {0.0L, 3000.0L}) {
+        if (lat > 1.5L && std::string(f->name()).rfind("fast", 0) == 0) continue;  // keep the lattice near its origin
+        const Vec3 r = wgs84::geodetic_to_ecef(lat, 0.2L, h);
+        assert_true(f->gravitation(r) == f->eval(r).g);
+        ++n;
+      }
+  std::printf("  gravitation() == eval().g bit for bit at %d model-point pairs\n", n);
+}
+
 int main() {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_polynomial_exact), cmocka_unit_test(test_split_point_masses),
-                                     cmocka_unit_test(test_threads)};
+                                     cmocka_unit_test(test_threads), cmocka_unit_test(test_gravitation_same_bits)};
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -30,24 +30,36 @@ std::shared_ptr<const gravity::Field> make_egm96_field(const std::string& path, 
       "egm96-" + std::to_string(nmax));
 }
 
-void node_values(const gravity::Field& f, double lat, double lon, double h, double out[GG_GMAP_NVAL]) {
+namespace {
+
+// The node's values from Gamma_e and d Gamma_e / dh (along the ellipsoid normal).
+void ned_values(const Mat3& gamma, const Mat3& dgh, double lat, double lon, double out[GG_GMAP_NVAL]) {
   const Real sl = std::sin(static_cast<Real>(lat)), cl = std::cos(static_cast<Real>(lat));
   const Real so = std::sin(static_cast<Real>(lon)), co = std::cos(static_cast<Real>(lon));
   Mat3 c;  // C_n_e
   c << -sl * co, -sl * so, cl, -so, co, 0, -cl * co, -cl * so, -sl;
-  const Vec3 r = gravity::wgs84::geodetic_to_ecef(lat, lon, h);
-  const gravity::FieldSample s = f.eval(r);
-  gravity::Tensor3 t;
-  if (!f.third(r, t)) throw std::runtime_error("gmap: field has no third derivatives");
-  const Vec3 up = -c.row(2).transpose();
-  const Mat3 dgh = t[0] * up(0) + t[1] * up(1) + t[2] * up(2);
-  const Mat3 gn = c * s.gamma * c.transpose();
+  const Mat3 gn = c * gamma * c.transpose();
   const Mat3 dn = c * dgh * c.transpose();
   const int ij[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
   for (int k = 0; k < 6; ++k) {
     out[k] = static_cast<double>(gn(ij[k][0], ij[k][1]));
     out[k + 6] = static_cast<double>(dn(ij[k][0], ij[k][1]));
   }
+}
+
+// The circle of latitude lat at height h, with the ellipsoid normal
+// up = (cos lat cos lon, cos lat sin lon, sin lat) as the derivative direction.
+std::unique_ptr<gravity::FieldCircle> row(const gravity::Field& f, double lat, double h) {
+  const Vec3 p0 = gravity::wgs84::geodetic_to_ecef(lat, 0.0, h);
+  return f.circle(p0.x(), p0.z(), std::cos(static_cast<Real>(lat)), std::sin(static_cast<Real>(lat)));
+}
+
+}  // namespace
+
+void node_values(const gravity::Field& f, double lat, double lon, double h, double out[GG_GMAP_NVAL]) {
+  Mat3 dgh;
+  const gravity::FieldSample s = row(f, lat, h)->eval(lon, &dgh);
+  ned_values(s.gamma, dgh, lat, lon, out);
 }
 
 std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpec& sp) {
@@ -77,10 +89,16 @@ std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpe
   std::vector<std::thread> pool;
   for (int w = 0; w < nth; ++w) {
     pool.emplace_back([&, w] {
-      for (int i = w; i < nlat; i += nth)
-        for (int j = 0; j < nlon; ++j)
-          node_values(f, tile->lat0_rad + i * tile->dlat_rad, tile->lon0_rad + j * tile->dlon_rad, sp.alt_m,
-                      tile->node[i * nlon + j]);
+      for (int i = w; i < nlat; i += nth) {  // one circle of latitude per row
+        const double lat = tile->lat0_rad + i * tile->dlat_rad;
+        const auto c = row(f, lat, sp.alt_m);
+        for (int j = 0; j < nlon; ++j) {
+          const double lon = tile->lon0_rad + j * tile->dlon_rad;
+          Mat3 dgh;
+          const gravity::FieldSample s = c->eval(lon, &dgh);
+          ned_values(s.gamma, dgh, lat, lon, tile->node[i * nlon + j]);
+        }
+      }
     });
   }
   for (auto& th : pool) th.join();

@@ -58,10 +58,25 @@ double us_per_eval(const Field& f, const std::vector<Vec3>& pts, int n) {
   return best;
 }
 
+double us_per_g(const Field& f, const std::vector<Vec3>& pts, int n) {  // gravitation() alone
+  double best = 1e300;
+  for (int rep = 0; rep < 3; ++rep) {
+    const double t0 = cpu_s();
+    double acc = 0;
+    for (int i = 0; i < n; ++i) acc += static_cast<double>(f.gravitation(pts[i % pts.size()]).x());
+    best = std::min(best, 1e6 * (cpu_s() - t0) / n);
+    g_sink = g_sink + acc;
+  }
+  return best;
+}
+
 // A flight: straight and level at 170 m/s, 100 Hz, six accelerometers at
-// +-0.5 m along the local axes. Returns total seconds and evaluations.
-struct FlightCost { double seconds; long evals; };
-FlightCost fly(const Field& f, Real lat, Real lon, Real h, Real km, Real start_km = 0) {
+// +-0.5 m along the local axes. generator = true calls the field as the 3-D
+// truth generator does (truth3d/src/generator3d.cpp: eval() at the body
+// centre for G and Gamma, gravitation() at each accelerometer); false calls
+// eval() at the six accelerometers only. Returns total seconds and steps.
+struct FlightCost { double seconds; long steps; };
+FlightCost fly(const Field& f, Real lat, Real lon, Real h, Real km, bool generator, Real start_km = 0) {
   const Vec3 c = wgs84::geodetic_to_ecef(lat, lon, h);
   const Mat3 enu = wgs84::enu_to_ecef(lat, lon);
   const Vec3 dir = enu.col(1);  // north
@@ -71,10 +86,15 @@ FlightCost fly(const Field& f, Real lat, Real lon, Real h, Real km, Real start_k
   double acc = 0;
   for (long k = k0; k < k0 + steps; ++k) {
     const Vec3 p = c + (1.7L * k) * dir;
-    for (const Vec3& o : off) acc += static_cast<double>(f.eval(p + o).g.x());
+    if (generator) {
+      acc += static_cast<double>(f.eval(p).gamma(0, 0));
+      for (const Vec3& o : off) acc += static_cast<double>(f.gravitation(p + o).x());
+    } else {
+      for (const Vec3& o : off) acc += static_cast<double>(f.eval(p + o).g.x());
+    }
   }
   g_sink = g_sink + acc;
-  return {cpu_s() - t0, steps * 6};
+  return {cpu_s() - t0, steps};
 }
 
 }  // namespace
@@ -103,6 +123,7 @@ int main(int argc, char** argv) {
   std::printf("%-58s %12.3f\n", "spherical point mass", us_per_eval(pm, pts, 200000));
   const auto normal = std::make_shared<NormalField>();
   std::printf("%-58s %12.3f\n", "WGS-84 normal (closed form, AD)", us_per_eval(*normal, pts, 100000));
+  std::printf("%-58s %12.3f\n", "WGS-84 normal, gravitation() only (first-order AD)", us_per_g(*normal, pts, 100000));
 
   RwAnomalyConfig cfg;
   cfg.lat0 = lat; cfg.lon0 = lon;
@@ -130,11 +151,32 @@ int main(int argc, char** argv) {
     sh = std::make_shared<SphericalHarmonicField>(read_nasa_ascii(egm), 360);
     const auto anomaly = std::make_shared<SphericalHarmonicField>(subtract_normal(sh->coefficients()), 360, 2, ShPrecision::Double);
     std::printf("%-58s %12.1f\n", "EGM96-360 minus normal, double precision (lattice node)", us_per_eval(*anomaly, pts, 30));
+    {  // circle of latitude: set-up (column sums, once per circle) and each longitude
+      const Vec3 p0 = wgs84::geodetic_to_ecef(lat, 0, 3000);
+      for (bool dg : {false, true}) {
+        const Real er = dg ? std::cos(lat) : 0, ez = dg ? std::sin(lat) : 0;
+        double acc = 0, setup = 1e300, per = 1e300;
+        for (int rep = 0; rep < 3; ++rep) {
+          double t0 = cpu_s();
+          for (int i = 0; i < 10; ++i) acc += static_cast<double>(anomaly->circle(p0.x(), p0.z(), er, ez)->eval(0.1L).g.x());
+          setup = std::min(setup, 1e5 * (cpu_s() - t0));
+          const auto c = anomaly->circle(p0.x(), p0.z(), er, ez);
+          Mat3 d;
+          t0 = cpu_s();
+          for (int i = 0; i < 2000; ++i) acc += static_cast<double>(c->eval(1e-4L * i, dg ? &d : nullptr).gamma(0, 0));
+          per = std::min(per, 1e6 * (cpu_s() - t0) / 2000);
+        }
+        g_sink = g_sink + acc;
+        std::printf("%-58s %12.1f\n", dg ? "  circle of latitude with dGamma/dh: set-up + 1st longitude" : "  circle of latitude: set-up + first longitude", setup);
+        std::printf("%-58s %12.3f\n", dg ? "  circle of latitude with dGamma/dh: each further longitude" : "  circle of latitude: each further longitude", per);
+      }
+    }
     LatticeOptions o;
     o.spacing = 2500; o.points = 8;
     fast_sh = std::make_shared<FastField>(normal, anomaly, o);
     (void)us_per_eval(*fast_sh, acc, 6);
     std::printf("%-58s %12.3f\n", "fast: normal + EGM96-360 disturbance lattice (h 2.5 km, p 8)", us_per_eval(*fast_sh, acc, 20000));
+    std::printf("%-58s %12.3f\n", "  the same, gravitation() only", us_per_g(*fast_sh, acc, 20000));
   } else {
     std::printf("(EGM96 file %s absent: SH rows skipped; run scripts/fetch-egm96)\n", egm.c_str());
   }
@@ -142,18 +184,23 @@ int main(int argc, char** argv) {
   std::printf("\nflight north at 170 m/s, 100 Hz, 6 accelerometers at +-0.5 m, 3 km height; first km (initial\n"
               "stencil) and then %.0Lf km (steady state), node building included\n", km);
   auto report = [&](const char* what, const Field& f, const LatticeField& lf, Real la, double node_us) {
-    auto n0 = lf.nodes_computed();
-    const FlightCost a = fly(f, la, lon, 3000, 1);
-    auto n1 = lf.nodes_computed();
-    const FlightCost b = fly(f, la, lon, 3000, km, 1);
-    auto n2 = lf.nodes_computed();
-    const double per_km = (n2 - n1) / static_cast<double>(km);
-    const double us_b = 1e6 * b.seconds / b.evals;
-    std::printf("  %s: first km %.2f s (%zu nodes); then %.3f us/eval amortised, %.0f nodes/km\n", what, a.seconds, n1 - n0, us_b, per_km);
-    // 10 h at 170 m/s = 6120 km, 3.6e6 steps x 6 accelerometers
-    std::printf("    -> 10 h flight estimate: %.0f s (%.0f s node building at %.0f us/node + %.0f s interpolation)\n",
-                6120 * per_km * node_us * 1e-6 + 3.6e6 * 6 * (us_b - 1e-3 * per_km * node_us * 1.7 / 6) * 1e-6,
-                6120 * per_km * node_us * 1e-6, node_us, 3.6e6 * 6 * (us_b - 1e-3 * per_km * node_us * 1.7 / 6) * 1e-6);
+    for (bool gen : {true, false}) {
+      const Real l = la + (gen ? 0 : 0.05L);  // a fresh path (no nodes shared with the other mode)
+      auto n0 = lf.nodes_computed();
+      const FlightCost a = fly(f, l, lon, 3000, 1, gen);
+      auto n1 = lf.nodes_computed();
+      const FlightCost b = fly(f, l, lon, 3000, km, gen, 1);
+      auto n2 = lf.nodes_computed();
+      const double per_km = (n2 - n1) / static_cast<double>(km);
+      const double us_step = 1e6 * b.seconds / b.steps;
+      // 10 h at 170 m/s = 6120 km = 3.6e6 steps; node building (per_km * 1.7e-3 nodes per step) counted apart
+      const double build = 6120 * per_km * node_us * 1e-6, interp = 3.6e6 * (us_step - 1.7e-3 * per_km * node_us) * 1e-6;
+      std::printf("  %s, %s:\n    first km %.2f s (%zu nodes); then %.3f us/step amortised, %.0f nodes/km\n", what,
+                  gen ? "as the 3-D truth generator (eval at the centre + gravitation at 6 accelerometers)"
+                      : "eval at the 6 accelerometers", a.seconds, n1 - n0, us_step, per_km);
+      std::printf("    -> 10 h flight estimate: %.0f s (%.0f s node building at %.0f us/node + %.0f s interpolation)\n",
+                  build + interp, build, node_us, interp);
+    }
   };
   {
     ErfPointMassField erf(std::make_shared<const std::vector<PointMass>>(rw->masses()), 8000);

@@ -47,7 +47,7 @@ LatticeField::Node LatticeField::node(const Key& k) const {
   return n;
 }
 
-FieldSample LatticeField::eval(const Vec3& r) const {
+const std::vector<LatticeField::Node>& LatticeField::stencil(const Vec3& r, double w[3][16]) const {
   const int p = opt_.points, half = p / 2;
   const Vec3 u = (r - opt_.origin) / opt_.spacing;
   if (!u.allFinite()) throw std::domain_error("LatticeField: position not finite");
@@ -85,7 +85,6 @@ FieldSample LatticeField::eval(const Vec3& r) const {
     st.base = base;
   }
   // Lagrange weights on nodes 0..p-1.
-  double w[3][16];
   for (int a = 0; a < 3; ++a)
     for (int i = 0; i < p; ++i) {
       double num = 1.0;
@@ -93,12 +92,19 @@ FieldSample LatticeField::eval(const Vec3& r) const {
         if (j != i) num *= (t[a] - j);
       w[a][i] = num / denom_[i];
     }
+  return st.v;
+}
+
+FieldSample LatticeField::eval(const Vec3& r) const {
+  const int p = opt_.points;
+  double w[3][16];
+  const std::vector<Node>& v = stencil(r, w);
   double acc[10] = {0};
   for (int i = 0; i < p; ++i) {
     double accj[10] = {0};
     for (int j = 0; j < p; ++j) {
       double acck[10] = {0};
-      const Node* row = &st.v[(static_cast<std::size_t>(i) * p + j) * p];
+      const Node* row = &v[(static_cast<std::size_t>(i) * p + j) * p];
       for (int k = 0; k < p; ++k) {
         const double wk = w[2][k];
         for (int c = 0; c < 10; ++c) acck[c] += wk * row[k][c];
@@ -112,6 +118,28 @@ FieldSample LatticeField::eval(const Vec3& r) const {
   s.g = Vec3(acc[1], acc[2], acc[3]);
   s.gamma << acc[4], acc[5], acc[6], acc[5], acc[7], acc[8], acc[6], acc[8], acc[9];
   return s;
+}
+
+Vec3 LatticeField::gravitation(const Vec3& r) const {
+  // the loops of eval() restricted to components 1..3 (same bits)
+  const int p = opt_.points;
+  double w[3][16];
+  const std::vector<Node>& v = stencil(r, w);
+  double acc[3] = {0, 0, 0};
+  for (int i = 0; i < p; ++i) {
+    double accj[3] = {0, 0, 0};
+    for (int j = 0; j < p; ++j) {
+      double acck[3] = {0, 0, 0};
+      const Node* row = &v[(static_cast<std::size_t>(i) * p + j) * p];
+      for (int k = 0; k < p; ++k) {
+        const double wk = w[2][k];
+        for (int c = 0; c < 3; ++c) acck[c] += wk * row[k][c + 1];
+      }
+      for (int c = 0; c < 3; ++c) accj[c] += w[1][j] * acck[c];
+    }
+    for (int c = 0; c < 3; ++c) acc[c] += w[0][i] * accj[c];
+  }
+  return Vec3(acc[0], acc[1], acc[2]);
 }
 
 FastField::FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> fast_anomaly)
@@ -130,6 +158,8 @@ FieldSample FastField::eval(const Vec3& r) const {
   s.gamma += a.gamma;
   return s;
 }
+
+Vec3 FastField::gravitation(const Vec3& r) const { return normal_->gravitation(r) + anomaly_->gravitation(r); }
 
 std::string FastField::name() const { return "fast(" + normal_->name() + " + " + anomaly_->name() + ")"; }
 

@@ -8,11 +8,17 @@
 namespace ggins::gravity {
 namespace {
 
-// Value, gradient and Hessian of a scalar function of r_e (forward-mode AD, order 2).
+// Value, gradient and Hessian of a scalar function of r_e (forward-mode AD,
+// order 2), and value and gradient only (order 1: the same operations on
+// v and d, so G is the same to the bit).
 struct Hd {
   Real v = 0;
   Vec3 d = Vec3::Zero();
   Mat3 h = Mat3::Zero();
+};
+struct Gd {
+  Real v = 0;
+  Vec3 d = Vec3::Zero();
 };
 
 Hd operator+(const Hd& a, const Hd& b) { Hd r; r.v = a.v + b.v; r.d = a.d + b.d; r.h = a.h + b.h; return r; }
@@ -33,15 +39,34 @@ Hd chain(const Hd& a, Real f, Real f1, Real f2) {
   r.h = f1 * a.h + f2 * (a.d * a.d.transpose());
   return r;
 }
-Hd inv(const Hd& a) { const Real i = 1.0L / a.v; return chain(a, i, -i * i, 2.0L * i * i * i); }
-Hd sqrt(const Hd& a) { const Real s = std::sqrt(a.v); return chain(a, s, 0.5L / s, -0.25L / (s * a.v)); }
-Hd atan(const Hd& a) {
+Gd operator+(const Gd& a, const Gd& b) { Gd r; r.v = a.v + b.v; r.d = a.d + b.d; return r; }
+Gd operator*(Real s, const Gd& a) { Gd r; r.v = s * a.v; r.d = s * a.d; return r; }
+Gd operator+(const Gd& a, Real s) { Gd r = a; r.v += s; return r; }
+Gd operator*(const Gd& a, const Gd& b) {
+  Gd r;
+  r.v = a.v * b.v;
+  r.d = a.v * b.d + b.v * a.d;
+  return r;
+}
+Gd chain(const Gd& a, Real f, Real f1, Real) {
+  Gd r;
+  r.v = f;
+  r.d = f1 * a.d;
+  return r;
+}
+template <class D>
+D inv(const D& a) { const Real i = 1.0L / a.v; return chain(a, i, -i * i, 2.0L * i * i * i); }
+template <class D>
+D sqrt(const D& a) { const Real s = std::sqrt(a.v); return chain(a, s, 0.5L / s, -0.25L / (s * a.v)); }
+template <class D>
+D atan(const D& a) {
   const Real d = 1.0L / (1.0L + a.v * a.v);
   return chain(a, std::atan(a.v), d, -2.0L * a.v * d * d);
 }
 
 Real value(Real x) { return x; }
-Real value(const Hd& x) { return x.v; }
+template <class D>
+Real value(const D& x) { return x.v; }
 
 template <class T, class Mul>
 T q_series(const T& t, Mul mul) {
@@ -82,30 +107,37 @@ Real NormalField::j2n(int n) const {
 
 bool NormalField::third(const Vec3& r, Tensor3& t) const { return zonal_->third(r, t); }
 
-FieldSample NormalField::eval(const Vec3& r_e) const {
-  Hd x[3];
+template <class D>
+D NormalField::potential_ad(const Vec3& r_e) const {
+  D x[3];
   for (int i = 0; i < 3; ++i) { x[i].v = r_e[i]; x[i].d[i] = 1.0L; }
   const Real e2 = e_lin_ * e_lin_;
-  const Hd r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-  const Hd w = r2 + (-e2);
+  const D r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+  const D w = r2 + (-e2);
   if (!(w.v > 3.0L * e2) || !std::isfinite(w.v))
     throw std::domain_error("NormalField: point too close to the centre (u < 2E) or not finite");
   // u^2 = w/2 [1 + sqrt(1 + 4 E^2 z^2 / w^2)]
-  const Hd iw = inv(w);
-  const Hd ratio = (4.0L * e2) * (x[2] * x[2] * iw * iw);
-  const Hd u2 = 0.5L * (w * (sqrt(ratio + 1.0L) + 1.0L));
-  const Hd iu = inv(sqrt(u2));
-  const Hd t = e_lin_ * iu;                       // E/u
-  const Hd sin2b = x[2] * x[2] * inv(u2);         // sin^2(beta) = z^2/u^2
-  const Hd q = q_series(t, [](const Hd& a, const Hd& b) { return a * b; });
+  const D iw = inv(w);
+  const D ratio = (4.0L * e2) * (x[2] * x[2] * iw * iw);
+  const D u2 = 0.5L * (w * (sqrt(ratio + 1.0L) + 1.0L));
+  const D iu = inv(sqrt(u2));
+  const D t = e_lin_ * iu;                       // E/u
+  const D sin2b = x[2] * x[2] * inv(u2);         // sin^2(beta) = z^2/u^2
+  const D q = q_series(t, [](const D& a, const D& b) { return a * b; });
   const Real k = 0.5L * p_.omega * p_.omega * p_.a * p_.a / q0_;
-  const Hd v = (p_.gm / e_lin_) * atan(t) + k * (q * (sin2b + (-1.0L / 3.0L)));
+  return (p_.gm / e_lin_) * atan(t) + k * (q * (sin2b + (-1.0L / 3.0L)));
+}
+
+FieldSample NormalField::eval(const Vec3& r_e) const {
+  const Hd v = potential_ad<Hd>(r_e);
   FieldSample s;
   s.potential = v.v;
   s.g = v.d;
   s.gamma = 0.5L * (v.h + v.h.transpose());
   return s;
 }
+
+Vec3 NormalField::gravitation(const Vec3& r_e) const { return potential_ad<Gd>(r_e).d; }
 
 Real NormalField::centrifugal_potential(const Vec3& r) const {
   return 0.5L * p_.omega * p_.omega * (r.x() * r.x() + r.y() * r.y());

@@ -7,6 +7,34 @@
 
 namespace ggins::gravity {
 
+namespace {
+class PointByPointCircle final : public FieldCircle {
+ public:
+  PointByPointCircle(const Field& f, Real rho, Real z, Real e_rho, Real e_z) : f_(f), rho_(rho), z_(z), er_(e_rho), ez_(e_z) {}
+  FieldSample eval(Real lon, Mat3* dgamma) const override {
+    const Real c = std::cos(lon), s = std::sin(lon);
+    const Vec3 p(rho_ * c, rho_ * s, z_);
+    if (dgamma) {
+      dgamma->setZero();
+      if (er_ != 0 || ez_ != 0) {
+        Tensor3 t;
+        if (!f_.third(p, t)) throw std::logic_error("FieldCircle: " + f_.name() + " has no third derivatives");
+        *dgamma = t[0] * (er_ * c) + t[1] * (er_ * s) + t[2] * ez_;
+      }
+    }
+    return f_.eval(p);
+  }
+
+ private:
+  const Field& f_;
+  Real rho_, z_, er_, ez_;
+};
+}  // namespace
+
+std::unique_ptr<FieldCircle> Field::circle(Real rho, Real z, Real e_rho, Real e_z) const {
+  return std::make_unique<PointByPointCircle>(*this, rho, z, e_rho, e_z);
+}
+
 FieldSample PointMassField::eval(const Vec3& r_e) const {
   const Real r2 = r_e.squaredNorm();
   if (!(r2 > 0) || !std::isfinite(r2)) throw std::domain_error("PointMassField: position at the centre or not finite");

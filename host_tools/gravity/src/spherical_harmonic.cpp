@@ -1,8 +1,12 @@
 #include "ggins/gravity/spherical_harmonic.hpp"
 
 #include "ggins/gravity/wgs84.hpp"
+#include "sh_engine.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -11,13 +15,46 @@
 namespace ggins::gravity {
 namespace {
 
-Real parse_real(std::string t) {
-  std::replace(t.begin(), t.end(), 'D', 'E');
-  std::replace(t.begin(), t.end(), 'd', 'e');
-  std::size_t pos = 0;
-  const Real v = std::stold(t, &pos);
-  if (pos != t.size()) throw std::runtime_error("bad number '" + t + "'");
-  return v;
+// One line of a coefficient file split into whitespace-separated tokens,
+// with errors that name the file and line.
+struct Line {
+  const std::string* path;
+  int no;
+  std::vector<std::string> tok;
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(*path + ":" + std::to_string(no) + ": " + what);
+  }
+  Real real(std::size_t i, const char* what) const {
+    std::string t = tok[i];
+    for (char& ch : t)
+      if (ch == 'D' || ch == 'd') ch = 'e';  // Fortran exponents
+    char* end = nullptr;
+    errno = 0;
+    const Real v = std::strtold(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+      fail(std::string("bad ") + what + " '" + tok[i] + "'");
+    return v;
+  }
+  int integer(std::size_t i, const char* what) const {
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(tok[i].c_str(), &end, 10);
+    if (end == tok[i].c_str() || *end != '\0' || errno == ERANGE || v < 0 || v > 100000)
+      fail(std::string("bad ") + what + " '" + tok[i] + "'");
+    return static_cast<int>(v);
+  }
+};
+
+void split(const std::string& s, std::vector<std::string>& tok) {
+  tok.clear();
+  std::size_t i = 0;
+  const std::size_t n = s.size();
+  while (i < n) {
+    while (i < n && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+    const std::size_t j = i;
+    while (i < n && !std::isspace(static_cast<unsigned char>(s[i]))) ++i;
+    if (i > j) tok.emplace_back(s, j, i - j);
+  }
 }
 
 // p!/q! for nearby p, q.
@@ -74,26 +111,24 @@ ShCoefficients read_nasa_ascii(const std::string& path, Real gm, Real a, int nma
   struct Row { int n, m; Real c, s, sc, ss; };
   std::vector<Row> rows;
   int nfound = 0;
-  std::string line;
-  int lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    std::istringstream ls(line);
-    std::vector<std::string> tok;
-    for (std::string t; ls >> t;) tok.push_back(t);
-    if (tok.empty()) continue;
-    if (tok.size() < 4) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": expected n m C S [sigmaC sigmaS]");
+  std::string text;
+  Line L{&path, 0, {}};
+  while (std::getline(in, text)) {
+    ++L.no;
+    split(text, L.tok);
+    if (L.tok.empty()) continue;
+    if (L.tok.size() < 4 || L.tok.size() > 6) L.fail("expected 'n m C S [sigmaC sigmaS]', got " + std::to_string(L.tok.size()) + " fields");
     Row r{};
-    r.n = std::stoi(tok[0]); r.m = std::stoi(tok[1]);
-    if (r.n < 0 || r.m < 0 || r.m > r.n) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": bad degree/order");
-    r.c = parse_real(tok[2]); r.s = parse_real(tok[3]);
-    r.sc = tok.size() > 4 ? parse_real(tok[4]) : 0; r.ss = tok.size() > 5 ? parse_real(tok[5]) : 0;
+    r.n = L.integer(0, "degree"); r.m = L.integer(1, "order");
+    if (r.m > r.n) L.fail("order " + std::to_string(r.m) + " above degree " + std::to_string(r.n));
+    r.c = L.real(2, "C"); r.s = L.real(3, "S");
+    r.sc = L.tok.size() > 4 ? L.real(4, "sigma C") : 0; r.ss = L.tok.size() > 5 ? L.real(5, "sigma S") : 0;
     if (nmax >= 0 && r.n > nmax) continue;
     nfound = std::max(nfound, r.n);
     rows.push_back(r);
   }
   if (rows.empty()) throw std::runtime_error("read_nasa_ascii: no coefficients in " + path);
-  if (nmax >= 0 && nfound < nmax) throw std::runtime_error("read_nasa_ascii: file has degree " + std::to_string(nfound) + " < requested " + std::to_string(nmax));
+  if (nmax >= 0 && nfound < nmax) throw std::runtime_error("read_nasa_ascii: " + path + " has degree " + std::to_string(nfound) + " < requested " + std::to_string(nmax));
   ShCoefficients k;
   k.gm = gm; k.a = a; k.source = path;
   k.resize(nmax >= 0 ? nmax : nfound);
@@ -112,45 +147,125 @@ ShCoefficients read_icgem_gfc(const std::string& path, int nmax) {
   k.source = path;
   int file_nmax = -1;
   bool have_gm = false, have_a = false, head_done = false, errors = true;
-  std::string line;
-  int lineno = 0;
-  while (std::getline(in, line)) {
-    ++lineno;
-    std::istringstream ls(line);
-    std::string key;
-    if (!(ls >> key)) continue;
+  std::string text;
+  Line L{&path, 0, {}};
+  while (std::getline(in, text)) {
+    ++L.no;
+    split(text, L.tok);
+    if (L.tok.empty()) continue;
+    const std::string& key = L.tok[0];
     if (!head_done) {
       if (key == "end_of_head") {
         head_done = true;
-        if (!have_gm || !have_a || file_nmax < 0) throw std::runtime_error("read_icgem_gfc: header lacks earth_gravity_constant, radius or max_degree");
-        if (nmax > file_nmax) throw std::runtime_error("read_icgem_gfc: requested degree above max_degree");
+        if (!have_gm) L.fail("header lacks earth_gravity_constant");
+        if (!have_a) L.fail("header lacks radius");
+        if (file_nmax < 0) L.fail("header lacks max_degree");
+        if (nmax > file_nmax) L.fail("requested degree " + std::to_string(nmax) + " above max_degree " + std::to_string(file_nmax));
         k.resize(nmax >= 0 ? nmax : file_nmax);
         k.c[0] = 1;
         continue;
       }
-      std::string val;
-      ls >> val;
-      if (key == "earth_gravity_constant") { k.gm = parse_real(val); have_gm = true; }
-      else if (key == "radius") { k.a = parse_real(val); have_a = true; }
-      else if (key == "max_degree") file_nmax = std::stoi(val);
-      else if (key == "norm" && val != "fully_normalized") throw std::runtime_error("read_icgem_gfc: only fully_normalized models are supported");
-      else if (key == "errors") errors = (val != "no");
+      const bool has_val = L.tok.size() >= 2;
+      if (key == "earth_gravity_constant" || key == "radius" || key == "max_degree" || key == "norm" ||
+          key == "errors" || key == "tide_system") {
+        if (!has_val) L.fail("header keyword " + key + " without a value");
+      }
+      if (key == "earth_gravity_constant") {
+        k.gm = L.real(1, "earth_gravity_constant"); have_gm = true;
+        if (!(k.gm > 0)) L.fail("earth_gravity_constant must be positive");
+      } else if (key == "radius") {
+        k.a = L.real(1, "radius"); have_a = true;
+        if (!(k.a > 0)) L.fail("radius must be positive");
+      } else if (key == "max_degree") file_nmax = L.integer(1, "max_degree");
+      else if (key == "norm" && L.tok[1] != "fully_normalized") L.fail("norm '" + L.tok[1] + "': only fully_normalized models are supported");
+      else if (key == "errors") errors = (L.tok[1] != "no");
+      else if (key == "tide_system") {
+        k.tide_system = L.tok[1] == "unknown" ? "" : L.tok[1];
+        if (!k.tide_system.empty() && k.tide_system != "tide_free" && k.tide_system != "zero_tide" && k.tide_system != "mean_tide")
+          L.fail("unknown tide_system '" + k.tide_system + "' (tide_free, zero_tide, mean_tide)");
+      }
       continue;
     }
     if (key == "gfct" || key == "trnd" || key == "acos" || key == "asin" || key == "dot")
-      throw std::runtime_error("read_icgem_gfc: time-variable models (" + key + ") are not supported");
-    if (key != "gfc") throw std::runtime_error(path + ":" + std::to_string(lineno) + ": unknown record '" + key + "'");
-    std::vector<std::string> tok;
-    for (std::string t; ls >> t;) tok.push_back(t);
-    if (tok.size() < 4 || (errors && tok.size() < 6)) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": short gfc record");
-    const int n = std::stoi(tok[0]), m = std::stoi(tok[1]);
-    if (n < 0 || m < 0 || m > n) throw std::runtime_error(path + ":" + std::to_string(lineno) + ": bad degree/order");
+      L.fail("time-variable models (" + key + " records) are not supported");
+    if (key != "gfc") L.fail("unknown record '" + key + "' (expected gfc)");
+    const std::size_t nt = L.tok.size() - 1;
+    if (nt < 4 || (errors && nt < 6)) L.fail(errors ? "expected 'gfc n m C S sigmaC sigmaS'" : "expected 'gfc n m C S'");
+    const int n = L.integer(1, "degree"), m = L.integer(2, "order");
+    if (m > n) L.fail("order " + std::to_string(m) + " above degree " + std::to_string(n));
+    if (n > file_nmax) L.fail("degree " + std::to_string(n) + " above max_degree " + std::to_string(file_nmax));
     if (n > k.nmax) continue;
     const auto i = ShCoefficients::idx(n, m);
-    k.c[i] = parse_real(tok[2]); k.s[i] = parse_real(tok[3]);
-    if (tok.size() >= 6) { k.sigma_c[i] = parse_real(tok[4]); k.sigma_s[i] = parse_real(tok[5]); }
+    k.c[i] = L.real(3, "C"); k.s[i] = L.real(4, "S");
+    if (nt >= 6) { k.sigma_c[i] = L.real(5, "sigma C"); k.sigma_s[i] = L.real(6, "sigma S"); }
   }
   if (!head_done) throw std::runtime_error("read_icgem_gfc: no end_of_head in " + path);
+  return k;
+}
+
+ShCoefficients read_model(const std::string& path, int nmax, Real gm, Real a) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open model file " + path);
+  std::string text;
+  std::vector<std::string> tok;
+  for (int i = 0; i < 200 && std::getline(in, text); ++i) {
+    split(text, tok);
+    if (tok.empty()) continue;
+    if (tok[0] == "end_of_head" || tok[0] == "earth_gravity_constant" || tok[0] == "product_type" || tok[0] == "modelname")
+      return read_icgem_gfc(path, nmax);
+    if (std::isdigit(static_cast<unsigned char>(tok[0][0]))) break;
+  }
+  return read_nasa_ascii(path, gm, a, nmax);
+}
+
+// IERS Conventions (2010), IERS TN 36, sec. 6.2.2: the permanent-tide part of
+// C20, <dC20> = A0 H0 k20 = -4.1736e-9 (zero tide minus tide free), and the
+// direct part A0 H0 = <dC20>/k20, k20 = 0.30190 (mean tide minus zero tide).
+constexpr Real kDc20ZeroMinusFree = -4.1736e-9L;
+constexpr Real kDc20MeanMinusZero = -4.1736e-9L / 0.30190L;
+
+ShCoefficients to_tide_system(const ShCoefficients& k, const std::string& target) {
+  auto level = [](const std::string& t) -> Real {  // C20 offset relative to tide free
+    if (t == "tide_free") return 0;
+    if (t == "zero_tide") return kDc20ZeroMinusFree;
+    if (t == "mean_tide") return kDc20ZeroMinusFree + kDc20MeanMinusZero;
+    throw std::invalid_argument("unknown tide system '" + t + "' (tide_free, zero_tide, mean_tide)");
+  };
+  if (k.tide_system.empty()) throw std::invalid_argument("to_tide_system: the model's tide system is not known (" + k.source + ")");
+  ShCoefficients t = k;
+  if (k.nmax >= 2) t.c[ShCoefficients::idx(2, 0)] += level(target) - level(k.tide_system);
+  else (void)level(target);
+  t.tide_system = target;
+  return t;
+}
+
+ShCoefficients synthetic_kaula(int nmax, std::uint64_t seed) {
+  if (nmax < 0) throw std::invalid_argument("synthetic_kaula: negative degree");
+  std::uint64_t state = seed;
+  auto uniform = [&state] {  // splitmix64 (Steele, Lea & Flood 2014), (0, 1]
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (static_cast<double>(z >> 11) + 1.0) * 0x1.0p-53;
+  };
+  auto normal = [&] {  // Box-Muller
+    const double u1 = uniform(), u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+  };
+  ShCoefficients k;
+  k.gm = 3.986004415e14L; k.a = 6378136.3L;  // EGM2008 (Pavlis et al. 2012)
+  k.source = "kaula(seed " + std::to_string(seed) + ")";
+  k.resize(nmax);
+  k.c[0] = 1;
+  for (int n = 2; n <= nmax; ++n) {
+    const double sig = 1e-5 / (static_cast<double>(n) * n);
+    for (int m = 0; m <= n; ++m) {
+      const auto i = ShCoefficients::idx(n, m);
+      k.c[i] = sig * normal();
+      k.s[i] = (m == 0) ? 0.0 : sig * normal();
+    }
+  }
   return k;
 }
 
@@ -164,8 +279,15 @@ SphericalHarmonicField::SphericalHarmonicField(ShCoefficients coeffs, int nmax, 
     : k_(std::move(coeffs)), nmax_(nmax < 0 ? k_.nmax : nmax), jmax_(std::max(2, max_order)), prec_(precision) {
   if (nmax_ > k_.nmax) throw std::invalid_argument("SphericalHarmonicField: nmax above the coefficients' degree");
   if (!(k_.gm > 0) || !(k_.a > 0)) throw std::invalid_argument("SphericalHarmonicField: GM and a must be positive");
-  if (prec_ == ShPrecision::Double) fill(td_);
-  else fill(tl_);
+  const int N = nmax_;
+  switch (prec_) {
+    case ShPrecision::LongDouble: el_ = std::make_shared<detail::ShEngine<long double>>(k_, N); break;
+    case ShPrecision::Double: ed_ = std::make_shared<detail::ShEngine<double>>(k_, N); break;
+    case ShPrecision::Mixed:
+      el_ = std::make_shared<detail::ShEngine<long double>>(k_, std::min(N, kMixedSplit));
+      if (N > kMixedSplit) ed_ = std::make_shared<detail::ShEngine<double>>(k_, N, kMixedSplit + 1);
+      break;
+  }
 }
 
 template <class T>
@@ -199,11 +321,15 @@ void SphericalHarmonicField::fill(Tables<T>& t) const {
 }
 
 std::string SphericalHarmonicField::name() const {
-  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + (prec_ == ShPrecision::Double ? ", double" : "") + ")";
+  return "sh(" + k_.source + ", n<=" + std::to_string(nmax_) + (prec_ == ShPrecision::Double ? ", double" : prec_ == ShPrecision::Mixed ? ", mixed" : "") + ")";
 }
 
 std::vector<ShDerivatives> SphericalHarmonicField::derivatives(const Vec3& r, int order) const {
   if (order < 0 || order > jmax_) throw std::invalid_argument("SphericalHarmonicField::derivatives: order above max_order");
+  std::call_once(tables_once_, [this] {
+    if (prec_ == ShPrecision::LongDouble) fill(tl_);
+    else fill(td_);
+  });
   return prec_ == ShPrecision::Double ? derivatives_impl(td_, r, order) : derivatives_impl(tl_, r, order);
 }
 
@@ -331,14 +457,115 @@ bool SphericalHarmonicField::third(const Vec3& r, Tensor3& t) const {
   return true;
 }
 
+// Column sums at the reference point (rho, 0, z), shared by all longitudes.
+class ShCircle final : public FieldCircle {
+ public:
+  ShCircle(const SphericalHarmonicField& f, Real rho, Real z, Real e_rho, Real e_z) : f_(f), rho_(rho) {
+    const Vec3 p0(rho, 0, z);
+    if (f.el_) {
+      gl_ = detail::sh_geometry<long double>(p0, f.el_->a());
+      sl_.resize(f.el_->nmax() + 1);
+      f.el_->column_sums(gl_, true, sl_.data());
+    }
+    if (f.ed_) {
+      gd_ = detail::sh_geometry<double>(p0, f.ed_->a());
+      sd_.resize(f.ed_->nmax() + 1);
+      f.ed_->column_sums(gd_, true, sd_.data());
+    }
+    if (e_rho != 0 || e_z != 0) {
+      std::call_once(f.dual_once_, [&f] { f.edd_ = std::make_shared<detail::ShEngine<detail::Dd>>(f.k_, f.nmax_); });
+      er_ = static_cast<double>(e_rho);
+      gx_ = detail::sh_geometry(p0, Vec3(e_rho, 0, e_z), f.edd_->a().x);
+      sx_.resize(f.edd_->nmax() + 1);
+      f.edd_->column_sums(gx_, true, sx_.data());
+    }
+  }
+  FieldSample eval(Real lon, Mat3* dgamma) const override {
+    const Real c = std::cos(lon), s = std::sin(lon), x = rho_ * c, y = rho_ * s;
+    Real v = 0, g[3] = {0, 0, 0}, G[6] = {0, 0, 0, 0, 0, 0};
+    auto add = [&](const auto& o) {
+      v += o.v;
+      for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+      for (int i = 0; i < 6; ++i) G[i] += o.gamma[i];
+    };
+    if (f_.el_) {
+      detail::ShGeom<long double> h = gl_;
+      h.s1 = x * h.ir; h.s2 = y * h.ir;
+      add(f_.el_->assemble(sl_.data(), h, true));
+    }
+    if (f_.ed_) {
+      detail::ShGeom<double> h = gd_;
+      h.s1 = static_cast<double>(x) * h.ir; h.s2 = static_cast<double>(y) * h.ir;
+      add(f_.ed_->assemble(sd_.data(), h, true));
+    }
+    if (dgamma) {
+      dgamma->setZero();
+      if (!sx_.empty()) {
+        // s(lon) and its derivative along e(lon) = e_rho (cos, sin, 0) + e_z z^:
+        // ds/de = (e - s dr)/r with dr/de the same on the whole circle.
+        detail::ShGeom<detail::Dd> h = gx_;
+        const double ir = h.ir.x, dr = h.r.d, s1 = static_cast<double>(x) * ir, s2 = static_cast<double>(y) * ir;
+        h.s1 = detail::Dd(s1, (er_ * static_cast<double>(c) - s1 * dr) * ir);
+        h.s2 = detail::Dd(s2, (er_ * static_cast<double>(s) - s2 * dr) * ir);
+        const auto o = f_.edd_->assemble(sx_.data(), h, true);
+        *dgamma << o.gamma[0].d, o.gamma[1].d, o.gamma[2].d, o.gamma[1].d, o.gamma[3].d, o.gamma[4].d, o.gamma[2].d,
+            o.gamma[4].d, o.gamma[5].d;
+      }
+    }
+    FieldSample out;
+    out.potential = v;
+    out.g = Vec3(g[0], g[1], g[2]);
+    out.gamma << G[0], G[1], G[2], G[1], G[3], G[4], G[2], G[4], G[5];
+    return out;
+  }
+
+ private:
+  const SphericalHarmonicField& f_;
+  Real rho_;
+  double er_ = 0;
+  detail::ShGeom<long double> gl_{};
+  detail::ShGeom<double> gd_{};
+  detail::ShGeom<detail::Dd> gx_{};
+  std::vector<detail::ColSums<long double>> sl_;
+  std::vector<detail::ColSums<double>> sd_;
+  std::vector<detail::ColSums<detail::Dd>> sx_;
+};
+
+std::unique_ptr<FieldCircle> SphericalHarmonicField::circle(Real rho, Real z, Real e_rho, Real e_z) const {
+  return std::make_unique<ShCircle>(*this, rho, z, e_rho, e_z);
+}
+
+Vec3 SphericalHarmonicField::gravitation(const Vec3& r) const {
+  Real g[3] = {0, 0, 0};
+  if (el_) {
+    const auto o = el_->eval(r, false);
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+  }
+  if (ed_) {
+    const auto o = ed_->eval(r, false);
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+  }
+  return Vec3(g[0], g[1], g[2]);
+}
+
 FieldSample SphericalHarmonicField::eval(const Vec3& r) const {
-  const auto d = derivatives(r, 2);
+  Real v = 0, g[3] = {0, 0, 0}, G[6] = {0, 0, 0, 0, 0, 0};
+  if (el_) {
+    const auto o = el_->eval(r);
+    v += o.v;
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+    for (int i = 0; i < 6; ++i) G[i] += o.gamma[i];
+  }
+  if (ed_) {
+    const auto o = ed_->eval(r);
+    v += o.v;
+    for (int i = 0; i < 3; ++i) g[i] += o.g[i];
+    for (int i = 0; i < 6; ++i) G[i] += o.gamma[i];
+  }
   FieldSample s;
-  s.potential = d[0].value[0];
-  s.g = Vec3(d[1].at(1, 0, 0), d[1].at(0, 1, 0), d[1].at(0, 0, 1));
-  const Real xx = d[2].at(2, 0, 0), yy = d[2].at(0, 2, 0), zz = d[2].at(0, 0, 2);
-  const Real xy = d[2].at(1, 1, 0), xz = d[2].at(1, 0, 1), yz = d[2].at(0, 1, 1);
-  s.gamma << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  s.potential = v;
+  s.g = Vec3(g[0], g[1], g[2]);
+  s.gamma << G[0], G[1], G[2], G[1], G[3], G[4], G[2], G[4], G[5];
   return s;
 }
 

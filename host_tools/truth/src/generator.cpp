@@ -215,7 +215,7 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
       continue;
     }
     const auto si = static_cast<size_t>(i);
-    const Vec3 gi = field_->eval(t.kin.r + offsets_[si]).g;
+    const Vec3 gi = field_->gravitation(t.kin.r + offsets_[si]);
     const Vec3 fi = t.kin.a - gi;  // error-free specific force at the sensor
     for (int n = 0; n < n_axes_; ++n) {
       const int j = axes_[static_cast<size_t>(n)];

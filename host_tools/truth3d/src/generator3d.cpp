@@ -196,7 +196,7 @@ Truth3 Generator3::truth(int64_t k) const {
 Vec3 Generator3::accel_true(const Truth3& t, int j) const {
   const Vec3& d = d_[static_cast<size_t>(j)];
   const Vec3 a_j = t.s.a_i + t.s.C_b_i_ddot * d;
-  const Vec3 g_j = field_->eval(t.s.r_e + t.s.C_b_e * d).g;
+  const Vec3 g_j = field_->gravitation(t.s.r_e + t.s.C_b_e * d);
   return t.s.C_b_i.transpose() * a_j - t.s.C_b_e.transpose() * g_j;
 }
 

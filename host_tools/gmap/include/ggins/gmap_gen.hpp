@@ -7,9 +7,12 @@
 //   C_n_e rows: north = (-sin(lat) cos(lon), -sin(lat) sin(lon), cos(lat)),
 //               east  = (-sin(lon), cos(lon), 0),
 //               down  = (-cos(lat) cos(lon), -cos(lat) sin(lon), -sin(lat)),
-// and its height derivative d Gamma_n/dh = C_n_e (sum_k T_k up_k) C_n_e^T
-// from the model's third derivatives T_k = dGamma_e/dx_k (up = -down; the NED
-// frame is constant along the normal at fixed lat/lon).
+// and its height derivative d Gamma_n/dh = C_n_e (sum_k T_k up_k) C_n_e^T,
+// T_k = dGamma_e/dx_k (up = -down; the NED frame is constant along the normal
+// at fixed lat/lon). Each row of nodes is one circle of latitude
+// (Field::circle): spherical harmonics share the Legendre part along it and
+// give sum_k T_k up_k by dual numbers through the synthesis; other models
+// (the normal field) evaluate node by node with third().
 // Database noise: independent N(0, sigma) added to each of the six values at
 // every node (std::mt19937_64 seeded; the height derivatives get none).
 #pragma once

@@ -34,12 +34,34 @@ struct FieldSample {
   Mat3 gamma = Mat3::Zero();   // gradient dG_j/dx_k, s^-2
 };
 
+// A field along a circle of latitude: the points
+// p(lon) = (rho cos lon, rho sin lon, z) (Earth-fixed, m).
+class FieldCircle {
+ public:
+  virtual ~FieldCircle() = default;
+  // V, G, Gamma at p(lon). When dgamma is given, also the derivative of Gamma
+  // along the direction e(lon) = e_rho (cos lon, sin lon, 0) + e_z (0, 0, 1)
+  // fixed when the circle was made: sum_k T_k e_k (s^-2 per metre along e;
+  // throws std::logic_error when the model has no third derivatives).
+  virtual FieldSample eval(Real lon, Mat3* dgamma = nullptr) const = 0;
+};
+
 class Field {
  public:
   virtual ~Field() = default;
   // Field at r_e (m). Implementations must be thread-safe for concurrent const calls.
   virtual FieldSample eval(const Vec3& r_e) const = 0;
   virtual std::string name() const = 0;
+  // Gravitation alone, eval(r_e).g; models for which G costs less than
+  // (V, G, Gamma) override it (the normal field, lattices, sums, spherical
+  // harmonics give the same bits as eval(r_e).g).
+  virtual Vec3 gravitation(const Vec3& r_e) const { return eval(r_e).g; }
+  // The field on the circle of latitude through (rho, 0, z), with the
+  // direction (e_rho, e_z) for FieldCircle::eval's dgamma (e.g. the ellipsoid
+  // normal: e_rho = cos(geodetic latitude), e_z = sin). Models that share work
+  // between the points of a circle override it; this default evaluates point
+  // by point (eval(), and third() for dgamma).
+  virtual std::unique_ptr<FieldCircle> circle(Real rho, Real z, Real e_rho = 0, Real e_z = 0) const;
   // Optional: third derivatives at r_e. Returns false (t untouched) when the
   // model does not provide them.
   virtual bool third(const Vec3& r_e, Tensor3& t) const {

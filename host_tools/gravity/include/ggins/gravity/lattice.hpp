@@ -52,6 +52,7 @@ class LatticeField final : public Field {
  public:
   LatticeField(std::shared_ptr<const Field> source, LatticeOptions opt);
   FieldSample eval(const Vec3& r_e) const override;
+  Vec3 gravitation(const Vec3& r_e) const override;  // interpolates the three components of G only
   std::string name() const override;
   std::size_t nodes_computed() const;
   const LatticeOptions& options() const { return opt_; }
@@ -71,6 +72,8 @@ class LatticeField final : public Field {
     }
   };
   Node node(const Key& k) const;
+  // Gathers the stencil around r_e (per-thread cache) and its Lagrange weights.
+  const std::vector<Node>& stencil(const Vec3& r_e, double w[3][16]) const;
 
   std::shared_ptr<const Field> src_;
   LatticeOptions opt_;
@@ -120,6 +123,7 @@ class FastField final : public Field {
   // Convenience: smooth anomaly (e.g. SumField{+EGM96, -normal}) on a LatticeField.
   FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> smooth_anomaly, LatticeOptions opt);
   FieldSample eval(const Vec3& r_e) const override;
+  Vec3 gravitation(const Vec3& r_e) const override;
   std::string name() const override;
   const Field& anomaly() const { return *anomaly_; }
 

@@ -40,6 +40,7 @@ class NormalField final : public Field {
  public:
   explicit NormalField(const EllipsoidParams& p = EllipsoidParams{});
   FieldSample eval(const Vec3& r_e) const override;
+  Vec3 gravitation(const Vec3& r_e) const override;  // first-order AD only (same bits as eval().g)
   std::string name() const override { return "wgs84-normal"; }
   // Third derivatives from the equivalent zonal series (degree 20, J2n of
   // H&M eqs. (2-90), (2-92); J22 ~ 1e-24), exact to rounding for r > E.
@@ -54,6 +55,8 @@ class NormalField final : public Field {
   Real linear_eccentricity() const { return e_lin_; }
 
  private:
+  template <class D>
+  D potential_ad(const Vec3& r_e) const;  // V with its derivatives, forward-mode AD type D
   EllipsoidParams p_;
   Real b_, e_lin_, q0_;
   std::shared_ptr<const Field> zonal_;  // SphericalHarmonicField, max_order 3

@@ -44,7 +44,7 @@ class PointMassAnomalyField final : public Field {
   FieldSample eval(const Vec3& r_e) const override;
   std::string name() const override { return label_; }
   bool third(const Vec3& r_e, Tensor3& t) const override;
-  Vec3 gravitation(const Vec3& r_e) const;  // G only, in double (cheaper; anomaly-sized values)
+  Vec3 gravitation(const Vec3& r_e) const override;  // G only, in double (cheaper; anomaly-sized values)
   const std::vector<PointMass>& masses() const { return masses_; }
 
  private:

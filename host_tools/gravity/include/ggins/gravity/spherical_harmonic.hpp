@@ -33,16 +33,28 @@
 #include "ggins/gravity/field.hpp"
 
 #include <array>
+#include <cstdint>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
 namespace ggins::gravity {
+
+namespace detail {
+template <class T>
+class ShEngine;
+struct Dd;
+}
 
 struct ShCoefficients {
   Real gm = 0;   // m^3/s^2
   Real a = 0;    // reference radius, m
   int nmax = -1;
   std::string source;
+  // Permanent-tide convention of C20: "tide_free", "zero_tide", "mean_tide",
+  // or empty when the file does not say (NASA/NGA ASCII; EGM96 and EGM2008 are tide free).
+  std::string tide_system;
   // Fully-normalised coefficients, index n(n+1)/2 + m.
   std::vector<Real> c, s, sigma_c, sigma_s;
   static std::size_t idx(int n, int m) { return static_cast<std::size_t>(n) * (n + 1) / 2 + m; }
@@ -57,13 +69,29 @@ struct ShCoefficients {
 constexpr Real kEgm96Gm = 3.986004415e14L;
 constexpr Real kEgm96A = 6378136.3L;
 
-// NASA/NGA ASCII: lines "n m C S sigmaC sigmaS" (Fortran D or E exponents).
+// Readers. Every malformed line is reported as "path:line: what is wrong".
+// NASA/NGA ASCII: lines "n m C S [sigmaC sigmaS]" (Fortran D or E exponents).
 // GM and a are not in the file; nmax < 0 reads everything. C00 = 1 when absent.
 ShCoefficients read_nasa_ascii(const std::string& path, Real gm = kEgm96Gm, Real a = kEgm96A, int nmax = -1);
 // ICGEM .gfc (static models, "gfc n m C S [sigmaC sigmaS]" after end_of_head;
-// earth_gravity_constant, radius, max_degree, norm, errors from the header).
+// earth_gravity_constant, radius, max_degree, norm, errors and tide_system
+// from the header; Barthelmes & Foerste, "The ICGEM-format", GFZ 2011).
 // Time-variable models (gfct/trnd/acos/asin) are rejected.
 ShCoefficients read_icgem_gfc(const std::string& path, int nmax = -1);
+// Either format, recognised by the content (an ICGEM header keyword before the
+// first numeric line); gm and a are used for NASA/NGA files only.
+ShCoefficients read_model(const std::string& path, int nmax = -1, Real gm = kEgm96Gm, Real a = kEgm96A);
+// The same model in another permanent-tide convention: C20 shifted by the
+// IERS Conventions (2010) sec. 6.2.2 offsets (zero - free = -4.1736e-9,
+// mean - zero = -4.1736e-9 / k20, k20 = 0.30190). Throws when k.tide_system is empty.
+ShCoefficients to_tide_system(const ShCoefficients& k, const std::string& target);
+
+// A synthetic model for tests and benchmarks at any degree: C00 = 1, degree 1
+// zero, C_nm and S_nm (S_n0 = 0) independent normal deviates with Kaula's rule
+// sigma_n = 1e-5 / n^2 (Kaula 1966, "Theory of Satellite Geodesy", eq. (4.3.2)),
+// a realistic degree variance for the Earth; splitmix64 + Box-Muller, so the
+// set is the same on every platform for a given seed. GM and a of EGM2008.
+ShCoefficients synthetic_kaula(int nmax, std::uint64_t seed = 1);
 
 // Derivatives of order j as the components of a symmetric tensor, indexed by
 // the multi-index (ax, ay, az) with ax+ay+az = j: value d^j V / dx^ax dy^ay dz^az.
@@ -74,11 +102,25 @@ struct ShDerivatives {
   Real at(int ax, int ay, int az) const;
 };
 
-// Arithmetic of the synthesis. LongDouble (x87, 64-bit mantissa) for total
-// fields at the 1e-19 relative level; Double (SSE, several times faster) is
-// enough for a DISTURBING field (|G| < 1e-2 m/s^2: rounding ~1e-18 m/s^2),
-// e.g. the coefficients from subtract_normal(), used to build fast-path nodes.
-enum class ShPrecision { LongDouble, Double };
+// Arithmetic of the synthesis (eval(); derivatives() and third() use the
+// Cunningham engine, in long double for LongDouble, in double otherwise).
+//  LongDouble: everything in x87 long double (64-bit mantissa): total fields
+//    at the 1e-19 relative level.
+//  Double: everything in double (15x faster than LongDouble at degree 360:
+//    two orders per pass in vector lanes, see src/sh_engine.cpp). Enough for a
+//    DISTURBING field, e.g. the coefficients from subtract_normal(), used to
+//    build fast-path nodes: EGM96 disturbance to degree 360 agrees with the
+//    long-double total minus the normal field to 2e-17 m/s^2 and 1e-12 E. On a
+//    total field the degree-0 term (GM/r^2 = 9.8 m/s^2) alone costs ~1e-14 m/s^2.
+//  Mixed: degrees 0..kMixedSplit in long double, the rest in double: a total
+//    field at the cost of Double; the rounding is that of the double part,
+//    about 1e-16 x sum |terms| of degrees > kMixedSplit: EGM96 (degree 360)
+//    5e-17 m/s^2 and 1.4e-12 E from LongDouble, synthetic degree 2190 2e-16
+//    m/s^2 and 4e-11 E (tests/gravity/test_sh_2190.cpp, scripts/bench-field).
+//    LongDouble is where the truth needs it: a total field whose Gamma must be
+//    right below 1e-12 E (Gamma of the 1 m accelerometer differences).
+enum class ShPrecision { LongDouble, Double, Mixed };
+constexpr int kMixedSplit = 8;
 
 // Coefficients of T = V_model - V_normal (the WGS-84 normal gravitation of
 // NormalField) at the model's GM and a: the normal field's zonal series
@@ -97,6 +139,17 @@ class SphericalHarmonicField final : public Field {
   explicit SphericalHarmonicField(ShCoefficients coeffs, int nmax = -1, int max_order = 2,
                                   ShPrecision precision = ShPrecision::LongDouble);
   FieldSample eval(const Vec3& r_e) const override;
+  Vec3 gravitation(const Vec3& r_e) const override;  // without the second derivatives (same bits as eval().g)
+  // The circle of latitude (rho cos lon, rho sin lon, z): r and t = z/r, hence
+  // the column sums of the point synthesis (its O(N^2) Legendre part), are the
+  // same at every longitude and are computed once; each longitude then costs
+  // the sum over m, O(N) (the idea of GeographicLib's GravityCircle; Karney).
+  // V, G, Gamma as eval() (same arithmetic, to rounding: the points differ
+  // from eval()'s only by the rounding of rho cos lon, rho sin lon). dgamma
+  // (along e_rho rho^ + e_z z^) by dual numbers through the same synthesis in
+  // double, whatever the precision (its rounding ~1e-16 of |dGamma| is far
+  // below the third() it replaces needs); no max_order requirement.
+  std::unique_ptr<FieldCircle> circle(Real rho, Real z, Real e_rho = 0, Real e_z = 0) const override;
   std::string name() const override;
   bool third(const Vec3& r_e, Tensor3& t) const override;  // needs max_order >= 3
   // All partial derivatives of V of orders 0..order (order <= max_order).
@@ -120,8 +173,17 @@ class SphericalHarmonicField final : public Field {
   ShCoefficients k_;
   int nmax_, jmax_;
   ShPrecision prec_;
-  Tables<long double> tl_;
-  Tables<double> td_;
+  // Cunningham tables (derivatives(), third()), built on first use.
+  mutable std::once_flag tables_once_;
+  mutable Tables<long double> tl_;
+  mutable Tables<double> td_;
+  // Point-synthesis engines for eval() (see src/sh_engine.hpp).
+  std::shared_ptr<const detail::ShEngine<long double>> el_;
+  std::shared_ptr<const detail::ShEngine<double>> ed_;
+  // Dual-number engine (all degrees) for circle()'s dgamma, built on first use.
+  mutable std::once_flag dual_once_;
+  mutable std::shared_ptr<const detail::ShEngine<detail::Dd>> edd_;
+  friend class ShCircle;
 };
 
 }  // namespace ggins::gravity
