@@ -30,6 +30,7 @@ def main(argv=None):
     g.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://host:8786")
     g.add_argument("--scheduler-file", help="scheduler file written by `dask scheduler --scheduler-file`")
     ap.add_argument("-w", "--workers", type=int, help="LocalCluster worker processes (default: all cores)")
+    ap.add_argument("--seeds", type=int, help="only the first N seeds of every point (a subset of the same runs)")
     ap.add_argument("--retries", type=int, default=1, help="resubmissions of a failed run (default 1)")
     ap.add_argument("--list", action="store_true", help="list the runs (point, seed, stored?) and exit")
     ap.add_argument("--report", action="store_true", help="only rebuild the summary and plots from stored runs")
@@ -46,6 +47,11 @@ def main(argv=None):
     except (SpecError, OSError) as e:
         print("ggins campaign: %s" % e, file=sys.stderr)
         return 2
+    if a.seeds is not None:
+        if a.seeds < 1:
+            print("ggins campaign: --seeds must be >= 1", file=sys.stderr)
+            return 2
+        c.seeds = min(c.seeds, a.seeds)
     runs = c.runs()
     ids = [r.run_id for r in runs]
     if len(set(ids)) != len(ids):

@@ -22,7 +22,12 @@ from distributed import Client, LocalCluster, as_completed
 
 from . import worker
 
+# The run function travels by value: the scheduler unpickles task graphs with plain pickle,
+# so the task is builtins.eval of a one-line trampoline over a cloudpickle blob of
+# worker.execute (stdlib only): no ggins package on the scheduler or the workers.
 cloudpickle.register_pickle_by_value(worker)
+_EXECUTE_BLOB = cloudpickle.dumps(worker.execute)
+_TRAMPOLINE = "__import__('cloudpickle').loads(blob)(task)"
 
 
 def _fmt_dt(s):
@@ -123,7 +128,7 @@ def run(runs, store, client, retries=1, quiet=False, stop_after=None, log=sys.st
 
     def submit(r, attempt):
         key = "ggins-run-%s-s%d-a%d" % (r.run_id, store.session, attempt)
-        f = client.submit(worker.execute, r.task(), key=key, pure=False)
+        f = client.submit(eval, _TRAMPOLINE, {"blob": _EXECUTE_BLOB, "task": r.task()}, key=key, pure=False)
         futures[f.key] = (r, attempt)
         live[f.key] = f
         submitted[f.key] = time.time()
