@@ -39,7 +39,7 @@ def t975(dof):
 def chi2_quantile_wh(n, z):
     """Wilson-Hilferty: chi^2_N at the standard-normal quantile z."""
     a = 2.0 / (9.0 * n)
-    c = 1.0 - a + z * math.sqrt(a)
+    c = max(0.0, 1.0 - a + z * math.sqrt(a))  # (the approximation goes negative for tiny N, low tail)
     return n * c * c * c
 
 
