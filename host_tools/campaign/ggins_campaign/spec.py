@@ -16,9 +16,9 @@ A campaign file:
   "time.duration_s" = {start = 600.0, stop = 1800.0, step = 600.0}   # ... or a range (stop included)
   "--update" = {start = 30, stop = 180, num = 4}      # command option: "--name"
 
-  [[point]]                         # and/or an explicit list of points (each then x the sweep)
-  name = "db-0.01"
-  "--db-noise-e" = 0.01
+  [[point]]                         # and/or an explicit list of points (each then x the sweep);
+  name = "db"                       # a list or range in a point is swept within that point,
+  "--db-noise-e" = [0.01, 0.1]      # {value = [..]} sets an array-valued key as it is
 
   [outputs]
   series_dt = 60                    # keep each run's time series every 60 s (0: final values only)
@@ -157,17 +157,30 @@ class Campaign:
         grids = [_expand_values(k, sweep[k]) for k in keys]
         self.sweep_keys = keys
         self.points = []
-        for pi, p in enumerate(points):
-            for k in p:
-                if k != "name":
-                    self._check_key(k)
-            for combo in itertools.product(*grids):
-                q = dict(p)
-                q.update(dict(zip(keys, combo)))
-                if "name" not in q:
-                    q["name"] = ",".join("%s=%s" % (k.lstrip("-"), q[k]) for k in q if k != "name") or "base"
-                elif keys:
-                    q["name"] = q["name"] + "," + ",".join("%s=%s" % (k.lstrip("-"), v) for k, v in zip(keys, combo))
+        for p in points:
+            # in a point, a list or a range is swept too (a product within the point);
+            # {value = X} sets X as it is (an array-valued scenario key)
+            fixed, pkeys, pgrids = {}, [], []
+            for k, v in p.items():
+                if k == "name":
+                    continue
+                self._check_key(k)
+                if isinstance(v, dict) and set(v) == {"value"}:
+                    fixed[k] = v["value"]
+                elif isinstance(v, (list, dict)):
+                    pkeys.append(k)
+                    pgrids.append(_expand_values(k, v))
+                else:
+                    fixed[k] = v
+            allkeys = pkeys + keys
+            for combo in itertools.product(*(pgrids + grids)):
+                q = dict(fixed)
+                q.update(dict(zip(allkeys, combo)))
+                tag = ",".join("%s=%s" % (k.lstrip("-"), v) for k, v in zip(allkeys, combo))
+                if "name" in p:
+                    q["name"] = p["name"] + ("," + tag if tag else "")
+                else:
+                    q["name"] = ",".join("%s=%s" % (k.lstrip("-"), q[k]) for k in q) or "base"
                 self.points.append(q)
         self.param_keys = []
         for q in self.points:
