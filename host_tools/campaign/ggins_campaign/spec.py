@@ -131,8 +131,9 @@ class Campaign:
         self.args = [str(a) for a in c.get("args", [])]
         self.timeout_s = c.get("timeout_s")
         self.source_dir = source_dir or os.environ.get("GGINS_SOURCE_DIR") or _guess_source_dir()
-        self.bin_dir = bin_dir or os.environ.get("GGINS_BIN") or os.path.join(self.source_dir, "build", "bin")
-        self.data_dir = data_dir or os.environ.get("GGINS_DATA") or os.path.join(self.source_dir, "data")
+        self.bin_dir = os.path.abspath(bin_dir or os.environ.get("GGINS_BIN") or
+                                       os.path.join(self.source_dir, "build", "bin"))
+        self.data_dir = os.path.abspath(data_dir or os.environ.get("GGINS_DATA") or os.path.join(self.source_dir, "data"))
         self.scenario_name = c.get("scenario")
         self.scenario = None
         if self.tool.uses_scenario:
