@@ -19,6 +19,10 @@ RUN3D_STATES = {"err_n_m": "rn_m", "err_e_m": "re_m", "err_d_m": "rd_m", "err_vn
                 "err_ge_mps2": "ge_mps2", "err_gd_mps2": "gd_mps2", "err_h_m": "h_m"}
 
 
+# the nine navigation states of ggins mapnav's per-run tables (its summary.json order)
+MAPNAV_STATES = ["pitch_arcmin", "roll_arcmin", "yaw_arcmin", "vE_mps", "vN_mps", "vU_mps", "lat_m", "lon_m", "h_m"]
+
+
 class Tool:
     name = ""
     uses_scenario = False
@@ -82,7 +86,8 @@ class MapNav(Tool):
                 "--egm96", "{data}/egm96_to360.ascii.txt", "--out", "{out}"] + c.args + opts
         return {"argv": argv, "files": {}, "data_probe": "egm96_to360.ascii.txt",
                 "parse": [{"json": "summary.json",
-                           "values": {"rms2h_": "per_run.0.rms_last2h.*", "final_": "per_run.0.final.*",
+                           "values": {"rms2h_": {"path": "per_run.0.rms_last2h", "names": MAPNAV_STATES},
+                                      "final_": {"path": "per_run.0.final", "names": MAPNAV_STATES},
                                       "nees": "per_run.0.nees_mean", "nees_pos": "per_run.0.nees_pos_mean",
                                       "nis": "per_run.0.nis_mean", "nees_dof": "nees_dof", "nis_dof": "nis_dof"}},
                           {"csv": "timeseries.csv", "time": "t_s", "prefix": "ggan_", "keep_prefix": True},

@@ -110,12 +110,20 @@ def _leaves(obj, prefix, out):
 
 
 def _read_json(path, rule):
-    """`values`: {stored name or prefix*: dotted path}; a path ending in ".*" stores every
-    numeric leaf below it as <prefix><leaf>."""
+    """`values`: {stored name or prefix: dotted path}; a path ending in ".*" stores every
+    numeric leaf below it as <prefix><leaf>; {"path": ..., "names": [...]} stores the elements
+    of an array as <prefix><name>."""
     with open(path) as f:
         j = json.load(f)
     final = {}
     for name, p in rule["values"].items():
+        if isinstance(p, dict):  # an array, its elements named: {"path": ..., "names": [...]}
+            arr = _walk(j, p["path"].split("."))
+            if len(arr) != len(p["names"]):
+                raise ValueError("%s: %s has %d values, expected %d" % (path, p["path"], len(arr), len(p["names"])))
+            for n, v in zip(p["names"], arr):
+                final[name + n] = float(v)
+            continue
         parts = p.split(".")
         if parts[-1] == "*":
             sub = {}
