@@ -191,7 +191,7 @@ def execute(task):
                 final.update(f)
                 if s and len(s.get("t_s", [])) and not series:
                     series = s
-                elif s:
+                elif s and s.get("t_s") == series.get("t_s"):  # same time grid: one table
                     series.update({k: v for k, v in s.items() if k != "t_s"})
             else:
                 final.update(_read_json(_glob_one(out, rule["json"]), rule))
