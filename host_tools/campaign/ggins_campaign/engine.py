@@ -93,7 +93,7 @@ def connect(scheduler=None, scheduler_file=None, workers=None):
         client = Client(scheduler_file=scheduler_file) if scheduler_file else Client(scheduler)
         return client, None
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
