@@ -80,7 +80,8 @@ def main(argv=None):
             if todo:
                 client, cluster = engine.connect(a.scheduler, a.scheduler_file, a.workers)
                 nw = len(client.scheduler_info().get("workers", {}))
-                print("engine: %s, %d workers" % ("LocalCluster" if cluster else (a.scheduler or a.scheduler_file), nw),
+                print("engine: %s, %d workers%s" % ("LocalCluster" if cluster else (a.scheduler or a.scheduler_file), nw,
+                                                    "" if nw else " (the runs wait for a worker to join)"),
                       file=sys.stderr)
             stats = engine.run(runs, store, client, retries=a.retries, quiet=a.quiet, stop_after=a.stop_after)
         except KeyboardInterrupt:
