@@ -25,6 +25,7 @@ static const struct {
     {"replay", "replay a recorded LCM log through the firmware, bit for bit"},
     {"gmap", "onboard gravity-gradient map tile from EGM96 (binary/JSON) for the map-matching filters"},
     {"mapnav", "gravity-gradient map matching UKF (Gao et al.) voyage vs pure inertial, Monte Carlo, NEES/NIS"},
+    {"campaign", "Monte Carlo sets and parameter sweeps of these commands on Dask (local or a cluster), resumable"},
     {"coldatom", "cold-atom partial-gradient particle filter (Phillips et al.): Liverpool-Toulouse flights, sweeps"},
     {"field", "potential, gravitation and gradient of a model (normal, SH file, anomalies) at points or along a route"},
 };

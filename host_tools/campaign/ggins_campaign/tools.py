@@ -1,0 +1,144 @@
+"""The commands a campaign can fly, and how one run of each is called and read back.
+
+Each run is an ordinary invocation of an existing command (the same command line a user
+would type), in a scratch folder on the worker; what is read back is the command's own
+output files. "{bin}" is the folder of the built tools, "{out}" the run's output folder,
+"{cache}" a per-worker cache (derived data such as the EGM96 grid; same content everywhere),
+"{data}" the data folder (EGM96 coefficients).
+"""
+from . import tomlw
+
+# the six error states of the 2-D system (Welker et al. eq. 7), firmware minus truth,
+# with the names of ggins montecarlo / ggins covariance
+RUN2D_STATES = {"err_r_x": "x_m", "err_r_z": "z_m", "err_v_x": "vx_mps", "err_v_z": "vz_mps",
+                "err_g_x": "gx_mps2", "err_g_z": "gz_mps2"}
+
+RUN3D_STATES = {"err_n_m": "rn_m", "err_e_m": "re_m", "err_d_m": "rd_m", "err_vn_mps": "vn_mps",
+                "err_ve_mps": "ve_mps", "err_vd_mps": "vd_mps", "att_err_n_rad": "att_n_rad",
+                "att_err_e_rad": "att_e_rad", "att_err_d_rad": "att_d_rad", "err_gn_mps2": "gn_mps2",
+                "err_ge_mps2": "ge_mps2", "err_gd_mps2": "gd_mps2", "err_h_m": "h_m"}
+
+
+# the nine navigation states of ggins mapnav's per-run tables (its summary.json order)
+MAPNAV_STATES = ["pitch_arcmin", "roll_arcmin", "yaw_arcmin", "vE_mps", "vN_mps", "vU_mps", "lat_m", "lon_m", "h_m"]
+
+
+class Tool:
+    name = ""
+    uses_scenario = False
+    default_seed0 = 1
+    default_series_dt = 0.0
+    default_compare = None
+    ok_codes = [0]
+    # states whose errors are zero-mean draws, summarised as a sample sigma against a prediction
+    sigma_states = []
+
+    def task(self, c, scenario, opts, seed):
+        raise NotImplementedError
+
+
+class Run2D(Tool):
+    """ggins run: the 2-D system over LCM (truth generator -> hal_sim -> firmware)."""
+    name = "run"
+    uses_scenario = True
+    default_seed0 = 1000           # ggins montecarlo's --seed0
+    default_series_dt = 10.0
+    default_compare = "covariance"
+    sigma_states = list(RUN2D_STATES.values())
+
+    def task(self, c, scenario, opts, seed):
+        sc = dict(scenario)
+        tomlw.set_dotted(sc, "accel.seed", seed)
+        argv = ["{bin}/ggins-run", "--scenario", "scenario.toml", "--seed", str(seed), "--no-log", "--no-plots",
+                "-q", "--csv-rate", "1", "--out", "{out}"] + c.args + opts
+        return {"argv": argv, "files": {"scenario.toml": tomlw.dumps(sc)},
+                "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": RUN2D_STATES}]}
+
+
+class Run3D(Tool):
+    """ggins run3d: the 3-D system over LCM, or stepped in-process with --direct in args."""
+    name = "run3d"
+    uses_scenario = True
+    default_seed0 = 1
+    default_series_dt = 10.0
+    sigma_states = list(RUN3D_STATES.values())
+
+    def task(self, c, scenario, opts, seed):
+        sc = dict(scenario)
+        for k, off in (("accel.seed", 0), ("gyro.seed", 1)):
+            tomlw.set_dotted(sc, k, seed + off)
+        if isinstance(sc.get("baro"), dict):
+            tomlw.set_dotted(sc, "baro.seed", seed + 2)
+        argv = ["{bin}/ggins-run3d", "--scenario", "scenario.toml", "--no-log", "--no-plots", "-q",
+                "--out", "{out}"] + c.args + opts
+        return {"argv": argv, "files": {"scenario.toml": tomlw.dumps(sc)},
+                "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": RUN3D_STATES}]}
+
+
+class MapNav(Tool):
+    """ggins mapnav: the gradient map-matching UKF voyage; seed S = run S of its Monte Carlo set."""
+    name = "mapnav"
+    default_seed0 = 0
+    default_series_dt = 600.0
+
+    def task(self, c, scenario, opts, seed):
+        argv = ["{bin}/ggins-mapnav", "--runs", "1", "--threads", "1", "--first-run", str(seed), "--no-plot",
+                "--egm96", "{data}/egm96_to360.ascii.txt", "--out", "{out}"] + c.args + opts
+        return {"argv": argv, "files": {}, "data_probe": "egm96_to360.ascii.txt",
+                "parse": [{"json": "summary.json",
+                           "values": {"rms2h_": {"path": "per_run.0.rms_last2h", "names": MAPNAV_STATES},
+                                      "final_": {"path": "per_run.0.final", "names": MAPNAV_STATES},
+                                      "nees": "per_run.0.nees_mean", "nees_pos": "per_run.0.nees_pos_mean",
+                                      "nis": "per_run.0.nis_mean", "nees_dof": "nees_dof", "nis_dof": "nis_dof"}},
+                          {"csv": "timeseries.csv", "time": "t_s", "prefix": "ggan_", "keep_prefix": True},
+                          {"csv": "timeseries.csv", "time": "t_s", "prefix": "sig_", "keep_prefix": True}]}
+
+
+class ColdAtom(Tool):
+    """ggins coldatom: one Liverpool-Toulouse flight of the cold-atom particle filter, seed S."""
+    name = "coldatom"
+    default_seed0 = 1
+    default_series_dt = 60.0
+
+    def task(self, c, scenario, opts, seed):
+        argv = ["{bin}/ggins-coldatom", "--flights", "1", "--threads", "1", "--seed", str(seed), "--sweep", "none",
+                "--cache", "{cache}", "--egm96", "{data}/egm96_to360.ascii.txt", "--dump-flights",
+                "--out", "{out}"] + c.args + opts
+        return {"argv": argv, "files": {}, "cache_key": "coldatom", "data_probe": "egm96_to360.ascii.txt",
+                "parse": [{"json": "summary_none.json",
+                           "values": {"mean_aided_m": "0.mean_aided_m", "mean_unaided_m": "0.mean_unaided_m",
+                                      "final_unaided_m": "0.final_unaided_mean_m",
+                                      "ellipse_fit_err_mean_E": "0.ellipse_fit_err_mean_E",
+                                      "pf_err_mean_E": "0.pf_err_mean_E", "pf_err_std_E": "0.pf_err_std_E",
+                                      "failed_shots": "0.failed_shots", "shots": "0.shots"}},
+                          {"csv": "flight_*_0.csv", "time": "t_s",
+                           "columns": {"unaided_m": "unaided_m", "aided_m": "aided_m"}}]}
+
+
+class RwEq8(Tool):
+    """ggins rw-eq8: one whole Monte Carlo (its --runs flights) per seed."""
+    name = "rw-eq8"
+    default_seed0 = 1
+
+    def task(self, c, scenario, opts, seed):
+        argv = ["{bin}/ggins-rw-eq8", "--seed", str(seed), "--out", "{out}/rw"] + c.args + opts
+        return {"argv": ["sh", "-c", 'mkdir -p "$1" && shift && exec "$@"', "sh", "{out}"] + argv, "files": {},
+                "parse": [{"json": "rw.json", "values": {"": "rows.-1.*", "measured_rms_arcsec": "measured_rms_arcsec",
+                                                         "all_in_band": "all_in_band_from_s.all_in"}},
+                          {"csv": "rw.csv", "time": "t_s", "prefix": ""}]}
+
+
+class MonteCarlo3D(Tool):
+    """ggins montecarlo3d: one whole 3-D Monte Carlo (its --runs runs, seeds S..S+N-1) per seed."""
+    name = "montecarlo3d"
+    default_seed0 = 1
+    ok_codes = [0, 3]  # 3: a final component outside the chi-square band (a result, not a failure)
+
+    def task(self, c, scenario, opts, seed):
+        argv = ["{bin}/ggins-montecarlo3d", "--seed", str(seed), "-j", "1", "--no-plot", "--out", "{out}"] + c.args + opts
+        return {"argv": argv, "files": {},
+                "parse": [{"json": "montecarlo3d.json", "values": {"": "final.*", "all_in_band": "all_in_band",
+                                                                   "ratio_min": "ratio_min", "ratio_max": "ratio_max"}}]}
+
+
+TOOLS = {t.name: t for t in (Run2D(), Run3D(), MapNav(), ColdAtom(), RwEq8(), MonteCarlo3D())}

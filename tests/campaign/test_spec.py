@@ -1,0 +1,106 @@
+"""Campaign files and statistics against independent truth: sweep expansion (lists, ranges
+by step and by num, explicit points), the TOML writer read back by tomllib, run ids (stable,
+changed by what determines a run and only by that), each command's seed convention on its
+command line, and the statistics against published tables (Student t, chi-square quantiles)."""
+import math
+import os
+import shutil
+import tempfile
+import tomllib
+
+import util
+from util import Checks
+
+from ggins_campaign import report, spec, tomlw
+
+C = Checks("campaign.spec")
+tmp = tempfile.mkdtemp(prefix="ggins-campaign-spec-")
+
+
+def camp(text, name="c.toml"):
+    return spec.Campaign(util.write(os.path.join(tmp, name), text), source_dir=util.SRC, bin_dir=util.BIN)
+
+
+try:
+    # ranges
+    C.ok(spec._expand_values("k", {"start": 30, "stop": 180, "num": 4}) == [30, 80, 130, 180], "num range, ints")
+    C.ok(spec._expand_values("k", {"start": 0.1, "stop": 0.5, "step": 0.2}) == [0.1, 0.30000000000000004, 0.5],
+         "step range includes stop")
+    C.ok(spec._expand_values("k", {"start": 1, "stop": 10, "step": 3}) == [1, 4, 7, 10], "int step range")
+    C.ok(spec._expand_values("k", [3, 1]) == [3, 1], "list kept in order")
+    for badv in ({"start": 1}, {"start": 1, "stop": 0, "step": 1}, []):
+        try:
+            spec._expand_values("k", badv)
+            C.ok(False, "bad range %r refused" % (badv,))
+        except spec.SpecError:
+            C.ok(True, "bad range %r refused" % (badv,))
+
+    # TOML writer: what tomllib reads back is what was written, floats bit for bit
+    d = {"name": "a \"quoted\" name", "x": 0.1, "tiny": 2e-12, "big": 3.986004418e14, "n": 7, "flag": True,
+         "arr": [1.5, 2.0, -3e-300], "t": {"sub": {"k": "v", "f": 1.0}, "z": -0.0}, "tabs": [{"a": 1}, {"a": 2}]}
+    C.ok(tomllib.loads(tomlw.dumps(d)) == d, "TOML writer round trip (tomllib)")
+
+    # a product sweep of a scenario key and a command option, times explicit points
+    c = camp("""
+[campaign]
+command = "run"
+scenario = "welker-table1"
+seeds = 3
+[sweep]
+"accel.bias_sigma_mps2" = [1e-12, 2e-12]
+"--truth-rate" = [5, 10]
+[[point]]
+name = "short"
+"time.duration_s" = 60.0
+[[point]]
+name = "long"
+"time.duration_s" = 120.0
+""")
+    runs = c.runs()
+    C.ok(len(c.points) == 8 and len(runs) == 24, "2 points x 2 x 2 sweep x 3 seeds = 24 runs")
+    C.ok(len({r.run_id for r in runs}) == 24, "24 distinct run ids")
+    r0 = runs[0]
+    sc = tomllib.loads(r0.task()["files"]["scenario.toml"])
+    base = tomllib.load(open(os.path.join(util.SRC, "scenarios", "welker-table1.toml"), "rb"))
+    C.ok(sc["accel"]["bias_sigma_mps2"] == 1e-12 and sc["time"]["duration_s"] == 60.0 and sc["accel"]["seed"] == 1000
+         and sc["trajectory"] == base["trajectory"] and sc["gravity"] == base["gravity"],
+         "swept scenario = the scenario file with the point's keys and the seed set")
+    a = r0.task()["argv"]
+    C.ok(a[a.index("--seed") + 1] == "1000" and a[a.index("--truth-rate") + 1] == "5", "run: --seed 1000, option swept")
+    c2 = camp(open(os.path.join(tmp, "c.toml")).read())
+    C.ok([r.run_id for r in c2.runs()] == [r.run_id for r in runs], "run ids stable across loads")
+    c3 = camp(open(os.path.join(tmp, "c.toml")).read().replace("seeds = 3", "seeds = 4"), "c3.toml")
+    C.ok({r.run_id for r in runs} < {r.run_id for r in c3.runs()}, "more seeds: the old runs keep their ids")
+    c4 = camp(open(os.path.join(tmp, "c.toml")).read().replace("120.0", "121.0"), "c4.toml")
+    ch = {r.run_id for r in runs} ^ {r.run_id for r in c4.runs()}
+    C.ok(len(ch) == 24, "a changed point value changes exactly that point's 12 run ids (24 differ in the union)")
+
+    # each command's seed convention
+    m = camp('[campaign]\ncommand = "mapnav"\nseeds = 3\nargs = ["--hours", "4"]\n[sweep]\n"--update" = [30, 60]\n', "m.toml")
+    mr = m.runs()
+    av = mr[2]["argv"] if isinstance(mr[2], dict) else mr[2].task()["argv"]
+    C.ok(av[av.index("--first-run") + 1] == "2" and av[av.index("--runs") + 1] == "1" and "--update" in av,
+         "mapnav: seed S = --runs 1 --first-run S (run S of its Monte Carlo set)")
+    ca = camp('[campaign]\ncommand = "coldatom"\nseeds = 2\nseed0 = 7\n', "ca.toml").runs()[1].task()["argv"]
+    C.ok(ca[ca.index("--seed") + 1] == "8" and ca[ca.index("--flights") + 1] == "1", "coldatom: --flights 1 --seed 8")
+    try:
+        camp('[campaign]\ncommand = "mapnav"\n[sweep]\n"time.duration_s" = [1.0]\n', "bad.toml")
+        C.ok(False, "scenario key refused for a command without a scenario")
+    except spec.SpecError:
+        C.ok(True, "scenario key refused for a command without a scenario")
+
+    # statistics against published tables
+    for dof, t in ((1, 12.706), (5, 2.571), (40, 2.021), (60, 2.000), (120, 1.980)):
+        C.ok(abs(report.t975(dof) - t) < 2e-3, "t_0.975(%d) = %.3f (table %.3f)" % (dof, report.t975(dof), t))
+    # chi-square quantiles (tables): chi2_0.975(10) = 20.483, chi2_0.025(10) = 3.247,
+    # chi2_0.99865(200) ~ 265.4 (z = 3), chi2_0.995(100) = 140.169
+    for n, z, q in ((10, 1.959964, 20.483), (10, -1.959964, 3.247), (100, 2.575829, 140.169)):
+        got = report.chi2_quantile_wh(n, z)
+        C.ok(abs(got / q - 1) < 0.01, "Wilson-Hilferty chi2(%d) at z = %.2f: %.3f (table %.3f)" % (n, z, got, q))
+    s = report.stats([1.0, -2.0, 3.0, -4.0])
+    C.ok(abs(s["mean"] + 0.5) < 1e-15 and abs(s["sd"] - math.sqrt(29 / 3)) < 1e-12 and
+         abs(s["sigma"] - math.sqrt(30 / 4)) < 1e-12 and abs(s["mean_abs"] - 2.5) < 1e-15 and
+         abs(s["sd_abs"] - math.sqrt(7.5 - 6.25)) < 1e-12, "stats of (1, -2, 3, -4) by hand")
+finally:
+    shutil.rmtree(tmp, ignore_errors=True)
+C.done()
