@@ -624,10 +624,11 @@ int main(int argc, char **argv)
         }
     }
     lcm_subscription_t *sf = lcm_subscribe(h.lcm, h.ch_frame, on_frame, &h);
-    lcm_subscribe(h.lcm, h.ch_config, on_config, &h);
-    lcm_subscribe(h.lcm, h.ch_config3d, on_config3d, &h);
-    lcm_subscribe(h.lcm, h.ch_control, on_control, &h);
     lcm_subscription_set_queue_capacity(sf, 100000);
+    /* room for a burst of forged messages, so that it cannot push the genuine ones out of the queue */
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_config, on_config, &h), 10000);
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_config3d, on_config3d, &h), 10000);
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_control, on_control, &h), 10000);
 
     h.hal.ctx = &h;
     h.hal.read_frame = hal_read_frame;

@@ -167,6 +167,7 @@ struct Options {
   std::optional<uint64_t> seed;
   std::optional<double> csv_rate, truth_rate;
   std::optional<double> drop, dup, reorder, drop_output, garbage;
+  double conflict = 0;
   std::string lcm_url;
   std::string prefix = "GGINS_";
   int resend_timeout_ms = 50;
@@ -263,7 +264,7 @@ class Runner {
   std::vector<uint8_t> sent_ahead_;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_foreign_ = 0, decode_errors_ = 0;
   int64_t frames_published_ = 0, truth_published_ = 0, control_published_ = 0;
-  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0, garbage_inj_ = 0;
+  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0, garbage_inj_ = 0, conflict_inj_ = 0;
   int64_t resend_timeouts_ = 0, resend_on_request_ = 0, outputs_recovered_ = 0;
   int64_t steps_rejected_ = 0, pings_ = 0;
   uint32_t health_or_ = 0;
@@ -501,6 +502,14 @@ void Runner::send_frame(int64_t k, bool resend) {
       publish(ch_frame_, m);
       ++frames_published_;
       ++frames_dup_inj_;
+    }
+    // a sender contradicting itself: a second, different frame for this seq, correctly signed
+    if (opt_.conflict > 0 && ggins::truth::counter_uniform(tp.seed, 14, uk, ua, 0) < opt_.conflict) {
+      ggins::sensor_frame_t other = m;
+      other.f[0][0] += 1e-9;
+      publish(ch_frame_, other);
+      ++frames_published_;
+      ++conflict_inj_;
     }
   }
   if (att == 1 && (k % truth_every_ == 0 || k == n_ - 1)) {
@@ -938,7 +947,7 @@ json Runner::run() {
   lcm_subscription_t* s_hal = lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
   lcm_subscription_t* s_req = lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
   lcm_subscription_set_queue_capacity(s_nav, 100000);
-  lcm_subscription_set_queue_capacity(s_hal, 1000);
+  lcm_subscription_set_queue_capacity(s_hal, 100000);
   lcm_subscription_set_queue_capacity(s_req, 100000);
   if (sc_.navigation.gravity == "model" && sc_.navigation.survey.enable)  // before hal_sim: it may take a while
     survey_grid_ = ggins::truth::make_survey_grid(gen_);                   // (truth field at every node)
@@ -1078,7 +1087,7 @@ json Runner::run() {
   tr["resend_timeouts"] = resend_timeouts_;
   tr["resends_on_request"] = resend_on_request_;
   tr["injected"] = {{"dropped", frames_dropped_inj_}, {"duplicated", frames_dup_inj_}, {"reordered", frames_reordered_inj_},
-                    {"garbage", garbage_inj_}};
+                    {"garbage", garbage_inj_}, {"conflicting", conflict_inj_}};
   if (hal_) {
     const auto& h = *hal_;
     tr["hal_sim"] = {{"state", h.state},
@@ -1205,6 +1214,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--garbage-prob", o.garbage,
                  "inject: before a frame, an undecodable payload on the frame channel with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--conflict-prob", o.conflict,
+                 "inject: after a frame, a second, different frame with the same seq and a valid MAC, with this\n"
+                 "probability (an authenticated sender contradicting itself: counted by hal_sim, the run fails)")
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--resend-timeout-ms", o.resend_timeout_ms, "resend a frame whose output is this late, ms")
       ->capture_default_str()

@@ -333,9 +333,9 @@ void Runner3::setup_lcm() {
     if (!lcm_out_) throw Fail("cannot open LCM at " + url_, 3);
   }
   lcm_subscription_t* s = lcm_subscribe(lcm_, ch_nav_.c_str(), on_nav_cb, this);
-  lcm_subscription_set_queue_capacity(s, 10000);
-  lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
-  lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
+  lcm_subscription_set_queue_capacity(s, 100000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this), 100000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this), 100000);
   hal_pid_ = auth_.spawn_hal_sim(
       ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms),
       out_ / "hal_sim.log");
