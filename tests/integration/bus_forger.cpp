@@ -115,35 +115,49 @@ struct Forger {
     for (int i = 0; i < 32; ++i) mac[i] = static_cast<uint8_t>(rng());
   }
 
+  // Frames and outputs are read and forged as bytes (seq, run id, readings and
+  // position at fixed offsets of the encoding), so that the forger works
+  // whatever the message types' other fields are.
+  static int64_t be64(const uint8_t* p) {
+    uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v = v << 8 | p[i];
+    return static_cast<int64_t>(v);
+  }
+  static void put_be64(std::vector<uint8_t>& b, size_t off, uint64_t v) {
+    for (int i = 0; i < 8; ++i) b[off + static_cast<size_t>(i)] = static_cast<uint8_t>(v >> (56 - 8 * i));
+  }
+  static void add_double(std::vector<uint8_t>& b, size_t off, double dx) {
+    const uint64_t u = static_cast<uint64_t>(be64(b.data() + off));
+    double x;
+    std::memcpy(&x, &u, sizeof x);
+    x += dx;
+    uint64_t w;
+    std::memcpy(&w, &x, sizeof w);
+    put_be64(b, off, w);
+  }
+  static constexpr size_t kSeq = 16, kRunId = 24;  // after the type hash and utime
+  static constexpr size_t kF = 36;                 // sensor_frame_t f[0][0] (after n_acc)
+  static constexpr size_t kR = 44;                 // nav_output_t r_i[0], nav3d_output_t r_e[0] (after status, health)
+
   static void on_frame(const lcm_recv_buf_t* rb, const char*, void* u) {
     auto* f = static_cast<Forger*>(u);
-    ggins::sensor_frame_t m;
-    if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) return;
-    if (!f->run_id) f->run_id = m.run_id;  // the run id, read from the bus
-    if (m.run_id != *f->run_id) return;
+    if (rb->data_size < 200) return;
+    const auto* p = static_cast<const uint8_t*>(rb->data);
+    const int64_t run = be64(p + kRunId);
+    if (!f->run_id) f->run_id = run;  // the run id, read from the bus
+    if (run != *f->run_id) return;
+    const int64_t seq = be64(p + kSeq);
     // progress of the flight (frames come in seq order; our own forged frames come back to us
     // too, and only the rare one that happens to be the next seq moves this)
-    if (f->last_seen < 0 || m.seq == f->last_seen + 1) f->last_seen = m.seq;
-    if (!f->frame_k && m.seq >= f->start_seq && m.resent == 0) {
-      const auto* p = static_cast<const uint8_t*>(rb->data);
-      f->frame_k = std::vector<uint8_t>(p, p + rb->data_size);
-    }
+    if (f->last_seen < 0 || seq == f->last_seen + 1) f->last_seen = seq;
+    if (!f->frame_k && seq >= f->start_seq) f->frame_k = std::vector<uint8_t>(p, p + rb->data_size);
   }
   static void on_nav(const lcm_recv_buf_t* rb, const char*, void* u) {
     auto* f = static_cast<Forger*>(u);
     if (f->out_k || !f->frame_k) return;
     const auto* p = static_cast<const uint8_t*>(rb->data);
-    int64_t seq = -1;
-    if (f->mode3d) {
-      ggins::nav3d_output_t m;
-      if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0 || m.run_id != f->run_id) return;
-      seq = m.seq;
-    } else {
-      ggins::nav_output_t m;
-      if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0 || m.run_id != f->run_id) return;
-      seq = m.seq;
-    }
-    if (seq >= f->start_seq) f->out_k = std::vector<uint8_t>(p, p + rb->data_size);
+    if (rb->data_size < 200 || be64(p + kRunId) != *f->run_id) return;
+    if (be64(p + kSeq) >= f->start_seq) f->out_k = std::vector<uint8_t>(p, p + rb->data_size);
   }
 
   void pump(double seconds) {
@@ -157,40 +171,28 @@ struct Forger {
     } while (now_s() < end);
   }
 
-  // seq is the third int64 of every message here (after the type hash and utime)
-  static void patch_seq(std::vector<uint8_t>& b, int64_t seq) {
-    for (int i = 0; i < 8; ++i) b[16 + static_cast<size_t>(i)] = static_cast<uint8_t>(static_cast<uint64_t>(seq) >> (56 - 8 * i));
-  }
+  static void patch_seq(std::vector<uint8_t>& b, int64_t seq) { put_be64(b, kSeq, static_cast<uint64_t>(seq)); }
 
   void attack_frames() {
-    ggins::sensor_frame_t k;
-    k.decode(frame_k->data(), 0, static_cast<int>(frame_k->size()));
-    for (int64_t d : {1, 2, 3, 100, 101, 102}) {  // copies of frame K as later frames
+    const int64_t k = be64(frame_k->data() + kSeq);
+    for (int64_t d : {1, 2, 3, 100, 101, 102}) {  // copies of frame K as later frames (its MAC kept)
       std::vector<uint8_t> b = *frame_k;
-      patch_seq(b, k.seq + d);
+      patch_seq(b, k + d);
       pub(to, ch("FRAME"), b.data(), b.size());
     }
-    ggins::sensor_frame_t m = k;  // a frame with a changed reading, MAC zeroed
-    m.seq = k.seq + 200;
-    m.f[0][0] += 1e-3;
-    std::memset(m.mac, 0, sizeof m.mac);
-    pub_msg(to, ch("FRAME"), m);
+    std::vector<uint8_t> b = *frame_k;  // a frame with a changed reading, last 32 bytes (the MAC) zeroed
+    patch_seq(b, k + 200);
+    add_double(b, kF, 1e-3);
+    std::fill(b.end() - 32, b.end(), 0);
+    pub(to, ch("FRAME"), b.data(), b.size());
   }
-  void attack_outputs() {
+  void attack_outputs() {  // output K as later outputs, the position moved 1 m (its MAC kept)
+    const int64_t k = be64(out_k->data() + kSeq);
     for (int64_t d : {1, 2, 3, 100, 101, 102}) {
-      if (mode3d) {
-        ggins::nav3d_output_t m;
-        m.decode(out_k->data(), 0, static_cast<int>(out_k->size()));
-        m.seq += d;
-        m.r_e[0] += 1.0;
-        pub_msg(from, ch_nav(), m);
-      } else {
-        ggins::nav_output_t m;
-        m.decode(out_k->data(), 0, static_cast<int>(out_k->size()));
-        m.seq += d;
-        m.r_i[0] += 1.0;
-        pub_msg(from, ch_nav(), m);
-      }
+      std::vector<uint8_t> b = *out_k;
+      patch_seq(b, k + d);
+      add_double(b, kR, 1.0);
+      pub(from, ch_nav(), b.data(), b.size());
     }
   }
   void attack_control() {
@@ -235,17 +237,16 @@ struct Forger {
     pub_msg(from, ch("REQUEST"), r);
   }
   void flood(int n) {
-    ggins::sensor_frame_t k;
-    k.decode(frame_k->data(), 0, static_cast<int>(frame_k->size()));
+    const int64_t k = be64(frame_k->data() + kSeq);
     for (int i = 0; i < n; ++i) {
-      ggins::sensor_frame_t m = k;
-      m.seq = k.seq + static_cast<int64_t>(rng() % 2000);
-      m.f[1][2] += 1e-6 * static_cast<double>(i);
-      random_mac(m.mac);
-      pub_msg(to, ch("FRAME"), m);
+      std::vector<uint8_t> m = *frame_k;  // frames near the flight's seq, changed readings, random last 32 bytes
+      patch_seq(m, k + static_cast<int64_t>(rng() % 2000));
+      add_double(m, kF + 5 * 8, 1e-6 * static_cast<double>(i + 1));
+      for (size_t j = m.size() - 32; j < m.size(); ++j) m[j] = static_cast<uint8_t>(rng());
+      pub(to, ch("FRAME"), m.data(), m.size());
       if (i % 20 == 0 && out_k) {  // outputs and a STOP now and then
         std::vector<uint8_t> b = *out_k;
-        patch_seq(b, k.seq + static_cast<int64_t>(rng() % 2000));
+        patch_seq(b, k + static_cast<int64_t>(rng() % 2000));
         for (size_t j = b.size() - 32; j < b.size(); ++j) b[j] = static_cast<uint8_t>(rng());
         pub(from, ch_nav(), b.data(), b.size());
       }
