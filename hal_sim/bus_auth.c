@@ -71,17 +71,17 @@ int ggins_bus_key_pipe(const ggins_bus_key_t *key)
 static void mac_of(const ggins_bus_key_t *key, const char *channel, const uint8_t *buf, size_t body,
                    uint8_t out[GGINS_BUS_MAC_BYTES])
 {
-    crypto_auth_hmacsha512256_state st;
+    crypto_generichash_state st;
     const size_t lc = strlen(channel);
     const uint8_t lcb[4] = {(uint8_t)(lc >> 24), (uint8_t)(lc >> 16), (uint8_t)(lc >> 8), (uint8_t)lc};
     const uint8_t lbb[4] = {(uint8_t)(body >> 24), (uint8_t)(body >> 16), (uint8_t)(body >> 8), (uint8_t)body};
-    crypto_auth_hmacsha512256_init(&st, key->k, sizeof key->k);
-    crypto_auth_hmacsha512256_update(&st, (const unsigned char *)kDomain, sizeof kDomain);
-    crypto_auth_hmacsha512256_update(&st, lcb, sizeof lcb);
-    crypto_auth_hmacsha512256_update(&st, (const unsigned char *)channel, lc);
-    crypto_auth_hmacsha512256_update(&st, lbb, sizeof lbb);
-    crypto_auth_hmacsha512256_update(&st, buf, body);
-    crypto_auth_hmacsha512256_final(&st, out);
+    crypto_generichash_init(&st, key->k, sizeof key->k, GGINS_BUS_MAC_BYTES);
+    crypto_generichash_update(&st, (const unsigned char *)kDomain, sizeof kDomain);
+    crypto_generichash_update(&st, lcb, sizeof lcb);
+    crypto_generichash_update(&st, (const unsigned char *)channel, lc);
+    crypto_generichash_update(&st, lbb, sizeof lbb);
+    crypto_generichash_update(&st, buf, body);
+    crypto_generichash_final(&st, out, GGINS_BUS_MAC_BYTES);
     sodium_memzero(&st, sizeof st);
 }
 

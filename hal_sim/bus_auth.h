@@ -10,10 +10,10 @@
  * Every message type of the run ends with `byte mac[32]`, so in the LCM
  * encoding the last GGINS_BUS_MAC_BYTES bytes are the MAC. It is
  *
- *   HMAC-SHA-512-256(key, "ggins-bus" 0x00 || u32be(|channel|) || channel
- *                         || u32be(n - 32) || encoded[0 .. n - 32))
+ *   BLAKE2b-256 keyed with the run's key (RFC 7693 keyed mode; libsodium
+ *   crypto_generichash) of
+ *     "ggins-bus" 0x00 || u32be(|channel|) || channel || u32be(n - 32) || encoded[0 .. n - 32)
  *
- * (libsodium crypto_auth_hmacsha512256: HMAC-SHA-512 truncated to 256 bits),
  * i.e. over the channel name and every byte of the encoded message (LCM type
  * fingerprint included) except the MAC field itself. Binding the channel
  * means a message of one channel cannot be replayed on another (run_control_t

@@ -512,7 +512,7 @@ static void usage(FILE *out)
             "  --run-id N             run nonce; messages with another run_id are ignored (required)\n"
             "  --key-fd FD            read the run's 32-byte secret key from this inherited descriptor\n"
             "                         (a pipe the run tool wrote and closed), then close it (required).\n"
-            "                         Every message is authenticated with it (HMAC-SHA-512-256, libsodium):\n"
+            "                         Every message is authenticated with it (keyed BLAKE2b-256, libsodium):\n"
             "                         ours carry its MAC, theirs are dropped and counted when theirs fails\n"
             "  --gap-timeout-ms MS    re-request a missing frame every MS ms (default 20)\n"
             "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"

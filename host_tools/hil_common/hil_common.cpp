@@ -179,7 +179,7 @@ nlohmann::json bus_auth_summary(const BusAuth& auth, const ggins::hal_status_t* 
                                 int64_t status_conflict, int64_t foreign) {
   using nlohmann::json;
   json j;
-  j["mac"] = "HMAC-SHA-512-256 (libsodium crypto_auth_hmacsha512256) over the channel name and the encoded message";
+  j["mac"] = "keyed BLAKE2b-256 (RFC 7693; libsodium crypto_generichash) over the channel name and the encoded message";
   j["key"] = "32 random bytes per run (randombytes_buf); to hal_sim through an inherited pipe (--key-fd " +
              std::to_string(kHalKeyFd) + "), never on a command line, in the environment, a file or the log";
   json rej = json::object();
