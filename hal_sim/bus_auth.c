@@ -101,13 +101,3 @@ int ggins_bus_verify(const ggins_bus_key_t *key, const char *channel, const uint
     sodium_memzero(want, sizeof want);
     return ok ? 0 : -1;
 }
-
-void ggins_bus_digest(const uint8_t *buf, size_t n, uint8_t out[GGINS_BUS_DIGEST_BYTES])
-{
-    crypto_generichash(out, GGINS_BUS_DIGEST_BYTES, buf, n, NULL, 0);
-}
-
-int ggins_bus_digest_equal(const uint8_t a[GGINS_BUS_DIGEST_BYTES], const uint8_t b[GGINS_BUS_DIGEST_BYTES])
-{
-    return sodium_memcmp(a, b, GGINS_BUS_DIGEST_BYTES) == 0;
-}

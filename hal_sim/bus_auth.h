@@ -20,10 +20,9 @@
  * travels on CONTROL and REQUEST). A message whose MAC does not verify comes
  * from a sender without the key: the receiver counts and drops it.
  *
- * A content digest (ggins_bus_digest, unkeyed BLAKE2b-128) of a message
- * re-encoded with its transport fields (resent / republished, mac) zeroed
- * tells a repeat of the same message from a different message for the same
- * seq (a conflict).
+ * A repeat of a message is told from a different message for the same seq (a
+ * conflict) by the receiver (hal_sim.c, hil_common.hpp): their encodings with
+ * the transport fields (resent / republished) and the MAC zeroed are compared.
  */
 #ifndef GGINS_BUS_AUTH_H
 #define GGINS_BUS_AUTH_H
@@ -37,7 +36,6 @@ extern "C" {
 
 #define GGINS_BUS_KEY_BYTES 32
 #define GGINS_BUS_MAC_BYTES 32
-#define GGINS_BUS_DIGEST_BYTES 16
 
 typedef struct {
     uint8_t k[GGINS_BUS_KEY_BYTES];
@@ -69,12 +67,6 @@ int ggins_bus_sign(const ggins_bus_key_t *key, const char *channel, uint8_t *buf
 /** Verify a received encoded message (layout as for ggins_bus_sign); constant
  *  time in the MAC comparison. 0 when the MAC is right, -1 otherwise. */
 int ggins_bus_verify(const ggins_bus_key_t *key, const char *channel, const uint8_t *buf, size_t n);
-
-/** Content digest of buf[0 .. n) (unkeyed BLAKE2b, GGINS_BUS_DIGEST_BYTES). */
-void ggins_bus_digest(const uint8_t *buf, size_t n, uint8_t out[GGINS_BUS_DIGEST_BYTES]);
-
-/** Constant-time equality of two digests: 1 equal, 0 not. */
-int ggins_bus_digest_equal(const uint8_t a[GGINS_BUS_DIGEST_BYTES], const uint8_t b[GGINS_BUS_DIGEST_BYTES]);
 
 #ifdef __cplusplus
 }

@@ -1,9 +1,8 @@
 /*
  * bus_auth_bench: the cost of authenticating one host-in-the-loop step
- * (bus_auth.h), per message type at its encoded size: MAC (sign), verify, and
- * the content digest the receiver takes for the conflict check. One step of a
- * lockstep run signs and verifies one frame and one output and digests each
- * once: the sum is printed. Timing only; run by hand (docs/hil.md).
+ * (bus_auth.h), per message type at its encoded size: MAC (sign) and verify.
+ * One step of a lockstep run signs and verifies one frame and one output: the
+ * sum is printed. Timing only; run by hand (docs/hil.md).
  */
 #define _GNU_SOURCE
 #include <stdint.h>
@@ -36,11 +35,6 @@ static double per_call(int what, size_t n, int reps, const ggins_bus_key_t *k)
             buf[0] = (uint8_t)i;
             if (what == 0) sink += ggins_bus_sign(k, "GGINS_FRAME", buf, n);
             if (what == 1) sink += ggins_bus_verify(k, "GGINS_FRAME", buf, n);
-            if (what == 2) {
-                uint8_t d[GGINS_BUS_DIGEST_BYTES];
-                ggins_bus_digest(buf, n, d);
-                sink += d[0];
-            }
         }
         t[r] = (now_ns() - a) / reps;
     }
@@ -71,14 +65,13 @@ int main(void)
              {"nav_output_t", ggins_nav_output_t_encoded_size(&o)},
              {"nav3d_output_t", ggins_nav3d_output_t_encoded_size(&o3)}};
     double step2 = 0, step3 = 0;
-    printf("%-16s %6s %10s %10s %10s   (CPU ns per call, median of 9 x 20000)\n", "message", "bytes", "sign", "verify", "digest");
+    printf("%-16s %6s %10s %10s   (CPU ns per call, median of 9 x 20000)\n", "message", "bytes", "sign", "verify");
     for (int i = 0; i < 3; ++i) {
-        const double s = per_call(0, (size_t)t[i].n, 20000, &k), v = per_call(1, (size_t)t[i].n, 20000, &k),
-                     d = per_call(2, (size_t)t[i].n, 20000, &k);
-        printf("%-16s %6d %10.0f %10.0f %10.0f\n", t[i].name, t[i].n, s, v, d);
-        if (i != 2) step2 += s + v + d;
-        if (i != 1) step3 += s + v + d;
+        const double s = per_call(0, (size_t)t[i].n, 20000, &k), v = per_call(1, (size_t)t[i].n, 20000, &k);
+        printf("%-16s %6d %10.0f %10.0f\n", t[i].name, t[i].n, s, v);
+        if (i != 2) step2 += s + v;
+        if (i != 1) step3 += s + v;
     }
-    printf("per lockstep step (frame + output: sign, verify, digest each): 2-D %.0f ns, 3-D %.0f ns\n", step2, step3);
+    printf("per lockstep step (frame + output, each signed and verified): 2-D %.0f ns, 3-D %.0f ns\n", step2, step3);
     return 0;
 }

@@ -26,7 +26,8 @@
  * tool writes the key into it and closes it). A message of this run whose MAC
  * does not verify is counted per channel (auth_failed_*) and dropped. A
  * second authenticated frame for a seq already taken (buffered or used) is
- * compared by content (ggins_bus_digest, transport fields zeroed): the same
+ * compared by content with the copy kept (encodings with the transport fields and
+ * the MAC zeroed, compared only when a second copy comes): the same
  * content is a duplicate, different content a conflict (frames_conflict:
  * counted, dropped, never flown, and never answered with the output of the
  * first). The same for a second configuration (config_conflict).
@@ -72,8 +73,8 @@ typedef struct {
     int resent;    /* the copy held is a retransmission */
     int requested; /* hal_sim asked for it */
     gg_frame_t frame;
-    int64_t taken_seq; /* seq of the frame whose content digest is kept (-1 none) */
-    uint8_t digest[GGINS_BUS_DIGEST_BYTES];
+    int64_t taken_seq;          /* seq of the frame kept in `taken` (-1 none) */
+    ggins_sensor_frame_t taken; /* the authenticated message taken for that seq */
 } slot_t;
 
 typedef struct {
@@ -102,7 +103,8 @@ typedef struct {
     int32_t state;
     int32_t init_status;
     int64_t config_seq;
-    uint8_t config_digest[GGINS_BUS_DIGEST_BYTES]; /* of the configuration applied */
+    ggins_nav2d_config_t config2d; /* the configuration message applied (2-D or 3-D) */
+    ggins_nav3d_config_t config3d;
     int stop;
 
     /* reorder window */
@@ -125,7 +127,7 @@ typedef struct {
     double last_rx_wall;
     double last_status_wall;
     uint8_t buf[MAX_MSG];
-    uint8_t tmp[65536]; /* re-encoding for content digests (a 2-D configuration is ~18 KB) */
+    uint8_t tmp[2][32768]; /* re-encodings for content comparisons (a 2-D configuration is ~18 KB) */
 } hal_sim_t;
 
 static volatile sig_atomic_t g_signal = 0;
@@ -289,18 +291,23 @@ static int accept_msg(hal_sim_t *h, const lcm_recv_buf_t *rb, const char *channe
     return 1;
 }
 
-/* Content digest of an encoded message in h->tmp (n bytes, the caller zeroed
- * the transport fields and the mac before encoding). */
-static void digest_tmp(hal_sim_t *h, int n, uint8_t d[GGINS_BUS_DIGEST_BYTES])
+/* Whether two authenticated messages for one seq have the same content: their
+ * encodings with the transport fields (zeroed by the caller) and the MAC zeroed
+ * are equal. Only called when a second copy comes. */
+#define SAME_CONTENT(h, type, a, b)                                                    \
+    (memset((a).mac, 0, sizeof (a).mac), memset((b).mac, 0, sizeof (b).mac),           \
+     same_bytes(type##_encode((h)->tmp[0], 0, (int)sizeof (h)->tmp[0], &(a)),          \
+                type##_encode((h)->tmp[1], 0, (int)sizeof (h)->tmp[1], &(b)), (h)))
+
+static int same_bytes(int na, int nb, const hal_sim_t *h)
 {
-    ggins_bus_digest(h->tmp, n > 0 ? (size_t)n : 0, d);
+    return na > 0 && na == nb && memcmp(h->tmp[0], h->tmp[1], (size_t)na) == 0;
 }
 
-static void frame_digest(hal_sim_t *h, ggins_sensor_frame_t m, uint8_t d[GGINS_BUS_DIGEST_BYTES])
+static int same_frame(hal_sim_t *h, ggins_sensor_frame_t a, ggins_sensor_frame_t b)
 {
-    m.resent = 0; /* differs between transmissions of one frame */
-    memset(m.mac, 0, sizeof m.mac);
-    digest_tmp(h, ggins_sensor_frame_t_encode(h->tmp, 0, (int)sizeof h->tmp, &m), d);
+    a.resent = b.resent = 0; /* differs between transmissions of one frame */
+    return SAME_CONTENT(h, ggins_sensor_frame_t, a, b);
 }
 
 static void report_conflict(hal_sim_t *h, const char *what, int64_t seq, int64_t count)
@@ -321,11 +328,9 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     if (h->state != GGINS_HAL_STATUS_T_CONFIGURED && h->state != GGINS_HAL_STATUS_T_RUNNING)
         return; /* not configured yet: the sender resends on timeout */
     const int64_t s = m.seq;
-    uint8_t d[GGINS_BUS_DIGEST_BYTES];
-    frame_digest(h, m, d);
     if (s < h->next) {
         const slot_t *used = s >= 0 ? &h->slots[s & (WINDOW - 1)] : NULL;
-        if (used && used->taken_seq == s && !ggins_bus_digest_equal(used->digest, d)) {
+        if (used && used->taken_seq == s && !same_frame(h, used->taken, m)) {
             report_conflict(h, "frame", s, ++h->st.frames_conflict);
             return;
         }
@@ -353,7 +358,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     }
     slot_t *sl = &h->slots[s & (WINDOW - 1)];
     if (sl->valid && sl->frame.seq == s) {
-        if (sl->taken_seq == s && !ggins_bus_digest_equal(sl->digest, d))
+        if (sl->taken_seq == s && !same_frame(h, sl->taken, m))
             report_conflict(h, "frame", s, ++h->st.frames_conflict);
         else
             h->st.frames_duplicate++;
@@ -367,7 +372,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     sl->resent = m.resent > 0;
     sl->requested = requested || (h->gap_seq == s && h->gap_requests > 0);
     sl->taken_seq = s;
-    memcpy(sl->digest, d, sizeof sl->digest);
+    sl->taken = m;
     if (s > h->highest) h->highest = s;
 }
 
@@ -378,19 +383,16 @@ static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *use
     h->last_rx_wall = now_s();
     const int dec = ggins_nav2d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
     if (!accept_msg(h, rbuf, channel, dec, m.run_id, &h->st.auth_failed_config)) return;
-    uint8_t d[GGINS_BUS_DIGEST_BYTES];
-    memset(m.mac, 0, sizeof m.mac);
-    digest_tmp(h, ggins_nav2d_config_t_encode(h->tmp, 0, (int)sizeof h->tmp, &m), d);
     if (h->state != GGINS_HAL_STATUS_T_IDLE) {
         /* Already configured: a repeat of the same configuration (our status was lost)
          * is answered with the status again; a new one is refused; a different one
          * with the seq of the one applied is a conflict. */
-        if (m.seq == h->config_seq && !ggins_bus_digest_equal(d, h->config_digest))
+        if (m.seq == h->config_seq && (h->mode3d || !SAME_CONTENT(h, ggins_nav2d_config_t, m, h->config2d)))
             report_conflict(h, "configuration", m.seq, ++h->st.config_conflict);
         publish_status(h);
         return;
     }
-    memcpy(h->config_digest, d, sizeof d);
+    h->config2d = m;
     gg_nav2d_config_t c;
     /* message -> firmware configuration: hal_lcm.c (shared with ggins replay;
      * add new configuration fields there) */
@@ -413,16 +415,13 @@ static void on_config3d(const lcm_recv_buf_t *rbuf, const char *channel, void *u
     h->last_rx_wall = now_s();
     const int dec = ggins_nav3d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
     if (!accept_msg(h, rbuf, channel, dec, m.run_id, &h->st.auth_failed_config)) return;
-    uint8_t d[GGINS_BUS_DIGEST_BYTES];
-    memset(m.mac, 0, sizeof m.mac);
-    digest_tmp(h, ggins_nav3d_config_t_encode(h->tmp, 0, (int)sizeof h->tmp, &m), d);
     if (h->state != GGINS_HAL_STATUS_T_IDLE) { /* as on_config: repeat answered, new one refused, conflict counted */
-        if (m.seq == h->config_seq && !ggins_bus_digest_equal(d, h->config_digest))
+        if (m.seq == h->config_seq && (!h->mode3d || !SAME_CONTENT(h, ggins_nav3d_config_t, m, h->config3d)))
             report_conflict(h, "configuration", m.seq, ++h->st.config_conflict);
         publish_status(h);
         return;
     }
-    memcpy(h->config_digest, d, sizeof d);
+    h->config3d = m;
     gg_nav3d_config_t c;
     ggins_config3d_from_lcm(&m, &c); /* hal_lcm3d.c */
     gg_status_t rc = gg_nav3d_init(&h->nav3d, &c);

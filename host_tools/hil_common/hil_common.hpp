@@ -82,7 +82,6 @@ constexpr int kHalKeyFd = 3;
 // run, signing of what this process publishes, and the checks on what it
 // receives. The key lives only in this object (wiped on destruction) and in
 // hal_sim, which gets it through a pipe on kHalKeyFd (spawn_hal_sim).
-using Digest = std::array<uint8_t, GGINS_BUS_DIGEST_BYTES>;
 class BusAuth {
  public:
   BusAuth();  // throws Fail if libsodium cannot be initialised
@@ -109,18 +108,6 @@ class BusAuth {
     return Check::kOk;
   }
 
-  // Content digest of a message (the caller zeroes its transport fields; the
-  // mac is zeroed here), to tell a repeat from a different message for one seq.
-  template <class M>
-  Digest digest(M m) {
-    std::fill(std::begin(m.mac), std::end(m.mac), 0);
-    tmp_.resize(static_cast<size_t>(m.getEncodedSize()));
-    m.encode(tmp_.data(), 0, static_cast<int>(tmp_.size()));
-    Digest d;
-    ggins_bus_digest(tmp_.data(), tmp_.size(), d.data());
-    return d;
-  }
-
   // Start hal_sim with the key on kHalKeyFd (a pipe holding exactly the key).
   pid_t spawn_hal_sim(const std::vector<std::string>& argv, const std::filesystem::path& log_path) const;
 
@@ -129,30 +116,44 @@ class BusAuth {
  private:
   ggins_bus_key_t key_{};
   std::map<std::string, int64_t> rejected_;
-  std::vector<uint8_t> tmp_;
 };
 
-// Content digests of the last `n` seqs taken (a ring): whether a second
-// message for a seq is a repeat of the first or a conflict.
-class SeqDigests {
+// Whether two messages have the same content: equal encodings with the MAC
+// zeroed (the caller zeroes the transport fields, resent / republished).
+template <class M>
+bool same_content(M a, M b) {
+  std::fill(std::begin(a.mac), std::end(a.mac), 0);
+  std::fill(std::begin(b.mac), std::end(b.mac), 0);
+  std::vector<uint8_t> x(static_cast<size_t>(a.getEncodedSize())), y(static_cast<size_t>(b.getEncodedSize()));
+  a.encode(x.data(), 0, static_cast<int>(x.size()));
+  b.encode(y.data(), 0, static_cast<int>(y.size()));
+  return x == y;
+}
+
+// The messages taken for the last `n` seqs (a ring): whether a second message
+// for a seq is a repeat of the first or a conflict. Compared only when a
+// second copy comes; taking a message costs one copy.
+template <class M>
+class SeqCopies {
  public:
-  explicit SeqDigests(size_t n = 8192) : seq_(n, -1), d_(n) {}
-  void put(int64_t seq, const Digest& d) {
+  explicit SeqCopies(size_t n = 8192) : seq_(n, -1), m_(n) {}
+  void put(int64_t seq, const M& m) {
+    if (seq < 0) return;
     const size_t i = static_cast<size_t>(seq) % seq_.size();
     seq_[i] = seq;
-    d_[i] = d;
+    m_[i] = m;
   }
   // +1 the same as the one kept, -1 different (a conflict), 0 not kept
-  int compare(int64_t seq, const Digest& d) const {
+  int compare(int64_t seq, const M& m) const {
     if (seq < 0) return 0;
     const size_t i = static_cast<size_t>(seq) % seq_.size();
     if (seq_[i] != seq) return 0;
-    return ggins_bus_digest_equal(d_[i].data(), d.data()) ? 1 : -1;
+    return same_content(m_[i], m) ? 1 : -1;
   }
 
  private:
   std::vector<int64_t> seq_;
-  std::vector<Digest> d_;
+  std::vector<M> m_;
 };
 
 // summary.json "bus_auth": how messages are authenticated; the messages of this

@@ -253,9 +253,8 @@ class Runner {
   json survey_;  // the programmed anomaly grid sent (model mode with [navigation.survey])
   std::vector<uint8_t> buf_ = std::vector<uint8_t>(65536);  // the configuration carries the anomaly grid (~18 KB)
   ggins::hil::BusAuth auth_;                // the run's key; MACs
-  ggins::hil::SeqDigests out_digest_;       // content of the outputs taken, per seq
+  ggins::hil::SeqCopies<ggins::nav_output_t> out_taken_;  // the outputs taken, per seq
   int64_t outputs_conflict_ = 0, status_conflict_ = 0, foreign_msgs_ = 0;
-  std::optional<ggins::hil::Digest> hal_digest_;  // of the latest status (hal_)
 
   int64_t n_ = 0;
   int64_t truth_every_ = 1, csv_every_ = 1;
@@ -306,9 +305,8 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
   }
   ggins::nav_output_t plain = m;
   plain.republished = 0;  // transport: differs between copies of one output
-  const ggins::hil::Digest d = auth_.digest(plain);
   if (m.seq < 0 || m.seq >= n_ || got_[static_cast<size_t>(m.seq)]) {
-    if (out_digest_.compare(m.seq, d) < 0) {
+    if (out_taken_.compare(m.seq, plain) < 0) {
       ++outputs_conflict_;  // hal_sim (or a holder of the key) sent two different outputs for one seq
       if (outputs_conflict_ <= 10)
         std::fprintf(stderr, "ggins run: conflict: a second authenticated output for step %lld differs from the first\n",
@@ -320,7 +318,7 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
   }
   const auto k = static_cast<size_t>(m.seq);
   got_[k] = 1;
-  out_digest_.put(m.seq, d);
+  out_taken_.put(m.seq, plain);
   ++outputs_;
   if (attempts_[k] > 1) ++outputs_recovered_;
   if (m.status != 0) ++steps_rejected_;
@@ -447,12 +445,8 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
 void Runner::on_hal(const lcm_recv_buf_t* rb) {
   ggins::hal_status_t m{};
   if (!accept(rb, ch_hal_, m)) return;
-  const ggins::hil::Digest d = auth_.digest(m);
-  if (hal_ && m.seq == hal_->seq && hal_digest_ && *hal_digest_ != d) ++status_conflict_;
-  if (!hal_ || m.seq > hal_->seq) {
-    hal_ = m;
-    hal_digest_ = d;
-  }
+  if (hal_ && m.seq == hal_->seq && !ggins::hil::same_content(*hal_, m)) ++status_conflict_;
+  if (!hal_ || m.seq > hal_->seq) hal_ = m;
 }
 
 void Runner::on_req(const lcm_recv_buf_t* rb) {

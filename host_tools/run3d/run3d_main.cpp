@@ -138,9 +138,8 @@ class Runner3 {
   std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_;
   std::vector<uint8_t> buf_ = std::vector<uint8_t>(16384);
   ggins::hil::BusAuth auth_;           // the run's key; MACs
-  ggins::hil::SeqDigests out_digest_;  // content of the outputs taken, per seq
+  ggins::hil::SeqCopies<ggins::nav3d_output_t> out_taken_;  // the outputs taken, per seq
   int64_t outputs_conflict_ = 0, status_conflict_ = 0, foreign_msgs_ = 0;
-  std::optional<ggins::hil::Digest> hal_digest_;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1;
   int64_t pending_ = -1;  // seq whose output we wait for (lockstep)
   ggins::truth3d::Truth3 pending_truth_;
@@ -203,9 +202,8 @@ void Runner3::on_nav(const lcm_recv_buf_t* rb) {
   }
   ggins::nav3d_output_t plain = m;
   plain.republished = 0;  // transport: differs between copies of one output
-  const ggins::hil::Digest d = auth_.digest(plain);
   if (m.seq != pending_ || got_pending_) {
-    if (out_digest_.compare(m.seq, d) < 0) {
+    if (out_taken_.compare(m.seq, plain) < 0) {
       ++outputs_conflict_;  // two different authenticated outputs for one seq
       if (outputs_conflict_ <= 10)
         std::fprintf(stderr, "ggins run3d: conflict: a second authenticated output for step %lld differs from the first\n",
@@ -216,7 +214,7 @@ void Runner3::on_nav(const lcm_recv_buf_t* rb) {
     return;
   }
   got_pending_ = true;
-  out_digest_.put(m.seq, d);
+  out_taken_.put(m.seq, plain);
   ++outputs_;
   gg_nav3d_output_t o;
   from_lcm(m, o);
@@ -226,12 +224,8 @@ void Runner3::on_nav(const lcm_recv_buf_t* rb) {
 void Runner3::on_hal(const lcm_recv_buf_t* rb) {
   ggins::hal_status_t m{};
   if (!accept(rb, ch_hal_, m)) return;
-  const ggins::hil::Digest d = auth_.digest(m);
-  if (hal_ && m.seq == hal_->seq && hal_digest_ && *hal_digest_ != d) ++status_conflict_;
-  if (!hal_ || m.seq > hal_->seq) {
-    hal_ = m;
-    hal_digest_ = d;
-  }
+  if (hal_ && m.seq == hal_->seq && !ggins::hil::same_content(*hal_, m)) ++status_conflict_;
+  if (!hal_ || m.seq > hal_->seq) hal_ = m;
 }
 
 void Runner3::on_req(const lcm_recv_buf_t* rb) {
