@@ -323,7 +323,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     ggins_sensor_frame_t m;
     h->last_rx_wall = now_s();
     const int dec = ggins_sensor_frame_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
-    if (!accept_msg(h, rbuf, channel, dec, m.run_id, &h->st.auth_failed_frame)) return;
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_frame)) return;
     h->st.frames_received++;
     if (h->state != GGINS_HAL_STATUS_T_CONFIGURED && h->state != GGINS_HAL_STATUS_T_RUNNING)
         return; /* not configured yet: the sender resends on timeout */
@@ -382,7 +382,7 @@ static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *use
     ggins_nav2d_config_t m;
     h->last_rx_wall = now_s();
     const int dec = ggins_nav2d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
-    if (!accept_msg(h, rbuf, channel, dec, m.run_id, &h->st.auth_failed_config)) return;
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_config)) return;
     if (h->state != GGINS_HAL_STATUS_T_IDLE) {
         /* Already configured: a repeat of the same configuration (our status was lost)
          * is answered with the status again; a new one is refused; a different one
@@ -414,7 +414,7 @@ static void on_config3d(const lcm_recv_buf_t *rbuf, const char *channel, void *u
     ggins_nav3d_config_t m;
     h->last_rx_wall = now_s();
     const int dec = ggins_nav3d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
-    if (!accept_msg(h, rbuf, channel, dec, m.run_id, &h->st.auth_failed_config)) return;
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_config)) return;
     if (h->state != GGINS_HAL_STATUS_T_IDLE) { /* as on_config: repeat answered, new one refused, conflict counted */
         if (m.seq == h->config_seq && (!h->mode3d || !SAME_CONTENT(h, ggins_nav3d_config_t, m, h->config3d)))
             report_conflict(h, "configuration", m.seq, ++h->st.config_conflict);
@@ -442,7 +442,7 @@ static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *us
     ggins_run_control_t m;
     h->last_rx_wall = now_s();
     const int dec = ggins_run_control_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
-    if (!accept_msg(h, rbuf, channel, dec, m.run_id, &h->st.auth_failed_control)) return;
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_control)) return;
     if (m.command == GGINS_RUN_CONTROL_T_START) {
         if (h->state == GGINS_HAL_STATUS_T_CONFIGURED) h->state = GGINS_HAL_STATUS_T_RUNNING;
         publish_status(h);
