@@ -89,6 +89,7 @@ typedef struct {
     double idle_timeout_s;
     int quiet;
     double drop_output_prob; /* fault injection */
+    double conflict_output_prob; /* fault injection: a second, different, signed output for a seq */
     uint64_t inject_seed;
     int key_fd;
     ggins_bus_key_t key;
@@ -142,6 +143,7 @@ static uint64_t mix64(uint64_t x)
 }
 
 static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt);
+static int inject_conflict(const hal_sim_t *h, int64_t seq);
 
 /* Sign the n encoded bytes in h->buf for the channel and publish them. */
 static int publish_signed(hal_sim_t *h, const char *channel, int n)
@@ -156,7 +158,14 @@ static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_
         h->st.outputs_dropped_injected++;
         return 0;
     }
-    return publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m));
+    if (publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
+    if (attempt == 0 && inject_conflict(h, m->seq)) { /* a sender contradicting itself */
+        ggins_nav3d_output_t other = *m;
+        other.r_e[0] += 1e-3;
+        h->st.outputs_conflict_injected++;
+        return publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, &other));
+    }
+    return 0;
 }
 
 static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t attempt)
@@ -165,7 +174,14 @@ static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t at
         h->st.outputs_dropped_injected++;
         return 0;
     }
-    return publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m));
+    if (publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
+    if (attempt == 0 && inject_conflict(h, m->seq)) { /* a sender contradicting itself */
+        ggins_nav_output_t other = *m;
+        other.r_i[0] += 1e-3;
+        h->st.outputs_conflict_injected++;
+        return publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &other));
+    }
+    return 0;
 }
 static void on_signal(int sig) { g_signal = sig; }
 
@@ -188,6 +204,13 @@ static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt)
     if (!(h->drop_output_prob > 0.0)) return 0;
     const uint64_t x = mix64(mix64(h->inject_seed ^ 0x6f7574ull) ^ (uint64_t)seq) ^ mix64(attempt + 1);
     return (double)(mix64(x) >> 11) * 0x1.0p-53 < h->drop_output_prob;
+}
+
+static int inject_conflict(const hal_sim_t *h, int64_t seq)
+{
+    if (!(h->conflict_output_prob > 0.0)) return 0;
+    const uint64_t x = mix64(mix64(h->inject_seed ^ 0x636f6e66ull) ^ (uint64_t)seq);
+    return (double)(mix64(x) >> 11) * 0x1.0p-53 < h->conflict_output_prob;
 }
 
 /* ---- HAL operations ---------------------------------------------------- */
@@ -517,6 +540,8 @@ static void usage(FILE *out)
             "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"
             "  --idle-timeout-s S     exit (status 3) after S s without a message (default 60)\n"
             "  --drop-output-prob P   fault injection: do not send an output with probability P\n"
+            "  --conflict-output-prob P  fault injection: after an output, a second, different, signed\n"
+            "                         output for the same seq with probability P (a conflict)\n"
             "  --inject-seed N        seed of the fault injection (default 1)\n"
             "  --quiet                no diagnostics on stderr\n"
             "  --help                 this text\n\n"
@@ -539,11 +564,11 @@ int main(int argc, char **argv)
         {"max-resend", required_argument, 0, 'm'}, {"idle-timeout-s", required_argument, 0, 'i'},
         {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
         {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'},
-        {"key-fd", required_argument, 0, 'k'}, {0, 0, 0, 0}};
+        {"key-fd", required_argument, 0, 'k'}, {"conflict-output-prob", required_argument, 0, 'c'}, {0, 0, 0, 0}};
     int c;
     h.inject_seed = 1;
     h.key_fd = -1;
-    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
@@ -556,6 +581,7 @@ int main(int argc, char **argv)
         case 'q': h.quiet = 1; break;
         case 'd': h.drop_output_prob = strtod(optarg, &end); if (*end || !(h.drop_output_prob >= 0.0 && h.drop_output_prob < 1.0)) goto bad; break;
         case 's': h.inject_seed = strtoull(optarg, &end, 0); if (*end) goto bad; break;
+        case 'c': h.conflict_output_prob = strtod(optarg, &end); if (*end || !(h.conflict_output_prob >= 0.0 && h.conflict_output_prob < 1.0)) goto bad; break;
         case 'k': h.key_fd = (int)strtol(optarg, &end, 0); if (*end || h.key_fd < 0) goto bad; break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 1;

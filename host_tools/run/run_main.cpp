@@ -606,6 +606,7 @@ void Runner::start_hal_sim() {
       ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms);
   argv.insert(argv.end(), {"--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
                            std::to_string(sc_.transport.seed)});
+  if (opt_.conflict > 0) argv.insert(argv.end(), {"--conflict-output-prob", std::to_string(opt_.conflict)});
   hal_pid_ = auth_.spawn_hal_sim(argv, out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
@@ -1102,7 +1103,8 @@ json Runner::run() {
                      {"auth_failed_config", h.auth_failed_config},
                      {"auth_failed_control", h.auth_failed_control},
                      {"frames_conflict", h.frames_conflict},
-                     {"config_conflict", h.config_conflict}};
+                     {"config_conflict", h.config_conflict},
+                     {"outputs_conflict_injected", h.outputs_conflict_injected}};
   }
   s["transport"] = tr;
   s["bus_auth"] = bus;
@@ -1211,7 +1213,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--conflict-prob", o.conflict,
                  "inject: after a frame, a second, different frame with the same seq and a valid MAC, with this\n"
-                 "probability (an authenticated sender contradicting itself: counted by hal_sim, the run fails)")
+                 "probability, and the same for outputs in hal_sim (an authenticated sender contradicting\n"
+                 "itself: counted as conflicts, the first copies flown, the run fails)")
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--resend-timeout-ms", o.resend_timeout_ms, "resend a frame whose output is this late, ms")
       ->capture_default_str()

@@ -12,9 +12,10 @@
                forger sent, on the channel it sent it on, with no conflict.
   forged-3d    the same against `ggins run3d`.
   conflict-2d  `ggins run --conflict-prob`: the run tool itself (it holds the key)
-               sends a second, different frame for some seqs. hal_sim must count
-               each as a conflict, fly the first copy (outputs = clean flight), and
-               the run must not be completed (exit 1).
+               sends a second, different frame for some seqs, and hal_sim a second,
+               different output. The receivers must count each as a conflict, take
+               the first copies (outputs = clean flight), and the run must not be
+               completed (exit 1).
 Python standard library only.
 """
 import argparse
@@ -149,6 +150,9 @@ def case_conflict_2d(a):
     check(inj > 5, "%d conflicting authenticated frames sent" % inj)
     check(c["frames"] == inj and s1["transport"]["hal_sim"]["frames_conflict"] == inj,
           "hal_sim counted each as a conflict (%d)" % c["frames"])
+    inj_out = s1["transport"]["hal_sim"]["outputs_conflict_injected"]
+    check(inj_out > 5 and c["outputs"] == inj_out,
+          "%d conflicting authenticated outputs sent by hal_sim, %d counted by the run tool" % (inj_out, c["outputs"]))
     check(s1["bus_auth"]["rejected_total"] == 0, "none taken for a forgery (their MACs are valid)")
     check(rc1 == 1 and not s1["completed"] and "conflicting authenticated" in s1.get("error", ""),
           "the run is not completed and exits 1 (exit %d, error %r)" % (rc1, s1.get("error", "")[:80]))
