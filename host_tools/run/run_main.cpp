@@ -1348,6 +1348,10 @@ int main(int argc, char** argv) {
                 summary["realtime_factor"].get<double>(), summary["firmware_step_ns"]["median"].get<double>(),
                 summary["firmware_step_ns"]["p99"].get<double>(), summary["firmware_step_ns"]["max"].get<double>());
   }
+  if (summary.contains("bus_auth") && summary["bus_auth"]["rejected_total"].get<int64_t>() > 0)
+    std::fprintf(stderr, "%s: %lld messages without a valid MAC were dropped (someone without the key published on the "
+                 "run's channels): %s\n", "ggins run", static_cast<long long>(summary["bus_auth"]["rejected_total"].get<int64_t>()),
+                 summary["bus_auth"]["rejected_unauthenticated"].dump().c_str());
   std::printf("report: %s\n", out.c_str());
   if (rc == 0 && !summary["completed"].get<bool>()) rc = 1;
   return rc;

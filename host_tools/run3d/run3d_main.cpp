@@ -717,6 +717,10 @@ int main(int argc, char** argv) {
                 summary["attitude_error_rad"]["final"].get<double>(), summary["gravity_error_mps2"]["final"].get<double>(),
                 summary["gamma_error_ecef_E"]["final"].get<double>(), summary["gamma_error_ecef_E"]["max"].get<double>(),
                 static_cast<long long>(summary["steps"].get<int64_t>()), summary["wall_s"].get<double>());
+  if (summary.contains("bus_auth") && summary["bus_auth"]["rejected_total"].get<int64_t>() > 0)
+    std::fprintf(stderr, "%s: %lld messages without a valid MAC were dropped (someone without the key published on the "
+                 "run's channels): %s\n", "ggins run3d", static_cast<long long>(summary["bus_auth"]["rejected_total"].get<int64_t>()),
+                 summary["bus_auth"]["rejected_unauthenticated"].dump().c_str());
   std::printf("report: %s\n", out.c_str());
   if (summary.contains("completed") && !summary["completed"].get<bool>()) {
     std::fprintf(stderr, "ggins run3d: conflicting authenticated messages (%s); the run cannot be trusted\n",
