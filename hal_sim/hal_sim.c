@@ -21,7 +21,18 @@
  * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
  * takes differences modulo 2^32), cycles_per_second = 1e9.
  *
- * 3-D mode (issue 7): a configuration on GGINS_CONFIG3D (nav3d_config_t)
+ * Authentication: every message carries a MAC (bus_auth.h) under the run's
+ * secret key, which hal_sim reads from an inherited pipe (--key-fd N; the run
+ * tool writes the key into it and closes it). A message of this run whose MAC
+ * does not verify is counted per channel (auth_failed_*) and dropped. A
+ * second authenticated frame for a seq already taken (buffered or used) is
+ * compared by content with the copy kept (encodings with the transport fields and
+ * the MAC zeroed, compared only when a second copy comes): the same
+ * content is a duplicate, different content a conflict (frames_conflict:
+ * counted, dropped, never flown, and never answered with the output of the
+ * first). The same for a second configuration (config_conflict).
+ *
+ * 3-D mode: a configuration on GGINS_CONFIG3D (nav3d_config_t)
  * instead of GGINS_CONFIG selects the 3-D task: gg_nav3d_init, then
  * gg_nav3d_task_cycle per frame, outputs (nav3d_output_t) on GGINS_NAV3D
  * through the HAL's write_output3d. Frames, control, status, transport and
@@ -40,6 +51,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bus_auth.h"
 #include "ggins/hal.h"
 #include "ggins/nav2d.h"
 #include "hal_lcm.h"
@@ -61,6 +73,8 @@ typedef struct {
     int resent;    /* the copy held is a retransmission */
     int requested; /* hal_sim asked for it */
     gg_frame_t frame;
+    int64_t taken_seq;          /* seq of the frame kept in `taken` (-1 none) */
+    ggins_sensor_frame_t taken; /* the authenticated message taken for that seq */
 } slot_t;
 
 typedef struct {
@@ -75,7 +89,10 @@ typedef struct {
     double idle_timeout_s;
     int quiet;
     double drop_output_prob; /* fault injection */
+    double conflict_output_prob; /* fault injection: a second, different, signed output for a seq */
     uint64_t inject_seed;
+    int key_fd;
+    ggins_bus_key_t key;
 
     lcm_t *lcm;     /* inbound (subscribed) */
     lcm_t *lcm_out; /* outbound (publish only; == lcm in single-URL mode) */
@@ -87,6 +104,8 @@ typedef struct {
     int32_t state;
     int32_t init_status;
     int64_t config_seq;
+    ggins_nav2d_config_t config2d; /* the configuration message applied (2-D or 3-D) */
+    ggins_nav3d_config_t config3d;
     int stop;
 
     /* reorder window */
@@ -109,6 +128,7 @@ typedef struct {
     double last_rx_wall;
     double last_status_wall;
     uint8_t buf[MAX_MSG];
+    uint8_t tmp[2][32768]; /* re-encodings for content comparisons (a 2-D configuration is ~18 KB) */
 } hal_sim_t;
 
 static volatile sig_atomic_t g_signal = 0;
@@ -123,6 +143,14 @@ static uint64_t mix64(uint64_t x)
 }
 
 static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt);
+static int inject_conflict(const hal_sim_t *h, int64_t seq);
+
+/* Sign the n encoded bytes in h->buf for the channel and publish them. */
+static int publish_signed(hal_sim_t *h, const char *channel, int n)
+{
+    if (n < 0 || ggins_bus_sign(&h->key, channel, h->buf, (size_t)n) != 0) return -1;
+    return lcm_publish(h->lcm_out, channel, h->buf, (unsigned)n) == 0 ? 0 : -1;
+}
 
 static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_t attempt)
 {
@@ -130,8 +158,13 @@ static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_
         h->st.outputs_dropped_injected++;
         return 0;
     }
-    int n = ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m);
-    if (n < 0 || lcm_publish(h->lcm_out, h->ch_nav3d, h->buf, (unsigned)n) != 0) return -1;
+    if (publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
+    if (attempt == 0 && inject_conflict(h, m->seq)) { /* a sender contradicting itself */
+        ggins_nav3d_output_t other = *m;
+        other.r_e[0] += 1e-3;
+        h->st.outputs_conflict_injected++;
+        return publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, &other));
+    }
     return 0;
 }
 
@@ -141,8 +174,13 @@ static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t at
         h->st.outputs_dropped_injected++;
         return 0;
     }
-    int n = ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m);
-    if (n < 0 || lcm_publish(h->lcm_out, h->ch_nav, h->buf, (unsigned)n) != 0) return -1;
+    if (publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
+    if (attempt == 0 && inject_conflict(h, m->seq)) { /* a sender contradicting itself */
+        ggins_nav_output_t other = *m;
+        other.r_i[0] += 1e-3;
+        h->st.outputs_conflict_injected++;
+        return publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &other));
+    }
     return 0;
 }
 static void on_signal(int sig) { g_signal = sig; }
@@ -166,6 +204,13 @@ static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt)
     if (!(h->drop_output_prob > 0.0)) return 0;
     const uint64_t x = mix64(mix64(h->inject_seed ^ 0x6f7574ull) ^ (uint64_t)seq) ^ mix64(attempt + 1);
     return (double)(mix64(x) >> 11) * 0x1.0p-53 < h->drop_output_prob;
+}
+
+static int inject_conflict(const hal_sim_t *h, int64_t seq)
+{
+    if (!(h->conflict_output_prob > 0.0)) return 0;
+    const uint64_t x = mix64(mix64(h->inject_seed ^ 0x636f6e66ull) ^ (uint64_t)seq);
+    return (double)(mix64(x) >> 11) * 0x1.0p-53 < h->conflict_output_prob;
 }
 
 /* ---- HAL operations ---------------------------------------------------- */
@@ -228,8 +273,7 @@ static void publish_status(hal_sim_t *h)
     h->st.init_status = h->init_status;
     h->st.config_seq = h->config_seq;
     h->st.next_seq = h->next;
-    int n = ggins_hal_status_t_encode(h->buf, 0, MAX_MSG, &h->st);
-    if (n > 0) lcm_publish(h->lcm_out, h->ch_hal, h->buf, (unsigned)n);
+    publish_signed(h, h->ch_hal, ggins_hal_status_t_encode(h->buf, 0, MAX_MSG, &h->st));
     h->last_status_wall = now_s();
 }
 
@@ -242,32 +286,77 @@ static void request_resend(hal_sim_t *h, int64_t seq)
     c.run_id = h->run_id;
     c.command = GGINS_RUN_CONTROL_T_RESEND;
     c.resend_seq = seq;
-    int n = ggins_run_control_t_encode(h->buf, 0, MAX_MSG, &c);
-    if (n > 0) lcm_publish(h->lcm_out, h->ch_request, h->buf, (unsigned)n);
+    publish_signed(h, h->ch_request, ggins_run_control_t_encode(h->buf, 0, MAX_MSG, &c));
     h->st.resend_requests++;
 }
 
 /* ---- messages in --------------------------------------------------------- */
 
+/* The checks every inbound message passes, in this order: it decodes, to
+ * exactly its size (else decode_errors); it is of this run (else
+ * foreign_messages); its MAC verifies under the run's key (else *auth_failed).
+ * 1: process it; 0: it was counted and is dropped. */
+static int accept_msg(hal_sim_t *h, const lcm_recv_buf_t *rb, const char *channel, int decoded, int64_t run_id,
+                      int64_t *auth_failed)
+{
+    if (decoded < 0 || (uint32_t)decoded != rb->data_size) {
+        h->st.decode_errors++;
+        return 0;
+    }
+    if (run_id != h->run_id) {
+        h->st.foreign_messages++;
+        return 0;
+    }
+    if (ggins_bus_verify(&h->key, channel, rb->data, rb->data_size) != 0) {
+        (*auth_failed)++;
+        return 0;
+    }
+    return 1;
+}
+
+/* Whether two authenticated messages for one seq have the same content: their
+ * encodings with the transport fields (zeroed by the caller) and the MAC zeroed
+ * are equal. Only called when a second copy comes. */
+#define SAME_CONTENT(h, type, a, b)                                                    \
+    (memset((a).mac, 0, sizeof (a).mac), memset((b).mac, 0, sizeof (b).mac),           \
+     same_bytes(type##_encode((h)->tmp[0], 0, (int)sizeof (h)->tmp[0], &(a)),          \
+                type##_encode((h)->tmp[1], 0, (int)sizeof (h)->tmp[1], &(b)), (h)))
+
+static int same_bytes(int na, int nb, const hal_sim_t *h)
+{
+    return na > 0 && na == nb && memcmp(h->tmp[0], h->tmp[1], (size_t)na) == 0;
+}
+
+static int same_frame(hal_sim_t *h, ggins_sensor_frame_t a, ggins_sensor_frame_t b)
+{
+    a.resent = b.resent = 0; /* differs between transmissions of one frame */
+    return SAME_CONTENT(h, ggins_sensor_frame_t, a, b);
+}
+
+static void report_conflict(hal_sim_t *h, const char *what, int64_t seq, int64_t count)
+{
+    if (!h->quiet && count <= 10)
+        fprintf(stderr, "hal_sim: conflict: a second authenticated %s for seq %lld with different content; dropped%s\n",
+                what, (long long)seq, count == 10 ? " (further conflicts counted only)" : "");
+}
+
 static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
-    (void)channel;
     hal_sim_t *h = user;
     ggins_sensor_frame_t m;
     h->last_rx_wall = now_s();
-    if (ggins_sensor_frame_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
-        h->st.decode_errors++;
-        return;
-    }
-    if (m.run_id != h->run_id) {
-        h->st.foreign_messages++;
-        return;
-    }
+    const int dec = ggins_sensor_frame_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_frame)) return;
     h->st.frames_received++;
     if (h->state != GGINS_HAL_STATUS_T_CONFIGURED && h->state != GGINS_HAL_STATUS_T_RUNNING)
         return; /* not configured yet: the sender resends on timeout */
     const int64_t s = m.seq;
     if (s < h->next) {
+        const slot_t *used = s >= 0 ? &h->slots[s & (WINDOW - 1)] : NULL;
+        if (used && used->taken_seq == s && !same_frame(h, used->taken, m)) {
+            report_conflict(h, "frame", s, ++h->st.frames_conflict);
+            return;
+        }
         h->st.frames_duplicate++;
         if (h->mode3d) {
             ggins_nav3d_output_t *o3 = &h->out3_ring[s & (WINDOW - 1)];
@@ -292,7 +381,10 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     }
     slot_t *sl = &h->slots[s & (WINDOW - 1)];
     if (sl->valid && sl->frame.seq == s) {
-        h->st.frames_duplicate++;
+        if (sl->taken_seq == s && !same_frame(h, sl->taken, m))
+            report_conflict(h, "frame", s, ++h->st.frames_conflict);
+        else
+            h->st.frames_duplicate++;
         return;
     }
     if (s > h->next) h->st.frames_out_of_order++;
@@ -302,29 +394,28 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
     sl->valid = 1;
     sl->resent = m.resent > 0;
     sl->requested = requested || (h->gap_seq == s && h->gap_requests > 0);
+    sl->taken_seq = s;
+    sl->taken = m;
     if (s > h->highest) h->highest = s;
 }
 
 static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
-    (void)channel;
     hal_sim_t *h = user;
     ggins_nav2d_config_t m;
     h->last_rx_wall = now_s();
-    if (ggins_nav2d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
-        h->st.decode_errors++;
-        return;
-    }
-    if (m.run_id != h->run_id) {
-        h->st.foreign_messages++;
-        return;
-    }
+    const int dec = ggins_nav2d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_config)) return;
     if (h->state != GGINS_HAL_STATUS_T_IDLE) {
         /* Already configured: a repeat of the same configuration (our status was lost)
-         * is answered with the status again; a new one is refused. */
+         * is answered with the status again; a new one is refused; a different one
+         * with the seq of the one applied is a conflict. */
+        if (m.seq == h->config_seq && (h->mode3d || !SAME_CONTENT(h, ggins_nav2d_config_t, m, h->config2d)))
+            report_conflict(h, "configuration", m.seq, ++h->st.config_conflict);
         publish_status(h);
         return;
     }
+    h->config2d = m;
     gg_nav2d_config_t c;
     /* message -> firmware configuration: hal_lcm.c (shared with ggins replay;
      * add new configuration fields there) */
@@ -342,22 +433,18 @@ static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *use
 
 static void on_config3d(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
-    (void)channel;
     hal_sim_t *h = user;
     ggins_nav3d_config_t m;
     h->last_rx_wall = now_s();
-    if (ggins_nav3d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
-        h->st.decode_errors++;
-        return;
-    }
-    if (m.run_id != h->run_id) {
-        h->st.foreign_messages++;
-        return;
-    }
-    if (h->state != GGINS_HAL_STATUS_T_IDLE) { /* as on_config: repeat answered, new one refused */
+    const int dec = ggins_nav3d_config_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_config)) return;
+    if (h->state != GGINS_HAL_STATUS_T_IDLE) { /* as on_config: repeat answered, new one refused, conflict counted */
+        if (m.seq == h->config_seq && (!h->mode3d || !SAME_CONTENT(h, ggins_nav3d_config_t, m, h->config3d)))
+            report_conflict(h, "configuration", m.seq, ++h->st.config_conflict);
         publish_status(h);
         return;
     }
+    h->config3d = m;
     gg_nav3d_config_t c;
     ggins_config3d_from_lcm(&m, &c); /* hal_lcm3d.c */
     gg_status_t rc = gg_nav3d_init(&h->nav3d, &c);
@@ -374,18 +461,11 @@ static void on_config3d(const lcm_recv_buf_t *rbuf, const char *channel, void *u
 
 static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
-    (void)channel;
     hal_sim_t *h = user;
     ggins_run_control_t m;
     h->last_rx_wall = now_s();
-    if (ggins_run_control_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
-        h->st.decode_errors++;
-        return;
-    }
-    if (m.run_id != h->run_id) {
-        h->st.foreign_messages++;
-        return;
-    }
+    const int dec = ggins_run_control_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_control)) return;
     if (m.command == GGINS_RUN_CONTROL_T_START) {
         if (h->state == GGINS_HAL_STATUS_T_CONFIGURED) h->state = GGINS_HAL_STATUS_T_RUNNING;
         publish_status(h);
@@ -439,7 +519,7 @@ static void handle_gaps(hal_sim_t *h)
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: hal_sim --run-id N [options]\n\n"
+            "usage: hal_sim --run-id N --key-fd FD [options]\n\n"
             "The ggins firmware's HAL over LCM: receives the configuration and sensor\n"
             "frames of one run, steps the firmware (gg_nav2d_task_cycle) once per frame in\n"
             "seq order, publishes every navigation output. Normally started by `ggins run`.\n"
@@ -452,14 +532,20 @@ static void usage(FILE *out)
             "  --prefix P             channel prefix (default GGINS_): P+FRAME, P+NAV, P+CONFIG,\n"
             "                         P+CONTROL, P+REQUEST, P+HAL, P+CONFIG3D, P+NAV3D\n"
             "  --run-id N             run nonce; messages with another run_id are ignored (required)\n"
+            "  --key-fd FD            read the run's 32-byte secret key from this inherited descriptor\n"
+            "                         (a pipe the run tool wrote and closed), then close it (required).\n"
+            "                         Every message is authenticated with it (keyed BLAKE2b-256, libsodium):\n"
+            "                         ours carry its MAC, theirs are dropped and counted when theirs fails\n"
             "  --gap-timeout-ms MS    re-request a missing frame every MS ms (default 20)\n"
             "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"
             "  --idle-timeout-s S     exit (status 3) after S s without a message (default 60)\n"
             "  --drop-output-prob P   fault injection: do not send an output with probability P\n"
+            "  --conflict-output-prob P  fault injection: after an output, a second, different, signed\n"
+            "                         output for the same seq with probability P (a conflict)\n"
             "  --inject-seed N        seed of the fault injection (default 1)\n"
             "  --quiet                no diagnostics on stderr\n"
             "  --help                 this text\n\n"
-            "exit status: 0 after STOP, 1 bad usage or LCM failure, 3 idle timeout, 4 signal\n");
+            "exit status: 0 after STOP, 1 bad usage, no key or LCM failure, 3 idle timeout, 4 signal\n");
 }
 
 int main(int argc, char **argv)
@@ -477,10 +563,12 @@ int main(int argc, char **argv)
         {"run-id", required_argument, 0, 'r'}, {"gap-timeout-ms", required_argument, 0, 'g'},
         {"max-resend", required_argument, 0, 'm'}, {"idle-timeout-s", required_argument, 0, 'i'},
         {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
-        {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'}, {0, 0, 0, 0}};
+        {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'},
+        {"key-fd", required_argument, 0, 'k'}, {"conflict-output-prob", required_argument, 0, 'c'}, {0, 0, 0, 0}};
     int c;
     h.inject_seed = 1;
-    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:", opts, NULL)) != -1) {
+    h.key_fd = -1;
+    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
@@ -493,6 +581,8 @@ int main(int argc, char **argv)
         case 'q': h.quiet = 1; break;
         case 'd': h.drop_output_prob = strtod(optarg, &end); if (*end || !(h.drop_output_prob >= 0.0 && h.drop_output_prob < 1.0)) goto bad; break;
         case 's': h.inject_seed = strtoull(optarg, &end, 0); if (*end) goto bad; break;
+        case 'c': h.conflict_output_prob = strtod(optarg, &end); if (*end || !(h.conflict_output_prob >= 0.0 && h.conflict_output_prob < 1.0)) goto bad; break;
+        case 'k': h.key_fd = (int)strtol(optarg, &end, 0); if (*end || h.key_fd < 0) goto bad; break;
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 1;
         }
@@ -506,6 +596,25 @@ int main(int argc, char **argv)
         usage(stderr);
         return 1;
     }
+    /* The key: no core dump, no ptrace or /proc/<pid>/fd|mem access by other
+     * processes of the same user (the process is not dumpable) */
+    prctl(PR_SET_DUMPABLE, 0);
+    if (h.key_fd < 0) {
+        fprintf(stderr, "hal_sim: --key-fd FD is required (the run's key; ggins run and ggins run3d pass it)\n");
+        return 1;
+    }
+    {
+        const char *why = "";
+        if (ggins_bus_init() != 0) {
+            fprintf(stderr, "hal_sim: libsodium cannot be initialised\n");
+            return 1;
+        }
+        if (ggins_bus_key_read_fd(h.key_fd, &h.key, &why) != 0) {
+            fprintf(stderr, "hal_sim: cannot read the key from descriptor %d: %s\n", h.key_fd, why);
+            return 1;
+        }
+    }
+    for (int i = 0; i < WINDOW; ++i) h.slots[i].taken_seq = -1;
     if (strlen(prefix) > 80) {
         fprintf(stderr, "hal_sim: prefix too long\n");
         return 1;
@@ -540,10 +649,11 @@ int main(int argc, char **argv)
         }
     }
     lcm_subscription_t *sf = lcm_subscribe(h.lcm, h.ch_frame, on_frame, &h);
-    lcm_subscribe(h.lcm, h.ch_config, on_config, &h);
-    lcm_subscribe(h.lcm, h.ch_config3d, on_config3d, &h);
-    lcm_subscribe(h.lcm, h.ch_control, on_control, &h);
     lcm_subscription_set_queue_capacity(sf, 100000);
+    /* room for a burst of forged messages, so that it cannot push the genuine ones out of the queue */
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_config, on_config, &h), 10000);
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_config3d, on_config3d, &h), 10000);
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_control, on_control, &h), 10000);
 
     h.hal.ctx = &h;
     h.hal.read_frame = hal_read_frame;
@@ -600,5 +710,6 @@ int main(int argc, char **argv)
     }
     if (h.lcm_out != h.lcm) lcm_destroy(h.lcm_out);
     lcm_destroy(h.lcm);
+    ggins_bus_key_wipe(&h.key);
     return rc;
 }

@@ -68,9 +68,11 @@ int64_t new_run_id() {
                               0x7fffffffffffffffULL);
 }
 
-pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path) {
+pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path,
+            const std::vector<std::pair<int, int>>& inherit) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
+  for (const auto& [from, to] : inherit) posix_spawn_file_actions_adddup2(&fa, from, to);  // dup2 clears FD_CLOEXEC
   posix_spawn_file_actions_addopen(&fa, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&fa, 1, 2);
   posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
@@ -136,10 +138,72 @@ std::vector<std::string> hal_sim_argv(const std::string& hal_sim, const std::str
           prefix,
           "--run-id",
           std::to_string(run_id),
+          "--key-fd",
+          std::to_string(kHalKeyFd),
           "--gap-timeout-ms",
           std::to_string(std::max(2, resend_timeout_ms / 2)),
           "--idle-timeout-s",
           "30"};
+}
+
+BusAuth::BusAuth() {
+  if (ggins_bus_init() != 0) throw Fail("libsodium cannot be initialised");
+  ggins_bus_key_new(&key_);
+}
+
+void BusAuth::sign(const std::string& channel, uint8_t* buf, int n) const {
+  if (n < 0 || ggins_bus_sign(&key_, channel.c_str(), buf, static_cast<size_t>(n)) != 0)
+    throw Fail("cannot sign a message on " + channel);
+}
+
+pid_t BusAuth::spawn_hal_sim(const std::vector<std::string>& argv, const fs::path& log_path) const {
+  int fd = ggins_bus_key_pipe(&key_);
+  if (fd == kHalKeyFd) {  // dup2 onto itself would keep FD_CLOEXEC on some C libraries: move it first
+    const int moved = fcntl(fd, F_DUPFD_CLOEXEC, kHalKeyFd + 1);
+    close(fd);
+    fd = moved;
+  }
+  if (fd < 0) throw Fail(std::string("cannot make the key pipe for hal_sim: ") + std::strerror(errno));
+  try {
+    const pid_t pid = spawn(argv, log_path, {{fd, kHalKeyFd}});
+    close(fd);
+    return pid;
+  } catch (...) {
+    close(fd);
+    throw;
+  }
+}
+
+nlohmann::json bus_auth_summary(const BusAuth& auth, const ggins::hal_status_t* hal, const std::string& ch_frame,
+                                const std::string& ch_config, const std::string& ch_control, int64_t outputs_conflict,
+                                int64_t status_conflict, int64_t foreign) {
+  using nlohmann::json;
+  json j;
+  j["mac"] = "keyed BLAKE2b-256 (RFC 7693; libsodium crypto_generichash) over the channel name and the encoded message";
+  j["key"] = "32 random bytes per run (randombytes_buf); to hal_sim through an inherited pipe (--key-fd " +
+             std::to_string(kHalKeyFd) + "), never on a command line, in the environment, a file or the log";
+  json rej = json::object();
+  for (const auto& [ch, n] : auth.rejected()) rej[ch] = n;
+  if (hal) {
+    if (hal->auth_failed_frame) rej[ch_frame] = hal->auth_failed_frame;
+    if (hal->auth_failed_config) rej[ch_config] = hal->auth_failed_config;
+    if (hal->auth_failed_control) rej[ch_control] = hal->auth_failed_control;
+  }
+  int64_t total = 0;
+  for (const auto& [ch, n] : rej.items()) total += n.get<int64_t>();
+  j["rejected_unauthenticated"] = rej;
+  j["rejected_total"] = total;
+  const json c = {{"frames", hal ? hal->frames_conflict : 0},
+                  {"configurations", hal ? hal->config_conflict : 0},
+                  {"outputs", outputs_conflict},
+                  {"hal_status", status_conflict}};
+  int64_t ct = 0;
+  for (const auto& [k, n] : c.items()) ct += n.get<int64_t>();
+  j["conflicts"] = c;
+  j["conflicts_total"] = ct;
+  j["foreign_run_messages"] = foreign + (hal ? hal->foreign_messages : 0);
+  j["hal_sim_status_received"] = hal != nullptr;
+  return j;
 }
 
 void handle_lcm(lcm_t* lcm, double timeout_s) {

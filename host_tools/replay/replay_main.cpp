@@ -236,9 +236,11 @@ std::vector<uint8_t> encoded(const M& m, int (*enc)(void*, int, const M*), int (
   return b;
 }
 
-// A frame's encoding but for `resent` (transport: differs between copies of one frame).
+// A frame's encoding but for `resent` and its MAC (transport: they differ between
+// copies of one frame; hal_sim/bus_auth.h).
 std::vector<uint8_t> frame_bytes(ggins_sensor_frame_t m) {
   m.resent = 0;
+  std::memset(m.mac, 0, sizeof m.mac);
   return encoded<ggins_sensor_frame_t>(
       m, [](void* d, int n, const ggins_sensor_frame_t* x) { return ggins_sensor_frame_t_encode(d, 0, n, x); },
       ggins_sensor_frame_t_encoded_size);
@@ -328,6 +330,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   };
   auto out_bytes = [](OutMsg m) {
     m.republished = 0;
+    std::memset(m.mac, 0, sizeof m.mac);
     return encoded<OutMsg>(m, D::out_encode, D::out_size);
   };
   std::map<int64_t, OutCopies> outs;
@@ -492,6 +495,8 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   for (const auto& cm : configs) {
     typename D::CfgMsg a = cm, b = configs.front();
     a.utime = b.utime = 0;
+    std::memset(a.mac, 0, sizeof a.mac);
+    std::memset(b.mac, 0, sizeof b.mac);
     if (encoded(a, D::cfg_encode, D::cfg_size) != encoded(b, D::cfg_encode, D::cfg_size)) config_copies_differ = true;
   }
 

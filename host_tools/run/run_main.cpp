@@ -169,6 +169,7 @@ struct Options {
   std::optional<uint64_t> seed;
   std::optional<double> csv_rate, truth_rate;
   std::optional<double> drop, dup, reorder, drop_output, garbage;
+  double conflict = 0;
   std::string lcm_url;
   std::string prefix = "GGINS_";
   int resend_timeout_ms = 50;
@@ -198,6 +199,7 @@ class Runner {
   template <class M>
   void publish(const std::string& ch, const M& m) {
     const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+    auth_.sign(ch, buf_.data(), n);  // every message of the run carries its MAC
     lcm_t* l = ch == ch_ping_ ? lcm_ : lcm_out_;  // pings go round our own inbound URL
     if (n < 0 || lcm_publish(l, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
       throw Fail("LCM publish on " + ch + " failed");
@@ -216,6 +218,7 @@ class Runner {
   void finish_hal();
   void cleanup();
   json verify_log();
+  json bus_auth_summary() const;
   void progress(bool final);
 
   const Options& opt_;
@@ -232,10 +235,28 @@ class Runner {
   void record(const lcm_recv_buf_t* rb, const std::string& ch) {
     if (rec_) rec_->write(ch, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
   }
+  // The checks on a received message (hil_common.hpp BusAuth::check) and what
+  // goes into the log: an undecodable payload on our channel is kept as
+  // evidence under the channel; a message of our run whose MAC fails under
+  // <channel>.UNAUTHENTICATED (never where ggins replay reads); another run's
+  // traffic not at all. True: the message is authentic and decoded into m.
+  template <class M>
+  bool accept(const lcm_recv_buf_t* rb, const std::string& ch, M& m) {
+    switch (auth_.check(ch, rb->data, rb->data_size, run_id_, m)) {
+      case ggins::hil::BusAuth::Check::kOk: record(rb, ch); return true;
+      case ggins::hil::BusAuth::Check::kUndecodable: record(rb, ch); ++decode_errors_; return false;
+      case ggins::hil::BusAuth::Check::kForeign: ++foreign_msgs_; return false;
+      case ggins::hil::BusAuth::Check::kUnauthenticated: record(rb, ch + ".UNAUTHENTICATED"); return false;
+    }
+    return false;
+  }
   std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_, ch_ping_;
   std::optional<ggins::truth::SurveyGrid> survey_grid_;  // [navigation.survey], built before hal_sim starts
   json survey_;  // the programmed anomaly grid sent (model mode with [navigation.survey])
   std::vector<uint8_t> buf_ = std::vector<uint8_t>(65536);  // the configuration carries the anomaly grid (~18 KB)
+  ggins::hil::BusAuth auth_;                // the run's key; MACs
+  ggins::hil::SeqCopies<ggins::nav_output_t> out_taken_;  // the outputs taken, per seq
+  int64_t outputs_conflict_ = 0, status_conflict_ = 0, foreign_msgs_ = 0;
 
   int64_t n_ = 0;
   int64_t truth_every_ = 1, csv_every_ = 1;
@@ -244,7 +265,7 @@ class Runner {
   std::vector<uint8_t> sent_ahead_;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_foreign_ = 0, decode_errors_ = 0;
   int64_t frames_published_ = 0, truth_published_ = 0, control_published_ = 0;
-  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0, garbage_inj_ = 0;
+  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0, garbage_inj_ = 0, conflict_inj_ = 0;
   int64_t resend_timeouts_ = 0, resend_on_request_ = 0, outputs_recovered_ = 0;
   int64_t steps_rejected_ = 0, pings_ = 0;
   uint32_t health_or_ = 0;
@@ -279,22 +300,27 @@ class Runner {
 // ---- LCM handlers ---------------------------------------------------------------
 void Runner::on_nav(const lcm_recv_buf_t* rb) {
   ggins::nav_output_t m{};
-  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
-    record(rb, ch_nav_);  // on our channel but undecodable: keep it as evidence
-    ++decode_errors_;
+  const int64_t foreign_before = foreign_msgs_;
+  if (!accept(rb, ch_nav_, m)) {
+    outputs_foreign_ += foreign_msgs_ - foreign_before;
     return;
   }
-  if (m.run_id == run_id_) record(rb, ch_nav_);  // another run's traffic stays out of our log
-  if (m.run_id != run_id_) {
-    ++outputs_foreign_;
-    return;
-  }
+  ggins::nav_output_t plain = m;
+  plain.republished = 0;  // transport: differs between copies of one output
   if (m.seq < 0 || m.seq >= n_ || got_[static_cast<size_t>(m.seq)]) {
-    ++outputs_dup_;
+    if (out_taken_.compare(m.seq, plain) < 0) {
+      ++outputs_conflict_;  // hal_sim (or a holder of the key) sent two different outputs for one seq
+      if (outputs_conflict_ <= 10)
+        std::fprintf(stderr, "ggins run: conflict: a second authenticated output for step %lld differs from the first\n",
+                     static_cast<long long>(m.seq));
+    } else {
+      ++outputs_dup_;
+    }
     return;
   }
   const auto k = static_cast<size_t>(m.seq);
   got_[k] = 1;
+  out_taken_.put(m.seq, plain);
   ++outputs_;
   if (attempts_[k] > 1) ++outputs_recovered_;
   if (m.status != 0) ++steps_rejected_;
@@ -421,25 +447,15 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
 
 void Runner::on_hal(const lcm_recv_buf_t* rb) {
   ggins::hal_status_t m{};
-  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
-    record(rb, ch_hal_);  // on our channel but undecodable: keep it as evidence
-    ++decode_errors_;
-    return;
-  }
-  if (m.run_id == run_id_) record(rb, ch_hal_);  // another run's traffic stays out of our log
-  if (m.run_id != run_id_) return;
-  if (!hal_ || m.seq >= hal_->seq) hal_ = m;
+  if (!accept(rb, ch_hal_, m)) return;
+  if (hal_ && m.seq == hal_->seq && !ggins::hil::same_content(*hal_, m)) ++status_conflict_;
+  if (!hal_ || m.seq > hal_->seq) hal_ = m;
 }
 
 void Runner::on_req(const lcm_recv_buf_t* rb) {
   ggins::run_control_t m{};
-  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
-    record(rb, ch_request_);  // on our channel but undecodable: keep it as evidence
-    ++decode_errors_;
-    return;
-  }
-  if (m.run_id == run_id_) record(rb, ch_request_);  // another run's traffic stays out of our log
-  if (m.run_id != run_id_ || m.command != ggins::run_control_t::RESEND) return;
+  if (!accept(rb, ch_request_, m)) return;
+  if (m.command != ggins::run_control_t::RESEND) return;
   if (m.resend_seq < 0 || m.resend_seq >= n_) return;
   ++resend_on_request_;
   send_frame(m.resend_seq, true);
@@ -483,6 +499,14 @@ void Runner::send_frame(int64_t k, bool resend) {
       publish(ch_frame_, m);
       ++frames_published_;
       ++frames_dup_inj_;
+    }
+    // a sender contradicting itself: a second, different frame for this seq, correctly signed
+    if (opt_.conflict > 0 && ggins::truth::counter_uniform(tp.seed, 14, uk, ua, 0) < opt_.conflict) {
+      ggins::sensor_frame_t other = m;
+      other.f[0][0] += 1e-9;
+      publish(ch_frame_, other);
+      ++frames_published_;
+      ++conflict_inj_;
     }
   }
   if (att == 1 && (k % truth_every_ == 0 || k == n_ - 1)) {
@@ -585,7 +609,8 @@ void Runner::start_hal_sim() {
       ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms);
   argv.insert(argv.end(), {"--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
                            std::to_string(sc_.transport.seed)});
-  hal_pid_ = spawn(argv, out_ / "hal_sim.log");
+  if (opt_.conflict > 0) argv.insert(argv.end(), {"--conflict-output-prob", std::to_string(opt_.conflict)});
+  hal_pid_ = auth_.spawn_hal_sim(argv, out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
     handle(0.05);
@@ -850,6 +875,11 @@ json Runner::verify_log() {
   return j;
 }
 
+json Runner::bus_auth_summary() const {
+  return ggins::hil::bus_auth_summary(auth_, hal_ ? &*hal_ : nullptr, ch_frame_, ch_config_, ch_control_, outputs_conflict_,
+                                      status_conflict_, foreign_msgs_);
+}
+
 json Runner::run() {
   n_ = gen_.n_steps();
   got_.assign(static_cast<size_t>(n_), 0);
@@ -915,7 +945,7 @@ json Runner::run() {
   lcm_subscription_t* s_hal = lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
   lcm_subscription_t* s_req = lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
   lcm_subscription_set_queue_capacity(s_nav, 100000);
-  lcm_subscription_set_queue_capacity(s_hal, 1000);
+  lcm_subscription_set_queue_capacity(s_hal, 100000);
   lcm_subscription_set_queue_capacity(s_req, 100000);
   if (sc_.navigation.gravity == "model" && sc_.navigation.survey.enable)  // before hal_sim: it may take a while
     survey_grid_ = ggins::truth::make_survey_grid(gen_);                   // (truth field at every node)
@@ -944,6 +974,16 @@ json Runner::run() {
   csv_.close();
   if (logger_pid_ > 0) stop_child(logger_pid_, SIGINT, 30.0);  // flushes and closes the log
   if (rec_) rec_->close();
+  // Two different authenticated messages for one seq: the key holder (this
+  // process or hal_sim) contradicted itself, or the key is no longer secret.
+  // Which of the two copies is right cannot be known, so the run is not
+  // completed, whatever its errors look like.
+  const json bus = bus_auth_summary();
+  if (bus["conflicts_total"].get<int64_t>() > 0 && error.empty()) {
+    error = "conflicting authenticated messages (" + bus["conflicts"].dump() +
+            "): two different messages for one seq carried a valid MAC; the run cannot be trusted";
+    error_code = 1;
+  }
 
   // ---- summary
   json s;
@@ -1058,7 +1098,7 @@ json Runner::run() {
   tr["resend_timeouts"] = resend_timeouts_;
   tr["resends_on_request"] = resend_on_request_;
   tr["injected"] = {{"dropped", frames_dropped_inj_}, {"duplicated", frames_dup_inj_}, {"reordered", frames_reordered_inj_},
-                    {"garbage", garbage_inj_}};
+                    {"garbage", garbage_inj_}, {"conflicting", conflict_inj_}};
   if (hal_) {
     const auto& h = *hal_;
     tr["hal_sim"] = {{"state", h.state},
@@ -1074,9 +1114,16 @@ json Runner::run() {
                      {"decode_errors", h.decode_errors},
                      {"foreign_messages", h.foreign_messages},
                      {"deadline_overruns", h.deadline_overruns},
-                     {"outputs_dropped_injected", h.outputs_dropped_injected}};
+                     {"outputs_dropped_injected", h.outputs_dropped_injected},
+                     {"auth_failed_frame", h.auth_failed_frame},
+                     {"auth_failed_config", h.auth_failed_config},
+                     {"auth_failed_control", h.auth_failed_control},
+                     {"frames_conflict", h.frames_conflict},
+                     {"config_conflict", h.config_conflict},
+                     {"outputs_conflict_injected", h.outputs_conflict_injected}};
   }
   s["transport"] = tr;
+  s["bus_auth"] = bus;
   s["wall_s"] = wall_loop_;
   s["setup_s"] = setup_s;
   // flight time actually navigated (all of it when the run completed) per wall second
@@ -1181,6 +1228,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--garbage-prob", o.garbage,
                  "inject: before a frame, an undecodable payload on the frame channel with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--conflict-prob", o.conflict,
+                 "inject: after a frame, a second, different frame with the same seq and a valid MAC, with this\n"
+                 "probability, and the same for outputs in hal_sim (an authenticated sender contradicting\n"
+                 "itself: counted as conflicts, the first copies flown, the run fails)")
       ->check(CLI::Range(0.0, 0.99));
   app.add_option("--resend-timeout-ms", o.resend_timeout_ms, "resend a frame whose output is this late, ms")
       ->capture_default_str()
@@ -1314,6 +1366,10 @@ int main(int argc, char** argv) {
                 summary["realtime_factor"].get<double>(), summary["firmware_step_ns"]["median"].get<double>(),
                 summary["firmware_step_ns"]["p99"].get<double>(), summary["firmware_step_ns"]["max"].get<double>());
   }
+  if (summary.contains("bus_auth") && summary["bus_auth"]["rejected_total"].get<int64_t>() > 0)
+    std::fprintf(stderr, "%s: %lld messages without a valid MAC were dropped (someone without the key published on the "
+                 "run's channels): %s\n", "ggins run", static_cast<long long>(summary["bus_auth"]["rejected_total"].get<int64_t>()),
+                 summary["bus_auth"]["rejected_unauthenticated"].dump().c_str());
   std::printf("report: %s\n", out.c_str());
   if (rc == 0 && !summary["completed"].get<bool>()) rc = 1;
   if (rc == 0 && summary.value("degraded", false)) rc = 4;

@@ -90,6 +90,7 @@ class Runner3 {
   template <class M>
   void publish(const std::string& ch, const M& m) {
     const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+    auth_.sign(ch, buf_.data(), n);  // every message of the run carries its MAC
     if (n < 0 || lcm_publish(lcm_out_, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
       throw Fail("LCM publish on " + ch + " failed");
     record(ch, buf_.data(), n, wall_us());
@@ -97,6 +98,23 @@ class Runner3 {
   void record(const std::string& ch, const void* d, int n, int64_t ut) {
     if (log_) log_->write(ch, d, n, ut);
   }
+  // The checks on a received message (BusAuth::check); authentic messages are
+  // logged under their channel, those of our run whose MAC fails under
+  // <channel>.UNAUTHENTICATED, other runs' traffic and undecodable payloads not.
+  template <class M>
+  bool accept(const lcm_recv_buf_t* rb, const std::string& ch, M& m) {
+    const int n = static_cast<int>(rb->data_size);
+    switch (auth_.check(ch, rb->data, rb->data_size, run_id_, m)) {
+      case ggins::hil::BusAuth::Check::kOk: record(ch, rb->data, n, rb->recv_utime); return true;
+      case ggins::hil::BusAuth::Check::kUndecodable: ++decode_errors_; return false;
+      case ggins::hil::BusAuth::Check::kForeign: ++foreign_msgs_; return false;
+      case ggins::hil::BusAuth::Check::kUnauthenticated:
+        record(ch + ".UNAUTHENTICATED", rb->data, n, rb->recv_utime);
+        return false;
+    }
+    return false;
+  }
+  json bus_auth_summary() const;
   void handle(double timeout_s) { ggins::hil::handle_lcm(lcm_, timeout_s); }
   void check_children();
   void send_frame(int64_t k);
@@ -119,6 +137,9 @@ class Runner3 {
   int64_t run_id_ = 0;
   std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_;
   std::vector<uint8_t> buf_ = std::vector<uint8_t>(16384);
+  ggins::hil::BusAuth auth_;           // the run's key; MACs
+  ggins::hil::SeqCopies<ggins::nav3d_output_t> out_taken_;  // the outputs taken, per seq
+  int64_t outputs_conflict_ = 0, status_conflict_ = 0, foreign_msgs_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1;
   int64_t pending_ = -1;  // seq whose output we wait for (lockstep)
   ggins::truth3d::Truth3 pending_truth_;
@@ -174,20 +195,26 @@ void Runner3::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
 
 void Runner3::on_nav(const lcm_recv_buf_t* rb) {
   ggins::nav3d_output_t m{};
-  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
-    ++decode_errors_;
+  const int64_t foreign_before = foreign_msgs_;
+  if (!accept(rb, ch_nav_, m)) {
+    outputs_foreign_ += foreign_msgs_ - foreign_before;
     return;
   }
-  if (m.run_id != run_id_) {
-    ++outputs_foreign_;
-    return;
-  }
-  record(ch_nav_, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
+  ggins::nav3d_output_t plain = m;
+  plain.republished = 0;  // transport: differs between copies of one output
   if (m.seq != pending_ || got_pending_) {
-    ++outputs_dup_;
+    if (out_taken_.compare(m.seq, plain) < 0) {
+      ++outputs_conflict_;  // two different authenticated outputs for one seq
+      if (outputs_conflict_ <= 10)
+        std::fprintf(stderr, "ggins run3d: conflict: a second authenticated output for step %lld differs from the first\n",
+                     static_cast<long long>(m.seq));
+    } else {
+      ++outputs_dup_;
+    }
     return;
   }
   got_pending_ = true;
+  out_taken_.put(m.seq, plain);
   ++outputs_;
   gg_nav3d_output_t o;
   from_lcm(m, o);
@@ -196,23 +223,15 @@ void Runner3::on_nav(const lcm_recv_buf_t* rb) {
 
 void Runner3::on_hal(const lcm_recv_buf_t* rb) {
   ggins::hal_status_t m{};
-  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
-    ++decode_errors_;
-    return;
-  }
-  if (m.run_id != run_id_) return;
-  record(ch_hal_, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
+  if (!accept(rb, ch_hal_, m)) return;
+  if (hal_ && m.seq == hal_->seq && !ggins::hil::same_content(*hal_, m)) ++status_conflict_;
   if (!hal_ || m.seq > hal_->seq) hal_ = m;
 }
 
 void Runner3::on_req(const lcm_recv_buf_t* rb) {
   ggins::run_control_t m{};
-  if (m.decode(rb->data, 0, static_cast<int>(rb->data_size)) < 0) {
-    ++decode_errors_;
-    return;
-  }
-  if (m.run_id != run_id_ || m.command != ggins::run_control_t::RESEND) return;
-  record(ch_request_, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
+  if (!accept(rb, ch_request_, m)) return;
+  if (m.command != ggins::run_control_t::RESEND) return;
   if (m.resend_seq == pending_) {  // lockstep: only the frame in flight can be missing
     ++resend_on_request_;
     send_frame(pending_);
@@ -308,11 +327,12 @@ void Runner3::setup_lcm() {
     if (!lcm_out_) throw Fail("cannot open LCM at " + url_, 3);
   }
   lcm_subscription_t* s = lcm_subscribe(lcm_, ch_nav_.c_str(), on_nav_cb, this);
-  lcm_subscription_set_queue_capacity(s, 10000);
-  lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
-  lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
-  hal_pid_ = spawn(ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms),
-                   out_ / "hal_sim.log");
+  lcm_subscription_set_queue_capacity(s, 100000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this), 100000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this), 100000);
+  hal_pid_ = auth_.spawn_hal_sim(
+      ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms),
+      out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
     handle(0.05);
@@ -440,6 +460,11 @@ void Runner3::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d
   }
 }
 
+json Runner3::bus_auth_summary() const {
+  return ggins::hil::bus_auth_summary(auth_, hal_ ? &*hal_ : nullptr, ch_frame_, ch_config_, ch_control_, outputs_conflict_,
+                                      status_conflict_, foreign_msgs_);
+}
+
 json Runner3::run() {
   n_ = gen_.n_steps();
   attempts_.assign(static_cast<size_t>(n_), 0);
@@ -557,7 +582,15 @@ json Runner3::run() {
     if (hal_)
       j["hal_sim"] = {{"steps", hal_->steps}, {"steps_rejected", hal_->steps_rejected},
                       {"frames_received", hal_->frames_received}, {"frames_lost", hal_->frames_lost},
-                      {"frames_duplicate", hal_->frames_duplicate}};
+                      {"frames_duplicate", hal_->frames_duplicate}, {"decode_errors", hal_->decode_errors},
+                      {"foreign_messages", hal_->foreign_messages}, {"auth_failed_frame", hal_->auth_failed_frame},
+                      {"auth_failed_config", hal_->auth_failed_config},
+                      {"auth_failed_control", hal_->auth_failed_control}, {"frames_conflict", hal_->frames_conflict},
+                      {"config_conflict", hal_->config_conflict}};
+    j["bus_auth"] = bus_auth_summary();
+    // two different authenticated messages for one seq: which copy was right
+    // cannot be known, so the run is not completed (exit 1)
+    j["completed"] = j["bus_auth"]["conflicts_total"].get<int64_t>() == 0;
     j["lcm_log"] = opt_.no_log ? "" : (out_ / "run.lcmlog").string();
   }
   return j;
@@ -685,6 +718,15 @@ int main(int argc, char** argv) {
                 summary["attitude_error_rad"]["final"].get<double>(), summary["gravity_error_mps2"]["final"].get<double>(),
                 summary["gamma_error_ecef_E"]["final"].get<double>(), summary["gamma_error_ecef_E"]["max"].get<double>(),
                 static_cast<long long>(summary["steps"].get<int64_t>()), summary["wall_s"].get<double>());
+  if (summary.contains("bus_auth") && summary["bus_auth"]["rejected_total"].get<int64_t>() > 0)
+    std::fprintf(stderr, "%s: %lld messages without a valid MAC were dropped (someone without the key published on the "
+                 "run's channels): %s\n", "ggins run3d", static_cast<long long>(summary["bus_auth"]["rejected_total"].get<int64_t>()),
+                 summary["bus_auth"]["rejected_unauthenticated"].dump().c_str());
   std::printf("report: %s\n", out.c_str());
+  if (summary.contains("completed") && !summary["completed"].get<bool>()) {
+    std::fprintf(stderr, "ggins run3d: conflicting authenticated messages (%s); the run cannot be trusted\n",
+                 summary["bus_auth"]["conflicts"].dump().c_str());
+    return 1;
+  }
   return 0;
 }
