@@ -58,10 +58,10 @@ inline const std::vector<Field>& nav2d_fields() {
       GG_FIELD(T, kF64, baro_innov_m, 1, 1, true), GG_FIELD(T, kF64, g_up_corr, 1, 1, true),
       GG_FIELD(T, kI32, n_cycles, 1, 1, true),    GG_FIELD(T, kI64, cycles, 8, 1, false),
       GG_FIELD(T, kI8, republished, 1, 1, false), GG_FIELD(T, kF64, parity_f, 2, 1, true),
-      GG_FIELD(T, kI8, mac, 32, 1, false),
       GG_FIELD(T, kI64, acc_excluded, 1, 1, true), GG_FIELD(T, kI64, acc_rebuilt, 1, 1, true),
       GG_FIELD(T, kI64, resync_count, 1, 1, true), GG_FIELD(T, kI64, coast_steps, 1, 1, true),
       GG_FIELD(T, kF64, outage_s, 1, 1, true),    GG_FIELD(T, kF64, state_lag_s, 1, 1, true),
+      GG_FIELD(T, kI8, mac, 32, 1, false),  // bus MAC (hal_sim/bus_auth.h): replay has no key
   };
   return f;
 }
@@ -85,10 +85,10 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kF64, g_up_corr, 1, 1, true),    GG_FIELD(T, kF64, t_s, 1, 1, true),
       GG_FIELD(T, kI32, n_cycles, 1, 1, true),     GG_FIELD(T, kI64, cycles, 8, 1, false),
       GG_FIELD(T, kI8, republished, 1, 1, false),  GG_FIELD(T, kI64, resync_count, 1, 1, true),
-      GG_FIELD(T, kI8, mac, 32, 1, false),
       GG_FIELD(T, kI64, coast_steps, 1, 1, true),  GG_FIELD(T, kI64, acc_rebuilt, 1, 1, true),
       GG_FIELD(T, kI64, acc_excluded, 1, 1, true),
       GG_FIELD(T, kF64, outage_s, 1, 1, true),     GG_FIELD(T, kF64, state_lag_s, 1, 1, true),
+      GG_FIELD(T, kI8, mac, 32, 1, false),  // bus MAC (hal_sim/bus_auth.h): replay has no key
   };
   return f;
 }
