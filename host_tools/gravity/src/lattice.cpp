@@ -95,24 +95,31 @@ const std::vector<LatticeField::Node>& LatticeField::stencil(const Vec3& r, doub
   return st.v;
 }
 
-FieldSample LatticeField::eval(const Vec3& r) const {
-  const int p = opt_.points;
-  double w[3][16];
-  const std::vector<Node>& v = stencil(r, w);
-  double acc[10] = {0};
+namespace {
+// Tensor-product contraction of node components C0 .. C0+NC-1 with the weights
+// (the same loops for every component count, so each component gets the same bits).
+template <int C0, int NC>
+void contract(const std::vector<LatticeField::Node>& v, const double w[3][16], int p, double acc[NC]) {
+  for (int c = 0; c < NC; ++c) acc[c] = 0;
   for (int i = 0; i < p; ++i) {
-    double accj[10] = {0};
+    double accj[NC] = {0};
     for (int j = 0; j < p; ++j) {
-      double acck[10] = {0};
-      const Node* row = &v[(static_cast<std::size_t>(i) * p + j) * p];
+      double acck[NC] = {0};
+      const LatticeField::Node* row = &v[(static_cast<std::size_t>(i) * p + j) * p];
       for (int k = 0; k < p; ++k) {
         const double wk = w[2][k];
-        for (int c = 0; c < 10; ++c) acck[c] += wk * row[k][c];
+        for (int c = 0; c < NC; ++c) acck[c] += wk * row[k][C0 + c];
       }
-      for (int c = 0; c < 10; ++c) accj[c] += w[1][j] * acck[c];
+      for (int c = 0; c < NC; ++c) accj[c] += w[1][j] * acck[c];
     }
-    for (int c = 0; c < 10; ++c) acc[c] += w[0][i] * accj[c];
+    for (int c = 0; c < NC; ++c) acc[c] += w[0][i] * accj[c];
   }
+}
+}  // namespace
+
+FieldSample LatticeField::eval(const Vec3& r) const {
+  double w[3][16], acc[10];
+  contract<0, 10>(stencil(r, w), w, opt_.points, acc);
   FieldSample s;
   s.potential = acc[0];
   s.g = Vec3(acc[1], acc[2], acc[3]);
@@ -121,24 +128,8 @@ FieldSample LatticeField::eval(const Vec3& r) const {
 }
 
 Vec3 LatticeField::gravitation(const Vec3& r) const {
-  // the loops of eval() restricted to components 1..3 (same bits)
-  const int p = opt_.points;
-  double w[3][16];
-  const std::vector<Node>& v = stencil(r, w);
-  double acc[3] = {0, 0, 0};
-  for (int i = 0; i < p; ++i) {
-    double accj[3] = {0, 0, 0};
-    for (int j = 0; j < p; ++j) {
-      double acck[3] = {0, 0, 0};
-      const Node* row = &v[(static_cast<std::size_t>(i) * p + j) * p];
-      for (int k = 0; k < p; ++k) {
-        const double wk = w[2][k];
-        for (int c = 0; c < 3; ++c) acck[c] += wk * row[k][c + 1];
-      }
-      for (int c = 0; c < 3; ++c) accj[c] += w[1][j] * acck[c];
-    }
-    for (int c = 0; c < 3; ++c) acc[c] += w[0][i] * accj[c];
-  }
+  double w[3][16], acc[3];
+  contract<1, 3>(stencil(r, w), w, opt_.points, acc);
   return Vec3(acc[0], acc[1], acc[2]);
 }
 

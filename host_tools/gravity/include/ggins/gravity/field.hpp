@@ -54,13 +54,15 @@ class Field {
   virtual std::string name() const = 0;
   // Gravitation alone, eval(r_e).g; models for which G costs less than
   // (V, G, Gamma) override it (the normal field, lattices, sums, spherical
-  // harmonics give the same bits as eval(r_e).g).
+  // harmonics give the same bits as eval(r_e).g; PointMassAnomalyField its
+  // double-precision sum, equal to rounding).
   virtual Vec3 gravitation(const Vec3& r_e) const { return eval(r_e).g; }
   // The field on the circle of latitude through (rho, 0, z), with the
   // direction (e_rho, e_z) for FieldCircle::eval's dgamma (e.g. the ellipsoid
   // normal: e_rho = cos(geodetic latitude), e_z = sin). Models that share work
   // between the points of a circle override it; this default evaluates point
-  // by point (eval(), and third() for dgamma).
+  // by point (eval(), and third() for dgamma). The circle refers to this
+  // field: use it while the field lives; eval() is thread-safe like Field::eval.
   virtual std::unique_ptr<FieldCircle> circle(Real rho, Real z, Real e_rho = 0, Real e_z = 0) const;
   // Optional: third derivatives at r_e. Returns false (t untouched) when the
   // model does not provide them.
