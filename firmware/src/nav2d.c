@@ -517,17 +517,6 @@ static gg_status_t coast(gg_nav2d_t *nav, const gg_frame_t *fr, int64_t n, const
     return st;
 }
 
-/* The frame on the task clock (navtask.h): time stamps mapped so that they
- * run on continuously through a re-synchronisation. */
-static void on_task_clock(const gg_task_seq_t *seq, const gg_frame_t *fr, gg_frame_t *ft)
-{
-    *ft = *fr;
-    ft->utime = gg_task_seq_clock(seq, fr->utime);
-    if ((fr->baro_utime >= 0) && (fr->baro_utime <= GG_TIME_MAX)) {
-        ft->baro_utime = gg_task_seq_clock(seq, fr->baro_utime);
-    }
-}
-
 gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav_output_t *out)
 {
@@ -601,7 +590,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_status_t st_nav = GG_OK;
         uint32_t step_health = 0U;
         gg_frame_t ft;
-        on_task_clock(&nav->seq, frame, &ft);
+        gg_task_seq_map_frame(&nav->seq, frame, &ft);
         if (nav->started == 0) {
             if (st_read == GG_OK) {
                 plan.use = 1;
@@ -675,15 +664,8 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
     out->acc_rebuilt = fo.rebuilt;
     out->resync_count = nav->seq.resyncs;
     out->coast_steps = nav->coast_steps;
-    out->outage_s = 0.0;
-    out->state_lag_s = 0.0;
-    if (nav->started != 0) {
-        const int64_t d_in = nav->seq.last_step - nav->input_step;
-        const int64_t d_state = nav->seq.last_step - nav->state_step;
-        const gg_real_t dt_s = (gg_real_t)nav->cfg.dt_us * 1.0e-6L;
-        out->outage_s = (double)((gg_real_t)d_in * dt_s);
-        out->state_lag_s = (double)((gg_real_t)d_state * dt_s);
-    }
+    gg_task_outage(&nav->seq, nav->started, nav->state_step, nav->input_step, nav->cfg.dt_us,
+                   &out->outage_s, &out->state_lag_s);
     out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;
 }

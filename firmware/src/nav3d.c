@@ -646,6 +646,36 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
     return st;
 }
 
+/* The inputs of the last accepted frame, held through a bridge or a coast
+ * (the trace is only for the parity: 0). */
+static void n3_held_inputs(const gg_nav3d_t *nav, step_in_t *h)
+{
+    size_t j;
+    size_t k;
+    for (j = 0U; j < 3U; ++j) {
+        h->f_b[j] = nav->f_b[j];
+        h->w[j] = nav->w_k[j];
+        h->omega_dot[j] = nav->omega_dot_b[j];
+        for (k = 0U; k < 3U; ++k) {
+            h->gamma_b[j][k] = nav->gamma_b[j][k];
+        }
+    }
+    h->trace = 0.0L;
+}
+
+/* Gyro-derived angular acceleration at this step from the rate w1 and the
+ * three earlier samples: third-order backward difference
+ * (11 w_{k+1} - 18 w_k + 9 w_{k-1} - 2 w_{k-2}) / (6h) (nav3d.h). */
+static void n3_gyro_omega_dot(const gg_nav3d_t *nav, const gg_real_t w1[3], gg_real_t wd[3])
+{
+    size_t j;
+    for (j = 0U; j < 3U; ++j) {
+        wd[j] = ((11.0L * w1[j]) - (18.0L * nav->w_k[j]) + (9.0L * nav->w_km1[j]) -
+                 (2.0L * nav->w_km2[j])) /
+                (6.0L * nav->dt_s);
+    }
+}
+
 /* Bridge lost frames: f_b, Gamma_b, w and omega_dot interpolated linearly between the
  * last accepted frame and this one, no barometer. */
 static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_in_t *in,
@@ -657,16 +687,7 @@ static gg_status_t n3_bridge(gg_nav3d_t *nav, const gg_frame_t *fr, const step_i
     int64_t i;
     size_t j;
     size_t k;
-    /* the last accepted frame's inputs (advance moves w_k on) */
-    base = *in;
-    for (j = 0U; j < 3U; ++j) {
-        base.f_b[j] = nav->f_b[j];
-        base.w[j] = nav->w_k[j];
-        base.omega_dot[j] = nav->omega_dot_b[j];
-        for (k = 0U; k < 3U; ++k) {
-            base.gamma_b[j][k] = nav->gamma_b[j][k];
-        }
-    }
+    n3_held_inputs(nav, &base); /* the last accepted frame's (advance moves w_k on) */
     for (i = 1; (i <= missing) && (i <= GG_NAV3D_MAX_BRIDGE) && (st == GG_OK); ++i) {
         const gg_real_t w = (gg_real_t)i / ((gg_real_t)missing + 1.0L);
         step_in_t bi;
@@ -698,17 +719,7 @@ static gg_status_t n3_coast(gg_nav3d_t *nav, const gg_frame_t *fr, int64_t n, co
     step_in_t hold;
     gg_frame_t fi = *fr;
     int64_t i;
-    size_t j;
-    size_t k;
-    for (j = 0U; j < 3U; ++j) {
-        hold.f_b[j] = nav->f_b[j];
-        hold.w[j] = nav->w_k[j];
-        hold.omega_dot[j] = nav->omega_dot_b[j];
-        for (k = 0U; k < 3U; ++k) {
-            hold.gamma_b[j][k] = nav->gamma_b[j][k];
-        }
-    }
-    hold.trace = 0.0L;
+    n3_held_inputs(nav, &hold);
     fi.baro_status = GG_SENSOR_ABSENT;
     for (i = 1; (i <= n) && (i <= GG_TASK_CATCHUP_STEPS) && (st == GG_OK); ++i) {
         fi.utime = nav->state_clock_us + (i * nav->cfg.dt_us);
@@ -721,16 +732,15 @@ static gg_status_t n3_coast(gg_nav3d_t *nav, const gg_frame_t *fr, int64_t n, co
  * gyro-derived angular acceleration (strapdown), and the trace. */
 static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4])
 {
+    gg_real_t gyro_wd[3];
     size_t j;
+    n3_gyro_omega_dot(nav, in->w, gyro_wd);
     for (j = 0U; j < 3U; ++j) {
         if (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) {
             /* third-order backward difference; needs three earlier gyro
              * samples, 0 (no evidence) on the first three steps */
             if ((nav->started != 0) && (nav->n_w >= 3)) {
-                p[j] = in->omega_dot[j] -
-                       (((11.0L * in->w[j]) - (18.0L * nav->w_k[j]) + (9.0L * nav->w_km1[j]) -
-                         (2.0L * nav->w_km2[j])) /
-                        (6.0L * nav->dt_s));
+                p[j] = in->omega_dot[j] - gyro_wd[j];
             } else {
                 p[j] = 0.0L;
             }
@@ -788,12 +798,9 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         for (j = 0U; j < 3U; ++j) {
             w_now[j] = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) ? (gg_real_t)frame->omega_b[j]
                                                                     : 0.0L;
-            /* the gyro-derived angular acceleration (third-order backward
-             * difference, as the parity below), once three earlier samples exist */
-            wd_ref[j] = ((11.0L * w_now[j]) - (18.0L * nav->w_k[j]) + (9.0L * nav->w_km1[j]) -
-                         (2.0L * nav->w_km2[j])) /
-                        (6.0L * nav->dt_s);
         }
+        /* the gyro-derived angular acceleration, once three earlier samples exist */
+        n3_gyro_omega_dot(nav, w_now, wd_ref);
         if ((nav->started != 0) && (nav->n_w >= 3) && (fstep == (nav->state_step + 1))) {
             wd_p = wd_ref;
         }
@@ -832,11 +839,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_status_t st_nav = GG_OK;
         uint32_t step_health = 0U;
         gg_frame_t ft;
-        ft = *frame;
-        ft.utime = gg_task_seq_clock(&nav->seq, frame->utime);
-        if ((frame->baro_utime >= 0) && (frame->baro_utime <= GG_TIME_MAX)) {
-            ft.baro_utime = gg_task_seq_clock(&nav->seq, frame->baro_utime);
-        }
+        gg_task_seq_map_frame(&nav->seq, frame, &ft);
         if (st_read == GG_OK) {
             n3_parity(nav, &in, par);
         }
@@ -912,12 +915,8 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     out->acc_excluded = nav->fdi.excluded;
     out->resync_count = nav->seq.resyncs;
     out->coast_steps = nav->coast_steps;
-    if (nav->started != 0) {
-        const int64_t d_in = nav->seq.last_step - nav->input_step;
-        const int64_t d_state = nav->seq.last_step - nav->state_step;
-        out->outage_s = (double)((gg_real_t)d_in * nav->dt_s);
-        out->state_lag_s = (double)((gg_real_t)d_state * nav->dt_s);
-    }
+    gg_task_outage(&nav->seq, nav->started, nav->state_step, nav->input_step, nav->cfg.dt_us,
+                   &out->outage_s, &out->state_lag_s);
     out->health |= gg_task_close_cycles(hal, nav->cfg.dt_us, t_start, cyc, out->cycles);
     return st;
 }

@@ -126,6 +126,29 @@ int64_t gg_task_seq_clock(const gg_task_seq_t *seq, int64_t utime)
     return utime + seq->clock_offset_us;
 }
 
+void gg_task_seq_map_frame(const gg_task_seq_t *seq, const gg_frame_t *fr, gg_frame_t *ft)
+{
+    *ft = *fr;
+    ft->utime = gg_task_seq_clock(seq, fr->utime);
+    if ((fr->baro_utime >= 0) && (fr->baro_utime <= GG_TIME_MAX)) {
+        ft->baro_utime = gg_task_seq_clock(seq, fr->baro_utime);
+    }
+}
+
+void gg_task_outage(const gg_task_seq_t *seq, int started, int64_t state_step, int64_t input_step,
+                    int64_t dt_us, double *outage_s, double *lag_s)
+{
+    *outage_s = 0.0;
+    *lag_s = 0.0;
+    if (started != 0) {
+        const int64_t d_in = seq->last_step - input_step;
+        const int64_t d_state = seq->last_step - state_step;
+        const gg_real_t dt_s = (gg_real_t)dt_us * 1.0e-6L;
+        *outage_s = (double)((gg_real_t)d_in * dt_s);
+        *lag_s = (double)((gg_real_t)d_state * dt_s);
+    }
+}
+
 void gg_task_plan(int64_t frame_step, int64_t state_step, int usable, int64_t max_bridge,
                   gg_task_plan_t *plan)
 {

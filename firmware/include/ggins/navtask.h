@@ -121,6 +121,16 @@ uint32_t gg_task_seq_update(gg_task_seq_t *seq, const gg_frame_t *fr, int64_t *s
 /** The frame's time stamp on the task clock, us (only for a trusted frame). */
 int64_t gg_task_seq_clock(const gg_task_seq_t *seq, int64_t utime);
 
+/** *ft = *fr with its time stamps (frame and barometer sample) on the task
+ *  clock, so that they run on continuously through a re-synchronisation. */
+void gg_task_seq_map_frame(const gg_task_seq_t *seq, const gg_frame_t *fr, gg_frame_t *ft);
+
+/** How long the readings have been out of the state and how far the state
+ *  lags the stream, s, for a task whose state (started != 0) is at
+ *  state_step and last used a frame at input_step; 0 before it started. */
+void gg_task_outage(const gg_task_seq_t *seq, int started, int64_t state_step, int64_t input_step,
+                    int64_t dt_us, double *outage_s, double *lag_s);
+
 /** Plan a trusted frame at frame_step against a started state at state_step
  *  (< frame_step): coast up to GG_TASK_CATCHUP_STEPS steps while the lag
  *  exceeds max_bridge + 1, then, when the readings are usable (usable != 0)
