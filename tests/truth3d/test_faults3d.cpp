@@ -232,8 +232,8 @@ size = 5.0
   {
     const Scenario3 clean = parse_scenario3(kBase, "clean", "test");
     const Run c = fly(clean, 0, GG_HEALTH_ACC_FAULT);
-    std::printf("     clean: final |dr| %.3e m, max %.3e m, health 0x%08x, rejected %lld\n", c.dr_final, c.dr_max,
-                c.health_or, static_cast<long long>(c.rejected));
+    std::printf("FAULTMATRIX3D | none (reference) | - | - | final |dr| %.3e m (max %.3e m) | health 0x%08x | rejected %lld\n",
+                c.dr_final, c.dr_max, c.health_or, static_cast<long long>(c.rejected));
     check(!(c.health_or & GG_HEALTH_ACC_FAULT) && c.rejected == 0 && c.excluded == 0, "clean flight: no fault flagged");
     struct Case {
       int sensor, axis;
@@ -243,8 +243,8 @@ size = 5.0
       const std::string f = std::string("[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = ") +
                             std::to_string(cs.sensor) + "\naxis = \"" + "xyz"[cs.axis] + "\"\nstart_s = 5.0\nsize = 1e-8\n";
       const Run r = fly(parse_scenario3(kBase + f, "bias", "test"), 500, GG_HEALTH_ACC_FAULT);
-      std::printf("     bias 1e-8 on %s: flagged after %lld steps, excluded 0x%05x (want 0x%05x), final |dr| %.3e m, "
-                  "health 0x%08x, rejected %lld\n",
+      std::printf("FAULTMATRIX3D | %s step 1e-8 m/s^2 from 5 s | flagged after %lld steps | excluded 0x%05x (its bit 0x%05x) | "
+                  "final |dr| %.3e m | health 0x%08x | rejected %lld\n",
                   cs.name, static_cast<long long>(r.first_flag), r.excluded, GG_FDI3D_BIT(cs.sensor, cs.axis), r.dr_final,
                   r.health_or, static_cast<long long>(r.rejected));
       check(r.first_flag >= 0 && r.first_flag <= 1, std::string("bias on ") + cs.name + ": ACC_FAULT within 1 step");
@@ -273,8 +273,8 @@ duration_s = 1.5
 )";
     Scenario3 sc = parse_scenario3(kBase + f, "nanpair", "test");
     const Run r = fly(sc, 1000, GG_HEALTH_ACC_NONFINITE);
-    std::printf("     NaN pair 2z+5z 10-11.5 s: flagged after %lld steps, last NONFINITE step %lld, rejected %lld, "
-                "health 0x%08x, final |dr| %.3e m, max %.3e m\n",
+    std::printf("FAULTMATRIX3D | NaN on 2z and 5z (a whole pair-axis), 10-11.5 s | flagged after %lld steps | last NONFINITE "
+                "step %lld | rejected %lld (coast) | health 0x%08x | final |dr| %.3e m (max %.3e m while rejected)\n",
                 static_cast<long long>(r.first_flag), static_cast<long long>(r.last_nonfinite),
                 static_cast<long long>(r.rejected), r.health_or, r.dr_final, r.dr_max);
     check(r.first_flag == 0, "NaN pair: flagged on its first step");
