@@ -16,9 +16,8 @@
 //      s(beta) = b_k A1 (beta + sum_l C1_l sin 2 l beta)
 //    and its inverse beta(s) = tau + sum_l C1'_l sin 2 l tau, tau = s / (b_k A1),
 //    with eps = (a - b_k)/(a + b_k) (Karney, "Algorithms for geodesics",
-//    J. Geodesy 87, 2013, eqs. 15-21 and the series of its section 8, to
-//    eps^6: the omitted terms are below 1e-19 of the radius), so the footprint
-//    moves at exactly ds/dt along a leg.
+//    J. Geodesy 87, 2013, eqs. 15-21, to eps^6: the omitted terms are below
+//    1e-19 of the radius), so the footprint moves at exactly ds/dt along a leg.
 //  * Turn at waypoint W_k from track direction d1 to d2 (turn angle dpsi,
 //    |dpsi| <= 150 deg, positive to the right): a fly-by curve in W_k's local
 //    north-east plane whose heading follows a logistic step,
@@ -41,8 +40,8 @@
 //    exact to the flat-plane approximation of the turn (~(turn size / R)^2).
 // Timing: s(t) = V_0 t + sum_j dV_j tau_j (softplus((t - t_j)/tau_j) - softplus(-t_j/tau_j)),
 // a speed change from one leg's speed to the next's centred 10 tau_j after
-// the turn at the leg's start (tau_j = |dV_j| / (4 accel): peak acceleration
-// = accel). Height: h(t) = h_0 + sum_k c_k tau_h (softplus((t - a_k)/tau_h) -
+// the end of the turn at the leg's start (6 lambda past its centre;
+// tau_j = |dV_j| / (4 accel): peak acceleration = accel). Height: h(t) = h_0 + sum_k c_k tau_h (softplus((t - a_k)/tau_h) -
 // softplus((t - b_k)/tau_h)) (minus the same at t = 0): on leg k a climb at
 // rate c_k from h_(k-1) to h_k (b_k - a_k = (h_k - h_(k-1))/c_k), starting
 // 20 tau_h after the time at W_(k-1) and ending at least 20 tau_h before the
