@@ -145,6 +145,61 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
     return GG_OK;
 }
 
+gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3])
+{
+    static const double zero[NXM] = {0.0};
+    double P0[NXM][NXM];
+    gg_ukf_t u;
+    int32_t j;
+    int32_t k;
+    int32_t l;
+    if ((a == NULL) || (gamma_i == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (a->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    if (a->nx != GG_AID_MM_NX_DR) {
+        return GG_OK;
+    }
+    for (j = 0; j < 3; ++j) {
+        for (k = 0; k < 3; ++k) {
+            if (!GG_ISFINITE(gamma_i[j][k])) {
+                return GG_ERR_NONFINITE;
+            }
+        }
+    }
+    for (j = 0; j < NXM; ++j) {
+        for (k = 0; k < NXM; ++k) {
+            P0[j][k] = a->ukf.P[j][k];
+        }
+    }
+    /* dg = -Gamma dr + n_g with dr ~ P_rr (diagonal, sig0_pos) */
+    {
+        const double prr = a->cfg.sig0_pos_m * a->cfg.sig0_pos_m;
+        const double pgg = a->cfg.sig0_g_mps2 * a->cfg.sig0_g_mps2;
+        for (j = 0; j < 3; ++j) {
+            for (k = 0; k < 3; ++k) {
+                double s = 0.0;
+                for (l = 0; l < 3; ++l) {
+                    s += gamma_i[j][l] * gamma_i[k][l];
+                }
+                P0[9 + j][9 + k] = prr * s;
+                P0[9 + j][k] = -prr * gamma_i[j][k];
+                P0[k][9 + j] = -prr * gamma_i[j][k];
+            }
+            P0[9 + j][9 + j] += pgg;
+        }
+    }
+    u = a->ukf;
+    /* cppcheck-suppress misra-c2012-17.7 */
+    if (gg_ukf_init(&u, &a->ukf.cfg, zero, (const double(*)[NXM])P0) != GG_OK) {
+        return GG_ERR_RANGE;
+    }
+    a->ukf = u;
+    return GG_OK;
+}
+
 /* ---------------------------------------------------------------- dynamics */
 
 /* o = a b (n x n used) */

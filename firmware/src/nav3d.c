@@ -932,6 +932,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         const uint32_t ta = gg_task_cycles(hal);
         if (nav->aid_step < 0) {
             nav->aid_step = nav->state_step; /* the aid starts with the state */
+            n3_aid_start(nav, &nav->aid_mm, &health);
         } else if (nav->state_step > nav->aid_step) {
             int z_ok = 0;
             if ((used != 0) && ((nav->state_step - nav->aid_step) == 1) && (rebuilt == 0U) &&

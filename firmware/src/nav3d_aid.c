@@ -169,6 +169,18 @@ void n3_aid_step(gg_nav3d_t *nav, int64_t n_adv, int z_valid, const gg_hal_t *ha
     }
 }
 
+void n3_aid_start(const gg_nav3d_t *nav, gg_aid_mm_t *aid, uint32_t *health)
+{
+    gg_aid_ins_t ins;
+    gg_status_t st = n3_aid_ins(nav, 1, 0, &ins);
+    if (st == GG_OK) {
+        st = gg_aid_mm_start(aid, (const double(*)[3])ins.gamma_i);
+    }
+    if (st != GG_OK) {
+        *health |= GG_HEALTH_MM_FAIL;
+    }
+}
+
 void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
 {
     const gg_aid_mm_t *a = &nav->aid_mm;

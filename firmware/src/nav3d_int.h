@@ -29,6 +29,9 @@ void n3_fill_output(const gg_nav3d_t *nav, const gg_frame_t *fr, gg_status_t sta
 void n3_aid_step(gg_nav3d_t *nav, int64_t n_adv, int z_valid, const gg_hal_t *hal,
                  uint32_t *health, int32_t *corrected);
 
+/* The aids' start with the state's first step (aid_mmukf.h, gg_aid_mm_start). */
+void n3_aid_start(const gg_nav3d_t *nav, gg_aid_mm_t *aid, uint32_t *health);
+
 /* The aid's counters and one-sigma into the output. */
 void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out);
 

@@ -170,6 +170,13 @@ typedef struct {
  *  value. */
 gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_t gravity_state);
 
+/** At the task's first step: with gravity dead reckoning, G(0) is the
+ *  gravitation at the true start point (a surveyed value), so a start
+ *  position error dr makes the gravitation error at the estimated point
+ *  dg = -Gamma dr: P0 gets that correlation (P_gr = -Gamma P_rr,
+ *  P_gg = Gamma P_rr Gamma^T + sig0_g^2 I). Model mode: nothing to do. */
+gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3]);
+
 /** One navigation step of the aid: propagate the covariance by ins->n_steps
  *  steps, then do the schedule's next unit of work (see the file comment).
  *  map may be NULL (no map storage: epochs are flagged NO_MAP). *corr is
