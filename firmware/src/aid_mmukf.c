@@ -32,7 +32,7 @@ static int nonneg_finite(double v)
     return ok;
 }
 
-static gg_status_t cfg_ok(const gg_aid_mm_config_t *c)
+static gg_status_t aid_cfg_ok(const gg_aid_mm_config_t *c)
 {
     gg_status_t st = GG_OK;
     if ((c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) ||
@@ -70,7 +70,7 @@ static void mat_zero(double m[NXM][NXM])
 
 gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_t gravity_state)
 {
-    static const double zero[NXM] = {0.0};
+    double zero[NXM];
     double P0[NXM][NXM];
     gg_ukf_config_t uc;
     gg_status_t st;
@@ -79,6 +79,7 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
     if ((a == NULL) || (cfg == NULL)) {
         return GG_ERR_NULL;
     }
+    (void)memset(zero, 0, sizeof zero);
     a->initialized = 0;
     if (cfg->enable == 0) {
         return GG_OK;
@@ -86,7 +87,7 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
     if ((cfg->enable != 1) || ((gravity_state != 0) && (gravity_state != 1))) {
         return GG_ERR_CONFIG;
     }
-    st = cfg_ok(cfg);
+    st = aid_cfg_ok(cfg);
     if (st != GG_OK) {
         return st;
     }
@@ -147,12 +148,11 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
 
 gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3])
 {
-    static const double zero[NXM] = {0.0};
+    double zero[NXM];
     double P0[NXM][NXM];
     gg_ukf_t u;
     int32_t j;
     int32_t k;
-    int32_t l;
     if ((a == NULL) || (gamma_i == NULL)) {
         return GG_ERR_NULL;
     }
@@ -181,6 +181,7 @@ gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3])
         for (j = 0; j < 3; ++j) {
             for (k = 0; k < 3; ++k) {
                 double s = 0.0;
+                int32_t l;
                 for (l = 0; l < 3; ++l) {
                     s += gamma_i[j][l] * gamma_i[k][l];
                 }
@@ -192,6 +193,7 @@ gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3])
         }
     }
     u = a->ukf;
+    (void)memset(zero, 0, sizeof zero);
     /* cppcheck-suppress misra-c2012-17.7 */
     if (gg_ukf_init(&u, &a->ukf.cfg, zero, (const double(*)[NXM])P0) != GG_OK) {
         return GG_ERR_RANGE;
@@ -323,6 +325,7 @@ static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
 /* UKF process model over the accumulated interval: x_out = Phi x_in. */
 static gg_status_t fx_phi(void *ctx, const double *x_in, double *x_out)
 {
+    /* cppcheck-suppress misra-c2012-11.5 */
     const gg_aid_mm_t *a = (const gg_aid_mm_t *)ctx;
     int32_t j;
     int32_t k;
@@ -362,13 +365,9 @@ gg_status_t gg_aid_mm_predict(const gg_gmap_t *tile, const gg_real_t r_e[3],
     gg_real_t psi_e[3];
     gg_real_t r[3];
     gg_real_t dq[4];
-    gg_real_t dc[3][3];
     gg_real_t cbe[3][3];
     gg_real_t cen[3][3];
-    gg_real_t cbn[3][3];
-    gg_real_t cnb[3][3];
     gg_real_t gn[3][3];
-    gg_real_t gb[3][3];
     gg_real_t lat = 0.0L;
     gg_real_t lon = 0.0L;
     gg_real_t h = 0.0L;
@@ -390,6 +389,7 @@ gg_status_t gg_aid_mm_predict(const gg_gmap_t *tile, const gg_real_t r_e[3],
     }
     st = gg_quat_from_rotvec(psi_e, dq);
     if (st == GG_OK) {
+        gg_real_t dc[3][3];
         gg_quat_to_dcm(dq, dc);
         gg_mat3_mul(dc, c_b_e, cbe);
         st = gg_geo_ecef_to_geodetic(r, &lat, &lon, &h);
@@ -398,13 +398,19 @@ gg_status_t gg_aid_mm_predict(const gg_gmap_t *tile, const gg_real_t r_e[3],
         st = gg_geo_local_frame(r, &h2, cen);
     }
     if (st == GG_OK) {
-        st = gg_gmap_eval(tile, lat, lon, h, GG_GMAP_MASK_ALL | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
+        st = gg_gmap_eval(tile, lat, lon, h,
+                          /* MISRA 12.2: false positive on the constant mask macros */
+                          /* cppcheck-suppress misra-c2012-12.2 */
+                          GG_GMAP_MASK_ALL | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
     }
     if (st == GG_OK) {
         st = gg_gmap_to_matrix(smp.gamma, gn);
     }
     if (st == GG_OK) {
         /* Gamma_b = C_n_b Gamma_n C_b_n, C_b_n = C_e_n C_b_e */
+        gg_real_t cbn[3][3];
+        gg_real_t cnb[3][3];
+        gg_real_t gb[3][3];
         gg_mat3_mul(cen, cbe, cbn);
         gg_mat3_transpose(cbn, cnb);
         {
@@ -425,11 +431,12 @@ gg_status_t gg_aid_mm_predict(const gg_gmap_t *tile, const gg_real_t r_e[3],
 
 typedef struct {
     const gg_aid_mm_t *a;
-} hctx_t;
+} aid_hctx_t;
 
-static gg_status_t meas_model(void *ctx, const double *x, double *z)
+static gg_status_t aid_meas_model(void *ctx, const double *x, double *z)
 {
-    const hctx_t *hc = (const hctx_t *)ctx;
+    /* cppcheck-suppress misra-c2012-11.5 */
+    const aid_hctx_t *hc = (const aid_hctx_t *)ctx;
     const gg_aid_mm_t *a = hc->a;
     gg_real_t c[3][3];
     size_t j;
@@ -541,13 +548,12 @@ static void do_spread(gg_aid_mm_t *a)
     double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
     double spread[GG_UKF_NZ_MAX];
     double nis = 0.0;
-    hctx_t hc;
+    aid_hctx_t hc;
     gg_status_t st;
     double w;
-    int32_t k;
     hc.a = a;
     fill_r(a, 1.0, R);
-    st = gg_ukf_meas_spread(&a->ukf, 6, meas_model, &hc, spread, a->ep_z,
+    st = gg_ukf_meas_spread(&a->ukf, 6, aid_meas_model, &hc, spread, a->ep_z,
                             /* cppcheck-suppress misra-c2012-17.7 */
                             (const double(*)[GG_UKF_NZ_MAX])R, &nis);
     if (st != GG_OK) {
@@ -560,6 +566,7 @@ static void do_spread(gg_aid_mm_t *a)
     }
     w = a->remaining;
     if (a->pass < (a->cfg.max_passes - 1)) {
+        int32_t k;
         for (k = 0; k < 6; ++k) {
             if ((spread[k] > a->rk[k]) && ((a->rk[k] / spread[k]) < w)) {
                 w = a->rk[k] / spread[k];
@@ -574,13 +581,13 @@ static void do_update(gg_aid_mm_t *a)
 {
     double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
     gg_ukf_update_info_t info;
-    hctx_t hc;
+    aid_hctx_t hc;
     gg_status_t st;
     hc.a = a;
     fill_r(a, a->w_pass, R);
     st = gg_ukf_update(&a->ukf, 6, a->ep_z,
                        /* cppcheck-suppress misra-c2012-17.7 */
-                       (const double(*)[GG_UKF_NZ_MAX])R, meas_model, &hc, &info);
+                       (const double(*)[GG_UKF_NZ_MAX])R, aid_meas_model, &hc, &info);
     a->phase = GG_AID_MM_PH_FINISH;
     if (st != GG_OK) {
         a->health |= GG_AID_MM_H_FAIL;
@@ -598,8 +605,9 @@ static void do_update(gg_aid_mm_t *a)
 
 static void do_finish(gg_aid_mm_t *a, gg_aid_corr_t *corr)
 {
-    static const double zero[NXM] = {0.0};
+    double zero[NXM];
     size_t j;
+    (void)memset(zero, 0, sizeof zero);
     a->phase = GG_AID_MM_PH_PROPAGATE;
     a->tile = NULL;
     if (a->accepted_any != 0) {

@@ -63,7 +63,6 @@ static gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
     gg_real_t dv[3];
     gg_real_t psi[3];
     gg_real_t dg[3];
-    gg_real_t cb[3][3];
     gg_real_t gi[3][3];
     gg_real_t fi[3];
     gg_real_t gdr[3];
@@ -84,6 +83,7 @@ static gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
     }
     {
         const gg_nav3d_t *cn = nav;
+        gg_real_t cb[3][3];
         gg_quat_to_dcm(cn->q_b_i, cb);
         gg_mat3_similarity(cb, cn->gamma_b, gi);
         gg_mat3_vec(cb, cn->f_b, fi);
@@ -155,9 +155,9 @@ void n3_aid_step(gg_nav3d_t *nav, int64_t n_adv, int z_valid, const gg_hal_t *ha
     }
     *health |= n3_aid_health(nav->aid_mm.health);
     if ((st == GG_OK) && (corr.valid != 0)) {
-        size_t j;
         st = n3_aid_apply(nav, &corr);
         if (st == GG_OK) {
+            size_t j;
             *corrected = 1;
             for (j = 0U; j < 3U; ++j) {
                 nav->aid_corr_m[j] = corr.dr_i[j];
@@ -174,6 +174,7 @@ void n3_aid_start(const gg_nav3d_t *nav, gg_aid_mm_t *aid, uint32_t *health)
     gg_aid_ins_t ins;
     gg_status_t st = n3_aid_ins(nav, 1, 0, &ins);
     if (st == GG_OK) {
+        /* cppcheck-suppress misra-c2012-17.7 */
         st = gg_aid_mm_start(aid, (const double(*)[3])ins.gamma_i);
     }
     if (st != GG_OK) {
