@@ -294,13 +294,13 @@ typedef struct {
     double nees_mean, nis_mean, nees_last, nis_sum;
     int n_epochs;
     uint32_t updates, rejected;
-    uint32_t max_aid_cycles_ns;
+    int nx;
 } flight_t;
 
 /* Fly n steps with the start position off by (dN, dE); aided and unaided
  * side by side on the same noisy frames. */
 static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_ned[3], const double psi[3],
-                          double sig0_pos)
+                          double sig0_pos, int model_mode)
 {
     truth3_t T;
     gg_nav3d_config_t cfg, cref;
@@ -313,6 +313,12 @@ static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_n
     flight_truth(&T);
     build_map(&T);
     make_config(&T, GG_PLATFORM_STABILIZED, 0, DT_US, &cfg);
+    if (model_mode != 0) {
+        /* the onboard model: the central point mass (the truth's field without the buried masses) */
+        cfg.gravity_mode = GG_GRAVITY_MODEL;
+        cfg.model.gm = T_GM;
+        cfg.model.a_m = A_WGS;
+    }
     {
         long double nr[3][3];
         ned_rows(T.lat0, T.lon0, nr);
@@ -372,6 +378,7 @@ static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_n
     res.nis_mean = k_ep > 0 ? nis / k_ep : 0.0;
     res.nis_sum = nis;
     res.updates = out.mm_updates;
+    res.nx = g_nav.aid_mm.nx;
     res.rejected = out.mm_rejected;
     assert_true(store.calls >= k_ep);
     return res;
@@ -387,7 +394,7 @@ static void test_recovers_start_offset(void **state)
     const double dv[3] = {0.0, 0.0, 0.0};
     const double psi[3] = {0.0, 0.0, 0.0};
     g_rng = 0x9E3779B97F4A7C15ull;
-    const flight_t f = fly_aided(20000, dr, dv, psi, 200.0);
+    const flight_t f = fly_aided(20000, dr, dv, psi, 200.0, 0);
     print_message("aid: %d epochs (%u updated, %u rejected), |dr| end %.3f m (unaided %.3f m)\n",
                   f.n_epochs, f.updates, f.rejected, f.err_h_end, f.err_h_ref_end);
     assert_true(f.n_epochs >= 35);
@@ -415,7 +422,7 @@ static void test_consistency(void **state)
             dv[j] = 0.05 * nrand();
             psi[j] = 1.0e-6 * nrand();
         }
-        const flight_t f = fly_aided(10000, dr, dv, psi, 30.0);
+        const flight_t f = fly_aided(10000, dr, dv, psi, 30.0, 0);
         assert_true(f.n_epochs >= 18);
         assert_true(f.err_h_end < 10.0);
         nees += f.nees_last;
@@ -430,6 +437,24 @@ static void test_consistency(void **state)
                   chi2q(-z, 6.0 * n_ep) / n_ep, chi2q(z, 6.0 * n_ep) / n_ep);
     assert_true(nees > chi2q(-z, 3.0 * n_runs) / n_runs && nees < chi2q(z, 3.0 * n_runs) / n_runs);
     assert_true(nis > chi2q(-z, 6.0 * n_ep) / n_ep && nis < chi2q(z, 6.0 * n_ep) / n_ep);
+}
+
+/* Model mode (the onboard model lacks the buried masses: 10-20 E, ~4e-5 m/s^2
+ * of unmodelled gravity): 9 error states, no gravitation state; the same
+ * start offset is recovered. */
+static void test_model_mode_recovers(void **state)
+{
+    (void)state;
+    const double dr[3] = {150.0, 100.0, 0.0};
+    const double dv[3] = {0.0, 0.0, 0.0};
+    const double psi[3] = {0.0, 0.0, 0.0};
+    g_rng = 0x9E3779B97F4A7C15ull;
+    const flight_t f = fly_aided(20000, dr, dv, psi, 200.0, 1);
+    print_message("aid (model mode): %d epochs, |dr| end %.3f m (unaided %.3f m)\n", f.n_epochs, f.err_h_end,
+                  f.err_h_ref_end);
+    assert_int_equal(f.nx, GG_AID_MM_NX_MODEL);
+    assert_true(f.err_h_ref_end > 150.0);
+    assert_true(f.err_h_end < 5.0);
 }
 
 /* The aid switched off, and switched on without a map: the navigation
@@ -500,6 +525,7 @@ int main(void)
         cmocka_unit_test(test_off_and_no_map_unchanged),
         cmocka_unit_test(test_recovers_start_offset),
         cmocka_unit_test(test_consistency),
+        cmocka_unit_test(test_model_mode_recovers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
