@@ -33,6 +33,21 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->baro.alt_max_m = m->baro_alt_max_m;
     c->baro.gate_m = m->baro_gate_m;
     c->baro.max_rejects = m->baro_max_rejects;
+    c->aid_mm.enable = m->aid_mm_enable;
+    c->aid_mm.update_steps = m->aid_mm_update_steps;
+    c->aid_mm.max_passes = m->aid_mm_max_passes;
+    c->aid_mm.sigma_meas_s2 = m->aid_mm_sigma_meas_s2;
+    c->aid_mm.sigma_db_s2 = m->aid_mm_sigma_db_s2;
+    c->aid_mm.offdiag_ratio = m->aid_mm_offdiag_ratio;
+    c->aid_mm.sig0_pos_m = m->aid_mm_sig0_pos_m;
+    c->aid_mm.sig0_vel_mps = m->aid_mm_sig0_vel_mps;
+    c->aid_mm.sig0_att_rad = m->aid_mm_sig0_att_rad;
+    c->aid_mm.sig0_g_mps2 = m->aid_mm_sig0_g_mps2;
+    c->aid_mm.q_vel_mps_rts = m->aid_mm_q_vel_mps_rts;
+    c->aid_mm.q_att_rad_rts = m->aid_mm_q_att_rad_rts;
+    c->aid_mm.q_g_mps2_rts = m->aid_mm_q_g_mps2_rts;
+    c->aid_mm.lambda = m->aid_mm_lambda;
+    c->aid_mm.gate_nis = m->aid_mm_gate_nis;
 }
 
 void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav3d_output_t *m)
@@ -79,4 +94,13 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->acc_excluded = (int64_t)o->acc_excluded;
     m->outage_s = o->outage_s;
     m->state_lag_s = o->state_lag_s;
+    m->mm_phase = o->mm_phase;
+    m->mm_corrected = (int8_t)o->mm_corrected;
+    m->mm_epochs = (int64_t)o->mm_epochs;
+    m->mm_updates = (int64_t)o->mm_updates;
+    m->mm_rejected = (int64_t)o->mm_rejected;
+    m->mm_no_map = (int64_t)o->mm_no_map;
+    m->mm_nis = o->mm_nis;
+    for (int i = 0; i < 12; ++i) m->mm_sigma[i] = o->mm_sigma[i];
+    for (int i = 0; i < 3; ++i) m->mm_corr_m[i] = o->mm_corr_m[i];
 }

@@ -56,6 +56,7 @@
 #include "ggins/nav2d.h"
 #include "hal_lcm.h"
 #include "hal_lcm3d.h"
+#include "hal_map.h"
 #include "ggins/nav3d.h"
 #include "ggins_hal_status_t.h"
 #include "ggins_nav2d_config_t.h"
@@ -543,6 +544,8 @@ static void usage(FILE *out)
             "  --conflict-output-prob P  fault injection: after an output, a second, different, signed\n"
             "                         output for the same seq with probability P (a conflict)\n"
             "  --inject-seed N        seed of the fault injection (default 1)\n"
+            "  --map FILE             a gradient map tile (gmap format) for the computer's map storage,\n"
+            "                         read by the 3-D task's map aid; repeat for more tiles (up to 16)\n"
             "  --quiet                no diagnostics on stderr\n"
             "  --help                 this text\n\n"
             "exit status: 0 after STOP, 1 bad usage, no key or LCM failure, 3 idle timeout, 4 signal\n");
@@ -564,11 +567,14 @@ int main(int argc, char **argv)
         {"max-resend", required_argument, 0, 'm'}, {"idle-timeout-s", required_argument, 0, 'i'},
         {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
         {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'},
-        {"key-fd", required_argument, 0, 'k'}, {"conflict-output-prob", required_argument, 0, 'c'}, {0, 0, 0, 0}};
+        {"key-fd", required_argument, 0, 'k'}, {"conflict-output-prob", required_argument, 0, 'c'},
+        {"map", required_argument, 0, 'M'}, {0, 0, 0, 0}};
+    static hal_map_store_t maps; /* the computer's map storage (hal_map.c) */
+    hal_map_init(&maps);
     int c;
     h.inject_seed = 1;
     h.key_fd = -1;
-    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:M:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
@@ -583,6 +589,14 @@ int main(int argc, char **argv)
         case 's': h.inject_seed = strtoull(optarg, &end, 0); if (*end) goto bad; break;
         case 'c': h.conflict_output_prob = strtod(optarg, &end); if (*end || !(h.conflict_output_prob >= 0.0 && h.conflict_output_prob < 1.0)) goto bad; break;
         case 'k': h.key_fd = (int)strtol(optarg, &end, 0); if (*end || h.key_fd < 0) goto bad; break;
+        case 'M': {
+            char err[512];
+            if (hal_map_load(&maps, optarg, err, sizeof err) != 0) {
+                fprintf(stderr, "hal_sim: --map %s\n", err);
+                return 1;
+            }
+            break;
+        }
         case 'h': usage(stdout); return 0;
         default: usage(stderr); return 1;
         }
@@ -660,6 +674,7 @@ int main(int argc, char **argv)
     h.hal.write_output = hal_write_output;
     h.hal.cycle_count = hal_cycle_count;
     h.hal.write_output3d = hal_write_output3d;
+    h.hal.map = maps.n_tiles > 0 ? &maps.ops : NULL;
     h.hal.cycles_per_second = 1000000000u;
     h.state = GGINS_HAL_STATUS_T_IDLE;
     h.init_status = -1;

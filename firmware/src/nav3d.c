@@ -11,6 +11,9 @@
 #include "nav3d_int.h"
 
 #define N_ACC_3D 6
+#if (GG_NAV3D_MAX_BRIDGE + GG_TASK_CATCHUP_STEPS + 1) > GG_LIM_AID_MM_STEPS_MAX
+#error "one step may advance the state further than the map aid propagates (limits.h)"
+#endif
 /* a residual below double resolution can never exceed ulp(f_max)/2 (nav2d.c) */
 /* |q0| must be 1 to this tolerance */
 #define Q_NORM_TOL 1.0e-6L
@@ -98,6 +101,20 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
             return st;
         }
     }
+    {
+        int32_t gstate = 0;
+        if (cfg->gravity_mode == GG_GRAVITY_GRADIOMETER) {
+            gstate = 1; /* the gravitation error is a state of dead reckoning */
+        }
+        st = gg_aid_mm_init(&nav->aid_mm, &cfg->aid_mm, gstate);
+        if (st != GG_OK) {
+            return st;
+        }
+    }
+    nav->aid_step = -1;
+    nav->aid_corr_m[0] = 0.0;
+    nav->aid_corr_m[1] = 0.0;
+    nav->aid_corr_m[2] = 0.0;
     nav->cfg = *cfg;
     nav->diff = diff;
     nav->omega_ie = (cfg->omega_ie == 0.0L) ? GG_WGS84_OMEGA_IE
@@ -754,8 +771,9 @@ static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4]
 gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav3d_output_t *out)
 {
-    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U};
+    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U, 0U};
     const uint32_t t_start = gg_task_cycles(hal);
+    int32_t mm_corrected = 0;
     uint32_t health;
     gg_status_t st = GG_OK;
     gg_status_t st_read = GG_OK;
@@ -910,7 +928,27 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         rebuilt = 0U;
         health |= GG_HEALTH_FRAME_REJECTED;
     }
+    if ((nav->aid_mm.initialized != 0) && (nav->started != 0)) {
+        const uint32_t ta = gg_task_cycles(hal);
+        if (nav->aid_step < 0) {
+            nav->aid_step = nav->state_step; /* the aid starts with the state */
+            n3_aid_start(nav, &nav->aid_mm, &health);
+        } else if (nav->state_step > nav->aid_step) {
+            int z_ok = 0;
+            if ((used != 0) && ((nav->state_step - nav->aid_step) == 1) && (rebuilt == 0U) &&
+                ((health & (GG_HEALTH_GRAD_COAST | GG_HEALTH_COAST)) == 0U)) {
+                z_ok = 1;
+            }
+            n3_aid_step(nav, nav->state_step - nav->aid_step, z_ok, hal, &health, &mm_corrected);
+            nav->aid_step = nav->state_step;
+        } else {
+            /* the state did not advance: nothing for the aid */
+        }
+        cyc[GG_MOD_AID] = gg_task_cycles(hal) - ta;
+    }
     n3_fill_output(nav, frame, st, health, out);
+    n3_aid_output(nav, out);
+    out->mm_corrected = mm_corrected;
     out->acc_rebuilt = rebuilt;
     out->acc_excluded = nav->fdi.excluded;
     out->resync_count = nav->seq.resyncs;

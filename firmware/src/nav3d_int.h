@@ -19,4 +19,20 @@ gg_status_t n3_attitude_step(gg_nav3d_t *nav, const gg_real_t w1[3], const gg_re
 void n3_fill_output(const gg_nav3d_t *nav, const gg_frame_t *fr, gg_status_t status,
                     uint32_t health, gg_nav3d_output_t *out);
 
+/* The aiding sources after a step that advanced the state (nav3d_aid.c): the
+ * task's INS solution and gradient handed to the gradient-map UKF, its
+ * correction applied to the state (closed loop) and its health bits added to
+ * *health. n_adv: steps the state advanced since the aid last ran; z_valid: 1
+ * when this frame's own readings made the gradient. *corrected = 1 when a
+ * correction was applied. A failure of the aid is flagged, never an error of
+ * the step. */
+void n3_aid_step(gg_nav3d_t *nav, int64_t n_adv, int z_valid, const gg_hal_t *hal,
+                 uint32_t *health, int32_t *corrected);
+
+/* The aids' start with the state's first step (aid_mmukf.h, gg_aid_mm_start). */
+void n3_aid_start(const gg_nav3d_t *nav, gg_aid_mm_t *aid, uint32_t *health);
+
+/* The aid's counters and one-sigma into the output. */
+void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out);
+
 #endif /* GGINS_NAV3D_INT_H */

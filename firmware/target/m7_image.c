@@ -55,7 +55,7 @@ void m7_fault(void)
 
 int main(void)
 {
-    const gg_hal_t hal = {&g_io, board_read, board_write, board_cycles, 480000000u, NULL};
+    const gg_hal_t hal = {&g_io, board_read, board_write, board_cycles, 480000000u, NULL, NULL};
     DEMCR |= (1u << 24);   /* TRCENA */
     DWT_CYCCNT = 0u;
     DWT_CTRL |= 1u;        /* CYCCNTENA */

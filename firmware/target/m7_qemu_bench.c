@@ -58,9 +58,67 @@ int main(void)
 /* 3-D: strapdown body at rest on the equator (body x up, readings of the
  * point-mass field), gyros reading a slow constant rotation, 1 Hz barometer;
  * gg_nav3d_step. The readings need not be mutually consistent for counting
- * instructions, only accepted. */
+ * instructions, only accepted. Built with -DAID the gradient-map UKF aid is
+ * on (aid_mmukf.h: 12 error states, an epoch every AID_EPOCH steps, two
+ * progressive passes), with one 50 x 50 tile (build_map) as the map storage: the images for
+ * STEPS = AID_EPOCH - 1 ... AID_EPOCH + 6 isolate the propagation-only step
+ * and each step of the schedule (epoch, spread, update, spread, update,
+ * finish). */
 static gg_nav3d_t g_nav3;
 static gg_nav3d_output_t g_out3;
+#ifdef AID
+#ifndef AID_EPOCH
+#define AID_EPOCH 20
+#endif
+static gg_gmap_tile_t g_tile;
+static gg_gmap_t g_map;
+
+static gg_status_t board_tile_at(void *ctx, double lat_rad, double lon_rad, const gg_gmap_t **tile)
+{
+    (void)ctx;
+    (void)lat_rad;
+    (void)lon_rad;
+    *tile = &g_map;
+    return GG_OK;
+}
+
+/* The tile from the gradient the task measured at its first step (body x
+ * up, y east, z north at latitude 0, longitude 0: NN = zz, EE = yy, DD = xx,
+ * NE = zy, ND = -zx, ED = -yx), so that the epochs' innovations are those of
+ * a consistent measurement, plus a small horizontal variation. */
+static int build_map(const double gb[3][3])
+{
+    int32_t i;
+    int32_t j;
+    int ok = 0;
+    g_tile.nlat = 50;
+    g_tile.nlon = 50;
+    g_tile.dlat_rad = 1.745e-4;
+    g_tile.dlon_rad = 1.745e-4;
+    g_tile.lat0_rad = -25.0 * g_tile.dlat_rad;
+    g_tile.lon0_rad = -25.0 * g_tile.dlon_rad;
+    g_tile.h0_m = 0.0;
+    g_tile.h_range_m = 1000.0;
+    for (i = 0; i < 50; ++i) {
+        for (j = 0; j < 50; ++j) {
+            double *n = g_tile.node[(i * 50) + j];
+            const double di = (double)(i - 25);
+            const double dj = (double)(j - 25);
+            n[0] = gb[2][2] + (1.0e-11 * di);
+            n[1] = gb[1][1] + (1.0e-11 * dj);
+            n[2] = gb[0][0] - (1.0e-11 * (di + dj));
+            n[3] = gb[2][1] + (2.0e-13 * di * dj);
+            n[4] = -gb[2][0] + (3.0e-12 * di);
+            n[5] = -gb[1][0] - (3.0e-12 * dj);
+            n[8] = -1.4e-12;
+        }
+    }
+    if (gg_gmap_init(&g_map, &g_tile) == GG_OK) {
+        ok = 1;
+    }
+    return ok;
+}
+#endif
 
 int main(void)
 {
@@ -70,6 +128,10 @@ int main(void)
     int32_t k;
     int32_t j;
     gg_nav3d_config_t cfg = {0};
+#ifdef AID
+    const gg_hal_map_t map = {NULL, board_tile_at};
+    const gg_hal_t hal = {NULL, NULL, NULL, NULL, 0U, NULL, &map};
+#endif
     cfg.geometry.half_base_m[0] = 0.5L;
     cfg.geometry.half_base_m[1] = 0.5L;
     cfg.geometry.half_base_m[2] = 0.5L;
@@ -84,6 +146,21 @@ int main(void)
     cfg.gravity_mode = GG_GRAVITY_GRADIOMETER;
     cfg.baro_enable = 1;
     cfg.baro = g_m7_demo_config.baro;
+#ifdef AID
+    cfg.aid_mm.enable = 1;
+    cfg.aid_mm.update_steps = AID_EPOCH;
+    cfg.aid_mm.max_passes = 2;
+    cfg.aid_mm.sigma_meas_s2 = 1.0e-11;
+    cfg.aid_mm.sigma_db_s2 = 1.0e-12;
+    cfg.aid_mm.offdiag_ratio = 0.7071;
+    cfg.aid_mm.sig0_pos_m = 200.0;
+    cfg.aid_mm.sig0_vel_mps = 0.1;
+    cfg.aid_mm.sig0_att_rad = 1.0e-5;
+    cfg.aid_mm.sig0_g_mps2 = 1.0e-7;
+    cfg.aid_mm.q_vel_mps_rts = 1.0e-6;
+    cfg.aid_mm.q_att_rad_rts = 1.0e-9;
+    cfg.aid_mm.q_g_mps2_rts = 1.0e-10;
+#endif
     if (gg_nav3d_init(&g_nav3, &cfg) != GG_OK) {
         m7_qemu_exit();
     }
@@ -105,7 +182,14 @@ int main(void)
         g_frame.baro_status = ((k % 100) == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
         g_frame.baro_utime = g_frame.utime;
         g_frame.baro_alt_m = 0.0;
+#ifdef AID
+        (void)gg_nav3d_step(&g_nav3, &g_frame, &hal, &g_out3);
+        if ((k == 0) && (build_map((const double(*)[3])g_out3.gamma_b) == 0)) {
+            m7_qemu_exit();
+        }
+#else
         (void)gg_nav3d_step(&g_nav3, &g_frame, NULL, &g_out3);
+#endif
     }
     m7_qemu_exit();
     return 0;

@@ -33,7 +33,7 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static const char *g_names[GG_MOD_COUNT] = {"diff", "gravdr/model", "mech", "vchan", "total"};
+static const char *g_names[GG_MOD_COUNT] = {"diff", "gravdr/model", "mech", "vchan", "total", "aid"};
 
 static void print_table(uint32_t *cyc[GG_MOD_COUNT], long steps)
 {
@@ -84,7 +84,7 @@ static int bench_nav3d(long steps, int timing, int quiet)
     fr.f[5][2] = gyy * 0.5;
     fr.omega_b[0] = 1.0e-3;
     fr.omega_b[2] = 7.0e-5;
-    const gg_hal_t hal = {NULL, NULL, NULL, mono_ns, 1000000000u, NULL};
+    const gg_hal_t hal = {NULL, NULL, NULL, mono_ns, 1000000000u, NULL, NULL};
     for (long k = 0; k < steps; ++k) {
         fr.seq = k;
         fr.utime = k * 10000;
@@ -163,7 +163,7 @@ int main(int argc, char **argv)
     cfg.r_ref_m = T_RE;
     gg_nav2d_t nav;
     if (gg_nav2d_init(&nav, &cfg) != GG_OK) { fprintf(stderr, "bench_step: init failed\n"); return 1; }
-    const gg_hal_t hal = {NULL, NULL, NULL, mono_ns, 1000000000u, NULL};
+    const gg_hal_t hal = {NULL, NULL, NULL, mono_ns, 1000000000u, NULL, NULL};
     gg_nav_output_t out;
     long rejected = 0;
     for (long k = 0; k < steps; ++k) {

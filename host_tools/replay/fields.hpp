@@ -88,6 +88,12 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kI64, coast_steps, 1, 1, true),  GG_FIELD(T, kI64, acc_rebuilt, 1, 1, true),
       GG_FIELD(T, kI64, acc_excluded, 1, 1, true),
       GG_FIELD(T, kF64, outage_s, 1, 1, true),     GG_FIELD(T, kF64, state_lag_s, 1, 1, true),
+      // the gradient-map aid (aid_mmukf.h)
+      GG_FIELD(T, kI32, mm_phase, 1, 1, true),     GG_FIELD(T, kI8, mm_corrected, 1, 1, true),
+      GG_FIELD(T, kI64, mm_epochs, 1, 1, true),    GG_FIELD(T, kI64, mm_updates, 1, 1, true),
+      GG_FIELD(T, kI64, mm_rejected, 1, 1, true),  GG_FIELD(T, kI64, mm_no_map, 1, 1, true),
+      GG_FIELD(T, kF64, mm_nis, 1, 1, true),       GG_FIELD(T, kF64, mm_sigma, 12, 1, true),
+      GG_FIELD(T, kF64, mm_corr_m, 3, 1, true),
       GG_FIELD(T, kI8, mac, 32, 1, false),  // bus MAC (hal_sim/bus_auth.h): replay has no key
   };
   return f;

@@ -131,6 +131,7 @@ std::string module_name(int j) {
     case GG_MOD_MECH: return "mech";
     case GG_MOD_VCHAN: return "vchan";
     case GG_MOD_TOTAL: return "total";
+    case GG_MOD_AID: return "aid";
     default: return "module" + std::to_string(j);
   }
 }

@@ -2,7 +2,8 @@
 // geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
 // position, known as in Welker et al.), q0_b_e from the truth at t = 0, gravity
 // mode and onboard model (the WGS-84 normal field's zonal series J2..J8, or
-// the point mass), barometric loop. Shared by ggins run3d and the tests.
+// the point mass), barometric loop, the aiding sources ([aid_ukf], aids3d.hpp).
+// Shared by ggins run3d and the tests.
 #pragma once
 
 #include <cmath>
@@ -14,6 +15,7 @@ extern "C" {
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/wgs84.hpp"
 #include "ggins/truth3d/generator3d.hpp"
+#include "aids3d.hpp"
 
 namespace ggins::truth3d {
 
@@ -58,6 +60,7 @@ inline void nav3d_config(const Scenario3& s, const Generator3& g, gg_nav3d_confi
   c.baro.alt_max_m = l.alt_max_m;
   c.baro.gate_m = l.gate_m;
   c.baro.max_rejects = static_cast<int32_t>(l.max_rejects);
+  run3d::apply_aid_ukf(run3d::parse_aid_ukf(s.text, s.source), s.rate_hz, c);  // [aid_ukf], aids3d.hpp
 }
 
 }  // namespace ggins::truth3d

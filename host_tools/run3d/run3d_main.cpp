@@ -29,6 +29,7 @@
 
 #include "compare3d.hpp"
 #include "config3d.hpp"
+#include "hal_map.h"
 #include "ggins/hal_status_t.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
@@ -330,9 +331,16 @@ void Runner3::setup_lcm() {
   lcm_subscription_set_queue_capacity(s, 100000);
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this), 100000);
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this), 100000);
-  hal_pid_ = auth_.spawn_hal_sim(
-      ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms),
-      out_ / "hal_sim.log");
+  auto hal_argv = ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms);
+  {  // the onboard map tiles of the map aid: hal_sim's map storage
+    const auto aid = ggins::run3d::parse_aid_ukf(sc_.text, sc_.source);
+    if (aid.enabled)
+      for (const auto& p : ggins::run3d::aid_ukf_map_paths(aid, sc_.source)) {
+        hal_argv.push_back("--map");
+        hal_argv.push_back(fs::absolute(p).string());
+      }
+  }
+  hal_pid_ = auth_.spawn_hal_sim(hal_argv, out_ / "hal_sim.log");
   const double end = mono_s() + 10.0;
   while (!hal_) {
     handle(0.05);
@@ -377,6 +385,21 @@ void Runner3::configure_hal() {
   m.baro_alt_max_m = c.baro.alt_max_m;
   m.baro_gate_m = c.baro.gate_m;
   m.baro_max_rejects = c.baro.max_rejects;
+  m.aid_mm_enable = static_cast<int8_t>(c.aid_mm.enable);  // the map aid (aids3d.hpp)
+  m.aid_mm_update_steps = c.aid_mm.update_steps;
+  m.aid_mm_max_passes = c.aid_mm.max_passes;
+  m.aid_mm_sigma_meas_s2 = c.aid_mm.sigma_meas_s2;
+  m.aid_mm_sigma_db_s2 = c.aid_mm.sigma_db_s2;
+  m.aid_mm_offdiag_ratio = c.aid_mm.offdiag_ratio;
+  m.aid_mm_sig0_pos_m = c.aid_mm.sig0_pos_m;
+  m.aid_mm_sig0_vel_mps = c.aid_mm.sig0_vel_mps;
+  m.aid_mm_sig0_att_rad = c.aid_mm.sig0_att_rad;
+  m.aid_mm_sig0_g_mps2 = c.aid_mm.sig0_g_mps2;
+  m.aid_mm_q_vel_mps_rts = c.aid_mm.q_vel_mps_rts;
+  m.aid_mm_q_att_rad_rts = c.aid_mm.q_att_rad_rts;
+  m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
+  m.aid_mm_lambda = c.aid_mm.lambda;
+  m.aid_mm_gate_nis = c.aid_mm.gate_nis;
   const double end = mono_s() + 10.0;
   double next_send = 0;
   while (!(hal_ && hal_->config_seq == 0 && hal_->state != ggins::hal_status_t::IDLE)) {
@@ -488,23 +511,54 @@ json Runner3::run() {
           "health\n";
   const double t0 = mono_s();
   static gg_nav3d_t nav;  // large: static storage (direct mode)
+  static hal_map_store_t maps;  // the computer's map storage (direct mode; hal_sim/hal_map.c)
+  const auto aid = ggins::run3d::parse_aid_ukf(sc_.text, sc_.source);
+  json aid_j;  // the map aid's counters (direct mode)
   if (opt_.direct) {
     gg_nav3d_config_t c;
     ggins::truth3d::nav3d_config(sc_, gen_, c);
     const gg_status_t st = gg_nav3d_init(&nav, &c);
     if (st != GG_OK) throw Fail("gg_nav3d_init refused the configuration (status " + std::to_string(st) + ")");
+    hal_map_init(&maps);
+    if (aid.enabled) {
+      for (const auto& p : ggins::run3d::aid_ukf_map_paths(aid, sc_.source)) {
+        char err[512];
+        if (hal_map_load(&maps, p.c_str(), err, sizeof err) != 0) throw Fail(std::string("aid_ukf.map: ") + err);
+      }
+    }
+    gg_hal_t hal{};
+    hal.map = maps.n_tiles > 0 ? &maps.ops : nullptr;
+    uint32_t closed = 0;
+    double nis_sum = 0.0;
+    gg_nav3d_output_t last{};
     for (int64_t k = 0; k < n_; ++k) {
       gg_frame_t f;
       ggins::truth3d::Truth3 t;
       gen_.frame(k, f, &t);
       gg_nav3d_output_t o;
       const auto a = std::chrono::steady_clock::now();
-      gg_nav3d_step(&nav, &f, nullptr, &o);
+      gg_nav3d_step(&nav, &f, &hal, &o);
       const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - a).count();
       ++outputs_;
       consume(k, t, o, ns);
+      if (o.mm_updates + o.mm_rejected > closed) {  // an epoch finished: its NIS
+        closed = o.mm_updates + o.mm_rejected;
+        nis_sum += o.mm_nis;
+      }
+      last = o;
       if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
     }
+    if (aid.enabled) {
+      aid_j["epochs"] = last.mm_epochs;
+      aid_j["updates"] = last.mm_updates;
+      aid_j["rejected"] = last.mm_rejected;
+      aid_j["no_map"] = last.mm_no_map;
+      aid_j["nis_mean"] = closed > 0 ? nis_sum / closed : 0.0;
+      aid_j["nis_dof"] = 6;
+      aid_j["sigma_pos_m"] = {last.mm_sigma[0], last.mm_sigma[1], last.mm_sigma[2]};
+      aid_j["tiles"] = maps.n_tiles;
+    }
+    hal_map_free(&maps);
   } else {
     if (!opt_.no_log) {
       log_ = std::make_unique<ggins::hil::Recorder>(out_ / "run.lcmlog");
@@ -558,6 +612,7 @@ json Runner3::run() {
   j["steps_rejected"] = rejected_;
   j["health_or"] = health_or_;
   j["position_error_m"] = pos_.j();
+  j["aid_ukf"] = aid.enabled ? (opt_.direct ? aid_j : json("on (counters in the LCM output)")) : json("off");
   j["position_error_final_ned_m"] = fpos_n_;
   j["velocity_error_mps"] = vel_.j();
   j["height_error_m"] = hgt_.j();

@@ -517,7 +517,7 @@ static void test_task_cycle_through_hal(void **state)
     m.n_frames = 3;
     m.clock = 0xFFFFFF00u; /* wraps during the run: differences must survive it */
     m.tick = 100;
-    const gg_hal_t hal = {&m, mock_read, mock_write, mock_cycles, 1000000000u, NULL};
+    const gg_hal_t hal = {&m, mock_read, mock_write, mock_cycles, 1000000000u, NULL, NULL};
     will_return_count(mock_write, GG_OK, 3);
     for (int i = 0; i < 3; ++i) assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_OK);
     assert_int_equal(gg_nav2d_task_cycle(&nav, &hal), GG_ERR_NO_DATA);

@@ -70,6 +70,11 @@ typedef struct {
 #define GG_HEALTH_GYRO_INVALID    0x00080000u /**< 3-D strapdown: gyro sample NaN/Inf, out of range or flagged bad */
 #define GG_HEALTH_RESYNC          0x00100000u /**< the task re-synchronised to the frame stream (seq/clock) at this frame */
 #define GG_HEALTH_COAST           0x00200000u /**< degraded: steps propagated on the last usable inputs (outage) */
+/* 3-D gradient-map aid (aid_mmukf.h), the top bits */
+#define GG_HEALTH_MM_BAD_MEAS     0x08000000u /**< map aid: epoch postponed, the gradient was rebuilt, bridged or coasting */
+#define GG_HEALTH_MM_NO_MAP       0x10000000u /**< map aid: no tile of the map storage covers the position (epoch skipped) */
+#define GG_HEALTH_MM_GATED        0x20000000u /**< map aid: the epoch's innovation failed the NIS gate (no correction) */
+#define GG_HEALTH_MM_FAIL         0x40000000u /**< map aid: UKF operation rejected (not PD, sigma point off the tile) or correction not applied */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {
@@ -78,7 +83,8 @@ enum {
     GG_MOD_MECH = 2,    /**< mechanization (and the onboard gravity model in model mode) */
     GG_MOD_VCHAN = 3,   /**< barometric vertical channel */
     GG_MOD_TOTAL = 4,   /**< whole navigation step */
-    GG_MOD_COUNT = 5
+    GG_MOD_AID = 5,     /**< aiding sources of the 3-D task (map-matching UKF); 0 in 2-D */
+    GG_MOD_COUNT = 6
 };
 
 /** Navigation output of one step. */

@@ -12,9 +12,22 @@
 
 #include <stdint.h>
 #include "ggins/frame.h"
+#include "ggins/gmap.h"
 #include "ggins/status.h"
 
 struct gg_nav3d_output_s; /* nav3d.h */
+
+/** Onboard map storage: the tiles of the gradient map (gmap.h) the computer
+ *  carries (flash, a file system), paged by the navigation task as it flies.
+ *  The task asks for the tile covering its estimated position at each
+ *  measurement epoch and reads it through gg_gmap_eval; the storage chooses
+ *  among overlapping tiles the one whose edge is farthest from the point. */
+typedef struct {
+    void *ctx; /**< implementation's own state */
+    /** The tile covering geodetic (lat, lon), rad: GG_OK with *tile set (valid
+     *  until the next call), GG_ERR_RANGE when no tile covers the point. */
+    gg_status_t (*tile_at)(void *ctx, double lat_rad, double lon_rad, const gg_gmap_t **tile);
+} gg_hal_map_t;
 
 typedef struct {
     void *ctx; /**< implementation's own state */
@@ -31,6 +44,9 @@ typedef struct {
     /** Publish one 3-D navigation output (gg_nav3d_output_t, nav3d.h); NULL
      *  when the implementation serves the 2-D task only. */
     gg_status_t (*write_output3d)(void *ctx, const struct gg_nav3d_output_s *out);
+    /** Onboard map storage (the 3-D task's map aid); NULL when the computer
+     *  carries no map. */
+    const gg_hal_map_t *map;
 } gg_hal_t;
 
 #endif /* GGINS_HAL_H */

@@ -55,6 +55,12 @@
 #define GG_LIM_MM_DT_MAX_S 1.0     /**< mechanization step, s */
 #define GG_LIM_MM_OFFDIAG_MAX 10.0 /**< offdiag_ratio */
 
+/* ---- gradient-map aid of the 3-D task (aid_mmukf.h) ---- */
+/** Navigation steps one aid call may propagate (a bridge plus a catch-up). */
+#define GG_LIM_AID_MM_STEPS_MAX 128
+/** Navigation steps between two measurement epochs (1000 s at 100 Hz). */
+#define GG_LIM_AID_MM_UPDATE_STEPS_MAX 100000
+
 /* ---- particle filter (pf.h) ---- */
 #ifndef GG_PF_MAX
 #define GG_PF_MAX 500              /**< particles (overridable) */

@@ -84,14 +84,21 @@
  * Position output: ECEF and geodetic latitude, longitude, height on WGS-84
  * (geo.h: the constants, Bowring's iteration).
  *
+ * Aiding: the gradient-map UKF (aid_mmukf.h, cfg.aid_mm) runs after each
+ * step that advanced the state, on the task's own solution and measured
+ * gradient, with tiles from the HAL's map storage (hal.h), and corrects the
+ * state in closed loop at the end of each epoch (docs/nav3d.md).
+ *
  * Source files: nav3d.c (configuration, frame validation and sequencing,
  * bridging, the step), nav3d_att.c (strapdown attitude), nav3d_out.c
- * (output); the algebra in quat.h, the geodesy in geo.h.
+ * (output), nav3d_aid.c (the aiding sources); the algebra in quat.h, the
+ * geodesy in geo.h.
  */
 #ifndef GGINS_NAV3D_H
 #define GGINS_NAV3D_H
 
 #include <stdint.h>
+#include "ggins/aid_mmukf.h"
 #include "ggins/diff3d.h"
 #include "ggins/fdi3d.h"
 #include "ggins/frame.h"
@@ -134,6 +141,8 @@ typedef struct {
     gg_gmodel_config_t model;    /**< onboard gravity model (model mode only; zonal part used) */
     int baro_enable;             /**< 1: barometric vertical channel on */
     gg_vchan_config_t baro;      /**< vertical loop (baro_enable only) */
+    gg_aid_mm_config_t aid_mm;   /**< gradient-map UKF aid (aid_mmukf.h; aid_mm.enable = 1: on; the
+                                      tiles come from the HAL's map storage, hal.h) */
 } gg_nav3d_config_t;
 
 typedef struct {
@@ -170,6 +179,9 @@ typedef struct {
     int64_t state_clock_us;      /**< task-clock time of that step, us */
     int64_t input_step;          /**< step of the last frame whose readings were used */
     uint32_t coast_steps;        /**< steps coasted on held inputs so far */
+    gg_aid_mm_t aid_mm;          /**< gradient-map aid (cfg.aid_mm.enable) */
+    int64_t aid_step;            /**< state_step the aid has propagated to (-1: not yet) */
+    double aid_corr_m[3];        /**< position correction of the aid's last epoch, ECI, m */
     int configured;
     int started;
 } gg_nav3d_t;
@@ -208,6 +220,17 @@ typedef struct gg_nav3d_output_s {
     uint32_t acc_excluded;       /**< readings excluded for good (isolated faults), same bits */
     double outage_s;             /**< time since the readings of a frame last entered the state, s */
     double state_lag_s;          /**< how far the state's time is behind this frame's, s */
+    /* gradient-map aid (aid_mmukf.h); all 0 when it is off */
+    int32_t mm_phase;            /**< schedule phase after this step (GG_AID_MM_PH_*) */
+    int32_t mm_corrected;        /**< 1: this step applied the aid's correction to the state */
+    uint32_t mm_epochs;          /**< measurement epochs started so far */
+    uint32_t mm_updates;         /**< epochs with an accepted update so far */
+    uint32_t mm_rejected;        /**< epochs gated or failed so far */
+    uint32_t mm_no_map;          /**< epochs without a covering map tile so far */
+    double mm_nis;               /**< NIS of the last epoch (single update with R, 6 dof) */
+    double mm_sigma[12];         /**< one-sigma of the error state (aid_mmukf.h order: dr_i m,
+                                      dv_i m/s, psi_i rad, dg_i m/s^2; 0 beyond its size) */
+    double mm_corr_m[3];         /**< position correction of the last epoch, ECI axes, m */
 } gg_nav3d_output_t;
 
 /** Validate and store the configuration. GG_ERR_CONFIG on a non-finite or

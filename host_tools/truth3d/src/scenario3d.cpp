@@ -180,7 +180,8 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   s.text = text;
   s.gravity.model = "wgs84-normal";
   p.keys(root, "", {"name", "description", "trajectory", "platform", "gravity", "time", "accel", "gyro", "baro",
-                    "navigation", "firmware", "output", "sensor_faults"});
+                    "navigation", "firmware", "output", "sensor_faults",
+                    "aid_ukf"});  // [aid_ukf]: the aiding sources, read by run3d/aids3d.hpp
   s.name = p.str(root, "", "name", fallback_name);
   s.description = p.str(root, "", "description", "");
   if (const auto* t = p.sub(root, "trajectory")) {

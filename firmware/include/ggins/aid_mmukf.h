@@ -1,0 +1,195 @@
+/**
+ * @file aid_mmukf.h
+ * @brief Gravity-gradient map matching as an aiding source of the 3-D task
+ *        (nav3d.h): an error-state unscented Kalman filter (ukf.h) about the
+ *        task's own INS solution, matching the gradient tensor the task
+ *        measures by differencing its six accelerometers against an onboard
+ *        map tile (gmap.h) that the HAL's map storage provides (hal.h).
+ *        Gao, Hu, Chang, Qin & Lyu, "An Aided Navigation Method Based on
+ *        Strapdown Gravity Gradiometer", Sensors 21, 829 (2021), eqs. 24-44;
+ *        the unstable vertical mode of gravity dead reckoning from Welker,
+ *        Pachter & Huffman.
+ *
+ * No mechanization of its own: the task propagates the navigation state; the
+ * aid propagates only the error covariance with the linearised error
+ * dynamics of the task's ECI mechanization, and corrects the task's state
+ * (closed loop, docs/nav3d.md) after each measurement epoch.
+ *
+ * Error state x = true - estimate, ECI axes (the task's mechanization frame):
+ *   x[0..2]  dr_i  position, m
+ *   x[3..5]  dv_i  inertial velocity, m/s
+ *   x[6..8]  psi_i attitude, rad: C_b_i(true) = (I + [psi x]) C_b_i(est)
+ *   x[9..11] dg_i  gravitation error at the estimated position, m/s^2
+ *            (gravity dead reckoning only; in model mode the gravitation is
+ *            evaluated at the estimated position and dG = Gamma dr is already
+ *            in the position term, so there is no such state: nx = 9)
+ * Error dynamics (linearised r''_i = f_i + G_i):
+ *   dr' = dv,
+ *   dv' = Gamma_i dr - [f_i x] psi + dg       (Gamma_i = C_b_i Gamma_b C_i_b,
+ *                                              the measured gradient),
+ *   psi' = n_psi,                             (gyro white noise)
+ *   dg' = [w_ie x] dg + n_g                   (dg is fixed in ECEF; n_g the
+ *                                              gradient noise times the speed)
+ * The vertical block dr'' = Gamma_zz dr with Gamma_zz ~ +2 w_s^2 is Welker's
+ * +sqrt(2) w_s mode: dead reckoning alone lets it grow, the map bounds it.
+ * Per navigation step of h the transition is F = I + A h + (A h)^2 / 2 (its
+ * error is O((w_s h)^3), ~1e-15 at 100 Hz) and the process noise
+ * Q <- F Q F^T + diag(q) h accumulates; at an epoch the UKF predict
+ * (gg_ukf_predict) takes the state through the accumulated transition.
+ *
+ * Measurement (Gao eqs. 30-31): the six components xx, yy, zz, xy, xz, yz of
+ * the gravitation gradient in body axes, measured by differencing (diff3d.h,
+ * Gao eqs. 24-27, [w x]^2 removed with the gyro rate), predicted for a sigma
+ * point x as Gamma_b = C_n_b Gamma_n(map at r_e + R3(-theta) dr_i) C_b_n with
+ * C_b_n = C_e_n (I + [psi_e x]) C_b_e, psi_e = R3(-theta) psi_i. The tile must
+ * hold the total gravitation gradient. R = diag(sigma_meas^2 + sigma_db^2) on
+ * the diagonal components and ((offdiag_ratio sigma_meas)^2 + sigma_db^2) on
+ * the off-diagonal ones (mmukf.h).
+ *
+ * Real-time schedule (one unit of work per navigation step, so no step does
+ * more than one pass over the sigma points):
+ *   propagate (every step) -> epoch: tile from the HAL, measurement and
+ *   nominal captured, UKF predict to the epoch -> per pass: spread (sets the
+ *   pass weight, NIS of the first pass) -> update -> ... -> finish: UKF
+ *   predict from the epoch to the current step, correction handed to the
+ *   task, mean reset to 0.
+ * Progressive passes (mmukf.h): pass k uses R / w_k, sum w_k = 1, w_k the
+ * smallest R_kk / (predicted spread of component k) until every spread is
+ * below R_kk; the mean stays in the UKF between passes, so each pass is
+ * re-linearised about the new estimate.
+ *
+ * Working precision: double (the UKF core), positions handed to geo.h in
+ * gg_real_t.
+ */
+#ifndef GGINS_AID_MMUKF_H
+#define GGINS_AID_MMUKF_H
+
+#include <stdint.h>
+
+#include "ggins/gmap.h"
+#include "ggins/hal.h"
+#include "ggins/limits.h"
+#include "ggins/real.h"
+#include "ggins/status.h"
+#include "ggins/ukf.h"
+
+/** Error-state dimension with the gravitation error state (dead reckoning). */
+#define GG_AID_MM_NX_DR 12
+/** Error-state dimension in model mode. */
+#define GG_AID_MM_NX_MODEL 9
+#if GG_AID_MM_NX_DR > GG_UKF_NX_MAX
+#error "the map-aid error state does not fit the UKF core (GG_UKF_NX_MAX, limits.h)"
+#endif
+
+/** Aid health (gg_aid_mm_t.health, mapped onto GG_HEALTH_MM_* by the task). */
+#define GG_AID_MM_H_NO_MAP 0x01u    /**< no tile of the map storage covers the position */
+#define GG_AID_MM_H_GATED 0x02u     /**< the epoch's innovation failed the NIS gate */
+#define GG_AID_MM_H_FAIL 0x04u      /**< the UKF rejected an operation (not PD, sigma point off the tile) */
+#define GG_AID_MM_H_BAD_MEAS 0x08u  /**< epoch postponed: the gradient was rebuilt, coasting or bridged */
+
+/** Schedule phases. */
+#define GG_AID_MM_PH_PROPAGATE 0
+#define GG_AID_MM_PH_SPREAD 1
+#define GG_AID_MM_PH_UPDATE 2
+#define GG_AID_MM_PH_FINISH 3
+
+typedef struct {
+    int32_t enable;          /**< 1: aid on (the rest is validated only then) */
+    int32_t update_steps;    /**< navigation steps between epochs, >= 2 max_passes + 2 */
+    int32_t max_passes;      /**< progressive passes, 1..GG_MM_MAX_PASSES */
+    double sigma_meas_s2;    /**< gradiometer noise of a diagonal component, s^-2 (> 0) */
+    double sigma_db_s2;      /**< map (database) noise, s^-2 (>= 0) */
+    double offdiag_ratio;    /**< off-diagonal noise / diagonal noise, (0, GG_LIM_MM_OFFDIAG_MAX]; 0 = 1 */
+    double sig0_pos_m;       /**< initial one-sigma per axis: position, m (> 0) */
+    double sig0_vel_mps;     /**< velocity, m/s (> 0) */
+    double sig0_att_rad;     /**< attitude, rad (> 0) */
+    double sig0_g_mps2;      /**< gravitation error (dead reckoning only), m/s^2 (> 0) */
+    double q_vel_mps_rts;    /**< velocity random walk, m/s/sqrt(s) (>= 0) */
+    double q_att_rad_rts;    /**< angle random walk, rad/sqrt(s) (>= 0) */
+    double q_g_mps2_rts;     /**< gravitation-error random walk, m/s^2/sqrt(s) (>= 0) */
+    double lambda;           /**< UT spread (>= 0; 0 = Gao) */
+    double gate_nis;         /**< NIS gate, chi-square 6 dof (<= 0: none) */
+} gg_aid_mm_config_t;
+
+/** The task's INS solution and measurement at one navigation step. */
+typedef struct {
+    int32_t n_steps;          /**< navigation steps since the previous call (1.. bridge/coast) */
+    double dt_s;              /**< one navigation step, s */
+    double omega_ie;          /**< Earth rate in use, rad/s */
+    gg_real_t sin_th;         /**< sin, cos of the Earth rotation angle theta at this step */
+    gg_real_t cos_th;
+    gg_real_t r_e[3];         /**< estimated position, ECEF, m */
+    gg_real_t c_b_e[3][3];    /**< estimated attitude C_b_e */
+    double gamma_i[3][3];     /**< measured gradient, ECI axes, s^-2 (error dynamics) */
+    double f_i[3];            /**< specific force, ECI axes, m/s^2 */
+    double z_b[6];            /**< measured gradient, body axes: xx, yy, zz, xy, xz, yz, s^-2 */
+    int32_t z_valid;          /**< 1: z_b from this frame's own readings (not rebuilt, bridged, coasting) */
+} gg_aid_ins_t;
+
+/** A correction to the task's state (x = true - estimate, ECI, at this step). */
+typedef struct {
+    int32_t valid;            /**< 1: apply it */
+    double dr_i[3];
+    double dv_i[3];
+    double psi_i[3];
+    double dg_i[3];           /**< 0 in model mode */
+} gg_aid_corr_t;
+
+typedef struct {
+    gg_aid_mm_config_t cfg;
+    int32_t nx;                                   /**< 12 (dead reckoning) or 9 (model) */
+    gg_ukf_t ukf;                                 /**< error state and covariance */
+    double phi[GG_UKF_NX_MAX][GG_UKF_NX_MAX];     /**< transition accumulated since the last predict */
+    double q[GG_UKF_NX_MAX][GG_UKF_NX_MAX];       /**< process noise accumulated since then */
+    /* the epoch (measurement and the nominal it is predicted about) */
+    const gg_gmap_t *tile;                        /**< tile from the map storage, valid for the epoch */
+    gg_real_t ep_r_e[3];
+    gg_real_t ep_c_b_e[3][3];
+    gg_real_t ep_sin_th;
+    gg_real_t ep_cos_th;
+    double ep_z[6];
+    double rk[6];                                 /**< diagonal of R */
+    double w_pass;                                /**< weight of the pass in progress */
+    double remaining;                             /**< measurement weight not yet used */
+    int32_t pass;
+    int32_t phase;                                /**< GG_AID_MM_PH_* */
+    int32_t steps_since_epoch;
+    int32_t accepted_any;
+    uint32_t health;                              /**< GG_AID_MM_H_* of this step */
+    uint32_t n_epochs;                            /**< epochs started */
+    uint32_t n_updates;                           /**< epochs with an accepted update */
+    uint32_t n_rejected;                          /**< epochs gated or failed */
+    uint32_t n_no_map;                            /**< epochs without a covering tile */
+    double last_nis;                              /**< NIS of the last epoch (single update with R) */
+    int32_t initialized;
+} gg_aid_mm_t;
+
+/** Validate cfg and start the filter (mean 0, P0 = diag of the sig0_*).
+ *  gravity_state = 1 with gravity dead reckoning, 0 in model mode. cfg->enable
+ *  = 0 leaves the aid off (GG_OK, initialized = 0). GG_ERR_CONFIG on a bad
+ *  value. */
+gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_t gravity_state);
+
+/** At the task's first step: with gravity dead reckoning, G(0) is the
+ *  gravitation at the true start point (a surveyed value), so a start
+ *  position error dr makes the gravitation error at the estimated point
+ *  dg = -Gamma dr: P0 gets that correlation (P_gr = -Gamma P_rr,
+ *  P_gg = Gamma P_rr Gamma^T + sig0_g^2 I). Model mode: nothing to do. */
+gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3]);
+
+/** One navigation step of the aid: propagate the covariance by ins->n_steps
+ *  steps, then do the schedule's next unit of work (see the file comment).
+ *  map may be NULL (no map storage: epochs are flagged NO_MAP). *corr is
+ *  filled (valid = 1) at the end of an epoch; the task must apply it (the mean
+ *  is reset to 0 here). a->health holds this step's GG_AID_MM_H_* bits.
+ *  GG_ERR_NONFINITE / GG_ERR_RANGE on a bad INS input (aid state untouched). */
+gg_status_t gg_aid_mm_step(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal_map_t *map,
+                           gg_aid_corr_t *corr);
+
+/** Predicted body-axes gradient (xx, yy, zz, xy, xz, yz) of the error state x
+ *  about the nominal (r_e, C_b_e, theta): the measurement model. */
+gg_status_t gg_aid_mm_predict(const gg_gmap_t *tile, const gg_real_t r_e[3],
+                              gg_real_t c_b_e[3][3], gg_real_t sin_th, gg_real_t cos_th,
+                              const double *x, double z[6]);
+
+#endif /* GGINS_AID_MMUKF_H */

@@ -1,0 +1,674 @@
+/* Gradient-map UKF as an aiding source of the 3-D task: error dynamics,
+ * measurement model and the real-time schedule (aid_mmukf.h). */
+#include "ggins/aid_mmukf.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "ggins/geo.h"
+#include "ggins/gmap.h"
+#include "ggins/quat.h"
+
+#define NXM GG_UKF_NX_MAX
+
+/* ---------------------------------------------------------------- config */
+
+static int pos_finite(double v)
+{
+    int ok = 0;
+    if ((v > 0.0) && (v < 1.0e300)) {
+        ok = 1;
+    }
+    return ok;
+}
+
+static int nonneg_finite(double v)
+{
+    int ok = 0;
+    if ((v >= 0.0) && (v < 1.0e300)) {
+        ok = 1;
+    }
+    return ok;
+}
+
+static gg_status_t aid_cfg_ok(const gg_aid_mm_config_t *c)
+{
+    gg_status_t st = GG_OK;
+    if ((c->max_passes < 1) || (c->max_passes > GG_MM_MAX_PASSES) ||
+        (c->update_steps < ((2 * c->max_passes) + 2)) || (c->update_steps > GG_LIM_AID_MM_UPDATE_STEPS_MAX) ||
+        (pos_finite(c->sigma_meas_s2) == 0) || (nonneg_finite(c->sigma_db_s2) == 0) ||
+        (nonneg_finite(c->offdiag_ratio) == 0) || (c->offdiag_ratio > GG_LIM_MM_OFFDIAG_MAX) ||
+        (pos_finite(c->sig0_pos_m) == 0) || (pos_finite(c->sig0_vel_mps) == 0) ||
+        (pos_finite(c->sig0_att_rad) == 0) || (pos_finite(c->sig0_g_mps2) == 0) ||
+        (nonneg_finite(c->q_vel_mps_rts) == 0) || (nonneg_finite(c->q_att_rad_rts) == 0) ||
+        (nonneg_finite(c->q_g_mps2_rts) == 0) || (nonneg_finite(c->lambda) == 0) ||
+        !GG_ISFINITE(c->gate_nis)) {
+        st = GG_ERR_CONFIG;
+    }
+    return st;
+}
+
+static void mat_identity(int32_t n, double m[NXM][NXM])
+{
+    int32_t j;
+    int32_t k;
+    for (j = 0; j < NXM; ++j) {
+        for (k = 0; k < NXM; ++k) {
+            m[j][k] = 0.0;
+        }
+        if (j < n) {
+            m[j][j] = 1.0;
+        }
+    }
+}
+
+static void mat_zero(double m[NXM][NXM])
+{
+    (void)memset(m, 0, sizeof(double) * (size_t)NXM * (size_t)NXM);
+}
+
+gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_t gravity_state)
+{
+    double zero[NXM];
+    double P0[NXM][NXM];
+    gg_ukf_config_t uc;
+    gg_status_t st;
+    int32_t j;
+    int32_t nx = GG_AID_MM_NX_MODEL;
+    if ((a == NULL) || (cfg == NULL)) {
+        return GG_ERR_NULL;
+    }
+    (void)memset(zero, 0, sizeof zero);
+    a->initialized = 0;
+    if (cfg->enable == 0) {
+        return GG_OK;
+    }
+    if ((cfg->enable != 1) || ((gravity_state != 0) && (gravity_state != 1))) {
+        return GG_ERR_CONFIG;
+    }
+    st = aid_cfg_ok(cfg);
+    if (st != GG_OK) {
+        return st;
+    }
+    if (gravity_state != 0) {
+        nx = GG_AID_MM_NX_DR;
+    }
+    mat_zero(P0);
+    for (j = 0; j < 3; ++j) {
+        P0[j][j] = cfg->sig0_pos_m * cfg->sig0_pos_m;
+        P0[3 + j][3 + j] = cfg->sig0_vel_mps * cfg->sig0_vel_mps;
+        P0[6 + j][6 + j] = cfg->sig0_att_rad * cfg->sig0_att_rad;
+        if (nx == GG_AID_MM_NX_DR) {
+            P0[9 + j][9 + j] = cfg->sig0_g_mps2 * cfg->sig0_g_mps2;
+        }
+    }
+    uc.nx = nx;
+    uc.lambda = cfg->lambda;
+    uc.gate_nis = cfg->gate_nis;
+    /* cppcheck-suppress misra-c2012-17.7 */
+    st = gg_ukf_init(&a->ukf, &uc, zero, (const double(*)[NXM])P0);
+    if (st != GG_OK) {
+        return st;
+    }
+    a->cfg = *cfg;
+    a->nx = nx;
+    mat_identity(nx, a->phi);
+    mat_zero(a->q);
+    a->tile = NULL;
+    {
+        const double sm = cfg->sigma_meas_s2;
+        double ratio = cfg->offdiag_ratio;
+        double so;
+        const double rdb = cfg->sigma_db_s2 * cfg->sigma_db_s2;
+        if (!(ratio > 0.0)) {
+            ratio = 1.0;
+        }
+        so = ratio * sm;
+        for (j = 0; j < 3; ++j) {
+            a->rk[j] = (sm * sm) + rdb;
+            a->rk[3 + j] = (so * so) + rdb;
+        }
+    }
+    a->w_pass = 1.0;
+    a->remaining = 1.0;
+    a->pass = 0;
+    a->phase = GG_AID_MM_PH_PROPAGATE;
+    a->steps_since_epoch = 0;
+    a->accepted_any = 0;
+    a->health = 0U;
+    a->n_epochs = 0U;
+    a->n_updates = 0U;
+    a->n_rejected = 0U;
+    a->n_no_map = 0U;
+    a->last_nis = 0.0;
+    a->initialized = 1;
+    return GG_OK;
+}
+
+gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3])
+{
+    double zero[NXM];
+    double P0[NXM][NXM];
+    gg_ukf_t u;
+    int32_t j;
+    int32_t k;
+    if ((a == NULL) || (gamma_i == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (a->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    if (a->nx != GG_AID_MM_NX_DR) {
+        return GG_OK;
+    }
+    for (j = 0; j < 3; ++j) {
+        for (k = 0; k < 3; ++k) {
+            if (!GG_ISFINITE(gamma_i[j][k])) {
+                return GG_ERR_NONFINITE;
+            }
+        }
+    }
+    for (j = 0; j < NXM; ++j) {
+        for (k = 0; k < NXM; ++k) {
+            P0[j][k] = a->ukf.P[j][k];
+        }
+    }
+    /* dg = -Gamma dr + n_g with dr ~ P_rr (diagonal, sig0_pos) */
+    {
+        const double prr = a->cfg.sig0_pos_m * a->cfg.sig0_pos_m;
+        const double pgg = a->cfg.sig0_g_mps2 * a->cfg.sig0_g_mps2;
+        for (j = 0; j < 3; ++j) {
+            for (k = 0; k < 3; ++k) {
+                double s = 0.0;
+                int32_t l;
+                for (l = 0; l < 3; ++l) {
+                    s += gamma_i[j][l] * gamma_i[k][l];
+                }
+                P0[9 + j][9 + k] = prr * s;
+                P0[9 + j][k] = -prr * gamma_i[j][k];
+                P0[k][9 + j] = -prr * gamma_i[j][k];
+            }
+            P0[9 + j][9 + j] += pgg;
+        }
+    }
+    u = a->ukf;
+    (void)memset(zero, 0, sizeof zero);
+    /* cppcheck-suppress misra-c2012-17.7 */
+    if (gg_ukf_init(&u, &a->ukf.cfg, zero, (const double(*)[NXM])P0) != GG_OK) {
+        return GG_ERR_RANGE;
+    }
+    a->ukf = u;
+    return GG_OK;
+}
+
+/* ---------------------------------------------------------------- dynamics */
+
+/* o = a b (n x n used) */
+static void mat_mul(int32_t n, double a[NXM][NXM], double b[NXM][NXM], double o[NXM][NXM])
+{
+    int32_t j;
+    int32_t k;
+    int32_t l;
+    for (j = 0; j < n; ++j) {
+        for (k = 0; k < n; ++k) {
+            double s = 0.0;
+            for (l = 0; l < n; ++l) {
+                s += a[j][l] * b[l][k];
+            }
+            o[j][k] = s;
+        }
+    }
+}
+
+/* o = a b^T (n x n used) */
+static void mat_mul_t(int32_t n, double a[NXM][NXM], double b[NXM][NXM], double o[NXM][NXM])
+{
+    int32_t j;
+    int32_t k;
+    int32_t l;
+    for (j = 0; j < n; ++j) {
+        for (k = 0; k < n; ++k) {
+            double s = 0.0;
+            for (l = 0; l < n; ++l) {
+                s += a[j][l] * b[k][l];
+            }
+            o[j][k] = s;
+        }
+    }
+}
+
+/* One step's transition F = I + A h + (A h)^2 / 2 of the error dynamics
+ * (aid_mmukf.h) with the INS quantities of this step. */
+static void transition(const gg_aid_mm_t *a, const gg_aid_ins_t *ins, double F[NXM][NXM])
+{
+    double A[NXM][NXM];
+    double A2[NXM][NXM];
+    const int32_t n = a->nx;
+    const double h = ins->dt_s;
+    const double w = ins->omega_ie;
+    const double *f = ins->f_i;
+    int32_t j;
+    int32_t k;
+    mat_zero(A);
+    for (j = 0; j < 3; ++j) {
+        A[j][3 + j] = h;
+        for (k = 0; k < 3; ++k) {
+            A[3 + j][k] = ins->gamma_i[j][k] * h;
+        }
+    }
+    /* -[f x] psi */
+    A[3][7] = f[2] * h;
+    A[3][8] = -f[1] * h;
+    A[4][6] = -f[2] * h;
+    A[4][8] = f[0] * h;
+    A[5][6] = f[1] * h;
+    A[5][7] = -f[0] * h;
+    if (n == GG_AID_MM_NX_DR) {
+        for (j = 0; j < 3; ++j) {
+            A[3 + j][9 + j] = h;
+        }
+        /* [w_ie x] dg, w_ie along z */
+        A[9][10] = -w * h;
+        A[10][9] = w * h;
+    }
+    mat_mul(n, A, A, A2);
+    for (j = 0; j < n; ++j) {
+        for (k = 0; k < n; ++k) {
+            F[j][k] = A[j][k] + (0.5 * A2[j][k]);
+        }
+        F[j][j] += 1.0;
+    }
+}
+
+static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
+{
+    double F[NXM][NXM];
+    double T[NXM][NXM];
+    double U[NXM][NXM];
+    const int32_t n = a->nx;
+    const double qv = a->cfg.q_vel_mps_rts * a->cfg.q_vel_mps_rts * ins->dt_s;
+    const double qa = a->cfg.q_att_rad_rts * a->cfg.q_att_rad_rts * ins->dt_s;
+    const double qg = a->cfg.q_g_mps2_rts * a->cfg.q_g_mps2_rts * ins->dt_s;
+    int32_t i;
+    int32_t j;
+    int32_t k;
+    transition(a, ins, F);
+    for (i = 0; (i < ins->n_steps) && (i < GG_LIM_AID_MM_STEPS_MAX); ++i) {
+        mat_mul(n, F, a->phi, T);
+        mat_mul(n, F, a->q, U);
+        mat_mul_t(n, U, F, a->q);
+        for (j = 0; j < n; ++j) {
+            for (k = 0; k < n; ++k) {
+                a->phi[j][k] = T[j][k];
+            }
+        }
+        for (j = 0; j < 3; ++j) {
+            a->q[3 + j][3 + j] += qv;
+            a->q[6 + j][6 + j] += qa;
+            if (n == GG_AID_MM_NX_DR) {
+                a->q[9 + j][9 + j] += qg;
+            }
+        }
+    }
+    /* exactly symmetric */
+    for (j = 0; j < n; ++j) {
+        for (k = j + 1; k < n; ++k) {
+            const double s = 0.5 * (a->q[j][k] + a->q[k][j]);
+            a->q[j][k] = s;
+            a->q[k][j] = s;
+        }
+    }
+    return GG_OK;
+}
+
+/* UKF process model over the accumulated interval: x_out = Phi x_in. */
+static gg_status_t fx_phi(void *ctx, const double *x_in, double *x_out)
+{
+    /* cppcheck-suppress misra-c2012-11.5 */
+    const gg_aid_mm_t *a = (const gg_aid_mm_t *)ctx;
+    int32_t j;
+    int32_t k;
+    for (j = 0; j < NXM; ++j) {
+        double s = 0.0;
+        if (j < a->nx) {
+            for (k = 0; k < a->nx; ++k) {
+                s += a->phi[j][k] * x_in[k];
+            }
+        }
+        x_out[j] = s;
+    }
+    return GG_OK;
+}
+
+/* Predict through the accumulated interval, then restart the accumulation. */
+static gg_status_t predict_accumulated(gg_aid_mm_t *a)
+{
+    /* cppcheck-suppress misra-c2012-17.7 */
+    const gg_status_t st = gg_ukf_predict(&a->ukf, fx_phi, a, (const double(*)[NXM])a->q);
+    if (st == GG_OK) {
+        mat_identity(a->nx, a->phi);
+        mat_zero(a->q);
+    }
+    return st;
+}
+
+/* ---------------------------------------------------------------- measurement */
+
+gg_status_t gg_aid_mm_predict(const gg_gmap_t *tile, const gg_real_t r_e[3],
+                              gg_real_t c_b_e[3][3], gg_real_t sin_th, gg_real_t cos_th,
+                              const double *x, double z[6])
+{
+    gg_real_t dr_i[3];
+    gg_real_t dr_e[3];
+    gg_real_t psi_i[3];
+    gg_real_t psi_e[3];
+    gg_real_t r[3];
+    gg_real_t dq[4];
+    gg_real_t cbe[3][3];
+    gg_real_t cen[3][3];
+    gg_real_t gn[3][3];
+    gg_real_t lat = 0.0L;
+    gg_real_t lon = 0.0L;
+    gg_real_t h = 0.0L;
+    gg_real_t h2 = 0.0L;
+    gg_gmap_sample_t smp;
+    gg_status_t st;
+    size_t j;
+    if ((tile == NULL) || (r_e == NULL) || (c_b_e == NULL) || (x == NULL) || (z == NULL)) {
+        return GG_ERR_NULL;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        dr_i[j] = (gg_real_t)x[j];
+        psi_i[j] = (gg_real_t)x[6U + j];
+    }
+    gg_rot3(sin_th, cos_th, -1, dr_i, dr_e);
+    gg_rot3(sin_th, cos_th, -1, psi_i, psi_e);
+    for (j = 0U; j < 3U; ++j) {
+        r[j] = r_e[j] + dr_e[j];
+    }
+    st = gg_quat_from_rotvec(psi_e, dq);
+    if (st == GG_OK) {
+        gg_real_t dc[3][3];
+        gg_quat_to_dcm(dq, dc);
+        gg_mat3_mul(dc, c_b_e, cbe);
+        st = gg_geo_ecef_to_geodetic(r, &lat, &lon, &h);
+    }
+    if (st == GG_OK) {
+        st = gg_geo_local_frame(r, &h2, cen);
+    }
+    if (st == GG_OK) {
+        st = gg_gmap_eval(tile, lat, lon, h,
+                          /* MISRA 12.2: false positive on the constant mask macros */
+                          /* cppcheck-suppress misra-c2012-12.2 */
+                          GG_GMAP_MASK_ALL | GG_GMAP_H_EXTRAPOLATE, 0, &smp);
+    }
+    if (st == GG_OK) {
+        st = gg_gmap_to_matrix(smp.gamma, gn);
+    }
+    if (st == GG_OK) {
+        /* Gamma_b = C_n_b Gamma_n C_b_n, C_b_n = C_e_n C_b_e */
+        gg_real_t cbn[3][3];
+        gg_real_t cnb[3][3];
+        gg_real_t gb[3][3];
+        gg_mat3_mul(cen, cbe, cbn);
+        gg_mat3_transpose(cbn, cnb);
+        {
+            gg_mat3_t gm;
+            const gg_mat3_t *gp = &gm;
+            gg_mat3_copy(gn, &gm);
+            gg_mat3_similarity(cnb, gp->m, gb);
+        }
+        z[0] = (double)gb[0][0];
+        z[1] = (double)gb[1][1];
+        z[2] = (double)gb[2][2];
+        z[3] = (double)gb[0][1];
+        z[4] = (double)gb[0][2];
+        z[5] = (double)gb[1][2];
+    }
+    return st;
+}
+
+typedef struct {
+    const gg_aid_mm_t *a;
+} aid_hctx_t;
+
+static gg_status_t aid_meas_model(void *ctx, const double *x, double *z)
+{
+    /* cppcheck-suppress misra-c2012-11.5 */
+    const aid_hctx_t *hc = (const aid_hctx_t *)ctx;
+    const gg_aid_mm_t *a = hc->a;
+    gg_real_t c[3][3];
+    size_t j;
+    size_t k;
+    for (j = 0U; j < 3U; ++j) {
+        for (k = 0U; k < 3U; ++k) {
+            c[j][k] = a->ep_c_b_e[j][k];
+        }
+    }
+    return gg_aid_mm_predict(a->tile, a->ep_r_e, c, a->ep_sin_th, a->ep_cos_th, x, z);
+}
+
+/* ---------------------------------------------------------------- schedule */
+
+static int ins_ok(const gg_aid_ins_t *ins)
+{
+    int ok = 1;
+    size_t j;
+    size_t k;
+    if ((ins->n_steps < 1) || (ins->n_steps > GG_LIM_AID_MM_STEPS_MAX) || !(ins->dt_s > 0.0) ||
+        !(ins->dt_s <= 1.0) || !GG_ISFINITE(ins->omega_ie) || !GG_ISFINITE(ins->sin_th) ||
+        !GG_ISFINITE(ins->cos_th)) {
+        ok = 0;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        if (!GG_ISFINITE(ins->r_e[j]) || !GG_ISFINITE(ins->f_i[j])) {
+            ok = 0;
+        }
+        for (k = 0U; k < 3U; ++k) {
+            if (!GG_ISFINITE(ins->c_b_e[j][k]) || !GG_ISFINITE(ins->gamma_i[j][k])) {
+                ok = 0;
+            }
+        }
+    }
+    for (j = 0U; j < 6U; ++j) {
+        if (!GG_ISFINITE(ins->z_b[j]) || (ins->z_b[j] > GG_LIM_MM_GAMMA_MAX_S2) ||
+            (ins->z_b[j] < -GG_LIM_MM_GAMMA_MAX_S2)) {
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+/* Start an epoch: tile from the map storage, the measurement and its
+ * nominal, UKF predict to the epoch. */
+static void start_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal_map_t *map)
+{
+    gg_real_t lat = 0.0L;
+    gg_real_t lon = 0.0L;
+    gg_real_t h = 0.0L;
+    const gg_gmap_t *tile = NULL;
+    gg_status_t st = GG_ERR_RANGE;
+    size_t j;
+    size_t k;
+    a->n_epochs++;
+    a->steps_since_epoch = 0;
+    if ((map != NULL) && (map->tile_at != NULL) &&
+        (gg_geo_ecef_to_geodetic(ins->r_e, &lat, &lon, &h) == GG_OK)) {
+        const double dlat = (double)lat;
+        const double dlon = (double)lon;
+        st = map->tile_at(map->ctx, dlat, dlon, &tile);
+    }
+    if ((st != GG_OK) || (tile == NULL)) {
+        a->health |= GG_AID_MM_H_NO_MAP;
+        a->n_no_map++;
+        return; /* the covariance keeps accumulating */
+    }
+    if (predict_accumulated(a) != GG_OK) {
+        a->health |= GG_AID_MM_H_FAIL;
+        a->n_rejected++;
+        return;
+    }
+    a->tile = tile;
+    for (j = 0U; j < 3U; ++j) {
+        a->ep_r_e[j] = ins->r_e[j];
+        for (k = 0U; k < 3U; ++k) {
+            a->ep_c_b_e[j][k] = ins->c_b_e[j][k];
+        }
+    }
+    for (j = 0U; j < 6U; ++j) {
+        a->ep_z[j] = ins->z_b[j];
+    }
+    a->ep_sin_th = ins->sin_th;
+    a->ep_cos_th = ins->cos_th;
+    a->pass = 0;
+    a->remaining = 1.0;
+    a->w_pass = 1.0;
+    a->accepted_any = 0;
+    a->phase = GG_AID_MM_PH_SPREAD;
+}
+
+static void fill_r(const gg_aid_mm_t *a, double w, double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX])
+{
+    int32_t j;
+    int32_t k;
+    for (j = 0; j < GG_UKF_NZ_MAX; ++j) {
+        for (k = 0; k < GG_UKF_NZ_MAX; ++k) {
+            R[j][k] = 0.0;
+        }
+    }
+    for (j = 0; j < 6; ++j) {
+        R[j][j] = a->rk[j] / w;
+    }
+}
+
+/* Pass weight from the predicted spread (mmukf.h, progressive update). */
+static void do_spread(gg_aid_mm_t *a)
+{
+    double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
+    double spread[GG_UKF_NZ_MAX];
+    double nis = 0.0;
+    aid_hctx_t hc;
+    gg_status_t st;
+    double w;
+    hc.a = a;
+    fill_r(a, 1.0, R);
+    st = gg_ukf_meas_spread(&a->ukf, 6, aid_meas_model, &hc, spread, a->ep_z,
+                            /* cppcheck-suppress misra-c2012-17.7 */
+                            (const double(*)[GG_UKF_NZ_MAX])R, &nis);
+    if (st != GG_OK) {
+        a->health |= GG_AID_MM_H_FAIL;
+        a->phase = GG_AID_MM_PH_FINISH;
+        return;
+    }
+    if (a->pass == 0) {
+        a->last_nis = nis;
+    }
+    w = a->remaining;
+    if (a->pass < (a->cfg.max_passes - 1)) {
+        int32_t k;
+        for (k = 0; k < 6; ++k) {
+            if ((spread[k] > a->rk[k]) && ((a->rk[k] / spread[k]) < w)) {
+                w = a->rk[k] / spread[k];
+            }
+        }
+    }
+    a->w_pass = w;
+    a->phase = GG_AID_MM_PH_UPDATE;
+}
+
+static void do_update(gg_aid_mm_t *a)
+{
+    double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];
+    gg_ukf_update_info_t info;
+    aid_hctx_t hc;
+    gg_status_t st;
+    hc.a = a;
+    fill_r(a, a->w_pass, R);
+    st = gg_ukf_update(&a->ukf, 6, a->ep_z,
+                       /* cppcheck-suppress misra-c2012-17.7 */
+                       (const double(*)[GG_UKF_NZ_MAX])R, aid_meas_model, &hc, &info);
+    a->phase = GG_AID_MM_PH_FINISH;
+    if (st != GG_OK) {
+        a->health |= GG_AID_MM_H_FAIL;
+    } else if (info.accepted == 0) {
+        a->health |= GG_AID_MM_H_GATED;
+    } else {
+        a->accepted_any = 1;
+        a->remaining -= a->w_pass;
+        a->pass++;
+        if ((a->remaining > 1.0e-12) && (a->pass < a->cfg.max_passes)) {
+            a->phase = GG_AID_MM_PH_SPREAD;
+        }
+    }
+}
+
+static void do_finish(gg_aid_mm_t *a, gg_aid_corr_t *corr)
+{
+    double zero[NXM];
+    size_t j;
+    (void)memset(zero, 0, sizeof zero);
+    a->phase = GG_AID_MM_PH_PROPAGATE;
+    a->tile = NULL;
+    if (a->accepted_any != 0) {
+        a->n_updates++;
+    } else {
+        a->n_rejected++;
+    }
+    /* from the epoch to this step (the mean moves with it) */
+    if (predict_accumulated(a) != GG_OK) {
+        a->health |= GG_AID_MM_H_FAIL;
+        (void)gg_ukf_set_mean(&a->ukf, zero); /* the correction is lost; P stays at the epoch */
+        return;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        corr->dr_i[j] = a->ukf.x[j];
+        corr->dv_i[j] = a->ukf.x[3U + j];
+        corr->psi_i[j] = a->ukf.x[6U + j];
+        corr->dg_i[j] = 0.0;
+        if (a->nx == GG_AID_MM_NX_DR) {
+            corr->dg_i[j] = a->ukf.x[9U + j];
+        }
+    }
+    corr->valid = a->accepted_any;
+    (void)gg_ukf_set_mean(&a->ukf, zero);
+}
+
+gg_status_t gg_aid_mm_step(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal_map_t *map,
+                           gg_aid_corr_t *corr)
+{
+    gg_status_t st;
+    if ((a == NULL) || (ins == NULL) || (corr == NULL)) {
+        return GG_ERR_NULL;
+    }
+    corr->valid = 0;
+    if (a->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    a->health = 0U;
+    if (ins_ok(ins) == 0) {
+        a->health = GG_AID_MM_H_FAIL;
+        return GG_ERR_RANGE;
+    }
+    st = propagate(a, ins);
+    if (st != GG_OK) {
+        return st;
+    }
+    a->steps_since_epoch += ins->n_steps;
+    if (a->phase == GG_AID_MM_PH_PROPAGATE) {
+        if (a->steps_since_epoch >= a->cfg.update_steps) {
+            if (ins->z_valid != 0) {
+                start_epoch(a, ins, map);
+            } else {
+                a->health |= GG_AID_MM_H_BAD_MEAS; /* wait for a frame of its own readings */
+            }
+        }
+    } else if (a->phase == GG_AID_MM_PH_SPREAD) {
+        do_spread(a);
+    } else if (a->phase == GG_AID_MM_PH_UPDATE) {
+        do_update(a);
+    } else {
+        do_finish(a, corr);
+    }
+    return GG_OK; /* a gated or failed epoch is counted once, at its finish */
+}

@@ -1,0 +1,531 @@
+/* The gradient-map UKF as an aiding source of the 3-D task (aid_mmukf.h),
+ * flown in-process against closed-form truth (truth3.h): an eastbound flight
+ * on a rotating Earth over buried masses, the accelerometer readings with
+ * white noise, and an onboard map tile built from the same analytic field
+ * (point-mass gradients in closed form, independent of the firmware). The
+ * task starts with a position error; the aid must recover it with
+ * consistent statistics (NEES, NIS in their 95 % bands), and with the aid
+ * off (or without a map) the task must be unchanged bit for bit. */
+#include "test_common.h"
+#include "truth3.h"
+#include "ggins/aid_mmukf.h"
+#include "ggins/gmap.h"
+
+#define DT_US 10000
+#define SIGMA_G 1.0e-11          /* gradiometer noise of a diagonal component, s^-2 (0.01 E) */
+#define HB 0.5L                  /* half-baselines, m */
+#define N_ANOM 12
+
+static gg_gmap_tile_t g_tile;
+static gg_gmap_t g_map;
+static gg_nav3d_t g_nav;
+static gg_nav3d_t g_nav_ref;
+
+/* ---------------------------------------------------------------- truth */
+
+static void flight_truth(truth3_t *T)
+{
+    memset(T, 0, sizeof *T);
+    T->lat0 = 0.7L;
+    T->lon0 = 0.2L;
+    T->h0 = 3000.0L;
+    for (int j = 0; j < 3; ++j) {
+        T->hb[j] = HB;
+        T->c0[j][j] = 1.0L;
+    }
+    /* 200 m/s east */
+    {
+        const long double e2 = F_WGS * (2.0L - F_WGS);
+        const long double n = A_WGS / sqrtl(1.0L - e2 * sinl(T->lat0) * sinl(T->lat0));
+        T->lon_rate = 200.0L / ((n + T->h0) * cosl(T->lat0));
+    }
+    /* buried masses along the route, 6-7 km apart, 1.5-2.5 km either side,
+     * 3 km below the ellipsoid (10-20 E at the flight height) */
+    T->n_anom = N_ANOM;
+    for (int a = 0; a < N_ANOM; ++a) {
+        long double p[3];
+        const long double dlat = ((a % 2) == 0 ? 1.0L : -1.0L) * (2.5e-4L + 1.0e-4L * (long double)(a % 3));
+        geo2ecef(T->lat0 + dlat, T->lon0 + 1.0e-3L * (long double)a, -3000.0L - 300.0L * (long double)(a % 4), p);
+        memcpy(T->anom_e[a], p, sizeof p);
+        T->anom_gm[a] = ((a % 3) == 1 ? -1.0L : 1.0L) * (1.5e3L + 250.0L * (long double)(a % 5));
+    }
+}
+
+/* analytic gravitation gradient in ECEF: (GM/d^3)(3 d^ d^T - I) per mass */
+static void gamma_e_truth(const truth3_t *T, const long double r[3], long double G[3][3])
+{
+    t_point_mass_gamma(r, G);
+    for (int a = 0; a < T->n_anom; ++a) {
+        long double d[3], dd = 0;
+        for (int j = 0; j < 3; ++j) {
+            d[j] = r[j] - T->anom_e[a][j];
+            dd += d[j] * d[j];
+        }
+        const long double k = T->anom_gm[a] / (dd * sqrtl(dd));
+        for (int j = 0; j < 3; ++j)
+            for (int l = 0; l < 3; ++l) G[j][l] += k * (3.0L * d[j] * d[l] / dd - (j == l ? 1.0L : 0.0L));
+    }
+}
+
+/* rows north, east, down at geodetic (lat, lon) */
+static void ned_rows(long double lat, long double lon, long double c[3][3])
+{
+    const long double sl = sinl(lat), cl = cosl(lat), so = sinl(lon), co = cosl(lon);
+    const long double m[3][3] = {{-sl * co, -sl * so, cl}, {-so, co, 0.0L}, {-cl * co, -cl * so, -sl}};
+    memcpy(c, m, sizeof m);
+}
+
+static void gamma_ned6(const truth3_t *T, long double lat, long double lon, long double h, double g6[6])
+{
+    long double r[3], ge[3][3], c[3][3], t[3][3], gn[3][3];
+    geo2ecef(lat, lon, h, r);
+    gamma_e_truth(T, r, ge);
+    ned_rows(lat, lon, c);
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) {
+            t[j][k] = 0;
+            for (int l = 0; l < 3; ++l) t[j][k] += c[j][l] * ge[l][k];
+        }
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) {
+            gn[j][k] = 0;
+            for (int l = 0; l < 3; ++l) gn[j][k] += t[j][l] * c[k][l];
+        }
+    g6[0] = (double)gn[0][0];
+    g6[1] = (double)gn[1][1];
+    g6[2] = (double)gn[2][2];
+    g6[3] = (double)gn[0][1];
+    g6[4] = (double)gn[0][2];
+    g6[5] = (double)gn[1][2];
+}
+
+/* tile around the route: 20 x 120 nodes at ~500 m (bicubic error < 2e-12 s^-2), height derivative by a
+ * central difference of the analytic field over +-1 m */
+static void build_map(const truth3_t *T)
+{
+    memset(&g_tile, 0, sizeof g_tile);
+    g_tile.nlat = 20;
+    g_tile.nlon = 120;
+    g_tile.dlat_rad = 0.8e-4;
+    g_tile.dlon_rad = 1.0e-4;
+    g_tile.lat0_rad = (double)T->lat0 - 9.5 * g_tile.dlat_rad;
+    g_tile.lon0_rad = (double)T->lon0 - 10.0 * g_tile.dlon_rad;
+    g_tile.h0_m = (double)T->h0;
+    g_tile.h_range_m = 500.0;
+    for (int i = 0; i < g_tile.nlat; ++i)
+        for (int j = 0; j < g_tile.nlon; ++j) {
+            const long double lat = (long double)g_tile.lat0_rad + (long double)i * (long double)g_tile.dlat_rad;
+            const long double lon = (long double)g_tile.lon0_rad + (long double)j * (long double)g_tile.dlon_rad;
+            double g0[6], gp[6], gm[6];
+            gamma_ned6(T, lat, lon, T->h0, g0);
+            gamma_ned6(T, lat, lon, T->h0 + 1.0L, gp);
+            gamma_ned6(T, lat, lon, T->h0 - 1.0L, gm);
+            for (int k = 0; k < 6; ++k) {
+                g_tile.node[i * g_tile.nlon + j][k] = g0[k];
+                g_tile.node[i * g_tile.nlon + j][6 + k] = 0.5 * (gp[k] - gm[k]);
+            }
+        }
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_OK);
+}
+
+/* map storage of one tile */
+typedef struct {
+    const gg_gmap_t *map;
+    int calls;
+} store_t;
+
+static gg_status_t store_tile_at(void *ctx, double lat, double lon, const gg_gmap_t **tile)
+{
+    store_t *s = (store_t *)ctx;
+    const gg_gmap_tile_t *t = &s->map->tile;
+    s->calls++;
+    if (lat < t->lat0_rad || lat > t->lat0_rad + (t->nlat - 1) * t->dlat_rad || lon < t->lon0_rad ||
+        lon > t->lon0_rad + (t->nlon - 1) * t->dlon_rad)
+        return GG_ERR_RANGE;
+    *tile = s->map;
+    return GG_OK;
+}
+
+/* reproducible normal deviates (xorshift64* + Box-Muller) */
+static uint64_t g_rng = 0x9E3779B97F4A7C15ull;
+static double urand(void)
+{
+    g_rng ^= g_rng >> 12;
+    g_rng ^= g_rng << 25;
+    g_rng ^= g_rng >> 27;
+    return ((double)((g_rng * 2685821657736338717ull) >> 11) + 0.5) / 9007199254740992.0;
+}
+static double nrand(void)
+{
+    const double u1 = urand(), u2 = urand();
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+/* a reading's noise so that a diagonal gradient component (difference of two
+ * readings over 2 HB) has SIGMA_G */
+static void add_noise(gg_frame_t *fr)
+{
+    const double sf = SIGMA_G * 2.0 * (double)HB / sqrt(2.0);
+    for (int s = 0; s < 6; ++s)
+        for (int j = 0; j < 3; ++j) fr->f[s][j] += sf * nrand();
+}
+
+static void aid_config(gg_aid_mm_config_t *a)
+{
+    memset(a, 0, sizeof *a);
+    a->enable = 1;
+    a->update_steps = 500; /* 5 s */
+    a->max_passes = 4;
+    a->sigma_meas_s2 = SIGMA_G;
+    a->sigma_db_s2 = 1.0e-12;
+    a->offdiag_ratio = 0.70710678118654752;
+    a->sig0_pos_m = 200.0;
+    a->sig0_vel_mps = 0.05;
+    a->sig0_att_rad = 1.0e-6;
+    a->sig0_g_mps2 = 1.0e-7;
+    a->q_vel_mps_rts = 1.0e-6;
+    a->q_att_rad_rts = 1.0e-9;
+    a->q_g_mps2_rts = SIGMA_G * 200.0 * 0.1;
+    a->lambda = 0.0;
+    a->gate_nis = 0.0;
+}
+
+/* chi-square quantile (Wilson-Hilferty) */
+static double chi2q(double z, double nu)
+{
+    const double c = 2.0 / (9.0 * nu);
+    const double t = 1.0 - c + z * sqrt(c);
+    return nu * t * t * t;
+}
+
+/* true - estimate position, ECI axes, at step k */
+static void pos_error_i(const truth3_t *T, long long k, const gg_nav3d_output_t *out, long double d_i[3])
+{
+    const long double t = (long double)k * (long double)DT_US * 1e-6L;
+    long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3], th[3][3], d_e[3];
+    truth_pose(T, t, r_e, v_e, r_i, a_i, cbi, w, wd);
+    for (int j = 0; j < 3; ++j) d_e[j] = r_e[j] - ((long double)out->r_e[j] + (long double)out->r_e_lo[j]);
+    rz(W_IE * t, th);
+    matvec(th, d_e, d_i);
+}
+
+static long double quad3_inv(const double P[GG_UKF_NX_MAX][GG_UKF_NX_MAX], const long double d[3])
+{
+    /* d^T P_rr^-1 d by cofactors */
+    const long double a = P[0][0], b = P[0][1], c = P[0][2], e = P[1][1], f = P[1][2], i = P[2][2];
+    const long double A = e * i - f * f, B = -(b * i - c * f), C = b * f - c * e;
+    const long double E = a * i - c * c, F = -(a * f - b * c), I = a * e - b * b;
+    const long double det = a * A + b * B + c * C;
+    const long double q = d[0] * (A * d[0] + B * d[1] + C * d[2]) + d[1] * (B * d[0] + E * d[1] + F * d[2]) +
+                          d[2] * (C * d[0] + F * d[1] + I * d[2]);
+    return q / det;
+}
+
+/* ---------------------------------------------------------------- tests */
+
+/* The measurement model at the true state (zero error) against the analytic
+ * body-axes gradient: bicubic map error only (< 2e-3 E here, about the
+ * database noise sigma_db the filter is told). */
+static void test_predict_matches_field(void **state)
+{
+    (void)state;
+    truth3_t T;
+    flight_truth(&T);
+    build_map(&T);
+    for (int n = 0; n < 5; ++n) {
+        const long double t = 37.0L * (long double)n;
+        long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3], th[3][3], cbe[3][3], ge[3][3];
+        truth_pose(&T, t, r_e, v_e, r_i, a_i, cbi, w, wd);
+        rz(-W_IE * t, th);
+        matmul(th, cbi, cbe);
+        gamma_e_truth(&T, r_e, ge);
+        gg_real_t re[3], c[3][3];
+        for (int j = 0; j < 3; ++j) {
+            re[j] = (gg_real_t)r_e[j];
+            for (int k = 0; k < 3; ++k) c[j][k] = (gg_real_t)cbe[j][k];
+        }
+        /* Gamma_b = C_e_b Gamma_e C_b_e */
+        long double gb[3][3];
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                gb[j][k] = 0;
+                for (int l = 0; l < 3; ++l)
+                    for (int m = 0; m < 3; ++m) gb[j][k] += cbe[l][j] * ge[l][m] * cbe[m][k];
+            }
+        const double want[6] = {(double)gb[0][0], (double)gb[1][1], (double)gb[2][2],
+                                (double)gb[0][1], (double)gb[0][2], (double)gb[1][2]};
+        const double x[GG_UKF_NX_MAX] = {0};
+        double z[6];
+        const long double thv = W_IE * t;
+        assert_int_equal(gg_aid_mm_predict(&g_map, re, c, (gg_real_t)sinl(thv), (gg_real_t)cosl(thv), x, z),
+                         GG_OK);
+        for (int k = 0; k < 6; ++k) assert_near(z[k], want[k], 2.0e-12);
+    }
+    /* a 100 m north error in x moves the prediction by the field's change */
+    {
+        long double r_e[3], v_e[3], r_i[3], a_i[3], cbi[3][3], w[3], wd[3];
+        truth_pose(&T, 0.0L, r_e, v_e, r_i, a_i, cbi, w, wd);
+        gg_real_t re[3], c[3][3];
+        for (int j = 0; j < 3; ++j) {
+            re[j] = (gg_real_t)r_e[j];
+            for (int k = 0; k < 3; ++k) c[j][k] = (gg_real_t)cbi[j][k];
+        }
+        long double nr[3][3];
+        ned_rows(T.lat0, T.lon0, nr);
+        double x[GG_UKF_NX_MAX] = {0};
+        for (int j = 0; j < 3; ++j) x[j] = (double)(100.0L * nr[0][j]); /* theta = 0: ECI = ECEF */
+        double z[6], want6[6];
+        assert_int_equal(gg_aid_mm_predict(&g_map, re, c, 0.0L, 1.0L, x, z), GG_OK);
+        long double r2[3], ge[3][3];
+        for (int j = 0; j < 3; ++j) r2[j] = r_e[j] + (long double)x[j];
+        gamma_e_truth(&T, r2, ge);
+        want6[0] = (double)ge[0][0];
+        want6[1] = (double)ge[1][1];
+        want6[2] = (double)ge[2][2];
+        want6[3] = (double)ge[0][1];
+        want6[4] = (double)ge[0][2];
+        want6[5] = (double)ge[1][2];
+        for (int k = 0; k < 6; ++k) assert_near(z[k], want6[k], 2.0e-12);
+    }
+}
+
+typedef struct {
+    double err_h0, err_h_end, err_h_ref_end;
+    double nees_mean, nis_mean, nees_last, nis_sum;
+    int n_epochs;
+    uint32_t updates, rejected;
+    int nx;
+} flight_t;
+
+/* Fly n steps with the start position off by (dN, dE); aided and unaided
+ * side by side on the same noisy frames. */
+static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_ned[3], const double psi[3],
+                          double sig0_pos, int model_mode)
+{
+    truth3_t T;
+    gg_nav3d_config_t cfg, cref;
+    gg_nav3d_output_t out, oref;
+    gg_frame_t fr;
+    store_t store;
+    gg_hal_map_t hm;
+    gg_hal_t hal;
+    flight_t res = {0};
+    flight_truth(&T);
+    build_map(&T);
+    make_config(&T, GG_PLATFORM_STABILIZED, 0, DT_US, &cfg);
+    if (model_mode != 0) {
+        /* the onboard model: the central point mass (the truth's field without the buried masses) */
+        cfg.gravity_mode = GG_GRAVITY_MODEL;
+        cfg.model.gm = T_GM;
+        cfg.model.a_m = A_WGS;
+    }
+    {
+        long double nr[3][3];
+        ned_rows(T.lat0, T.lon0, nr);
+        for (int j = 0; j < 3; ++j)
+            for (int l = 0; l < 3; ++l) {
+                cfg.r0_e[j] -= (gg_real_t)(dr_ned[l] * (double)nr[l][j]); /* dr = true - estimate */
+                cfg.v0_e[j] -= (gg_real_t)(dv_ned[l] * (double)nr[l][j]);
+            }
+    }
+    {
+        /* C_est = (I - [psi x]) C_true: q_est = q(-psi) (x) q_true (theta = 0: ECI = ECEF) */
+        const long double a0 = 1.0L, a1 = -0.5L * psi[0], a2 = -0.5L * psi[1], a3 = -0.5L * psi[2];
+        const long double b0 = cfg.q0_b_e[0], b1 = cfg.q0_b_e[1], b2 = cfg.q0_b_e[2], b3 = cfg.q0_b_e[3];
+        long double q[4] = {a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3, a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+                            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1, a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0};
+        const long double nq = sqrtl(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        for (int j = 0; j < 4; ++j) cfg.q0_b_e[j] = (gg_real_t)(q[j] / nq);
+    }
+    cref = cfg;
+    aid_config(&cfg.aid_mm);
+    cfg.aid_mm.sig0_pos_m = sig0_pos;
+    assert_int_equal(gg_nav3d_init(&g_nav, &cfg), GG_OK);
+    assert_int_equal(gg_nav3d_init(&g_nav_ref, &cref), GG_OK);
+    store.map = &g_map;
+    store.calls = 0;
+    hm.ctx = &store;
+    hm.tile_at = store_tile_at;
+    memset(&hal, 0, sizeof hal);
+    hal.map = &hm;
+    double nees = 0.0, nis = 0.0;
+    int k_ep = 0;
+    for (long long k = 0; k <= n; ++k) {
+        make_frame(&T, k, DT_US, &fr);
+        add_noise(&fr);
+        const gg_status_t st = gg_nav3d_step(&g_nav, &fr, &hal, &out);
+        if (st != GG_OK) fail_msg("step %lld: status %d health 0x%x", k, st, out.health);
+        assert_int_equal(gg_nav3d_step(&g_nav_ref, &fr, NULL, &oref), GG_OK);
+        assert_true((out.health & (GG_HEALTH_MM_FAIL | GG_HEALTH_MM_NO_MAP)) == 0U);
+        if (out.mm_corrected != 0) {
+            long double d[3];
+            pos_error_i(&T, k, &out, d);
+            res.nees_last = (double)quad3_inv((const double(*)[GG_UKF_NX_MAX])g_nav.aid_mm.ukf.P, d);
+            nees += res.nees_last;
+            nis += out.mm_nis;
+            ++k_ep;
+        }
+    }
+    {
+        long double d[3];
+        pos_error_i(&T, n, &out, d);
+        res.err_h_end = (double)sqrtl(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        pos_error_i(&T, n, &oref, d);
+        res.err_h_ref_end = (double)sqrtl(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    res.n_epochs = k_ep;
+    res.nees_mean = k_ep > 0 ? nees / k_ep : 0.0;
+    res.nis_mean = k_ep > 0 ? nis / k_ep : 0.0;
+    res.nis_sum = nis;
+    res.updates = out.mm_updates;
+    res.nx = g_nav.aid_mm.nx;
+    res.rejected = out.mm_rejected;
+    assert_true(store.calls >= k_ep);
+    return res;
+}
+
+/* 200 s eastbound with the start 150 m south and 100 m west of the truth
+ * (the filter told 200 m): the aid brings the position error below 5 m
+ * (unaided it stays ~180 m). */
+static void test_recovers_start_offset(void **state)
+{
+    (void)state;
+    const double dr[3] = {150.0, 100.0, 0.0};
+    const double dv[3] = {0.0, 0.0, 0.0};
+    const double psi[3] = {0.0, 0.0, 0.0};
+    g_rng = 0x9E3779B97F4A7C15ull;
+    const flight_t f = fly_aided(20000, dr, dv, psi, 200.0, 0);
+    print_message("aid: %d epochs (%u updated, %u rejected), |dr| end %.3f m (unaided %.3f m)\n",
+                  f.n_epochs, f.updates, f.rejected, f.err_h_end, f.err_h_ref_end);
+    assert_true(f.n_epochs >= 35);
+    assert_true(f.err_h_ref_end > 150.0);
+    assert_true(f.err_h_end < 5.0);
+}
+
+/* Consistency over 20 flights of 100 s, each with its start errors drawn
+ * from the filter's own P0 (30 m, 0.05 m/s and 1 urad per axis) and its own sensor
+ * noise: the mean over the flights of the position NEES (3 dof) after the
+ * last epoch, and the mean NIS (6 dof) over all epochs of all flights, in
+ * their 95 % chi-square bands. */
+static void test_consistency(void **state)
+{
+    (void)state;
+    const int n_runs = 20;
+    const double z = 1.959963984540054;
+    double nees = 0.0, nis = 0.0;
+    int n_ep = 0;
+    g_rng = 0x2545F4914F6CDD1Dull;
+    for (int r = 0; r < n_runs; ++r) {
+        double dr[3], dv[3], psi[3];
+        for (int j = 0; j < 3; ++j) {
+            dr[j] = 30.0 * nrand();
+            dv[j] = 0.05 * nrand();
+            psi[j] = 1.0e-6 * nrand();
+        }
+        const flight_t f = fly_aided(10000, dr, dv, psi, 30.0, 0);
+        assert_true(f.n_epochs >= 18);
+        assert_true(f.err_h_end < 10.0);
+        nees += f.nees_last;
+        nis += f.nis_sum;
+        n_ep += f.n_epochs;
+    }
+    nees /= n_runs;
+    nis /= n_ep;
+    print_message("aid: %d flights, mean NEES %.3f (3 dof, band %.3f..%.3f), mean NIS %.3f over %d epochs "
+                  "(6 dof, band %.3f..%.3f)\n",
+                  n_runs, nees, chi2q(-z, 3.0 * n_runs) / n_runs, chi2q(z, 3.0 * n_runs) / n_runs, nis, n_ep,
+                  chi2q(-z, 6.0 * n_ep) / n_ep, chi2q(z, 6.0 * n_ep) / n_ep);
+    assert_true(nees > chi2q(-z, 3.0 * n_runs) / n_runs && nees < chi2q(z, 3.0 * n_runs) / n_runs);
+    assert_true(nis > chi2q(-z, 6.0 * n_ep) / n_ep && nis < chi2q(z, 6.0 * n_ep) / n_ep);
+}
+
+/* Model mode (the onboard model lacks the buried masses: 10-20 E, ~4e-5 m/s^2
+ * of unmodelled gravity): 9 error states, no gravitation state; the same
+ * start offset is recovered. */
+static void test_model_mode_recovers(void **state)
+{
+    (void)state;
+    const double dr[3] = {150.0, 100.0, 0.0};
+    const double dv[3] = {0.0, 0.0, 0.0};
+    const double psi[3] = {0.0, 0.0, 0.0};
+    g_rng = 0x9E3779B97F4A7C15ull;
+    const flight_t f = fly_aided(20000, dr, dv, psi, 200.0, 1);
+    print_message("aid (model mode): %d epochs, |dr| end %.3f m (unaided %.3f m)\n", f.n_epochs, f.err_h_end,
+                  f.err_h_ref_end);
+    assert_int_equal(f.nx, GG_AID_MM_NX_MODEL);
+    assert_true(f.err_h_ref_end > 150.0);
+    assert_true(f.err_h_end < 5.0);
+}
+
+/* The aid switched off, and switched on without a map: the navigation
+ * state is bit for bit that of the unaided task; without a map every epoch
+ * is flagged NO_MAP. */
+static void test_off_and_no_map_unchanged(void **state)
+{
+    (void)state;
+    truth3_t T;
+    gg_nav3d_config_t cfg, con;
+    gg_nav3d_output_t o0, o1;
+    gg_frame_t fr;
+    gg_hal_map_t hm = {NULL, NULL};
+    gg_hal_t hal;
+    flight_truth(&T);
+    make_config(&T, GG_PLATFORM_STRAPDOWN, 1, DT_US, &cfg);
+    con = cfg;
+    aid_config(&con.aid_mm);
+    assert_int_equal(gg_nav3d_init(&g_nav_ref, &cfg), GG_OK);
+    assert_int_equal(gg_nav3d_init(&g_nav, &con), GG_OK);
+    memset(&hal, 0, sizeof hal);
+    hal.map = &hm;
+    uint32_t no_map = 0U;
+    for (long long k = 0; k <= 3000; ++k) {
+        make_frame(&T, k, DT_US, &fr);
+        assert_int_equal(gg_nav3d_step(&g_nav_ref, &fr, NULL, &o0), GG_OK);
+        assert_int_equal(gg_nav3d_step(&g_nav, &fr, &hal, &o1), GG_OK);
+        assert_memory_equal(o0.r_e, o1.r_e, sizeof o0.r_e);
+        assert_memory_equal(o0.r_e_lo, o1.r_e_lo, sizeof o0.r_e_lo);
+        assert_memory_equal(o0.v_e, o1.v_e, sizeof o0.v_e);
+        assert_memory_equal(o0.g_e, o1.g_e, sizeof o0.g_e);
+        assert_memory_equal(o0.q_b_e, o1.q_b_e, sizeof o0.q_b_e);
+        assert_true(o0.mm_epochs == 0U && o0.mm_sigma[0] == 0.0);
+        no_map |= o1.health & GG_HEALTH_MM_NO_MAP;
+        assert_true((o0.health & ~(uint32_t)0x0FFFFFFFu) == 0U);
+    }
+    assert_true(no_map != 0U);
+    assert_int_equal(o1.mm_no_map, o1.mm_epochs);
+    assert_true(o1.mm_epochs == 6U);
+}
+
+static void test_config(void **state)
+{
+    (void)state;
+    gg_aid_mm_t a;
+    gg_aid_mm_config_t c;
+    aid_config(&c);
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
+    assert_int_equal(a.nx, GG_AID_MM_NX_DR);
+    assert_int_equal(gg_aid_mm_init(&a, &c, 0), GG_OK);
+    assert_int_equal(a.nx, GG_AID_MM_NX_MODEL); /* model mode: no gravitation state */
+    c.update_steps = 2 * c.max_passes + 1;       /* too short for the schedule */
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
+    aid_config(&c);
+    c.sigma_meas_s2 = NAN;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
+    aid_config(&c);
+    c.enable = 0;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
+    assert_int_equal(a.initialized, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_config),
+        cmocka_unit_test(test_predict_matches_field),
+        cmocka_unit_test(test_off_and_no_map_unchanged),
+        cmocka_unit_test(test_recovers_start_offset),
+        cmocka_unit_test(test_consistency),
+        cmocka_unit_test(test_model_mode_recovers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
