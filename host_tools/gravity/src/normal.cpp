@@ -64,22 +64,29 @@ D atan(const D& a) {
   return chain(a, std::atan(a.v), d, -2.0L * a.v * d * d);
 }
 
-Real value(Real x) { return x; }
-template <class D>
-Real value(const D& x) { return x.v; }
 
-template <class T, class Mul>
-T q_series(const T& t, Mul mul) {
-  // q(t) = sum_{k>=1} (-1)^(k+1) 2k t^(2k+1) / ((2k+1)(2k+3)), t = E/u < 0.5.
-  const T t2 = mul(t, t);
-  T p = mul(t2, t);  // t^3
-  T q = (2.0L / 15.0L) * p;
-  for (int k = 2; k < 80; ++k) {
-    p = mul(p, t2);
+// q(t) = sum_{k>=1} (-1)^(k+1) 2k t^(2k+1) / ((2k+1)(2k+3)), t = E/u < 0.5, with
+// q'(t) and q''(t) from the same series differentiated term by term (so the
+// AD types pay for one chain rule instead of one product per term).
+void q_series(Real t, Real& q, Real& q1, Real& q2) {
+  const Real t2 = t * t;
+  Real p = t2;  // t^(2k) for k = 1
+  q = 0;
+  q1 = 0;
+  q2 = 0;
+  for (int k = 1; k < 80; ++k) {
     const Real c = ((k % 2) ? 2.0L : -2.0L) * k / ((2.0L * k + 1) * (2.0L * k + 3));
-    q = q + c * p;
-    if (std::fabs(c * value(p)) < 1e-24L * std::fabs(value(q))) break;
+    const Real n = 2.0L * k + 1;  // exponent of t in the term
+    q += c * p * t;
+    q1 += c * n * p;
+    q2 += c * n * (n - 1) * (p / t);
+    if (std::fabs(c * p * t) < 1e-24L * std::fabs(q)) break;
+    p *= t2;
   }
+}
+Real q_value(Real t) {
+  Real q, q1, q2;
+  q_series(t, q, q1, q2);
   return q;
 }
 
@@ -88,7 +95,7 @@ T q_series(const T& t, Mul mul) {
 NormalField::NormalField(const EllipsoidParams& p) : p_(p) {
   b_ = p_.a * (1.0L - p_.f);
   e_lin_ = std::sqrt(p_.a * p_.a - b_ * b_);
-  q0_ = q_series(e_lin_ / b_, [](Real x, Real y) { return x * y; });
+  q0_ = q_value(e_lin_ / b_);
   ShCoefficients z;
   z.gm = p_.gm; z.a = p_.a; z.source = "normal-zonal";
   z.resize(20);
@@ -123,7 +130,9 @@ D NormalField::potential_ad(const Vec3& r_e) const {
   const D iu = inv(sqrt(u2));
   const D t = e_lin_ * iu;                       // E/u
   const D sin2b = x[2] * x[2] * inv(u2);         // sin^2(beta) = z^2/u^2
-  const D q = q_series(t, [](const D& a, const D& b) { return a * b; });
+  Real qv, q1, q2;
+  q_series(t.v, qv, q1, q2);
+  const D q = chain(t, qv, q1, q2);
   const Real k = 0.5L * p_.omega * p_.omega * p_.a * p_.a / q0_;
   return (p_.gm / e_lin_) * atan(t) + k * (q * (sin2b + (-1.0L / 3.0L)));
 }
@@ -138,6 +147,20 @@ FieldSample NormalField::eval(const Vec3& r_e) const {
 }
 
 Vec3 NormalField::gravitation(const Vec3& r_e) const { return potential_ad<Gd>(r_e).d; }
+
+FieldSample NormalField::eval_pairs(const Vec3& r, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const {
+  const FieldSample s = eval(r);
+  for (std::size_t k = 0; k < n; ++k) {
+    plus[k] = gravitation(r + d[k]);
+    minus[k] = plus[k] - 2.0L * (s.gamma * d[k]);
+  }
+  return s;
+}
+
+Real NormalField::pair_truncation_bound(const Vec3& r, Real d_norm) const {
+  const Real rn = r.norm();
+  return 1.05L * 8.0L * p_.gm * d_norm * d_norm * d_norm / (rn * rn * rn * rn * rn);
+}
 
 Real NormalField::centrifugal_potential(const Vec3& r) const {
   return 0.5L * p_.omega * p_.omega * (r.x() * r.x() + r.y() * r.y());
