@@ -68,20 +68,29 @@ D atan(const D& a) {
 // q(t) = sum_{k>=1} (-1)^(k+1) 2k t^(2k+1) / ((2k+1)(2k+3)), t = E/u < 0.5, with
 // q'(t) and q''(t) from the same series differentiated term by term (so the
 // AD types pay for one chain rule instead of one product per term).
+constexpr int kQTerms = 80;
+struct QCoefficients {
+  Real c[kQTerms];  // c_k = (-1)^(k+1) 2k / ((2k+1)(2k+3))
+  QCoefficients() {
+    for (int k = 1; k < kQTerms; ++k) c[k] = ((k % 2) ? 2.0L : -2.0L) * k / ((2.0L * k + 1) * (2.0L * k + 3));
+  }
+};
 void q_series(Real t, Real& q, Real& q1, Real& q2) {
+  static const QCoefficients qc;
   const Real t2 = t * t;
-  Real p = t2;  // t^(2k) for k = 1
+  Real p = t2, pm = t;  // t^(2k), t^(2k-1) for k = 1
   q = 0;
   q1 = 0;
   q2 = 0;
-  for (int k = 1; k < 80; ++k) {
-    const Real c = ((k % 2) ? 2.0L : -2.0L) * k / ((2.0L * k + 1) * (2.0L * k + 3));
+  for (int k = 1; k < kQTerms; ++k) {
+    const Real c = qc.c[k];
     const Real n = 2.0L * k + 1;  // exponent of t in the term
     q += c * p * t;
     q1 += c * n * p;
-    q2 += c * n * (n - 1) * (p / t);
+    q2 += c * n * (n - 1) * pm;
     if (std::fabs(c * p * t) < 1e-24L * std::fabs(q)) break;
     p *= t2;
+    pm *= t2;
   }
 }
 Real q_value(Real t) {
