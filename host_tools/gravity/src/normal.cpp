@@ -8,51 +8,87 @@
 namespace ggins::gravity {
 namespace {
 
-// Value, gradient and Hessian of a scalar function of r_e (forward-mode AD,
-// order 2), and value and gradient only (order 1: the same operations on
-// v and d, so G is the same to the bit).
+// The potential is axially symmetric: a function of A = x^2 + y^2 + z^2 and
+// B = z^2 alone. Forward-mode AD in these two variables: value, gradient and
+// Hessian (order 2; h = (AA, AB, BB)) and value and gradient (order 1: the
+// same operations on v and d, so G is the same to the bit); the Cartesian G
+// and Gamma follow by the chain rule (cartesian() below).
 struct Hd {
   Real v = 0;
-  Vec3 d = Vec3::Zero();
-  Mat3 h = Mat3::Zero();
+  Real d[2] = {0, 0};
+  Real h[3] = {0, 0, 0};
 };
 struct Gd {
   Real v = 0;
-  Vec3 d = Vec3::Zero();
+  Real d[2] = {0, 0};
 };
 
-Hd operator+(const Hd& a, const Hd& b) { Hd r; r.v = a.v + b.v; r.d = a.d + b.d; r.h = a.h + b.h; return r; }
-Hd operator*(Real s, const Hd& a) { Hd r; r.v = s * a.v; r.d = s * a.d; r.h = s * a.h; return r; }
+Hd operator+(const Hd& a, const Hd& b) {
+  Hd r;
+  r.v = a.v + b.v;
+  for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] + b.d[i];
+  for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] + b.h[i];
+  return r;
+}
+Hd operator*(Real s, const Hd& a) {
+  Hd r;
+  r.v = s * a.v;
+  for (int i = 0; i < 2; ++i) r.d[i] = s * a.d[i];
+  for (int i = 0; i < 3; ++i) r.h[i] = s * a.h[i];
+  return r;
+}
 Hd operator+(const Hd& a, Real s) { Hd r = a; r.v += s; return r; }
 Hd operator*(const Hd& a, const Hd& b) {
   Hd r;
   r.v = a.v * b.v;
-  r.d = a.v * b.d + b.v * a.d;
-  r.h = a.v * b.h + b.v * a.h + a.d * b.d.transpose() + b.d * a.d.transpose();
+  for (int i = 0; i < 2; ++i) r.d[i] = a.v * b.d[i] + b.v * a.d[i];
+  r.h[0] = a.v * b.h[0] + b.v * a.h[0] + 2.0L * (a.d[0] * b.d[0]);
+  r.h[1] = a.v * b.h[1] + b.v * a.h[1] + (a.d[0] * b.d[1] + a.d[1] * b.d[0]);
+  r.h[2] = a.v * b.h[2] + b.v * a.h[2] + 2.0L * (a.d[1] * b.d[1]);
   return r;
 }
 // f(a) with f' = f1, f'' = f2 evaluated at a.v (chain rule to second order).
 Hd chain(const Hd& a, Real f, Real f1, Real f2) {
   Hd r;
   r.v = f;
-  r.d = f1 * a.d;
-  r.h = f1 * a.h + f2 * (a.d * a.d.transpose());
+  for (int i = 0; i < 2; ++i) r.d[i] = f1 * a.d[i];
+  r.h[0] = f1 * a.h[0] + f2 * (a.d[0] * a.d[0]);
+  r.h[1] = f1 * a.h[1] + f2 * (a.d[0] * a.d[1]);
+  r.h[2] = f1 * a.h[2] + f2 * (a.d[1] * a.d[1]);
   return r;
 }
-Gd operator+(const Gd& a, const Gd& b) { Gd r; r.v = a.v + b.v; r.d = a.d + b.d; return r; }
-Gd operator*(Real s, const Gd& a) { Gd r; r.v = s * a.v; r.d = s * a.d; return r; }
+Gd operator+(const Gd& a, const Gd& b) { Gd r; r.v = a.v + b.v; for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] + b.d[i]; return r; }
+Gd operator*(Real s, const Gd& a) { Gd r; r.v = s * a.v; for (int i = 0; i < 2; ++i) r.d[i] = s * a.d[i]; return r; }
 Gd operator+(const Gd& a, Real s) { Gd r = a; r.v += s; return r; }
 Gd operator*(const Gd& a, const Gd& b) {
   Gd r;
   r.v = a.v * b.v;
-  r.d = a.v * b.d + b.v * a.d;
+  for (int i = 0; i < 2; ++i) r.d[i] = a.v * b.d[i] + b.v * a.d[i];
   return r;
 }
 Gd chain(const Gd& a, Real f, Real f1, Real) {
   Gd r;
   r.v = f;
-  r.d = f1 * a.d;
+  for (int i = 0; i < 2; ++i) r.d[i] = f1 * a.d[i];
   return r;
+}
+// G = grad V(A, B) = (2x V_A, 2y V_A, 2z (V_A + V_B)).
+template <class D>
+Vec3 cartesian_g(const Vec3& r, const D& v) {
+  return Vec3(2.0L * r.x() * v.d[0], 2.0L * r.y() * v.d[0], 2.0L * r.z() * (v.d[0] + v.d[1]));
+}
+// Gamma_ij = 2 V_A delta_ij + 4 x_i x_j V_AA (i, j horizontal), Gamma_iz = 4 x_i z (V_AA + V_AB),
+// Gamma_zz = 2 (V_A + V_B) + 4 z^2 (V_AA + 2 V_AB + V_BB).
+Mat3 cartesian_gamma(const Vec3& r, const Hd& v) {
+  const Real x = r.x(), y = r.y(), z = r.z(), a = v.h[0], c = v.h[0] + v.h[1];
+  Mat3 m;
+  m(0, 0) = 2.0L * v.d[0] + 4.0L * (x * x) * a;
+  m(1, 1) = 2.0L * v.d[0] + 4.0L * (y * y) * a;
+  m(0, 1) = m(1, 0) = 4.0L * (x * y) * a;
+  m(0, 2) = m(2, 0) = 4.0L * (x * z) * c;
+  m(1, 2) = m(2, 1) = 4.0L * (y * z) * c;
+  m(2, 2) = 2.0L * (v.d[0] + v.d[1]) + 4.0L * (z * z) * (v.h[0] + 2.0L * v.h[1] + v.h[2]);
+  return m;
 }
 template <class D>
 D inv(const D& a) { const Real i = 1.0L / a.v; return chain(a, i, -i * i, 2.0L * i * i * i); }
@@ -125,20 +161,22 @@ bool NormalField::third(const Vec3& r, Tensor3& t) const { return zonal_->third(
 
 template <class D>
 D NormalField::potential_ad(const Vec3& r_e) const {
-  D x[3];
-  for (int i = 0; i < 3; ++i) { x[i].v = r_e[i]; x[i].d[i] = 1.0L; }
+  D r2, z2;  // the variables A = r^2, B = z^2
+  r2.v = r_e[0] * r_e[0] + r_e[1] * r_e[1] + r_e[2] * r_e[2];
+  r2.d[0] = 1.0L;
+  z2.v = r_e[2] * r_e[2];
+  z2.d[1] = 1.0L;
   const Real e2 = e_lin_ * e_lin_;
-  const D r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
   const D w = r2 + (-e2);
   if (!(w.v > 3.0L * e2) || !std::isfinite(w.v))
     throw std::domain_error("NormalField: point too close to the centre (u < 2E) or not finite");
   // u^2 = w/2 [1 + sqrt(1 + 4 E^2 z^2 / w^2)]
   const D iw = inv(w);
-  const D ratio = (4.0L * e2) * (x[2] * x[2] * iw * iw);
+  const D ratio = (4.0L * e2) * (z2 * iw * iw);
   const D u2 = 0.5L * (w * (sqrt(ratio + 1.0L) + 1.0L));
   const D iu = inv(sqrt(u2));
   const D t = e_lin_ * iu;                       // E/u
-  const D sin2b = x[2] * x[2] * inv(u2);         // sin^2(beta) = z^2/u^2
+  const D sin2b = z2 * inv(u2);                  // sin^2(beta) = z^2/u^2
   Real qv, q1, q2;
   q_series(t.v, qv, q1, q2);
   const D q = chain(t, qv, q1, q2);
@@ -150,12 +188,12 @@ FieldSample NormalField::eval(const Vec3& r_e) const {
   const Hd v = potential_ad<Hd>(r_e);
   FieldSample s;
   s.potential = v.v;
-  s.g = v.d;
-  s.gamma = 0.5L * (v.h + v.h.transpose());
+  s.g = cartesian_g(r_e, v);
+  s.gamma = cartesian_gamma(r_e, v);
   return s;
 }
 
-Vec3 NormalField::gravitation(const Vec3& r_e) const { return potential_ad<Gd>(r_e).d; }
+Vec3 NormalField::gravitation(const Vec3& r_e) const { return cartesian_g(r_e, potential_ad<Gd>(r_e)); }
 
 FieldSample NormalField::eval_pairs(const Vec3& r, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const {
   const FieldSample s = eval(r);

@@ -15,7 +15,9 @@
 // class returns V = U - that term, i.e. GRAVITATION ONLY, as the Field
 // interface requires. g = grad V and Gamma = grad grad V are exact derivatives
 // of the closed form, obtained by second-order forward automatic
-// differentiation in long double (no finite differences, no series in r).
+// differentiation in long double in the two variables r^2 and z^2 (V is
+// axially symmetric), then the chain rule to x, y, z (no finite differences,
+// no series in r).
 // q(u) is evaluated by its power series in t = E/u (derived from the series of
 // atan), which avoids the 6-digit cancellation of the closed expression:
 //   q = sum_{k>=1} (-1)^(k+1) 2k t^(2k+1) / ((2k+1)(2k+3)).
