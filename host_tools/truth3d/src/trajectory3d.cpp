@@ -22,13 +22,15 @@ JMat3<N> rot3(const Jet<N>& a) {  // [[c,-s,0],[s,c,0],[0,0,1]]
   m[2] = {T(0), T(0), T(1)};
   return m;
 }
-JM rot1(const J& a) {  // [[1,0,0],[0,c,-s],[0,s,c]]
-  J s, c;
+template <int N>
+JMat3<N> rot1(const Jet<N>& a) {  // [[1,0,0],[0,c,-s],[0,s,c]]
+  using T = Jet<N>;
+  T s, c;
   sincos(a, s, c);
-  JM m;
-  m[0] = {J(1), J(0), J(0)};
-  m[1] = {J(0), c, -s};
-  m[2] = {J(0), s, c};
+  JMat3<N> m;
+  m[0] = {T(1), T(0), T(0)};
+  m[1] = {T(0), c, -s};
+  m[2] = {T(0), s, c};
   return m;
 }
 JM constant(const JM& m) {
@@ -223,12 +225,12 @@ void Circle3::jets(Real t, JV& r_e, JM& C_b_i) const {
 Tumble3::Tumble3(const TumbleParams& p) : p_(p) { r_e_ = wgs::geodetic_to_ecef(p.lat, p.lon, p.h); }
 
 void Tumble3::jets(Real t, JV& r_e, JM& C_b_i) const {
-  const J T = J::variable(t);
   r_e = {J(r_e_(0)), J(r_e_(1)), J(r_e_(2))};
-  const J psi = p_.psi0 + T * p_.precession_radps;
-  const J nu = p_.nutation0 + sin(T * p_.nutation_radps) * p_.nutation_amp;
-  const J phi = p_.phi0 + T * p_.spin_radps;
-  C_b_i = matmul(matmul(rot3(psi), rot1(nu)), rot3(phi));
+  const JA T = JA::variable(t);  // the attitude to order 2
+  const JA psi = p_.psi0 + T * p_.precession_radps;
+  const JA nu = p_.nutation0 + sin(T * p_.nutation_radps) * p_.nutation_amp;
+  const JA phi = p_.phi0 + T * p_.spin_radps;
+  C_b_i = resize<kJetOrder>(matmul(matmul(rot3(psi), rot1(nu)), rot3(phi)));
 }
 
 // ---- helpers ---------------------------------------------------------------

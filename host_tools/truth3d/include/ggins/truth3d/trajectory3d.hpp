@@ -91,7 +91,8 @@ void ned_axes(const J& lat, const J& lon, JV& north, JV& east, JV& down);
 class Trajectory3 {
  public:
   virtual ~Trajectory3() = default;
-  // Jets at time t: r_e (valid to order kJetOrder) and C_b_i (valid to order >= 2).
+  // Jets at time t: r_e (valid to order kJetOrder) and C_b_i (valid to order >= 2;
+  // at() reads orders 0..2, the kinds here compute exactly those).
   virtual void jets(Real t, JV& r_e, JM& C_b_i) const = 0;
   virtual std::string name() const = 0;
   // Everything at time t (from jets()).
