@@ -197,13 +197,14 @@ Truth3 Generator3::truth(int64_t k) const {
   return r;
 }
 
+Vec3 Generator3::specific_force(const State3& s, size_t j, const Vec3& g_j) const {
+  const Vec3 a_j = s.a_i + s.C_b_i_ddot * d_[j];
+  return s.C_b_i.transpose() * a_j - s.C_b_e.transpose() * g_j;
+}
+
 std::array<Vec3, 6> Generator3::specific_forces(const State3& s, const Vec3 g_plus[3], const Vec3 g_minus[3]) const {
   std::array<Vec3, 6> f;
-  for (size_t j = 0; j < 6; ++j) {
-    const Vec3 a_j = s.a_i + s.C_b_i_ddot * d_[j];
-    const Vec3& g_j = j < 3 ? g_plus[j] : g_minus[j - 3];
-    f[j] = s.C_b_i.transpose() * a_j - s.C_b_e.transpose() * g_j;
-  }
+  for (size_t j = 0; j < 6; ++j) f[j] = specific_force(s, j, j < 3 ? g_plus[j] : g_minus[j - 3]);
   return f;
 }
 
@@ -224,10 +225,8 @@ std::array<Vec3, 6> Generator3::accel_true(const Truth3& t) const {
 }
 
 Vec3 Generator3::accel_reference(const Truth3& t, int j) const {
-  const Vec3& d = d_[static_cast<size_t>(j)];
-  const Vec3 a_j = t.s.a_i + t.s.C_b_i_ddot * d;
-  const Vec3 g_j = field_->gravitation(t.s.r_e + t.s.C_b_e * d);
-  return t.s.C_b_i.transpose() * a_j - t.s.C_b_e.transpose() * g_j;
+  const auto sj = static_cast<size_t>(j);
+  return specific_force(t.s, sj, field_->gravitation(t.s.r_e + t.s.C_b_e * d_[sj]));
 }
 
 truth::BaroSample Generator3::baro(int64_t k, const Truth3& t) const {

@@ -99,7 +99,9 @@ class Generator3 {
   Truth3 sensors_at(Real t, std::array<Vec3, 6>& f) const;
   // Truth3 of a state and the field sample at its centre.
   static Truth3 make_truth(Real t, const State3& s, const gravity::FieldSample& c);
-  // f_j from the state and G_e at the + and - sensors of the three pairs.
+  // f_j = C_b_i^T (a_i + C_b_i'' d_j) - C_b_e^T g_j for the field g_j at sensor j.
+  Vec3 specific_force(const State3& s, size_t j, const Vec3& g_j) const;
+  // The six f_j from G_e at the + and - sensors of the three pairs.
   std::array<Vec3, 6> specific_forces(const State3& s, const Vec3 g_plus[3], const Vec3 g_minus[3]) const;
   std::shared_ptr<const Trajectory3> traj_;
   std::shared_ptr<const gravity::Field> field_;
