@@ -2,20 +2,24 @@
 // comparing two builds of the generator to the digit
 // (tests/truth3d/compare_dumps.py). Per line: step k, G_e (3), Gamma_e (9,
 // row-major), f_b (3), then the true specific force of the six
-// accelerometers (6 x 3), every `stride`-th step of the first n.
-//   truth3d_dump SCENARIO N STRIDE
+// accelerometers (6 x 3), every `stride`-th step of the first n. With
+// `reference`, the accelerometers from the field at each sensor's own position
+// (Generator3::accel_reference) instead of the fast path frame() sends.
+//   truth3d_dump SCENARIO N STRIDE [reference]
 #include "ggins/truth3d/generator3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
 
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <string>
 
 using namespace ggins::truth3d;
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: truth3d_dump SCENARIO N STRIDE\n");
+  const bool reference = argc == 5 && std::string(argv[4]) == "reference";
+  if (argc != 4 && !reference) {
+    std::fprintf(stderr, "usage: truth3d_dump SCENARIO N STRIDE [reference]\n");
     return 2;
   }
   try {
@@ -30,8 +34,9 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) std::printf(" %.21Le", t.gamma_e(i, j));
       for (int i = 0; i < 3; ++i) std::printf(" %.21Le", t.f_b[i]);
+      const auto fast = g.accel_true(t);
       for (int a = 0; a < 6; ++a) {
-        const auto f = g.accel_true(t, a);
+        const Vec3 f = reference ? g.accel_reference(t, a) : fast[static_cast<size_t>(a)];
         for (int i = 0; i < 3; ++i) std::printf(" %.21Le", f[i]);
       }
       std::printf("\n");

@@ -152,6 +152,19 @@ FieldSample FastField::eval(const Vec3& r) const {
 
 Vec3 FastField::gravitation(const Vec3& r) const { return normal_->gravitation(r) + anomaly_->gravitation(r); }
 
+FieldSample FastField::eval_pairs(const Vec3& r, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const {
+  FieldSample s = normal_->eval_pairs(r, d, n, plus, minus);
+  for (std::size_t k = 0; k < n; ++k) {
+    plus[k] += anomaly_->gravitation(r + d[k]);
+    minus[k] += anomaly_->gravitation(r - d[k]);
+  }
+  const FieldSample a = anomaly_->eval(r);
+  s.potential += a.potential;
+  s.g += a.g;
+  s.gamma += a.gamma;
+  return s;
+}
+
 std::string FastField::name() const { return "fast(" + normal_->name() + " + " + anomaly_->name() + ")"; }
 
 // ---- Ewald-split point masses ----------------------------------------------

@@ -31,6 +31,14 @@ class PointByPointCircle final : public FieldCircle {
 };
 }  // namespace
 
+FieldSample Field::eval_pairs(const Vec3& r, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const {
+  for (std::size_t k = 0; k < n; ++k) {
+    plus[k] = gravitation(r + d[k]);
+    minus[k] = gravitation(r - d[k]);
+  }
+  return eval(r);
+}
+
 std::unique_ptr<FieldCircle> Field::circle(Real rho, Real z, Real e_rho, Real e_z) const {
   return std::make_unique<PointByPointCircle>(*this, rho, z, e_rho, e_z);
 }

@@ -176,17 +176,21 @@ void Generator3::init_errors() {
   }
 }
 
-Truth3 Generator3::truth_at(Real t) const {
+Truth3 Generator3::make_truth(Real t, const State3& s, const gravity::FieldSample& c) {
   Truth3 r;
   r.t_s = t;
-  r.s = traj_->at(t);
-  const gravity::FieldSample c = field_->eval(r.s.r_e);
+  r.s = s;
   r.g_e = c.g;
-  r.g_i = r.s.C_e_i * c.g;
+  r.g_i = s.C_e_i * c.g;
   r.gamma_e = c.gamma;
-  r.gamma_b = r.s.C_b_e.transpose() * c.gamma * r.s.C_b_e;
-  r.f_b = r.s.C_b_i.transpose() * r.s.a_i - r.s.C_b_e.transpose() * c.g;
+  r.gamma_b = s.C_b_e.transpose() * c.gamma * s.C_b_e;
+  r.f_b = s.C_b_i.transpose() * s.a_i - s.C_b_e.transpose() * c.g;
   return r;
+}
+
+Truth3 Generator3::truth_at(Real t) const {
+  const State3 s = traj_->at(t);
+  return make_truth(t, s, field_->eval(s.r_e));
 }
 
 Truth3 Generator3::truth(int64_t k) const {
@@ -196,11 +200,36 @@ Truth3 Generator3::truth(int64_t k) const {
   return r;
 }
 
-Vec3 Generator3::accel_true(const Truth3& t, int j) const {
-  const Vec3& d = d_[static_cast<size_t>(j)];
-  const Vec3 a_j = t.s.a_i + t.s.C_b_i_ddot * d;
-  const Vec3 g_j = field_->gravitation(t.s.r_e + t.s.C_b_e * d);
-  return t.s.C_b_i.transpose() * a_j - t.s.C_b_e.transpose() * g_j;
+Vec3 Generator3::specific_force(const State3& s, size_t j, const Vec3& g_j) const {
+  const Vec3 a_j = s.a_i + s.C_b_i_ddot * d_[j];
+  return s.C_b_i.transpose() * a_j - s.C_b_e.transpose() * g_j;
+}
+
+std::array<Vec3, 6> Generator3::specific_forces(const State3& s, const Vec3 g_plus[3], const Vec3 g_minus[3]) const {
+  std::array<Vec3, 6> f;
+  for (size_t j = 0; j < 6; ++j) f[j] = specific_force(s, j, j < 3 ? g_plus[j] : g_minus[j - 3]);
+  return f;
+}
+
+Truth3 Generator3::sensors_at(Real t, std::array<Vec3, 6>& f) const {
+  const State3 s = traj_->at(t);
+  Vec3 d_e[3], gp[3], gm[3];  // d_[j + 3] = -d_[j] (init_errors)
+  for (size_t k = 0; k < 3; ++k) d_e[k] = s.C_b_e * d_[k];
+  const Truth3 r = make_truth(t, s, field_->eval_pairs(s.r_e, d_e, 3, gp, gm));
+  f = specific_forces(s, gp, gm);
+  return r;
+}
+
+std::array<Vec3, 6> Generator3::accel_true(const Truth3& t) const {
+  Vec3 d_e[3], gp[3], gm[3];
+  for (size_t k = 0; k < 3; ++k) d_e[k] = t.s.C_b_e * d_[k];
+  (void)field_->eval_pairs(t.s.r_e, d_e, 3, gp, gm);
+  return specific_forces(t.s, gp, gm);
+}
+
+Vec3 Generator3::accel_reference(const Truth3& t, int j) const {
+  const auto sj = static_cast<size_t>(j);
+  return specific_force(t.s, sj, field_->gravitation(t.s.r_e + t.s.C_b_e * d_[sj]));
 }
 
 truth::BaroSample Generator3::baro(int64_t k, const Truth3& t) const {
@@ -220,14 +249,17 @@ truth::BaroSample Generator3::baro(int64_t k, const Truth3& t) const {
 
 void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
   std::memset(&out, 0, sizeof out);
-  const Truth3 t = truth(k);
+  std::array<Vec3, 6> fs;
+  Truth3 t = sensors_at(time_of(k), fs);
+  t.seq = k;
+  t.utime = k * opt_.dt_us;
   out.utime = t.utime;
   out.seq = k;
   out.n_acc = 6;
   const auto& ae = opt_.accel;
   for (int i = 0; i < 6; ++i) {
     const auto si = static_cast<size_t>(i);
-    const Vec3 fi = accel_true(t, i);
+    const Vec3& fi = fs[si];
     for (int j = 0; j < 3; ++j) {
       const auto sj = static_cast<size_t>(j);
       Real f = fi(j) * (1.0L + static_cast<Real>(ascale_[si][sj])) + static_cast<Real>(abias_[si][sj]);

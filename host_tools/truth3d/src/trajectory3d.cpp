@@ -11,22 +11,26 @@ namespace wgs = gravity::wgs84;
 
 namespace {
 
-JM rot3(const J& a) {  // [[c,-s,0],[s,c,0],[0,0,1]]
-  J s, c;
+template <int N>
+JMat3<N> rot3(const Jet<N>& a) {  // [[c,-s,0],[s,c,0],[0,0,1]]
+  using T = Jet<N>;
+  T s, c;
   sincos(a, s, c);
-  JM m;
-  m[0] = {c, -s, J(0)};
-  m[1] = {s, c, J(0)};
-  m[2] = {J(0), J(0), J(1)};
+  JMat3<N> m;
+  m[0] = {c, -s, T(0)};
+  m[1] = {s, c, T(0)};
+  m[2] = {T(0), T(0), T(1)};
   return m;
 }
-JM rot1(const J& a) {  // [[1,0,0],[0,c,-s],[0,s,c]]
-  J s, c;
+template <int N>
+JMat3<N> rot1(const Jet<N>& a) {  // [[1,0,0],[0,c,-s],[0,s,c]]
+  using T = Jet<N>;
+  T s, c;
   sincos(a, s, c);
-  JM m;
-  m[0] = {J(1), J(0), J(0)};
-  m[1] = {J(0), c, -s};
-  m[2] = {J(0), s, c};
+  JMat3<N> m;
+  m[0] = {T(1), T(0), T(0)};
+  m[1] = {T(0), c, -s};
+  m[2] = {T(0), s, c};
   return m;
 }
 JM constant(const JM& m) {
@@ -53,39 +57,67 @@ JV geodetic_to_ecef(const J& lat, const J& lon, const J& h) {
   return {nh * cl * co, nh * cl * so, (N * (1 - wgs::kE2) + h) * sl};
 }
 
-void ned_axes(const J& lat, const J& lon, JV& north, JV& east, JV& down) {
-  J sl, cl, so, co;
+namespace {
+template <int N>
+void ned_axes_n(const Jet<N>& lat, const Jet<N>& lon, JVec3<N>& north, JVec3<N>& east, JVec3<N>& down) {
+  Jet<N> sl, cl, so, co;
   sincos(lat, sl, cl);
   sincos(lon, so, co);
   north = {-sl * co, -sl * so, cl};
-  east = {-so, co, J(0)};
+  east = {-so, co, Jet<N>(0)};
   down = {-cl * co, -cl * so, -sl};
 }
+}  // namespace
 
-JM earth_rotation(Real t) { return rot3(kOmegaIe * J::variable(t)); }
+void ned_axes(const J& lat, const J& lon, JV& north, JV& east, JV& down) { ned_axes_n(lat, lon, north, east, down); }
 
-JM coordinated_attitude_e(const J& lat, const J& lon, const JV& v_e, const JV& a_e) {
-  JV n, e, d;
-  ned_axes(lat, lon, n, e, d);
-  const JV x = normalized(v_e);
-  const JV y0 = normalized(cross(d, x));
-  const JV z0 = cross(x, y0);
-  const J q = dot(a_e, y0) / kG0;  // tan(bank)
-  const J ic = 1 / sqrt(1 + q * q);
-  const J c = ic, s = q * ic;
-  const JV y = scale(y0, c) + scale(z0, s);
-  const JV z = scale(z0, c) - scale(y0, s);
-  JM C;
+template <int N>
+JMat3<N> earth_rotation(Real t) {
+  return rot3(kOmegaIe * Jet<N>::variable(t));
+}
+template JMat3<kJetOrder> earth_rotation<kJetOrder>(Real t);
+template JMat3<kAttOrder> earth_rotation<kAttOrder>(Real t);
+
+JMA coordinated_attitude_e(const JA& lat, const JA& lon, const JVA& v_e, const JVA& a_e) {
+  JVA n, e, d;
+  ned_axes_n(lat, lon, n, e, d);
+  const JVA x = normalized(v_e);
+  const JVA y0 = normalized(cross(d, x));
+  const JVA z0 = cross(x, y0);
+  const JA q = dot(a_e, y0) / kG0;  // tan(bank)
+  const JA ic = 1 / sqrt(1 + q * q);
+  const JA c = ic, s = q * ic;
+  const JVA y = scale(y0, c) + scale(z0, s);
+  const JVA z = scale(z0, c) - scale(y0, s);
+  JMA C;
   for (int i = 0; i < 3; ++i) C[i] = {x[i], y[i], z[i]};
   return C;
 }
 
+JM coordinated_attitude_e(const J& lat, const J& lon, const JV& v_e, const JV& a_e) {
+  return resize<kJetOrder>(coordinated_attitude_e(resize<kAttOrder>(lat), resize<kAttOrder>(lon),
+                                                  resize<kAttOrder>(v_e), resize<kAttOrder>(a_e)));
+}
+
+namespace {
+// The coordinated C_b_i = R3(omega_ie t) C_b_e of a trajectory's order-4 jets (order 2, widened).
+JM coordinated_attitude_i(Real t, const J& lat, const J& lon, const JV& r_e) {
+  const JV v = deriv(r_e), a = deriv(v);
+  const JMA C_b_e = coordinated_attitude_e(resize<kAttOrder>(lat), resize<kAttOrder>(lon), resize<kAttOrder>(v),
+                                           resize<kAttOrder>(a));
+  return resize<kJetOrder>(matmul(earth_rotation<kAttOrder>(t), C_b_e));
+}
+}  // namespace
+
 State3 Trajectory3::at(Real t) const {
-  JV rj;
-  JM Cj;
-  jets(t, rj, Cj);
-  const JM R = earth_rotation(t);
-  const JV ri = matvec(R, rj);
+  JV r4;
+  JM C4;
+  jets(t, r4, C4);
+  // State3 needs derivatives up to 2: order-2 jets (same coefficients 0..2)
+  const JVA rj = resize<kAttOrder>(r4);
+  const JMA Cj = resize<kAttOrder>(C4);
+  const JMA R = earth_rotation<kAttOrder>(t);
+  const JVA ri = matvec(R, rj);
   State3 s;
   s.t = t;
   s.r_i = value(ri);
@@ -118,8 +150,11 @@ Flight3::Flight3(const FlightParams& p, Attitude att) : p_(p), att_(att) {
   rate_scale_[0] = 1 / (M + p.h0);
   rate_scale_[1] = 1 / ((N + p.h0) * std::cos(p.lat0));
   rate_scale_[2] = -1;
-  for (const auto& m : p.maneuvers)
+  for (const auto& m : p.maneuvers) {
     if (!(m.duration_s > 0)) throw std::invalid_argument("flight: maneuver duration must be > 0");
+    const Real tau = m.duration_s / 8;
+    sp0_.push_back(softplus(J(-m.t_s / tau)).val());
+  }
   const Real v2 = p.v_ned0[0] * p.v_ned0[0] + p.v_ned0[1] * p.v_ned0[1] + p.v_ned0[2] * p.v_ned0[2];
   if (!(v2 > 1)) throw std::invalid_argument("flight: initial speed must be > 1 m/s (attitude along the velocity)");
   J lat, lon, h;
@@ -132,9 +167,10 @@ void Flight3::geodetic(Real t, J& lat, J& lon, J& h) const {
   const J T = J::variable(t);
   J pos[3];
   for (int i = 0; i < 3; ++i) pos[i] = T * p_.v_ned0[i];
-  for (const auto& m : p_.maneuvers) {
+  for (std::size_t k = 0; k < p_.maneuvers.size(); ++k) {
+    const Maneuver& m = p_.maneuvers[k];
     const Real tau = m.duration_s / 8;
-    const J sp = softplus((T - m.t_s) / tau) - softplus(J(-m.t_s / tau)).val();
+    const J sp = softplus((T - m.t_s) / tau) - sp0_[k];
     for (int i = 0; i < 3; ++i)
       if (m.dv_ned[i] != 0) pos[i] += sp * (m.dv_ned[i] * tau);
   }
@@ -144,8 +180,7 @@ void Flight3::geodetic(Real t, J& lat, J& lon, J& h) const {
 }
 
 JM Flight3::attitude(Real t, const J& lat, const J& lon, const JV& r_e) const {
-  const JV v = deriv(r_e), a = deriv(v);
-  return matmul(earth_rotation(t), coordinated_attitude_e(lat, lon, v, a));
+  return coordinated_attitude_i(t, lat, lon, r_e);
 }
 
 void Flight3::jets(Real t, JV& r_e, JM& C_b_i) const {
@@ -182,8 +217,7 @@ void Circle3::jets(Real t, JV& r_e, JM& C_b_i) const {
     C_b_i = c0_;
     return;
   }
-  const JV v = deriv(r_e), a = deriv(v);
-  C_b_i = matmul(earth_rotation(t), coordinated_attitude_e(lat, lon, v, a));
+  C_b_i = coordinated_attitude_i(t, lat, lon, r_e);
 }
 
 // ---- Tumble ----------------------------------------------------------------
@@ -191,28 +225,21 @@ void Circle3::jets(Real t, JV& r_e, JM& C_b_i) const {
 Tumble3::Tumble3(const TumbleParams& p) : p_(p) { r_e_ = wgs::geodetic_to_ecef(p.lat, p.lon, p.h); }
 
 void Tumble3::jets(Real t, JV& r_e, JM& C_b_i) const {
-  const J T = J::variable(t);
   r_e = {J(r_e_(0)), J(r_e_(1)), J(r_e_(2))};
-  const J psi = p_.psi0 + T * p_.precession_radps;
-  const J nu = p_.nutation0 + sin(T * p_.nutation_radps) * p_.nutation_amp;
-  const J phi = p_.phi0 + T * p_.spin_radps;
-  C_b_i = matmul(matmul(rot3(psi), rot1(nu)), rot3(phi));
+  const JA T = JA::variable(t);  // the attitude to order 2
+  const JA psi = p_.psi0 + T * p_.precession_radps;
+  const JA nu = p_.nutation0 + sin(T * p_.nutation_radps) * p_.nutation_amp;
+  const JA phi = p_.phi0 + T * p_.spin_radps;
+  C_b_i = resize<kJetOrder>(matmul(matmul(rot3(psi), rot1(nu)), rot3(phi)));
 }
 
 // ---- helpers ---------------------------------------------------------------
 
-Mat3 value(const JM& m) { return deriv_value(m, 0); }
-Vec3 value(const JV& v) { return deriv_value(v, 0); }
-Mat3 deriv_value(const JM& m, int k) {
-  Mat3 r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r(i, j) = m[i][j].d(k);
-  return r;
-}
-Vec3 deriv_value(const JV& v, int k) { return Vec3(v[0].d(k), v[1].d(k), v[2].d(k)); }
 
 Mat3 ned_to_ecef(Real lat, Real lon) {
-  const Real sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
+  Real sl, cl, so, co;
+  gravity::sincos_ld(lat, sl, cl);
+  gravity::sincos_ld(lon, so, co);
   Mat3 C;
   C << -sl * co, -so, -cl * co,  //
       -sl * so, co, -cl * so,    //

@@ -16,6 +16,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -57,6 +58,15 @@ class Field {
   // harmonics give the same bits as eval(r_e).g; PointMassAnomalyField its
   // double-precision sum, equal to rounding).
   virtual Vec3 gravitation(const Vec3& r_e) const { return eval(r_e).g; }
+  // The field at r_e (as eval(r_e)) and the gravitation at the n pairs of
+  // points r_e + d[k] (plus[k]) and r_e - d[k] (minus[k]): a rigid cluster of
+  // sensors around r_e. This default calls gravitation() at every point. A
+  // model whose G and Gamma are exact derivatives of one potential may take
+  // the second point of a pair from the first by the central difference
+  //   G(r - d) = G(r + d) - 2 Gamma(r) d - (1/3) D^3G(r)[d, d, d] - O(|d|^5)
+  // (D^3G the fourth derivatives of V), dropping the cubic term; it then
+  // documents its bound (NormalField).
+  virtual FieldSample eval_pairs(const Vec3& r_e, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const;
   // The field on the circle of latitude through (rho, 0, z), with the
   // direction (e_rho, e_z) for FieldCircle::eval's dgamma (e.g. the ellipsoid
   // normal: e_rho = cos(geodetic latitude), e_z = sin). Models that share work

@@ -124,6 +124,9 @@ class FastField final : public Field {
   FastField(std::shared_ptr<const NormalField> normal, std::shared_ptr<const Field> smooth_anomaly, LatticeOptions opt);
   FieldSample eval(const Vec3& r_e) const override;
   Vec3 gravitation(const Vec3& r_e) const override;
+  // The normal field's eval_pairs (its central difference) plus the anomaly at
+  // every point (its own G and Gamma are separate interpolants).
+  FieldSample eval_pairs(const Vec3& r_e, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const override;
   std::string name() const override;
   const Field& anomaly() const { return *anomaly_; }
 

@@ -7,9 +7,14 @@
 // trajectory's exact C_b_i, C_b_i'' and a_i (trajectory3d.hpp):
 //   r_j = r_i + C_b_i d_j,  a_j = a_i + C_b_i'' d_j,
 //   f_j = C_b_i^T (a_j - G_i(r_j)) = C_b_i^T a_j - C_b_e^T G_e(r_e + C_b_e d_j)
-// (G_i = R3 G_e(R3^T r) and C_b_i^T R3 = C_b_e^T), with G_e from the
-// gravity::Field at the sensor's own position, in long double; sent as a
-// double plus its sub-ulp residual (f + f_lo).
+// (G_i = R3 G_e(R3^T r) and C_b_i^T R3 = C_b_e^T), in long double; sent as a
+// double plus its sub-ulp residual (f + f_lo). The six G_e(r_j) come from one
+// gravity::Field::eval_pairs call at the centre (the pairs +-d_k): the normal
+// field evaluates the + sensors and takes the - sensors from the central
+// difference G(r - d) = G(r + d) - 2 Gamma(r) d, dropping <= 8 GM |d|^3 / r^5
+// (3.8e-20 m/s^2 for 0.5 m at the surface; gravity/normal.hpp); anomalies
+// (lattices) are evaluated at every sensor. accel_reference() evaluates the
+// field at each sensor's own position (the independent check, tests/truth3d).
 // Errors (off by default, seeded, counter-based like the 2-D generator so
 // frame k is a pure function of (seed, k)):
 //   accelerometer f_meas = (1 + s) f + b + n per sensor axis (scale, bias constant; n white);
@@ -76,8 +81,13 @@ class Generator3 {
 
   Truth3 truth(int64_t k) const;
   Truth3 truth_at(Real t) const;  // at any time (utime/seq 0)
-  // Error-free specific force of accelerometer j (body axes) for a truth state.
-  Vec3 accel_true(const Truth3& t, int j) const;
+  // Error-free specific force of the six accelerometers (body axes) for a
+  // truth state, as frame() sends them (one eval_pairs at the centre).
+  std::array<Vec3, 6> accel_true(const Truth3& t) const;
+  Vec3 accel_true(const Truth3& t, int j) const { return accel_true(t)[static_cast<size_t>(j)]; }
+  // The same from the field at accelerometer j's own position (gravitation()
+  // there): the slow reference the fast path is checked against.
+  Vec3 accel_reference(const Truth3& t, int j) const;
   void frame(int64_t k, gg_frame_t& out, Truth3* truth_out = nullptr) const;
   truth::BaroSample baro(int64_t k, const Truth3& t) const;
   double accel_bias(int j, int ax) const { return abias_[static_cast<size_t>(j)][static_cast<size_t>(ax)]; }
@@ -86,6 +96,14 @@ class Generator3 {
 
  private:
   void init_errors();
+  // Truth at t (seq/utime 0) and the six specific forces (the path of frame()).
+  Truth3 sensors_at(Real t, std::array<Vec3, 6>& f) const;
+  // Truth3 of a state and the field sample at its centre.
+  static Truth3 make_truth(Real t, const State3& s, const gravity::FieldSample& c);
+  // f_j = C_b_i^T (a_i + C_b_i'' d_j) - C_b_e^T g_j for the field g_j at sensor j.
+  Vec3 specific_force(const State3& s, size_t j, const Vec3& g_j) const;
+  // The six f_j from G_e at the + and - sensors of the three pairs.
+  std::array<Vec3, 6> specific_forces(const State3& s, const Vec3 g_plus[3], const Vec3 g_minus[3]) const;
   std::shared_ptr<const Trajectory3> traj_;
   std::shared_ptr<const gravity::Field> field_;
   Generator3Options opt_;

@@ -17,6 +17,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "ggins/gravity/ldmath.hpp"
+
 namespace ggins::truth3d {
 
 using Real = long double;
@@ -143,8 +145,7 @@ Jet<N> log(const Jet<N>& a) {
 // s = sin(a), c = cos(a) together: s_k = (1/k) sum j a_j c_(k-j), c_k = -(1/k) sum j a_j s_(k-j).
 template <int N>
 void sincos(const Jet<N>& a, Jet<N>& s, Jet<N>& co) {
-  s.c[0] = std::sin(a.c[0]);
-  co.c[0] = std::cos(a.c[0]);
+  gravity::sincos_ld(a.c[0], s.c[0], co.c[0]);
   for (int k = 1; k <= N; ++k) {
     Real ss = 0, cc = 0;
     for (int j = 1; j <= k; ++j) {
@@ -188,7 +189,10 @@ Jet<N> atan(const Jet<N>& x) {
 
 // Logistic sigma(u) = 1/(1+exp(-u)) and softplus(u) = log(1+exp(u)) (so
 // softplus' = sigma), each in the branch that cannot overflow; both branches
-// are the same analytic function.
+// are the same analytic function. Far from the transition (|u| > 80) softplus
+// is its limit max(u, 0): the neglected log(1 + exp(-|u|)) and its derivatives
+// are < exp(-80) = 1.8e-35 times powers of the coefficients of u (long double
+// resolves 1 + 5.4e-20), so the limit is exact to far below rounding.
 template <int N>
 Jet<N> logistic(const Jet<N>& u) {
   if (u.c[0] >= 0) return 1 / (1 + exp(-u));
@@ -197,14 +201,39 @@ Jet<N> logistic(const Jet<N>& u) {
 }
 template <int N>
 Jet<N> softplus(const Jet<N>& u) {
+  constexpr Real kFar = 80;
+  if (u.c[0] > kFar) return u;
+  if (u.c[0] < -kFar) return Jet<N>(0);
   if (u.c[0] >= 0) return u + log(1 + exp(-u));
   return log(1 + exp(u));
+}
+
+// A jet of another order M: the first min(M, N) + 1 coefficients, zeros above
+// (unknown). Truncating (M < N) is exact to the bit: coefficient k of every
+// operation above is computed from coefficients <= k of its operands by the
+// same loop whatever N, so an expression needed only to order M may be
+// evaluated on Jet<M> (truth3d: the attitude, order 2).
+template <int M, int N>
+Jet<M> resize(const Jet<N>& a) {
+  Jet<M> r;
+  for (int k = 0; k <= (M < N ? M : N); ++k) r.c[static_cast<std::size_t>(k)] = a.c[static_cast<std::size_t>(k)];
+  return r;
 }
 
 // Vectors and matrices of jets.
 template <int N> using JVec3 = std::array<Jet<N>, 3>;
 template <int N> using JMat3 = std::array<std::array<Jet<N>, 3>, 3>;  // [row][col]
 
+template <int M, int N>
+JVec3<M> resize(const JVec3<N>& a) {
+  return {resize<M>(a[0]), resize<M>(a[1]), resize<M>(a[2])};
+}
+template <int M, int N>
+JMat3<M> resize(const JMat3<N>& a) {
+  JMat3<M> r;
+  for (std::size_t i = 0; i < 3; ++i) r[i] = resize<M>(a[i]);
+  return r;
+}
 template <int N>
 Jet<N> dot(const JVec3<N>& a, const JVec3<N>& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];

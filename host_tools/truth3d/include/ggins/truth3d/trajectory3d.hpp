@@ -57,6 +57,12 @@ constexpr int kJetOrder = 4;  // r_e to order 4 -> attitude (uses r'') valid to 
 using J = Jet<kJetOrder>;
 using JV = JVec3<kJetOrder>;
 using JM = JMat3<kJetOrder>;
+// The attitude (from r'') and everything State3 needs are valid to order 2 and
+// are evaluated on jets of that order (bit-identical coefficients 0..2: jet.hpp, resize).
+constexpr int kAttOrder = 2;
+using JA = Jet<kAttOrder>;
+using JVA = JVec3<kAttOrder>;
+using JMA = JMat3<kAttOrder>;
 
 constexpr Real kOmegaIe = 7.292115e-5L;  // rad/s (WGS-84, NIMA TR8350.2 Table 3.1)
 constexpr Real kG0 = 9.80665L;           // m/s^2, bank-angle reference (standard gravity)
@@ -85,7 +91,8 @@ void ned_axes(const J& lat, const J& lon, JV& north, JV& east, JV& down);
 class Trajectory3 {
  public:
   virtual ~Trajectory3() = default;
-  // Jets at time t: r_e (valid to order kJetOrder) and C_b_i (valid to order >= 2).
+  // Jets at time t: r_e (valid to order kJetOrder) and C_b_i (valid to order >= 2;
+  // at() reads orders 0..2, the kinds here compute exactly those).
   virtual void jets(Real t, JV& r_e, JM& C_b_i) const = 0;
   virtual std::string name() const = 0;
   // Everything at time t (from jets()).
@@ -106,10 +113,14 @@ struct FlightParams {
   std::vector<Maneuver> maneuvers;
 };
 
-// Coordinated-turn attitude C_b_e from ECEF position/velocity/acceleration jets (see top).
+// Coordinated-turn attitude C_b_e from ECEF position/velocity/acceleration jets (see top),
+// on order-2 jets; the order-4 overload truncates its arguments and returns the
+// same values with coefficients 3, 4 zero (unknown).
+JMA coordinated_attitude_e(const JA& lat, const JA& lon, const JVA& v_e, const JVA& a_e);
 JM coordinated_attitude_e(const J& lat, const J& lon, const JV& v_e, const JV& a_e);
-// R3(omega_ie t) as a jet.
-JM earth_rotation(Real t);
+// R3(omega_ie t) as a jet of order N (2 or 4).
+template <int N = kJetOrder>
+JMat3<N> earth_rotation(Real t);
 
 class Flight3 final : public Trajectory3 {
  public:
@@ -123,6 +134,7 @@ class Flight3 final : public Trajectory3 {
   FlightParams p_;
   Attitude att_;
   Real rate_scale_[3];  // 1/(M0+h0), 1/((N0+h0) cos lat0), -1
+  std::vector<Real> sp0_;  // softplus(-t_k / tau_k) of each maneuver (the value at t = 0)
   JM c0_;               // stabilized: C_b_i at t = 0
 };
 
@@ -166,10 +178,25 @@ class Tumble3 final : public Trajectory3 {
 };
 
 // Helpers on plain values.
-Mat3 value(const JM& m);
-Vec3 value(const JV& v);
-Mat3 deriv_value(const JM& m, int k);  // k-th time derivative
-Vec3 deriv_value(const JV& v, int k);
+template <int N>
+Mat3 deriv_value(const JMat3<N>& m, int k) {  // k-th time derivative
+  Mat3 r;
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j) r(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = m[i][j].d(k);
+  return r;
+}
+template <int N>
+Vec3 deriv_value(const JVec3<N>& v, int k) {
+  return Vec3(v[0].d(k), v[1].d(k), v[2].d(k));
+}
+template <int N>
+Mat3 value(const JMat3<N>& m) {
+  return deriv_value(m, 0);
+}
+template <int N>
+Vec3 value(const JVec3<N>& v) {
+  return deriv_value(v, 0);
+}
 Mat3 ned_to_ecef(Real lat, Real lon);  // columns north, east, down: C_n_e
 // Body -> NED Z-Y-X Euler angles of C_b_n.
 void euler_zyx(const Mat3& C_b_n, Real& roll, Real& pitch, Real& yaw);
