@@ -1,7 +1,9 @@
 // See link.hpp.
 #include "link.hpp"
 
+#include <poll.h>
 #include <sys/wait.h>
+#include <time.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -72,6 +74,21 @@ void LinkBase::handle_ready() {
   pollfd p{lcm_get_fileno(lcm_), POLLIN, 0};
   for (int i = 0; i < 100000 && poll(&p, 1, 0) > 0 && (p.revents & POLLIN); ++i)
     if (lcm_handle(lcm_) != 0) throw Fail("lcm_handle failed");
+}
+
+void LinkBase::handle_until(double t_abs) {
+  const double rem = t_abs - mono_s();
+  if (rem <= 0) return;
+  timespec ts;
+  ts.tv_sec = static_cast<time_t>(rem);
+  ts.tv_nsec = static_cast<long>((rem - static_cast<double>(ts.tv_sec)) * 1e9);
+  pollfd p{lcm_get_fileno(lcm_), POLLIN, 0};
+  const int r = ppoll(&p, 1, &ts, nullptr);
+  if (r > 0 && (p.revents & POLLIN)) {
+    if (lcm_handle(lcm_) != 0) throw Fail("lcm_handle failed");
+  } else if (r < 0 && errno != EINTR) {
+    throw Fail("ppoll failed");
+  }
 }
 
 void LinkBase::check_children() {

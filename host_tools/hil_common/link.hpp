@@ -138,6 +138,8 @@ class LinkBase {
   void handle(double timeout_s);
   // Everything queued now, without waiting.
   void handle_ready();
+  // One message, waiting at most until t_abs (mono_s clock, sub-millisecond).
+  void handle_until(double t_abs);
   void check_children();
   void send_control(int32_t cmd, uint64_t scenario_id);
   void finish();  // STOP until hal_sim says STOPPED, then wait for it
@@ -661,7 +663,7 @@ class Link : public LinkBase {
       const double t_send = t_start_ + static_cast<double>(k) * dt;
       make(k);  // ahead of its time: the schedule is that of the send
       for (double now = mono_s(); now < t_send; now = mono_s()) {
-        handle(t_send - now);
+        handle_until(t_send);
         flush_resends();
         deliver();
       }
