@@ -117,6 +117,33 @@ def read_lcm_log(path):
     return events
 
 
+BATCH_HEAD = 36  # a batch message: type hash 8, utime, seq, run_id (i64), n (i32), then the items
+BATCH_MAC = 32   # ... and the batch's MAC last
+
+
+def batch_items(data):
+    """[(offset, size)] of the n fixed-size items of an encoded batch message."""
+    n = struct.unpack_from(">i", data, 32)[0]
+    if n <= 0:
+        return []
+    size = (len(data) - BATCH_HEAD - BATCH_MAC) // n
+    return [(BATCH_HEAD + i * size, size) for i in range(n)]
+
+
+def log_records(events, single, batch):
+    """Every message on `single` and every item of the batches on `batch`, as
+    (event index, base): field F of the record is at base + (offset of F in
+    the standalone message, counted after its 8-byte type hash) + 8, i.e. base is
+    0 for a standalone message and item offset - 8 for a batch item."""
+    out = []
+    for i, (ch, d) in enumerate(events):
+        if ch == single:
+            out.append((i, 0))
+        elif ch == batch:
+            out += [(i, off - 8) for off, _ in batch_items(d)]
+    return out
+
+
 def log_item_seqs(events, single, batch):
     """Seqs of the messages on channel `single` (an LCM message: 8-byte type
     hash, then utime i64, seq i64, ...) and of the items of the batches on
