@@ -9,7 +9,7 @@ truth columns; those columns are checked against it as well. The LCM log is
 parsed with an independent reader of the LCM event-log format.
 
 usage: hil_check.py TEST --ggins-run PATH --workdir DIR
-tests: perfect, bias, faults, realtime, shared-url, cli
+tests: perfect, bias, faults, realtime, shared-url, cli, direct
 Only the Python standard library is used.
 """
 import argparse
@@ -311,6 +311,55 @@ def test_faults(a):
     check(sf["log"]["complete"] is True, "the log of the faulty run is complete")
 
 
+def test_direct(a):
+    """The same flight three ways: over LCM (batched lockstep), over LCM with 5 % of
+    every transport fault, and in process (--direct, hal_sim's conversions and task
+    cycle without the bus). The navigation must be the same bit for bit: the
+    timeseries byte for byte, the summary's errors to the last digit."""
+    common = ["--scenario", "welker-table1", "--duration", "20", "--csv-rate", "100", "--no-plots"]
+    runs = {}
+    for name, extra in (("lcm", []), ("direct", ["--direct"]),
+                        ("lossy", ["--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
+                                   "--drop-output-prob", "0.05"])):
+        out = os.path.join(a.workdir, name)
+        run(a.ggins_run, out, *common, *extra)
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        with open(os.path.join(out, "timeseries.csv"), "rb") as f:
+            runs[name] = (s, f.read())
+    n = 2001
+    sl, sd, sx = runs["lcm"][0], runs["direct"][0], runs["lossy"][0]
+    check(sd["mode"] == "direct" and "transport" not in sd, "--direct: no transport")
+    check(sl["completed"] and sd["completed"] and sx["completed"], "all three runs completed")
+    check(sl["steps"] == sd["steps"] == sx["steps"] == n, "%d steps each" % n)
+    # DEADLINE (bit 9 of health) flags a step that overran its period on this machine's
+    # clock: timing, not navigation. Every other byte of the timeseries must be the same.
+    def nav_only(raw):
+        lines = raw.decode().splitlines()
+        col = lines[0].split(",").index("health")
+        out = [lines[0]]
+        for ln in lines[1:]:
+            f = ln.split(",")
+            f[col] = str(int(f[col]) & ~(1 << 9))
+            out.append(",".join(f))
+        return out
+    dl = [nav_only(runs[k][1]) for k in ("lcm", "direct", "lossy")]
+    check(dl[0] == dl[1], "timeseries.csv: LCM and --direct byte for byte the same (but for DEADLINE)")
+    check(dl[2] == dl[1], "timeseries.csv: lossy LCM and --direct byte for byte the same (but for DEADLINE)")
+    for k in ("final", "max", "vertical", "horizontal", "steps_rejected"):
+        check(sl[k] == sd[k] == sx[k], "summary %s the same to the last digit in all three" % k)
+    tr = sl["transport"]
+    check(tr["frame_messages"] * 4 < n and tr["output_messages"] * 4 < n,
+          "frames and outputs travel in batches (%d frame and %d output messages for %d steps)"
+          % (tr["frame_messages"], tr["output_messages"], n))
+    inj = sx["transport"]["injected"]
+    check(min(inj["dropped"], inj["duplicated"], inj["reordered"]) > 30 and sx["transport"]["hal_sim"][
+        "outputs_dropped_injected"] > 30, "faults were injected (%s)" % inj)
+    check(sx["transport"]["resends_on_request"] > 0 and sx["transport"]["resends_on_output_gap"] > 0,
+          "losses were recovered on negative acknowledgement and on output gaps, not by timeouts only (%s)"
+          % {k: sx["transport"][k] for k in ("resends_on_request", "resends_on_output_gap", "resend_timeouts")})
+
+
 def test_realtime(a):
     """--realtime paces the frames at the sensor rate; frames dropped or reordered
     on the way are noticed by hal_sim from the seq gap, re-requested and recovered."""
@@ -396,6 +445,7 @@ def test_cli(a):
 
 
 TESTS = {"perfect": test_perfect, "bias": test_bias, "faults": test_faults, "realtime": test_realtime,
+         "direct": test_direct,
          "shared-url": test_shared_url, "cli": test_cli}
 
 

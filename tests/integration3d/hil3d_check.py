@@ -5,7 +5,9 @@
   hil      a short run over LCM: every step answered (no loss, no rejection),
            files written, and the errors equal to the in-process run (--direct)
            of the same scenario: the LCM transport (frames as doubles + sub-ulp
-           residuals, configuration as double-double pairs) must not change a bit.
+           residuals, configuration as double-double pairs) must not change a bit;
+           and again with 5 % of every transport fault: recovered, counted in
+           summary.json (hal_sim's counters), the same bit for bit.
   cli      --help, --list-scenarios, unknown scenario, bad key.
 
 usage: hil3d_check.py CASE --ggins-run3d PATH --workdir DIR [--scenario S] [--duration S]
@@ -54,6 +56,26 @@ def case_hil(a):
         check(s[k] == d[k], "%s identical over LCM and in process (%s vs %s)" % (k, s[k], d[k]))
     with open(os.path.join(lcm_dir, "timeseries.csv")) as f1, open(os.path.join(dir_dir, "timeseries.csv")) as f2:
         check(f1.read() == f2.read(), "timeseries.csv identical over LCM and in process")
+    # the same flight with 5 % of every transport fault (and undecodable payloads):
+    # recovered, counted, and the same bit for bit
+    lossy_dir = os.path.join(a.workdir, "lossy")
+    x = run(a.ggins_run3d, lossy_dir, *common, "--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
+            "--drop-output-prob", "0.05", "--garbage-prob", "0.05")
+    with open(os.path.join(lossy_dir, "timeseries.csv")) as f1, open(os.path.join(dir_dir, "timeseries.csv")) as f2:
+        check(f1.read() == f2.read(), "timeseries.csv with transport faults identical to the in-process run")
+    for k in ("position_error_m", "attitude_error_rad", "gravity_error_mps2", "gamma_error_ecef_E", "outputs"):
+        check(x[k] == d[k], "%s identical with transport faults (%s)" % (k, x[k]))
+    hs, inj = x.get("hal_sim", {}), x.get("transport", {}).get("injected", {})
+    for k in ("foreign_messages", "decode_errors", "auth_failed_frame", "auth_failed_config", "auth_failed_control",
+              "resend_requests", "frames_duplicate", "outputs_dropped_injected", "outputs_republished"):
+        check(k in hs, "summary hal_sim.%s reported (%s)" % (k, hs.get(k)))
+    check(min(inj.get("dropped", 0), inj.get("duplicated", 0), inj.get("reordered", 0)) > 0
+          and hs.get("outputs_dropped_injected", 0) > 0, "faults were injected (%s)" % inj)
+    check(hs.get("decode_errors") == inj.get("garbage") and inj.get("garbage", 0) > 0,
+          "hal_sim counted every undecodable payload (%s of %s)" % (hs.get("decode_errors"), inj.get("garbage")))
+    check(hs.get("resend_requests", 0) > 0 and hs.get("frames_duplicate", 0) >= inj.get("duplicated", 0),
+          "hal_sim asked for the dropped frames and counted the duplicates")
+    check(x["bus_auth"]["rejected_total"] == 0 and x["bus_auth"]["conflicts_total"] == 0, "no MAC reject, no conflict")
 
 
 def case_cli(a):
