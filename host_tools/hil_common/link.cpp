@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -91,6 +93,29 @@ void LinkBase::handle_until(double t_abs) {
   }
 }
 
+double LinkBase::cpu_s() {
+  timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double LinkBase::hal_sim_cpu_s() const {
+  if (hal_pid_ <= 0) return -1;
+  std::ifstream f("/proc/" + std::to_string(hal_pid_) + "/stat");
+  std::string st((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const size_t close = st.rfind(')');  // the command name may hold spaces
+  if (close == std::string::npos) return -1;
+  std::istringstream in(st.substr(close + 2));
+  std::string x;
+  unsigned long long ut = 0, stime = 0;
+  for (int field = 3; field <= 15 && in >> x; ++field) {  // fields 14 utime, 15 stime (man 5 proc)
+    if (field == 14) ut = std::stoull(x);
+    if (field == 15) stime = std::stoull(x);
+  }
+  const long hz = sysconf(_SC_CLK_TCK);
+  return hz > 0 ? static_cast<double>(ut + stime) / static_cast<double>(hz) : -1;
+}
+
 void LinkBase::check_children() {
   if (hal_pid_ > 0) {
     int st = 0;
@@ -167,8 +192,8 @@ void LinkBase::open_bus(const std::string& config_channel) {
   if (opt_.log_mode == "internal") rec_ = std::make_unique<Recorder>(out_ / "run.lcmlog");
   lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this), 100000);
 
-  // hal_sim re-requests a missing frame every max(2, resend timeout / 10) ms
-  const int gap_ms = std::max(2, opt_.resend_timeout_ms / 10);
+  // hal_sim re-requests a missing frame every max(2, resend timeout / 25) ms (Link::gap_interval_s)
+  const int gap_ms = std::max(2, opt_.resend_timeout_ms / 25);
   std::vector<std::string> argv = hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, 2 * gap_ms);
   if (opt_.faults.drop_output > 0 || opt_.faults.conflict > 0)
     argv.insert(argv.end(), {"--drop-output-prob", std::to_string(opt_.faults.drop_output), "--inject-seed",

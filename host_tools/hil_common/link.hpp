@@ -145,6 +145,9 @@ class LinkBase {
   void finish();  // STOP until hal_sim says STOPPED, then wait for it
   void close_log();
   const std::optional<ggins::hal_status_t>& hal_status() const { return hal_; }
+  // CPU seconds (user + system) hal_sim has used so far (/proc; -1 if unknown), and this process's.
+  double hal_sim_cpu_s() const;
+  static double cpu_s();
   nlohmann::json bus_auth_summary(int64_t outputs_conflict) const;
   nlohmann::json hal_sim_summary() const;
 
@@ -233,6 +236,7 @@ class Link : public LinkBase {
     take_ = take;
     ring_.assign(kRing, Slot{});
     t_start_ = mono_s();
+    cpu_start_ = cpu_s();
     try {
       if (opt_.realtime)
         loop_realtime(progress);
@@ -243,9 +247,13 @@ class Link : public LinkBase {
       throw;
     }
     wall_ = mono_s() - t_start_;
+    cpu_loop_ = cpu_s() - cpu_start_;
+    hal_cpu_s_ = hal_sim_cpu_s();  // before STOP: the flight only
   }
 
   double wall_s() const { return wall_; }
+  double cpu_s_runner() const { return cpu_loop_; }
+  double cpu_s_hal_sim() const { return hal_cpu_s_; }
   int64_t outputs() const { return outputs_; }
   int64_t outputs_conflict() const { return outputs_conflict_; }
   int64_t frames_published() const { return frames_published_; }
@@ -272,6 +280,23 @@ class Link : public LinkBase {
     tr["window_frames"] = {{"final", window_}, {"max", window_max_}, {"automatic", opt_.window <= 0}};
     tr["round_trip_us"] = {{"min", rtt_min_ < 1e9 ? rtt_min_ * 1e6 : 0.0}, {"smoothed", srtt_ * 1e6}};
     tr["runner_us_per_frame"] = t_frame_ * 1e6;
+    {  // CPU time of each process per step
+      const double nf = static_cast<double>(std::max<int64_t>(outputs_, 1));
+      json c;
+      c["runner"] = 1e6 * cpu_loop_ / nf;
+      if (hal_cpu_s_ >= 0) {
+        const double step = fw_ns_ * 1e-9;
+        c["hal_sim"] = 1e6 * hal_cpu_s_ / nf;
+        c["hal_sim_firmware_step"] = 1e6 * step / nf;
+        c["hal_sim_transport"] = 1e6 * (hal_cpu_s_ - step) / nf;
+      }
+      c["definition"] =
+          "microseconds of CPU (user + system) per step during the flight: the runner (making frames, taking "
+          "outputs, transport), hal_sim (10 ms ticks), of which the firmware steps (cycles[TOTAL]) and the rest "
+          "(hal_sim's transport). The runner's transport share: runner less the runner's CPU with --direct less "
+          "the firmware steps there (scripts/bench-rig)";
+      tr["cpu_us_per_step"] = c;
+    }
     tr["injected"] = {{"dropped", dropped_inj_},     {"duplicated", dup_inj_},       {"reordered", reordered_inj_},
                       {"garbage", garbage_inj_},     {"conflicting", conflict_inj_}, {"output_drop_prob", opt_.faults.drop_output}};
     if (hal_) tr["hal_sim"] = hal_sim_summary();
@@ -417,6 +442,7 @@ class Link : public LinkBase {
     Slot& s = slot(k);
     s.got = true;
     s.out = plain;
+    if (m.n_cycles > GG_MOD_TOTAL) fw_ns_ += static_cast<double>(static_cast<uint32_t>(m.cycles[GG_MOD_TOTAL]));
     taken_.put(k, plain);
     ++outputs_;
     if (s.attempts > 1) ++outputs_recovered_;
@@ -471,7 +497,7 @@ class Link : public LinkBase {
     s.t_resend = now;  // reserved: sent with the next batch
     return true;
   }
-  double gap_interval_s() const { return 1e-3 * std::max(2, opt_.resend_timeout_ms / 10); }
+  double gap_interval_s() const { return 1e-3 * std::max(2, opt_.resend_timeout_ms / 25); }
 
   // ---- sending
   // Frame k (its stored message) into the batch under construction, through the fault injection.
@@ -540,6 +566,17 @@ class Link : public LinkBase {
     publish(ch_frames_, b);
     b.frames.swap(batch_msgs_);
     batch_msgs_.clear();
+  }
+  // Resends asked for while a batch is being made: in a message of their own, now.
+  void flush_resends_now() {
+    if (resend_.empty()) return;
+    std::vector<ggins::sensor_frame_t> held;
+    std::vector<int64_t> held_seqs;
+    held.swap(batch_msgs_);
+    held_seqs.swap(pending_seqs_);
+    flush_resends();
+    batch_msgs_.swap(held);
+    pending_seqs_.swap(held_seqs);
   }
   void flush_resends() {
     if (resend_.empty()) return;
@@ -630,6 +667,10 @@ class Link : public LinkBase {
           ++next_;
           ++added;
         }
+        if ((added & 7) == 0 && added < batch_) {  // requests that came meanwhile: answered at once
+          handle_ready();
+          flush_resends_now();
+        }
       }
       t_make_ += mono_s() - a;
       flush();
@@ -637,9 +678,14 @@ class Link : public LinkBase {
       if (can_send) {
         handle_ready();
       } else {
-        const double wait = rto() - (mono_s() - last_progress_);
-        if (wait > 0) handle(wait);
+        // outputs known to be missing (below the highest first publication) are
+        // asked for again when their last resend is half a re-request interval old,
+        // whether or not anything else arrives meanwhile
+        double wait = rto() - (mono_s() - last_progress_);
+        if (base_ < max_first_) wait = std::min(wait, 0.5 * gap_interval_s());
+        if (wait > 0) handle_until(mono_s() + wait);
         handle_ready();
+        output_gaps(mono_s());
         if (mono_s() - last_progress_ >= rto() && base_ < n_ && resend_.empty()) on_timeout();
       }
       deliver();
@@ -723,6 +769,7 @@ class Link : public LinkBase {
   int64_t window_ = 0, window_max_ = 0;
   double t_start_ = 0, wall_ = 0, last_progress_ = 0, t_make_ = 0, t_take_ = 0, t_frame_ = 0;
   double rtt_min_ = 1e30, srtt_ = 0;
+  double cpu_start_ = 0, cpu_loop_ = 0, hal_cpu_s_ = -1, fw_ns_ = 0;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_recovered_ = 0, outputs_foreign_ = 0, outputs_conflict_ = 0;
   int64_t output_messages_ = 0, resend_timeouts_ = 0, resend_on_request_ = 0, resend_on_gap_ = 0, naks_ = 0;
   int64_t dropped_inj_ = 0, dup_inj_ = 0, reordered_inj_ = 0, conflict_inj_ = 0;

@@ -545,13 +545,17 @@ json Runner::run() {
   }
 
   t_start_ = mono_s();
+  const double cpu0 = ggins::hil::LinkBase::cpu_s();
+  double fw_ns = 0;  // --direct: the firmware steps (cycles[TOTAL])
   const double setup_s = t_start_ - t_setup;
   std::string error;
   int error_code = 0;
   try {
     if (direct) {
       for (int64_t k = 0; k < n_; ++k) {
-        consume(direct->step(make_frame(k)));
+        const ggins::nav_output_t o = direct->step(make_frame(k));
+        fw_ns += static_cast<double>(static_cast<uint32_t>(o.cycles[GG_MOD_TOTAL]));
+        consume(o);
         if ((k & 1023) == 0) {
           if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
           progress(false);
@@ -566,6 +570,7 @@ json Runner::run() {
     error_code = e.code;
   }
   wall_loop_ = mono_s() - t_start_;
+  const double cpu_loop = ggins::hil::LinkBase::cpu_s() - cpu0;
   progress(true);
   if (link_ && error_code != 130) link_->finish();
   csv_.close();
@@ -692,6 +697,9 @@ json Runner::run() {
     if (opt_.realtime) s["realtime"] = link_->realtime_summary();
   }
   s["wall_s"] = wall_loop_;
+  s["cpu_s"] = {{"runner", cpu_loop}};  // CPU (user + system) of the flight
+  if (link_ && link_->cpu_s_hal_sim() >= 0) s["cpu_s"]["hal_sim"] = link_->cpu_s_hal_sim();
+  if (direct) s["cpu_s"]["firmware_steps"] = 1e-9 * fw_ns;
   s["setup_s"] = setup_s;
   // flight time actually navigated (all of it when the run completed) per wall second
   const double flown_s = static_cast<double>(std::max<int64_t>(outputs_ - 1, 0)) * static_cast<double>(sc_.dt_us()) * 1e-6;

@@ -317,6 +317,8 @@ json Runner3::run() {
     link_->start(cfg, 0);
   }
   const double t0 = mono_s();
+  const double cpu0 = ggins::hil::LinkBase::cpu_s();
+  double fw_ns = 0;  // --direct: the firmware steps (cycles[TOTAL])
   auto progress = [&](int64_t k) {
     static int64_t last = -1;
     const int64_t tenth = std::max<int64_t>(1, n_ / 10);
@@ -333,7 +335,9 @@ json Runner3::run() {
       for (int64_t k = 0; k < n_; ++k) {
         ggins::sensor_frame_t m = make_frame(k);
         m.run_id = run_id_;
-        on_output(direct->step(m));
+        const ggins::nav3d_output_t o = direct->step(m);
+        fw_ns += static_cast<double>(static_cast<uint32_t>(o.cycles[GG_MOD_TOTAL]));
+        on_output(o);
         if ((k & 1023) == 0) {
           if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
           progress(k);
@@ -347,10 +351,11 @@ json Runner3::run() {
     error = e.what();
     error_code = e.code;
   }
+  const double wall = mono_s() - t0;  // the flight (not the STOP handshake)
+  const double cpu_loop = ggins::hil::LinkBase::cpu_s() - cpu0;
   if (link_ && error_code != 130) link_->finish();
   if (link_) link_->close_log();
   if (error_code != 0) throw Fail(error, error_code);
-  const double wall = mono_s() - t0;
   csv_.close();
   std::vector<double> s = step_ns_;
   std::sort(s.begin(), s.end());
@@ -388,6 +393,9 @@ json Runner3::run() {
   j["parity_trace_ps2"] = par_trace_.j();
   j["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
   j["wall_s"] = wall;
+  j["cpu_s"] = {{"runner", cpu_loop}};  // CPU (user + system) of the flight
+  if (link_ && link_->cpu_s_hal_sim() >= 0) j["cpu_s"]["hal_sim"] = link_->cpu_s_hal_sim();
+  if (direct) j["cpu_s"]["firmware_steps"] = 1e-9 * fw_ns;
   j["realtime_factor"] = wall > 0 ? sc_.duration_s / wall : 0.0;
   j["step_ns"] = {{"median", pct(0.5)}, {"p99", pct(0.99)}, {"max", s.empty() ? 0.0 : s.back()}};
   if (link_) {
