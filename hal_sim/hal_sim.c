@@ -77,7 +77,7 @@
 
 _Static_assert(GG_MOD_COUNT <= 8, "ggins_nav_output_t.cycles holds 8 modules");
 
-#define WINDOW 4096 /* reorder window, frames (power of two) */
+#define WINDOW 8192 /* reorder window, frames (power of two); > the runners' largest window */
 #define MAX_MSG 4096
 #define OUT_BATCH 64   /* outputs per output batch at most */
 #define BATCH_BUF 131072 /* encoded output batch */

@@ -373,7 +373,7 @@ class Link : public LinkBase {
 
  private:
   static constexpr int64_t kRing = 8192;       // seqs held (frames for resends, outputs until their turn)
-  static constexpr int64_t kMaxWindow = 2048;  // < hal_sim's reorder window (4096)
+  static constexpr int64_t kMaxWindow = 4096;  // < hal_sim's reorder window (8192); <= kRing / 2
   static constexpr double kWindowRtts = 4.0;
   static constexpr int kDefaultBatch = 32;
 

@@ -795,7 +795,7 @@ int main(int argc, char** argv) {
                "cycle, so the same numbers bit for bit): the reference for the transport's cost");
   app.add_option("--batch", o.batch, "lockstep: frames per LCM message (default 32)")->check(CLI::Range(1, 128));
   app.add_option("--window", o.window, "lockstep: frames in flight (default: automatic, from the round trip)")
-      ->check(CLI::Range(1, 2048));
+      ->check(CLI::Range(1, 4096));
   app.add_option("--deadline-ms", o.deadline_ms, "realtime: output latency deadline, ms (default one sensor period)")
       ->check(CLI::PositiveNumber);
   app.add_option("--duration", o.duration_s, "override the scenario's duration, s")->check(CLI::PositiveNumber);

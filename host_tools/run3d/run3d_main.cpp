@@ -100,7 +100,7 @@ class Runner3 {
   int64_t run_id_ = 0;
   std::string ch_truth_;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0, outputs_ = 0;
-  static constexpr int64_t kTruthRing = 4096;  // > the transport's largest window
+  static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
   std::vector<ggins::truth3d::Truth3> truth_ring_;
   // statistics
   MaxFinal pos_, vel_, att_, grav_, gam_e_, gam_b_, hgt_, par_asym_, par_trace_, wdot_;
@@ -450,7 +450,7 @@ int main(int argc, char** argv) {
   app.add_flag("--realtime", o.realtime, "pace frames at the sensor rate instead of lockstep");
   app.add_option("--batch", o.batch, "lockstep: frames per LCM message (default 32)")->check(CLI::Range(1, 128));
   app.add_option("--window", o.window, "lockstep: frames in flight (default: automatic, from the round trip)")
-      ->check(CLI::Range(1, 2048));
+      ->check(CLI::Range(1, 4096));
   app.add_option("--deadline-ms", o.deadline_ms, "realtime: output latency deadline, ms (default one sensor period)")
       ->check(CLI::PositiveNumber);
   app.add_option("--drop-prob", o.faults.drop, "inject: drop each frame transmission with this probability")
