@@ -4,12 +4,14 @@
 // bounded reader of its own (lcmlog_reader.hpp: every event header is checked
 // against the file before it is used), takes the navigation configuration
 // (2-D: GGINS_CONFIG, nav2d_config_t; 3-D: GGINS_CONFIG3D, nav3d_config_t) and
-// the sensor frames (GGINS_FRAME) of one run id, feeds the frames through the
+// the sensor frames (GGINS_FRAME, and the items of the frame batches on
+// GGINS_FRAMES) of one run id, feeds the frames through the
 // firmware again in this process -- the same gg_nav2d_init / gg_nav2d_task_cycle
 // (or gg_nav3d_*) of the same build, through the same message -> struct
 // conversions as hal_sim (hal_sim/hal_lcm.c, hal_lcm3d.c) -- in seq order, each
 // seq once, as hal_sim's reorder window delivered them, and compares every
-// navigation output with the recorded one (GGINS_NAV / GGINS_NAV3D) bit for bit.
+// navigation output with the recorded one (GGINS_NAV / GGINS_NAV3D, and the
+// items of the output batches on GGINS_NAVS / GGINS_NAV3DS) bit for bit.
 //
 // Not compared: cycles[] (the HAL cycle counter: wall-clock timing) and
 // republished (a transport count). The recorded step time cycles[GG_MOD_TOTAL]

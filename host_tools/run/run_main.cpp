@@ -3,9 +3,10 @@
 //   truth generator (this process) --GGINS_FRAME--> hal_sim (firmware) --GGINS_NAV--> this process
 //
 // This process generates the sensor frames of a scenario (host_tools/truth),
-// starts hal_sim and lcm-logger on a private LCM URL, sends frame k and (in
-// lockstep mode) waits for the navigation output of step k, compares every
-// output with the truth, and writes summary.json, timeseries.csv and plots.
+// flies them through hal_sim over LCM with the shared transport
+// (hil_common/link.hpp: batched, pipelined lockstep or real time) or in
+// process (--direct, hil_common/direct.hpp), compares every output with the
+// truth in seq order, and writes summary.json, timeseries.csv and plots.
 // See `ggins run --help`.
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
@@ -752,10 +753,13 @@ int main(int argc, char** argv) {
       "(long double, G evaluated at every sensor), adds the scenario's sensor errors and\n"
       "publishes sensor frames; hal_sim (a separate process) implements the firmware's\n"
       "HAL over LCM and steps the firmware once per frame; every message of the run is\n"
-      "recorded to an LCM log (--log). In lockstep mode (default) frame k+1 is sent\n"
-      "only after the output of step k arrived, so the run goes as fast as the machine allows and never drops a\n"
-      "step: a frame or output that does not arrive within --resend-timeout-ms is sent\n"
-      "again; gaps seen by hal_sim are re-requested; all of it is counted.\n\n"
+      "recorded to an LCM log (--log). In lockstep mode (default) the firmware steps every\n"
+      "frame once, in order, as fast as the machine allows: frames travel --batch per message\n"
+      "with a window of frames in flight sized from the round trip, outputs come back in\n"
+      "batches; a frame hal_sim misses is asked for at once (negative acknowledgement), an\n"
+      "output that is missing is asked for as soon as a later one arrives; all of it is\n"
+      "counted, and the outputs are taken in seq order, so the numbers are the same bit for\n"
+      "bit whatever the transport does, and the same as --direct (in process, no bus).\n\n"
       "Output folder (--out, default out/<scenario>-<UTC time>):\n"
       "  summary.json     final and max position/velocity/gravity error norms, per-axis\n"
       "                   final errors, steps, frames_lost, frames_recovered, wall_s,\n"

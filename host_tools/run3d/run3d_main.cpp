@@ -4,10 +4,10 @@
 // summary.json, timeseries.csv, errors.png, run.lcmlog.
 //
 // LCM protocol (hal_sim in 3-D mode, see hal_sim --help): nav3d_config_t on
-// P+CONFIG3D until hal_sim reports CONFIGURED, START on P+CONTROL, then in
-// lockstep sensor_frame_t k on P+FRAME -> nav3d_output_t k on P+NAV3D (a frame
-// whose output does not come within --resend-timeout-ms is sent again; RESEND
-// requests on P+REQUEST are answered), truth3d_t on P+TRUTH3D (decimated), STOP.
+// P+CONFIG3D until hal_sim reports CONFIGURED, START on P+CONTROL, then the
+// shared transport (hil_common/link.hpp): frame batches on P+FRAMES, output
+// batches (nav3d_output_batch_t) on P+NAV3DS, negative acknowledgements on
+// P+NAK, truth3d_t on P+TRUTH3D (decimated), STOP.
 #include <lcm/lcm.h>
 #include <signal.h>
 #include <sys/wait.h>

@@ -378,6 +378,25 @@ def test_realtime(a):
     check(0.5 < s["realtime_factor"] < 1.05, "real-time factor near 1 (%.3f)" % s["realtime_factor"])
     er, _, eg, _, _ = nav_errors(rows[-1])
     check(norm(er) < 1e-8 and norm(eg) < 1e-13, "errors at the floor (%.2e m, %.2e m/s^2)" % (norm(er), norm(eg)))
+    # timing of the schedule and of the outputs, against the deadline (one sensor period)
+    rt = s.get("realtime", {})
+    lat, lt = rt.get("lateness_us", {}), rt.get("output_latency_us", {})
+    check(lat.get("n") == 301 and 0 <= lat["median"] <= lat["p99"] <= lat["max"],
+          "lateness of every step reported, median <= p99 <= max (%s)" % lat)
+    check(lt.get("n") == 301 and 0 < lt["median"] <= lt["p99"] <= lt["max"],
+          "output latency of every step reported (%s)" % lt)
+    check(rt.get("deadline_us") == 10000.0, "deadline: one sensor period (10 ms)")
+    over = sum(1 for x in [lt["max"]] if x > 10000.0)
+    check(isinstance(rt.get("deadline_overruns"), int) and (rt["deadline_overruns"] > 0) == (over > 0)
+          and rt.get("outputs_never_received") == 0,
+          "overruns counted (%s; max latency %.0f us)" % (rt.get("deadline_overruns"), lt["max"]))
+    # a deadline every output misses: every step is an overrun
+    out2 = os.path.join(a.workdir, "realtime-deadline")
+    run(a.ggins_run, out2, "--scenario", "welker-perfect", "--duration", "1", "--realtime", "--no-plots",
+        "--no-log", "--deadline-ms", "0.000001")
+    s2, _ = load(out2)
+    check(s2["realtime"]["deadline_overruns"] == 101, "a 1 ns deadline: all 101 steps overrun (%s)"
+          % s2["realtime"]["deadline_overruns"])
 
 
 def test_shared_url(a):

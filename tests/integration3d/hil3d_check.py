@@ -9,6 +9,7 @@
            and again with 5 % of every transport fault: recovered, counted in
            summary.json (hal_sim's counters), the same bit for bit.
   cli      --help, --list-scenarios, unknown scenario, bad key.
+  realtime --realtime: paced at the sensor rate, lateness / output latency / overruns reported.
 
 usage: hil3d_check.py CASE --ggins-run3d PATH --workdir DIR [--scenario S] [--duration S]
 Python stdlib only.
@@ -78,6 +79,19 @@ def case_hil(a):
     check(x["bus_auth"]["rejected_total"] == 0 and x["bus_auth"]["conflicts_total"] == 0, "no MAC reject, no conflict")
 
 
+def case_realtime(a):
+    """--realtime in 3-D: one frame per sensor period, paced; timing reported."""
+    out = os.path.join(a.workdir, "rt")
+    s = run(a.ggins_run3d, out, "--scenario", a.scenario, "--duration", "2", "--realtime", "--no-log")
+    check(s["outputs"] == 201 and s.get("hal_sim", {}).get("frames_lost", -1) == 0, "201 steps, none lost")
+    check(0.5 < s["realtime_factor"] < 1.05, "paced at the sensor rate (real-time factor %.3f)" % s["realtime_factor"])
+    rt = s.get("realtime", {})
+    check(rt.get("lateness_us", {}).get("n") == 201 and rt.get("output_latency_us", {}).get("n") == 201
+          and "deadline_overruns" in rt, "lateness, output latency and overruns reported (%s)"
+          % {k: rt.get(k) for k in ("lateness_us", "output_latency_us", "deadline_overruns")})
+    check(s["transport"]["frame_messages"] >= 201, "one frame per message")
+
+
 def case_cli(a):
     p = subprocess.run([a.ggins_run3d, "--help"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     check(p.returncode == 0 and "summary.json" in p.stdout and "--direct" in p.stdout, "--help explains the run")
@@ -96,7 +110,7 @@ def case_cli(a):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["hil", "cli"])
+    ap.add_argument("case", choices=["hil", "cli", "realtime"])
     ap.add_argument("--ggins-run3d", required=True)
     ap.add_argument("--workdir", required=True)
     ap.add_argument("--scenario", default="3d-tumble")
@@ -104,7 +118,7 @@ def main():
     a = ap.parse_args()
     shutil.rmtree(a.workdir, ignore_errors=True)
     os.makedirs(a.workdir)
-    {"hil": case_hil, "cli": case_cli}[a.case](a)
+    {"hil": case_hil, "cli": case_cli, "realtime": case_realtime}[a.case](a)
     if FAILS:
         print("%d check(s) failed" % len(FAILS))
         sys.exit(1)
