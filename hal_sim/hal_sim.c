@@ -20,8 +20,9 @@
  * output (the last WINDOW are kept) is published again (the sender may have
  * lost it) and the firmware is not stepped twice. A gap (a later frame
  * arrived first) is answered at once with a negative acknowledgement
- * (GGINS_NAK, resend_request_t: the missing seqs as ranges), repeated every
- * --gap-timeout-ms while a frame stays missing; after --max-resend requests
+ * (GGINS_NAK, resend_request_t: the missing seqs as ranges), repeated while a
+ * frame stays missing, every --gap-timeout-ms doubled per request (up to 64
+ * times: a busy sender is not a lost frame); after --max-resend requests
  * for the same frame it is declared lost and skipped (the firmware then sees
  * the seq gap and flags it). Frames that reach the firmware as
  * retransmissions (resent > 0) are counted as recovered.
@@ -580,7 +581,7 @@ static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 
 /* Negative acknowledgement: every frame between next and the highest seq
  * seen that is not here is asked for at once (one P+NAK message of ranges),
- * and again every --gap-timeout-ms while it stays missing; after
+ * and again while it stays missing (backoff()); after
  * --max-resend requests the frame at next is declared lost and skipped. */
 static void send_nak(hal_sim_t *h, const int64_t *first, const int32_t *count, int n)
 {
@@ -596,6 +597,18 @@ static void send_nak(hal_sim_t *h, const int64_t *first, const int32_t *count, i
     publish_signed(h, h->ch_nak, ggins_resend_request_t_encode(h->buf, 0, MAX_MSG, &r));
 }
 
+/* The wait before the next request for a frame asked for n times: the
+ * interval doubled per request up to 64 times (2 ms .. 128 ms; 50 requests
+ * take ~6 s), so that a sender descheduled for a while on a busy machine is
+ * not mistaken for a lost frame. */
+static double backoff(double interval, int n)
+{
+    int e = n - 1;
+    if (e < 0) e = 0;
+    if (e > 6) e = 6;
+    return interval * (double)(1 << e);
+}
+
 static void handle_gaps(hal_sim_t *h)
 {
     if (h->highest < h->next) { /* nothing ahead: no gap */
@@ -606,7 +619,7 @@ static void handle_gaps(hal_sim_t *h)
     const double interval = 1e-3 * h->gap_timeout_ms;
     {
         slot_t *sn = &h->slots[h->next & (WINDOW - 1)];
-        if (sn->req_seq == h->next && sn->req_count >= h->max_resend && t - sn->req_time >= interval) {
+        if (sn->req_seq == h->next && sn->req_count >= h->max_resend && t - sn->req_time >= backoff(interval, sn->req_count)) {
             h->st.frames_lost++; /* give up on it */
             if (!h->quiet) fprintf(stderr, "hal_sim: frame %lld lost after %d resend requests\n",
                                    (long long)h->next, sn->req_count);
@@ -627,7 +640,7 @@ static void handle_gaps(hal_sim_t *h)
         if (sl->req_seq != s) {
             sl->req_seq = s;
             sl->req_count = 0;
-        } else if (t - sl->req_time < interval) {
+        } else if (t - sl->req_time < backoff(interval, sl->req_count)) {
             continue; /* asked for recently */
         }
         sl->req_count++;

@@ -26,8 +26,8 @@
 // arrives (hal_sim steps in seq order), and its frame is sent again (hal_sim
 // answers a repeated frame with the output it keeps). Only the very last
 // messages of a run, whose loss nothing later can reveal, wait for a timeout
-// (a few round trips). Repeated requests for one seq within half hal_sim's
-// re-request interval are answered once.
+// (a few round trips). The resends of one seq back off (want_resend), so a
+// process descheduled for a while is not mistaken for a loss.
 //
 // Real time (--realtime): one frame per message at its scheduled time (start
 // + k dt); the lateness of each send against its schedule and the output
@@ -381,7 +381,8 @@ class Link : public LinkBase {
     int64_t seq = -1;
     ggins::sensor_frame_t msg{};
     double t_first = -1, t_last = -1;  // first / last transmission
-    double t_resend = -1;              // last resend asked for (request or gap)
+    double t_resend = -1;              // last resend asked for (request, gap or timeout)
+    int resends = 0;                   // resends of this seq so far
     int attempts = 0;
     bool got = false;
     Out out{};
@@ -490,11 +491,16 @@ class Link : public LinkBase {
     }
   }
   // Not sent again within half hal_sim's re-request interval (one request, one resend).
+  // Backing off: the n-th resend of one seq waits 2^min(n, 6) half re-request
+  // intervals after the previous one (1, 2, 4 .. 64 ms), so that a process
+  // descheduled for a while on a busy machine is not taken for a lost frame.
   bool want_resend(int64_t j, double now) {
     Slot& s = slot(j);
     if (s.seq != j) return false;
-    if (s.t_resend >= 0 && now - s.t_resend < 0.5 * gap_interval_s()) return false;
+    const double wait = 0.5 * gap_interval_s() * static_cast<double>(1 << std::min(s.resends, 6));
+    if (s.t_resend >= 0 && now - s.t_resend < wait) return false;
     s.t_resend = now;  // reserved: sent with the next batch
+    ++s.resends;
     return true;
   }
   double gap_interval_s() const { return 1e-3 * std::max(2, opt_.resend_timeout_ms / 25); }
@@ -620,8 +626,9 @@ class Link : public LinkBase {
   void on_timeout() {
     check_children();
     int c = 0;
+    const double now = mono_s();
     for (int64_t k = base_; k < next_ && c < batch_; ++k)
-      if (!slot(k).got) {
+      if (!slot(k).got && want_resend(k, now)) {
         ++resend_timeouts_;
         emit(k);
         ++c;
