@@ -277,6 +277,7 @@ class Link : public LinkBase {
     tr["resends_on_output_gap"] = resend_on_gap_;
     tr["nak_received"] = naks_;
     tr["batch_frames"] = batch_;
+    tr["window_full"] = {{"waits", blocked_}, {"wait_s", blocked_s_}};  // the runner waited for outputs
     tr["window_frames"] = {{"final", window_}, {"max", window_max_}, {"automatic", opt_.window <= 0}};
     tr["round_trip_us"] = {{"min", rtt_min_ < 1e9 ? rtt_min_ * 1e6 : 0.0}, {"smoothed", srtt_ * 1e6}};
     tr["runner_us_per_frame"] = t_frame_ * 1e6;
@@ -690,7 +691,10 @@ class Link : public LinkBase {
         // whether or not anything else arrives meanwhile
         double wait = rto() - (mono_s() - last_progress_);
         if (base_ < max_first_) wait = std::min(wait, 0.5 * gap_interval_s());
-        if (wait > 0) handle_until(mono_s() + wait);
+        const double w0 = mono_s();
+        if (wait > 0) handle_until(w0 + wait);
+        ++blocked_;
+        blocked_s_ += mono_s() - w0;
         handle_ready();
         output_gaps(mono_s());
         if (mono_s() - last_progress_ >= rto() && base_ < n_ && resend_.empty()) on_timeout();
@@ -775,7 +779,8 @@ class Link : public LinkBase {
   int batch_ = kDefaultBatch;
   int64_t window_ = 0, window_max_ = 0;
   double t_start_ = 0, wall_ = 0, last_progress_ = 0, t_make_ = 0, t_take_ = 0, t_frame_ = 0;
-  double rtt_min_ = 1e30, srtt_ = 0;
+  double rtt_min_ = 1e30, srtt_ = 0, blocked_s_ = 0;
+  int64_t blocked_ = 0;
   double cpu_start_ = 0, cpu_loop_ = 0, hal_cpu_s_ = -1, fw_ns_ = 0;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_recovered_ = 0, outputs_foreign_ = 0, outputs_conflict_ = 0;
   int64_t output_messages_ = 0, resend_timeouts_ = 0, resend_on_request_ = 0, resend_on_gap_ = 0, naks_ = 0;
