@@ -39,6 +39,20 @@ def run(exe, out, *args):
         return json.load(f)
 
 
+def nav_csv(path):
+    """timeseries.csv with the DEADLINE health bit (bit 9: a step that overran its period on
+    this machine's clock, timing and not navigation) cleared; everything else as written."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    col = lines[0].split(",").index("health")
+    out = [lines[0]]
+    for ln in lines[1:]:
+        x = ln.split(",")
+        x[col] = str(int(x[col]) & ~(1 << 9))
+        out.append(",".join(x))
+    return out
+
+
 def case_hil(a):
     lcm_dir = os.path.join(a.workdir, "lcm")
     dir_dir = os.path.join(a.workdir, "direct")
@@ -55,15 +69,15 @@ def case_hil(a):
     for k in ("position_error_m", "velocity_error_mps", "attitude_error_rad", "gravity_error_mps2",
               "gamma_error_ecef_E", "gamma_error_body_E", "height_error_m"):
         check(s[k] == d[k], "%s identical over LCM and in process (%s vs %s)" % (k, s[k], d[k]))
-    with open(os.path.join(lcm_dir, "timeseries.csv")) as f1, open(os.path.join(dir_dir, "timeseries.csv")) as f2:
-        check(f1.read() == f2.read(), "timeseries.csv identical over LCM and in process")
+    check(nav_csv(os.path.join(lcm_dir, "timeseries.csv")) == nav_csv(os.path.join(dir_dir, "timeseries.csv")),
+          "timeseries.csv identical over LCM and in process (but for DEADLINE)")
     # the same flight with 5 % of every transport fault (and undecodable payloads):
     # recovered, counted, and the same bit for bit
     lossy_dir = os.path.join(a.workdir, "lossy")
     x = run(a.ggins_run3d, lossy_dir, *common, "--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
             "--drop-output-prob", "0.05", "--garbage-prob", "0.05")
-    with open(os.path.join(lossy_dir, "timeseries.csv")) as f1, open(os.path.join(dir_dir, "timeseries.csv")) as f2:
-        check(f1.read() == f2.read(), "timeseries.csv with transport faults identical to the in-process run")
+    check(nav_csv(os.path.join(lossy_dir, "timeseries.csv")) == nav_csv(os.path.join(dir_dir, "timeseries.csv")),
+          "timeseries.csv with transport faults identical to the in-process run (but for DEADLINE)")
     for k in ("position_error_m", "attitude_error_rad", "gravity_error_mps2", "gamma_error_ecef_E", "outputs"):
         check(x[k] == d[k], "%s identical with transport faults (%s)" % (k, x[k]))
     hs, inj = x.get("hal_sim", {}), x.get("transport", {}).get("injected", {})
