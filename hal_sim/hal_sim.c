@@ -9,14 +9,23 @@
  * on GGINS_HAL. It is a thin adapter: validation and fault handling of the
  * sensor data belong to the firmware.
  *
- * Transport: frames are put back in seq order through a reorder window.
+ * Transport: frames come alone (GGINS_FRAME, sensor_frame_t) or several per
+ * message (GGINS_FRAMES, frame_batch_t: batched lockstep); they are put back
+ * in seq order through a reorder window and each is stepped once. The
+ * outputs of batched frames leave as batches (GGINS_NAVS nav_output_batch_t,
+ * GGINS_NAV3DS nav3d_output_batch_t): one per message handled, or when
+ * OUT_BATCH are ready; the outputs of frames that came alone leave alone
+ * (GGINS_NAV, GGINS_NAV3D).
  * A frame that arrives again after it was used is a duplicate: its cached
- * output (the last WINDOW are kept) is published again (the sender may have lost it) and the firmware
- * is not stepped twice. A gap (a later frame arrived first) is answered with
- * RESEND requests on GGINS_REQUEST every --gap-timeout-ms; after
- * --max-resend requests for the same frame it is declared lost and skipped
- * (the firmware then sees the seq gap and flags it). Frames that reach the
- * firmware as retransmissions (resent > 0) are counted as recovered.
+ * output (the last WINDOW are kept) is published again (the sender may have
+ * lost it) and the firmware is not stepped twice. A gap (a later frame
+ * arrived first) is answered at once with a negative acknowledgement
+ * (GGINS_NAK, resend_request_t: the missing seqs as ranges), repeated while a
+ * frame stays missing, every --gap-timeout-ms doubled per request (up to 64
+ * times: a busy sender is not a lost frame); after --max-resend requests
+ * for the same frame it is declared lost and skipped (the firmware then sees
+ * the seq gap and flags it). Frames that reach the firmware as
+ * retransmissions (resent > 0) are counted as recovered.
  *
  * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
  * takes differences modulo 2^32), cycles_per_second = 1e9.
@@ -63,16 +72,27 @@
 #include "ggins_nav_output_t.h"
 #include "ggins_run_control_t.h"
 #include "ggins_sensor_frame_t.h"
+#include "ggins_frame_batch_t.h"
+#include "ggins_nav_output_batch_t.h"
+#include "ggins_nav3d_output_batch_t.h"
+#include "ggins_resend_request_t.h"
 
 _Static_assert(GG_MOD_COUNT <= 8, "ggins_nav_output_t.cycles holds 8 modules");
 
-#define WINDOW 4096 /* reorder window, frames (power of two) */
+#define WINDOW 8192 /* reorder window, frames (power of two); > the runners' largest window */
 #define MAX_MSG 4096
+#define OUT_BATCH 64   /* outputs per output batch at most */
+#define BATCH_BUF 131072 /* encoded output batch */
+#define NAK_RANGES 128 /* ranges per negative acknowledgement */
 
 typedef struct {
     int valid;
     int resent;    /* the copy held is a retransmission */
     int requested; /* hal_sim asked for it */
+    int batched;   /* it came in a frame batch: its output goes into an output batch */
+    int64_t req_seq;  /* seq the request state below belongs to (-1 none) */
+    int req_count;    /* requests sent for req_seq */
+    double req_time;  /* when the last was sent */
     gg_frame_t frame;
     int64_t taken_seq;          /* seq of the frame kept in `taken` (-1 none) */
     ggins_sensor_frame_t taken; /* the authenticated message taken for that seq */
@@ -84,6 +104,7 @@ typedef struct {
     const char *url_out; /* outbound: outputs, status, requests (NULL: same as url) */
     char ch_frame[96], ch_nav[96], ch_config[96], ch_control[96], ch_request[96], ch_hal[96];
     char ch_nav3d[96], ch_config3d[96];
+    char ch_frames[96], ch_navs[96], ch_nav3ds[96], ch_nak[96];
     int64_t run_id;
     int gap_timeout_ms;
     int max_resend;
@@ -114,8 +135,6 @@ typedef struct {
     int64_t next;      /* next seq for the firmware */
     int64_t highest;   /* highest seq seen */
     int64_t gap_seq;   /* seq currently missing (-1 none) */
-    int gap_requests;  /* requests sent for gap_seq */
-    double gap_last_request;
 
     /* recent outputs, for duplicates (the sender may have lost our answer) */
     ggins_nav_output_t last_out;
@@ -123,6 +142,14 @@ typedef struct {
     ggins_nav_output_t out_ring[WINDOW];
     uint8_t out_valid[WINDOW];
     ggins_nav3d_output_t out3_ring[WINDOW]; /* 3-D mode */
+
+    /* output batch under construction (answers to batched frames) */
+    ggins_nav_output_t ob2[OUT_BATCH + 2];
+    ggins_nav3d_output_t ob3[OUT_BATCH + 2];
+    int ob_n;
+    int cur_batched;  /* the frame being stepped came in a batch */
+    int64_t out_batch_seq, nak_seq;
+    uint8_t bbuf[BATCH_BUF];
 
     ggins_hal_status_t st;
     int64_t status_seq, request_seq;
@@ -144,6 +171,7 @@ static uint64_t mix64(uint64_t x)
 }
 
 static int inject_drop(const hal_sim_t *h, int64_t seq, uint64_t attempt);
+static int64_t wall_us(void);
 static int inject_conflict(const hal_sim_t *h, int64_t seq);
 
 /* Sign the n encoded bytes in h->buf for the channel and publish them. */
@@ -153,35 +181,91 @@ static int publish_signed(hal_sim_t *h, const char *channel, int n)
     return lcm_publish(h->lcm_out, channel, h->buf, (unsigned)n) == 0 ? 0 : -1;
 }
 
-static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_t attempt)
+/* The output batch under construction goes out (one signed message on
+ * P+NAVS or P+NAV3DS); nothing when it is empty. */
+static int flush_outputs(hal_sim_t *h)
+{
+    if (h->ob_n == 0) return 0;
+    int n;
+    const char *ch;
+    if (h->mode3d) {
+        ggins_nav3d_output_batch_t b;
+        memset(&b, 0, sizeof b);
+        b.utime = wall_us();
+        b.seq = h->out_batch_seq++;
+        b.run_id = h->run_id;
+        b.n = h->ob_n;
+        b.outputs = h->ob3;
+        n = ggins_nav3d_output_batch_t_encode(h->bbuf, 0, BATCH_BUF, &b);
+        ch = h->ch_nav3ds;
+    } else {
+        ggins_nav_output_batch_t b;
+        memset(&b, 0, sizeof b);
+        b.utime = wall_us();
+        b.seq = h->out_batch_seq++;
+        b.run_id = h->run_id;
+        b.n = h->ob_n;
+        b.outputs = h->ob2;
+        n = ggins_nav_output_batch_t_encode(h->bbuf, 0, BATCH_BUF, &b);
+        ch = h->ch_navs;
+    }
+    h->ob_n = 0;
+    if (n < 0 || ggins_bus_sign(&h->key, ch, h->bbuf, (size_t)n) != 0) return -1;
+    return lcm_publish(h->lcm_out, ch, h->bbuf, (unsigned)n) == 0 ? 0 : -1;
+}
+
+/* One output to its receiver: alone on P+NAV3D, or (batched) into the output
+ * batch. Fault injection (a dropped output, a second different one) applies
+ * to each output either way. */
+static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_t attempt, int batched)
 {
     if (inject_drop(h, m->seq, attempt)) {
         h->st.outputs_dropped_injected++;
         return 0;
     }
-    if (publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
-    if (attempt == 0 && inject_conflict(h, m->seq)) { /* a sender contradicting itself */
-        ggins_nav3d_output_t other = *m;
-        other.r_e[0] += 1e-3;
-        h->st.outputs_conflict_injected++;
-        return publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, &other));
+    const int conflict = attempt == 0 && inject_conflict(h, m->seq); /* a sender contradicting itself */
+    ggins_nav3d_output_t other = *m;
+    other.r_e[0] += 1e-3;
+    if (conflict) h->st.outputs_conflict_injected++;
+    if (batched) {
+        h->ob3[h->ob_n] = *m;
+        memset(h->ob3[h->ob_n].mac, 0, sizeof h->ob3[h->ob_n].mac);
+        h->ob_n++;
+        if (conflict) {
+            h->ob3[h->ob_n] = other;
+            memset(h->ob3[h->ob_n].mac, 0, sizeof other.mac);
+            h->ob_n++;
+        }
+        return h->ob_n >= OUT_BATCH ? flush_outputs(h) : 0;
     }
+    if (publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
+    if (conflict) return publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, &other));
     return 0;
 }
 
-static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t attempt)
+static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t attempt, int batched)
 {
     if (inject_drop(h, m->seq, attempt)) {
         h->st.outputs_dropped_injected++;
         return 0;
     }
-    if (publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
-    if (attempt == 0 && inject_conflict(h, m->seq)) { /* a sender contradicting itself */
-        ggins_nav_output_t other = *m;
-        other.r_i[0] += 1e-3;
-        h->st.outputs_conflict_injected++;
-        return publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &other));
+    const int conflict = attempt == 0 && inject_conflict(h, m->seq); /* a sender contradicting itself */
+    ggins_nav_output_t other = *m;
+    other.r_i[0] += 1e-3;
+    if (conflict) h->st.outputs_conflict_injected++;
+    if (batched) {
+        h->ob2[h->ob_n] = *m;
+        memset(h->ob2[h->ob_n].mac, 0, sizeof h->ob2[h->ob_n].mac);
+        h->ob_n++;
+        if (conflict) {
+            h->ob2[h->ob_n] = other;
+            memset(h->ob2[h->ob_n].mac, 0, sizeof other.mac);
+            h->ob_n++;
+        }
+        return h->ob_n >= OUT_BATCH ? flush_outputs(h) : 0;
     }
+    if (publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
+    if (conflict) return publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &other));
     return 0;
 }
 static void on_signal(int sig) { g_signal = sig; }
@@ -223,6 +307,7 @@ static gg_status_t hal_read_frame(void *ctx, gg_frame_t *frame)
     if (!s->valid || s->frame.seq != h->next) return GG_ERR_NO_DATA;
     *frame = s->frame;
     if (s->resent) h->st.frames_recovered++; /* the copy that got through was a retransmission */
+    h->cur_batched = s->batched;
     s->valid = 0;
     if (h->gap_seq == h->next) h->gap_seq = -1;
     h->next++;
@@ -240,7 +325,7 @@ static gg_status_t hal_write_output(void *ctx, const gg_nav_output_t *o)
     h->st.steps++;
     if (o->status != GG_OK) h->st.steps_rejected++;
     if (o->health & GG_HEALTH_DEADLINE) h->st.deadline_overruns++;
-    return publish_output(h, m, 0) == 0 ? GG_OK : GG_ERR_IO;
+    return publish_output(h, m, 0, h->cur_batched) == 0 ? GG_OK : GG_ERR_IO;
 }
 
 static gg_status_t hal_write_output3d(void *ctx, const struct gg_nav3d_output_s *o)
@@ -252,7 +337,7 @@ static gg_status_t hal_write_output3d(void *ctx, const struct gg_nav3d_output_s 
     h->st.steps++;
     if (o->status != GG_OK) h->st.steps_rejected++;
     if (o->health & GG_HEALTH_DEADLINE) h->st.deadline_overruns++;
-    return publish_output3d(h, m, 0) == 0 ? GG_OK : GG_ERR_IO;
+    return publish_output3d(h, m, 0, h->cur_batched) == 0 ? GG_OK : GG_ERR_IO;
 }
 
 static uint32_t hal_cycle_count(void *ctx)
@@ -276,19 +361,6 @@ static void publish_status(hal_sim_t *h)
     h->st.next_seq = h->next;
     publish_signed(h, h->ch_hal, ggins_hal_status_t_encode(h->buf, 0, MAX_MSG, &h->st));
     h->last_status_wall = now_s();
-}
-
-static void request_resend(hal_sim_t *h, int64_t seq)
-{
-    ggins_run_control_t c;
-    memset(&c, 0, sizeof c);
-    c.utime = wall_us();
-    c.seq = h->request_seq++;
-    c.run_id = h->run_id;
-    c.command = GGINS_RUN_CONTROL_T_RESEND;
-    c.resend_seq = seq;
-    publish_signed(h, h->ch_request, ggins_run_control_t_encode(h->buf, 0, MAX_MSG, &c));
-    h->st.resend_requests++;
 }
 
 /* ---- messages in --------------------------------------------------------- */
@@ -341,13 +413,9 @@ static void report_conflict(hal_sim_t *h, const char *what, int64_t seq, int64_t
                 what, (long long)seq, count == 10 ? " (further conflicts counted only)" : "");
 }
 
-static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+/* An authenticated frame of this run (alone, or one of a batch). */
+static void take_frame(hal_sim_t *h, ggins_sensor_frame_t m, int batched)
 {
-    hal_sim_t *h = user;
-    ggins_sensor_frame_t m;
-    h->last_rx_wall = now_s();
-    const int dec = ggins_sensor_frame_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
-    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_frame)) return;
     h->st.frames_received++;
     if (h->state != GGINS_HAL_STATUS_T_CONFIGURED && h->state != GGINS_HAL_STATUS_T_RUNNING)
         return; /* not configured yet: the sender resends on timeout */
@@ -363,7 +431,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
             ggins_nav3d_output_t *o3 = &h->out3_ring[s & (WINDOW - 1)];
             if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o3->seq == s) {
                 if (o3->republished < 127) o3->republished++;
-                publish_output3d(h, o3, (uint64_t)o3->republished);
+                publish_output3d(h, o3, (uint64_t)o3->republished, batched);
                 h->st.outputs_republished++;
             }
             return;
@@ -371,7 +439,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         ggins_nav_output_t *o = &h->out_ring[s & (WINDOW - 1)];
         if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o->seq == s) { /* the sender probably lost our answer */
             if (o->republished < 127) o->republished++;
-            publish_output(h, o, (uint64_t)o->republished);
+            publish_output(h, o, (uint64_t)o->republished, batched);
             h->st.outputs_republished++;
         }
         return;
@@ -389,15 +457,48 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user
         return;
     }
     if (s > h->next) h->st.frames_out_of_order++;
-    const int requested = (sl->frame.seq == s && sl->requested);
+    const int requested = (sl->req_seq == s);
     memset(sl, 0, sizeof *sl);
     ggins_frame_from_lcm(&m, &sl->frame); /* hal_lcm.c: shared with ggins replay */
     sl->valid = 1;
+    sl->batched = batched;
+    sl->req_seq = -1;
     sl->resent = m.resent > 0;
-    sl->requested = requested || (h->gap_seq == s && h->gap_requests > 0);
+    sl->requested = requested;
     sl->taken_seq = s;
     sl->taken = m;
     if (s > h->highest) h->highest = s;
+}
+
+static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    hal_sim_t *h = user;
+    ggins_sensor_frame_t m;
+    h->last_rx_wall = now_s();
+    const int dec = ggins_sensor_frame_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m);
+    if (!accept_msg(h, rbuf, channel, dec, dec >= 0 ? m.run_id : -1, &h->st.auth_failed_frame)) return;
+    take_frame(h, m, 0);
+}
+
+/* A batch of frames: checked as one message (decode, run, MAC), then each
+ * frame as if it had come alone, in the batch's order; an inner frame of
+ * another run is foreign. */
+static void on_frame_batch(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    hal_sim_t *h = user;
+    ggins_frame_batch_t b;
+    h->last_rx_wall = now_s();
+    const int dec = ggins_frame_batch_t_decode(rbuf->data, 0, (int)rbuf->data_size, &b);
+    if (accept_msg(h, rbuf, channel, dec, dec >= 0 ? b.run_id : -1, &h->st.auth_failed_frame)) {
+        for (int i = 0; i < b.n; ++i) {
+            if (b.frames[i].run_id != h->run_id) {
+                h->st.foreign_messages++;
+                continue;
+            }
+            take_frame(h, b.frames[i], 1);
+        }
+    }
+    if (dec >= 0) ggins_frame_batch_t_decode_cleanup(&b);
 }
 
 static void on_config(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
@@ -479,6 +580,36 @@ static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 
 /* ---- gap handling -------------------------------------------------------- */
 
+/* Negative acknowledgement: every frame between next and the highest seq
+ * seen that is not here is asked for at once (one P+NAK message of ranges),
+ * and again while it stays missing (backoff()); after
+ * --max-resend requests the frame at next is declared lost and skipped. */
+static void send_nak(hal_sim_t *h, const int64_t *first, const int32_t *count, int n)
+{
+    ggins_resend_request_t r;
+    memset(&r, 0, sizeof r);
+    r.utime = wall_us();
+    r.seq = h->nak_seq++;
+    r.run_id = h->run_id;
+    r.next_seq = h->next;
+    r.n = n;
+    r.first = (int64_t *)first;
+    r.count = (int32_t *)count;
+    publish_signed(h, h->ch_nak, ggins_resend_request_t_encode(h->buf, 0, MAX_MSG, &r));
+}
+
+/* The wait before the next request for a frame asked for n times: the
+ * interval doubled per request up to 64 times (2 ms .. 128 ms; 50 requests
+ * take ~6 s), so that a sender descheduled for a while on a busy machine is
+ * not mistaken for a lost frame. */
+static double backoff(double interval, int n)
+{
+    int e = n - 1;
+    if (e < 0) e = 0;
+    if (e > 6) e = 6;
+    return interval * (double)(1 << e);
+}
+
 static void handle_gaps(hal_sim_t *h)
 {
     if (h->highest < h->next) { /* nothing ahead: no gap */
@@ -486,33 +617,50 @@ static void handle_gaps(hal_sim_t *h)
         return;
     }
     const double t = now_s();
-    if (h->gap_seq != h->next) { /* new gap at next: give it one gap timeout to arrive */
-        h->gap_seq = h->next;
-        h->gap_requests = 0;
-        h->gap_last_request = t;
+    const double interval = 1e-3 * h->gap_timeout_ms;
+    {
+        slot_t *sn = &h->slots[h->next & (WINDOW - 1)];
+        if (sn->req_seq == h->next && sn->req_count >= h->max_resend && t - sn->req_time >= backoff(interval, sn->req_count)) {
+            h->st.frames_lost++; /* give up on it */
+            if (!h->quiet) fprintf(stderr, "hal_sim: frame %lld lost after %d resend requests\n",
+                                   (long long)h->next, sn->req_count);
+            sn->valid = 0;
+            sn->req_seq = -1;
+            h->next++;
+            h->gap_seq = -1;
+            return;
+        }
     }
-    if (t - h->gap_last_request < 1e-3 * h->gap_timeout_ms) return;
-    if (h->gap_requests >= h->max_resend) { /* give up on it */
-        h->st.frames_lost++;
-        if (!h->quiet) fprintf(stderr, "hal_sim: frame %lld lost after %d resend requests\n",
-                               (long long)h->next, h->gap_requests);
-        h->slots[h->next & (WINDOW - 1)].valid = 0;
-        h->next++;
-        h->gap_seq = -1;
-        return;
-    }
-    /* request every missing frame between next and highest (bounded burst) */
-    int burst = 0;
-    for (int64_t s = h->next; s < h->highest && burst < 64; ++s) {
+    h->gap_seq = h->next;
+    int64_t first[NAK_RANGES];
+    int32_t count[NAK_RANGES];
+    int n = 0;
+    for (int64_t s = h->next; s < h->highest && s < h->next + WINDOW; ++s) {
         slot_t *sl = &h->slots[s & (WINDOW - 1)];
         if (sl->valid && sl->frame.seq == s) continue;
-        sl->frame.seq = s; /* remember the request in the empty slot */
+        if (sl->req_seq != s) {
+            sl->req_seq = s;
+            sl->req_count = 0;
+        } else if (t - sl->req_time < backoff(interval, sl->req_count)) {
+            continue; /* asked for recently */
+        }
+        sl->req_count++;
+        sl->req_time = t;
         sl->requested = 1;
-        request_resend(h, s);
-        ++burst;
+        h->st.resend_requests++;
+        if (n > 0 && first[n - 1] + count[n - 1] == s) {
+            count[n - 1]++;
+        } else {
+            if (n == NAK_RANGES) {
+                send_nak(h, first, count, n);
+                n = 0;
+            }
+            first[n] = s;
+            count[n] = 1;
+            n++;
+        }
     }
-    h->gap_requests++;
-    h->gap_last_request = t;
+    if (n > 0) send_nak(h, first, count, n);
 }
 
 /* ---- main ------------------------------------------------------------------ */
@@ -530,14 +678,14 @@ static void usage(FILE *out)
             "  --lcm-url URL          LCM URL hal_sim listens on (default: LCM_DEFAULT_URL or LCM's default)\n"
             "  --lcm-url-out URL      LCM URL for what hal_sim publishes (default: the same); a second\n"
             "                         URL spares each process receiving its own traffic\n"
-            "  --prefix P             channel prefix (default GGINS_): P+FRAME, P+NAV, P+CONFIG,\n"
-            "                         P+CONTROL, P+REQUEST, P+HAL, P+CONFIG3D, P+NAV3D\n"
+            "  --prefix P             channel prefix (default GGINS_): P+FRAME, P+FRAMES, P+NAV, P+NAVS,\n"
+            "                         P+CONFIG, P+CONTROL, P+NAK, P+HAL, P+CONFIG3D, P+NAV3D, P+NAV3DS\n"
             "  --run-id N             run nonce; messages with another run_id are ignored (required)\n"
             "  --key-fd FD            read the run's 32-byte secret key from this inherited descriptor\n"
             "                         (a pipe the run tool wrote and closed), then close it (required).\n"
             "                         Every message is authenticated with it (keyed BLAKE2b-256, libsodium):\n"
             "                         ours carry its MAC, theirs are dropped and counted when theirs fails\n"
-            "  --gap-timeout-ms MS    re-request a missing frame every MS ms (default 20)\n"
+            "  --gap-timeout-ms MS    a missing frame is asked for at once (P+NAK), again every MS ms (default 20)\n"
             "  --max-resend N         requests per missing frame before it is declared lost (default 50)\n"
             "  --idle-timeout-s S     exit (status 3) after S s without a message (default 60)\n"
             "  --drop-output-prob P   fault injection: do not send an output with probability P\n"
@@ -628,7 +776,10 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    for (int i = 0; i < WINDOW; ++i) h.slots[i].taken_seq = -1;
+    for (int i = 0; i < WINDOW; ++i) {
+        h.slots[i].taken_seq = -1;
+        h.slots[i].req_seq = -1;
+    }
     if (strlen(prefix) > 80) {
         fprintf(stderr, "hal_sim: prefix too long\n");
         return 1;
@@ -641,6 +792,10 @@ int main(int argc, char **argv)
     snprintf(h.ch_hal, sizeof h.ch_hal, "%sHAL", prefix);
     snprintf(h.ch_nav3d, sizeof h.ch_nav3d, "%sNAV3D", prefix);
     snprintf(h.ch_config3d, sizeof h.ch_config3d, "%sCONFIG3D", prefix);
+    snprintf(h.ch_frames, sizeof h.ch_frames, "%sFRAMES", prefix);
+    snprintf(h.ch_navs, sizeof h.ch_navs, "%sNAVS", prefix);
+    snprintf(h.ch_nav3ds, sizeof h.ch_nav3ds, "%sNAV3DS", prefix);
+    snprintf(h.ch_nak, sizeof h.ch_nak, "%sNAK", prefix);
 
     prctl(PR_SET_PDEATHSIG, SIGTERM); /* do not outlive the run tool */
     signal(SIGINT, on_signal);
@@ -664,6 +819,7 @@ int main(int argc, char **argv)
     }
     lcm_subscription_t *sf = lcm_subscribe(h.lcm, h.ch_frame, on_frame, &h);
     lcm_subscription_set_queue_capacity(sf, 100000);
+    lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_frames, on_frame_batch, &h), 100000);
     /* room for a burst of forged messages, so that it cannot push the genuine ones out of the queue */
     lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_config, on_config, &h), 10000);
     lcm_subscription_set_queue_capacity(lcm_subscribe(h.lcm, h.ch_config3d, on_config3d, &h), 10000);
@@ -708,6 +864,7 @@ int main(int argc, char **argv)
                 }
             }
             handle_gaps(&h);
+            if (flush_outputs(&h) != 0 && !h.quiet) fprintf(stderr, "hal_sim: publishing an output batch failed\n");
         }
         const double t = now_s();
         if (h.state == GGINS_HAL_STATUS_T_IDLE ? t - h.last_status_wall > 0.05 : t - h.last_status_wall > 1.0)

@@ -4,12 +4,14 @@
 // bounded reader of its own (lcmlog_reader.hpp: every event header is checked
 // against the file before it is used), takes the navigation configuration
 // (2-D: GGINS_CONFIG, nav2d_config_t; 3-D: GGINS_CONFIG3D, nav3d_config_t) and
-// the sensor frames (GGINS_FRAME) of one run id, feeds the frames through the
+// the sensor frames (GGINS_FRAME, and the items of the frame batches on
+// GGINS_FRAMES) of one run id, feeds the frames through the
 // firmware again in this process -- the same gg_nav2d_init / gg_nav2d_task_cycle
 // (or gg_nav3d_*) of the same build, through the same message -> struct
 // conversions as hal_sim (hal_sim/hal_lcm.c, hal_lcm3d.c) -- in seq order, each
 // seq once, as hal_sim's reorder window delivered them, and compares every
-// navigation output with the recorded one (GGINS_NAV / GGINS_NAV3D) bit for bit.
+// navigation output with the recorded one (GGINS_NAV / GGINS_NAV3D, and the
+// items of the output batches on GGINS_NAVS / GGINS_NAV3DS) bit for bit.
 //
 // Not compared: cycles[] (the HAL cycle counter: wall-clock timing) and
 // republished (a transport count). The recorded step time cycles[GG_MOD_TOTAL]
@@ -47,6 +49,9 @@
 #include "ggins_nav_output_t.h"
 #include "ggins_run_control_t.h"
 #include "ggins_sensor_frame_t.h"
+#include "ggins_frame_batch_t.h"
+#include "ggins_nav3d_output_batch_t.h"
+#include "ggins_nav_output_batch_t.h"
 #include "hal_lcm.h"
 #include "hal_lcm3d.h"
 #include "lcmlog_reader.hpp"
@@ -140,7 +145,11 @@ struct Dim2 {
   static constexpr const char* kName = "2-D";
   static constexpr const char* kConfig = "CONFIG";
   static constexpr const char* kNav = "NAV";
+  static constexpr const char* kNavs = "NAVS";
   using CfgMsg = ggins_nav2d_config_t;
+  using BatchMsg = ggins_nav_output_batch_t;
+  static int batch_decode(const void* d, int n, BatchMsg* m) { return ggins_nav_output_batch_t_decode(d, 0, n, m); }
+  static void batch_cleanup(BatchMsg* m) { ggins_nav_output_batch_t_decode_cleanup(m); }
   using OutMsg = ggins_nav_output_t;
   using Cfg = gg_nav2d_config_t;
   using Nav = gg_nav2d_t;
@@ -163,7 +172,11 @@ struct Dim3 {
   static constexpr const char* kName = "3-D";
   static constexpr const char* kConfig = "CONFIG3D";
   static constexpr const char* kNav = "NAV3D";
+  static constexpr const char* kNavs = "NAV3DS";
   using CfgMsg = ggins_nav3d_config_t;
+  using BatchMsg = ggins_nav3d_output_batch_t;
+  static int batch_decode(const void* d, int n, BatchMsg* m) { return ggins_nav3d_output_batch_t_decode(d, 0, n, m); }
+  static void batch_cleanup(BatchMsg* m) { ggins_nav3d_output_batch_t_decode_cleanup(m); }
   using OutMsg = ggins_nav3d_output_t;
   using Cfg = gg_nav3d_config_t;
   using Nav = gg_nav3d_t;
@@ -274,6 +287,20 @@ Common read_common(const Options& o, const LcmLog& log, int64_t run_id) {
   Common c;
   c.run_id = run_id;
   const std::string ch_frame = o.prefix + "FRAME", ch_hal = o.prefix + "HAL", ch_control = o.prefix + "CONTROL";
+  const std::string ch_frames = o.prefix + "FRAMES";
+  auto take = [&](const ggins_sensor_frame_t& m) {
+    if (m.run_id != run_id) {
+      ++c.frame_foreign;
+      return;
+    }
+    auto& fc = c.frames[m.seq];
+    if (fc.copies == 0) {
+      fc.first = m;
+    } else if (frame_bytes(m) != frame_bytes(fc.first)) {
+      fc.differ = true;
+    }
+    ++fc.copies;
+  };
   for (const LogEvent& e : log.events) {
     if (e.channel == ch_frame) {
       ggins_sensor_frame_t m;
@@ -281,17 +308,19 @@ Common read_common(const Options& o, const LcmLog& log, int64_t run_id) {
         ++c.frame_undecodable;  // the run tool injects such payloads (transport faults)
         continue;
       }
-      if (m.run_id != run_id) {
-        ++c.frame_foreign;
+      take(m);
+    } else if (e.channel == ch_frames) {  // batched lockstep: several frames per message, in their order
+      ggins_frame_batch_t b;
+      if (ggins_frame_batch_t_decode(e.data, 0, e.datalen, &b) < 0) {
+        ++c.frame_undecodable;
         continue;
       }
-      auto& fc = c.frames[m.seq];
-      if (fc.copies == 0) {
-        fc.first = m;
-      } else if (frame_bytes(m) != frame_bytes(fc.first)) {
-        fc.differ = true;
+      if (b.run_id != run_id) {
+        ++c.frame_foreign;
+      } else {
+        for (int i = 0; i < b.n; ++i) take(b.frames[i]);
       }
-      ++fc.copies;
+      ggins_frame_batch_t_decode_cleanup(&b);
     } else if (e.channel == ch_hal) {
       ggins_hal_status_t m;
       if (ggins_hal_status_t_decode(e.data, 0, e.datalen, &m) < 0) {
@@ -334,6 +363,26 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     return encoded<OutMsg>(m, D::out_encode, D::out_size);
   };
   std::map<int64_t, OutCopies> outs;
+  const std::string ch_navs = o.prefix + D::kNavs;
+  auto take_out = [&](const OutMsg& m) {
+    if (m.run_id != run_id) {
+      ++nav_foreign;
+      return;
+    }
+    auto& oc = outs[m.seq];
+    if (oc.copies == 0) {
+      oc.rec = m;
+      oc.rec_first = m.republished == 0;
+    } else {
+      if (out_bytes(m) != out_bytes(oc.rec)) oc.differ = true;
+      if (m.republished == 0 && !oc.rec_first) {
+        oc.rec = m;
+        oc.rec_first = true;
+      }
+    }
+    if (m.republished == 0) ++oc.firsts;
+    ++oc.copies;
+  };
   for (const LogEvent& e : log.events) {
     if (e.channel == ch_config) {
       typename D::CfgMsg m;
@@ -349,23 +398,19 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
         ++nav_undecodable;
         continue;
       }
-      if (m.run_id != run_id) {
-        ++nav_foreign;
+      take_out(m);
+    } else if (e.channel == ch_navs) {  // output batches (batched lockstep)
+      typename D::BatchMsg b;
+      if (D::batch_decode(e.data, e.datalen, &b) < 0) {
+        ++nav_undecodable;
         continue;
       }
-      auto& oc = outs[m.seq];
-      if (oc.copies == 0) {
-        oc.rec = m;
-        oc.rec_first = m.republished == 0;
+      if (b.run_id != run_id) {
+        ++nav_foreign;
       } else {
-        if (out_bytes(m) != out_bytes(oc.rec)) oc.differ = true;
-        if (m.republished == 0 && !oc.rec_first) {
-          oc.rec = m;
-          oc.rec_first = true;
-        }
+        for (int i = 0; i < b.n; ++i) take_out(b.outputs[i]);
       }
-      if (m.republished == 0) ++oc.firsts;
-      ++oc.copies;
+      D::batch_cleanup(&b);
     }
   }
 

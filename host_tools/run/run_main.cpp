@@ -3,9 +3,10 @@
 //   truth generator (this process) --GGINS_FRAME--> hal_sim (firmware) --GGINS_NAV--> this process
 //
 // This process generates the sensor frames of a scenario (host_tools/truth),
-// starts hal_sim and lcm-logger on a private LCM URL, sends frame k and (in
-// lockstep mode) waits for the navigation output of step k, compares every
-// output with the truth, and writes summary.json, timeseries.csv and plots.
+// flies them through hal_sim over LCM with the shared transport
+// (hil_common/link.hpp: batched, pipelined lockstep or real time) or in
+// process (--direct, hil_common/direct.hpp), compares every output with the
+// truth in seq order, and writes summary.json, timeseries.csv and plots.
 // See `ggins run --help`.
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
@@ -40,7 +41,9 @@
 #include "ggins/truth/generator.hpp"
 #include "ggins/truth/survey.hpp"
 #include "ggins/truth_t.hpp"
+#include "direct.hpp"
 #include "hil_common.hpp"
+#include "link.hpp"
 
 namespace fs = std::filesystem;
 using ggins::truth::Real;
@@ -67,10 +70,6 @@ uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
-const char* kMulticastFix =
-    "  UDP multicast on the loopback interface is needed for LCM. Fix (as root):\n"
-    "    ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo\n"
-    "  (scripts/setup does this when it runs as root.)";
 
 struct Stats {  // running max / final of one error quantity
   double max = 0, final = 0;
@@ -179,96 +178,37 @@ struct Options {
   std::string log_mode = "internal";
   std::string progress = "auto";
   std::string hal_sim, python = GGINS_PLOT_PYTHON, logger = GGINS_LCM_LOGGER;
+  bool direct = false;
+  int batch = 0, window = 0;
+  double deadline_ms = 0;
 };
 
 class Runner {
  public:
   Runner(const Options& o, const ggins::truth::Scenario& sc, fs::path out)
       : opt_(o), sc_(sc), gen_(sc), out_(std::move(out)) {}
-  ~Runner() { cleanup(); }
   json run();
 
  private:
-  // LCM plumbing
-  static void on_nav_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner*>(u)->on_nav(rb); }
-  static void on_hal_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner*>(u)->on_hal(rb); }
-  static void on_req_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner*>(u)->on_req(rb); }
-  static void on_ping_cb(const lcm_recv_buf_t*, const char*, void* u) { static_cast<Runner*>(u)->pings_++; }
-  void on_nav(const lcm_recv_buf_t* rb);
-  void on_hal(const lcm_recv_buf_t* rb);
-  void on_req(const lcm_recv_buf_t* rb);
-  template <class M>
-  void publish(const std::string& ch, const M& m) {
-    const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-    auth_.sign(ch, buf_.data(), n);  // every message of the run carries its MAC
-    lcm_t* l = ch == ch_ping_ ? lcm_ : lcm_out_;  // pings go round our own inbound URL
-    if (n < 0 || lcm_publish(l, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
-      throw Fail("LCM publish on " + ch + " failed");
-    if (rec_ && ch != ch_ping_) rec_->write(ch, buf_.data(), n, wall_us());
-  }
-  void send_frame(int64_t k, bool resend);
-  void send_control(int32_t cmd);
-  void handle(double timeout_s);
-  void check_children();
-  void check_multicast();
-  void start_logger();
-  void start_hal_sim();
-  void configure_hal();
-  void loop_lockstep();
-  void loop_realtime();
-  void finish_hal();
-  void cleanup();
-  json verify_log();
-  json bus_auth_summary() const;
+  void consume(const ggins::nav_output_t& m);
+  ggins::sensor_frame_t make_frame(int64_t k);
+  ggins::nav2d_config_t build_config();
   void progress(bool final);
 
   const Options& opt_;
   ggins::truth::Scenario sc_;
   ggins::truth::Generator gen_;
   fs::path out_;
-  std::string url_;     // to hal_sim (hal_sim listens here)
-  std::string url_in_;  // from hal_sim (this process listens here); == url_ in single-URL mode
-  lcm_t* lcm_out_ = nullptr;  // publishes on url_ (== lcm_ in single-URL mode)
+  std::unique_ptr<ggins::hil::Link<ggins::hil::Task2D>> link_;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
-  lcm_t* lcm_ = nullptr;
-  pid_t hal_pid_ = -1, logger_pid_ = -1;
-  std::unique_ptr<Recorder> rec_;
-  void record(const lcm_recv_buf_t* rb, const std::string& ch) {
-    if (rec_) rec_->write(ch, rb->data, static_cast<int>(rb->data_size), rb->recv_utime);
-  }
-  // The checks on a received message (hil_common.hpp BusAuth::check) and what
-  // goes into the log: an undecodable payload on our channel is kept as
-  // evidence under the channel; a message of our run whose MAC fails under
-  // <channel>.UNAUTHENTICATED (never where ggins replay reads); another run's
-  // traffic not at all. True: the message is authentic and decoded into m.
-  template <class M>
-  bool accept(const lcm_recv_buf_t* rb, const std::string& ch, M& m) {
-    switch (auth_.check(ch, rb->data, rb->data_size, run_id_, m)) {
-      case ggins::hil::BusAuth::Check::kOk: record(rb, ch); return true;
-      case ggins::hil::BusAuth::Check::kUndecodable: record(rb, ch); ++decode_errors_; return false;
-      case ggins::hil::BusAuth::Check::kForeign: ++foreign_msgs_; return false;
-      case ggins::hil::BusAuth::Check::kUnauthenticated: record(rb, ch + ".UNAUTHENTICATED"); return false;
-    }
-    return false;
-  }
-  std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_, ch_ping_;
+  std::string ch_truth_;
   std::optional<ggins::truth::SurveyGrid> survey_grid_;  // [navigation.survey], built before hal_sim starts
   json survey_;  // the programmed anomaly grid sent (model mode with [navigation.survey])
-  std::vector<uint8_t> buf_ = std::vector<uint8_t>(65536);  // the configuration carries the anomaly grid (~18 KB)
-  ggins::hil::BusAuth auth_;                // the run's key; MACs
-  ggins::hil::SeqCopies<ggins::nav_output_t> out_taken_;  // the outputs taken, per seq
-  int64_t outputs_conflict_ = 0, status_conflict_ = 0, foreign_msgs_ = 0;
 
   int64_t n_ = 0;
   int64_t truth_every_ = 1, csv_every_ = 1;
-  std::vector<uint8_t> got_;       // output received per seq
-  std::vector<uint8_t> attempts_;  // transmissions per seq (saturating)
-  std::vector<uint8_t> sent_ahead_;
-  int64_t outputs_ = 0, outputs_dup_ = 0, outputs_foreign_ = 0, decode_errors_ = 0;
-  int64_t frames_published_ = 0, truth_published_ = 0, control_published_ = 0;
-  int64_t frames_dropped_inj_ = 0, frames_dup_inj_ = 0, frames_reordered_inj_ = 0, garbage_inj_ = 0, conflict_inj_ = 0;
-  int64_t resend_timeouts_ = 0, resend_on_request_ = 0, outputs_recovered_ = 0;
-  int64_t steps_rejected_ = 0, pings_ = 0;
+  int64_t outputs_ = 0, truth_published_ = 0;
+  int64_t steps_rejected_ = 0;
   uint32_t health_or_ = 0;
   CycleStats cyc_[GG_MOD_COUNT];
   Stats pos_, vel_, grav_, gam_;
@@ -290,7 +230,6 @@ class Runner {
   int64_t baro_due_ = 0, baro_dropped_ = 0, baro_outliers_ = 0, baro_invalid_ = 0;
   std::array<double, 3> fpos_{}, fvel_{}, fgrav_{};
   std::optional<ggins::nav_output_t> last_out_;
-  std::optional<ggins::hal_status_t> hal_;
   std::ofstream csv_;
   double t_start_ = 0, t_last_progress_ = 0, wall_loop_ = 0;
   int64_t last_seq_done_ = -1;
@@ -298,36 +237,14 @@ class Runner {
   int last_pct_reported_ = -1;
 };
 
-// ---- LCM handlers ---------------------------------------------------------------
-void Runner::on_nav(const lcm_recv_buf_t* rb) {
-  ggins::nav_output_t m{};
-  const int64_t foreign_before = foreign_msgs_;
-  if (!accept(rb, ch_nav_, m)) {
-    outputs_foreign_ += foreign_msgs_ - foreign_before;
-    return;
-  }
-  ggins::nav_output_t plain = m;
-  plain.republished = 0;  // transport: differs between copies of one output
-  if (m.seq < 0 || m.seq >= n_ || got_[static_cast<size_t>(m.seq)]) {
-    if (out_taken_.compare(m.seq, plain) < 0) {
-      ++outputs_conflict_;  // hal_sim (or a holder of the key) sent two different outputs for one seq
-      if (outputs_conflict_ <= 10)
-        std::fprintf(stderr, "ggins run: conflict: a second authenticated output for step %lld differs from the first\n",
-                     static_cast<long long>(m.seq));
-    } else {
-      ++outputs_dup_;
-    }
-    return;
-  }
-  const auto k = static_cast<size_t>(m.seq);
-  got_[k] = 1;
-  out_taken_.put(m.seq, plain);
+// ---- evaluation of one output (in seq order, once per step) -----------------------
+void Runner::consume(const ggins::nav_output_t& m) {
   ++outputs_;
-  if (attempts_[k] > 1) ++outputs_recovered_;
   if (m.status != 0) ++steps_rejected_;
   health_or_ |= static_cast<uint32_t>(m.health);
   for (int j = 0; j < GG_MOD_COUNT; ++j)
     cyc_[j].add(j < m.n_cycles ? static_cast<uint32_t>(m.cycles[j]) : 0u);
+  last_seq_done_ = m.seq;
 
   // errors against the truth at the true position (long double)
   const ggins::truth::TruthState t = gen_.truth(m.seq);
@@ -446,71 +363,15 @@ void Runner::on_nav(const lcm_recv_buf_t* rb) {
   }
 }
 
-void Runner::on_hal(const lcm_recv_buf_t* rb) {
-  ggins::hal_status_t m{};
-  if (!accept(rb, ch_hal_, m)) return;
-  if (hal_ && m.seq == hal_->seq && !ggins::hil::same_content(*hal_, m)) ++status_conflict_;
-  if (!hal_ || m.seq > hal_->seq) hal_ = m;
-}
-
-void Runner::on_req(const lcm_recv_buf_t* rb) {
-  ggins::run_control_t m{};
-  if (!accept(rb, ch_request_, m)) return;
-  if (m.command != ggins::run_control_t::RESEND) return;
-  if (m.resend_seq < 0 || m.resend_seq >= n_) return;
-  ++resend_on_request_;
-  send_frame(m.resend_seq, true);
-}
-
-// ---- sending ------------------------------------------------------------------------
-void Runner::send_frame(int64_t k, bool resend) {
+// ---- frames -------------------------------------------------------------------------
+// Frame k (its first transmission; the transport keeps it for resends) and,
+// decimated, the truth at its time on the bus.
+ggins::sensor_frame_t Runner::make_frame(int64_t k) {
   gg_frame_t f;
   ggins::truth::TruthState t;
   gen_.frame(k, f, &t);
-  auto& att = attempts_[static_cast<size_t>(k)];
-  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, att);
-  if (att < 255) ++att;
-  (void)resend;
-  // transport fault injection (seeded, a pure function of seq and attempt)
-  const auto& tp = sc_.transport;
-  const uint64_t uk = static_cast<uint64_t>(k), ua = att;
-  if (tp.garbage_prob > 0 && ggins::truth::counter_uniform(tp.seed, 13, uk, ua, 0) < tp.garbage_prob) {
-    // a payload that must not decode as a frame: alternately truncated, and a
-    // message of another type (truth_t) on the frame channel
-    const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-    if ((garbage_inj_ & 1) == 0) {
-      lcm_publish(lcm_out_, ch_frame_.c_str(), buf_.data(), static_cast<unsigned>(n / 2));
-      if (rec_) rec_->write(ch_frame_, buf_.data(), n / 2, wall_us());
-    } else {
-      ggins::truth_t wrong{};
-      wrong.seq = k;
-      wrong.run_id = run_id_;
-      const int nw = wrong.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-      lcm_publish(lcm_out_, ch_frame_.c_str(), buf_.data(), static_cast<unsigned>(nw));
-      if (rec_) rec_->write(ch_frame_, buf_.data(), nw, wall_us());
-    }
-    ++garbage_inj_;
-  }
-  if (tp.drop_prob > 0 && ggins::truth::counter_uniform(tp.seed, 10, uk, ua, 0) < tp.drop_prob) {
-    ++frames_dropped_inj_;
-  } else {
-    publish(ch_frame_, m);
-    ++frames_published_;
-    if (tp.duplicate_prob > 0 && ggins::truth::counter_uniform(tp.seed, 11, uk, ua, 0) < tp.duplicate_prob) {
-      publish(ch_frame_, m);
-      ++frames_published_;
-      ++frames_dup_inj_;
-    }
-    // a sender contradicting itself: a second, different frame for this seq, correctly signed
-    if (opt_.conflict > 0 && ggins::truth::counter_uniform(tp.seed, 14, uk, ua, 0) < opt_.conflict) {
-      ggins::sensor_frame_t other = m;
-      other.f[0][0] += 1e-9;
-      publish(ch_frame_, other);
-      ++frames_published_;
-      ++conflict_inj_;
-    }
-  }
-  if (att == 1 && (k % truth_every_ == 0 || k == n_ - 1)) {
+  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, 0);
+  if (link_ && (k % truth_every_ == 0 || k == n_ - 1)) {
     ggins::truth_t tm{};
     tm.utime = t.utime;
     tm.seq = k;
@@ -524,103 +385,14 @@ void Runner::send_frame(int64_t k, bool resend) {
       tm.f_c[j] = static_cast<double>(t.f_c(j));
       for (int i = 0; i < 3; ++i) tm.gamma[j][i] = static_cast<double>(t.gamma(j, i));
     }
-    publish(ch_truth_, tm);
+    link_->publish(ch_truth_, tm);
     ++truth_published_;
   }
+  return m;
 }
 
-void Runner::send_control(int32_t cmd) {
-  ggins::run_control_t c{};
-  c.utime = wall_us();
-  c.seq = control_published_++;
-  c.run_id = run_id_;
-  c.command = cmd;
-  c.scenario_id = static_cast<int64_t>(fnv1a(sc_.name));
-  c.resend_seq = -1;
-  c.n_steps = n_;
-  c.realtime = opt_.realtime ? 1 : 0;
-  publish(ch_control_, c);
-}
-
-void Runner::handle(double timeout_s) {
-  ggins::hil::handle_lcm(lcm_, timeout_s);
-}
-
-void Runner::check_children() {
-  if (hal_pid_ > 0) {
-    int st = 0;
-    if (waitpid(hal_pid_, &st, WNOHANG) == hal_pid_) {
-      hal_pid_ = -1;
-      throw Fail("hal_sim exited unexpectedly (status " + std::to_string(WIFEXITED(st) ? WEXITSTATUS(st) : -WTERMSIG(st)) +
-                 "); see " + (out_ / "hal_sim.log").string());
-    }
-  }
-  if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
-}
-
-// ---- setup -------------------------------------------------------------------------
-void Runner::check_multicast() {
-  lcm_ = lcm_create(url_in_.c_str());
-  if (!lcm_) throw Fail("cannot open LCM at " + url_in_ + " (lcm_create failed).\n" + kMulticastFix, 3);
-  lcm_out_ = lcm_;
-  if (url_ != url_in_) {
-    lcm_out_ = lcm_create(url_.c_str());
-    if (!lcm_out_) throw Fail("cannot open LCM at " + url_ + " (lcm_create failed).\n" + kMulticastFix, 3);
-  }
-  lcm_subscribe(lcm_, ch_ping_.c_str(), on_ping_cb, this);
-  const double end = mono_s() + 1.5;
-  while (pings_ == 0 && mono_s() < end) {
-    ggins::run_control_t c{};
-    c.utime = wall_us();
-    c.run_id = run_id_;
-    c.resend_seq = -1;
-    publish(ch_ping_, c);
-    handle(0.1);
-  }
-  if (pings_ == 0)
-    throw Fail("an LCM message sent to " + url_in_ + " did not come back within 1.5 s.\n" + kMulticastFix, 3);
-}
-
-void Runner::start_logger() {
-  const fs::path log = out_ / "run.lcmlog";
-  logger_pid_ = spawn({opt_.logger, "-q", "-f", "--lcm-url=" + url_, log.string()}, out_ / "lcm-logger.log");
-  // lcm-logger subscribes before it creates the file; the file grows once our
-  // pings reach it (it flushes every 100 ms). Wait for that.
-  const double end = mono_s() + 10.0;
-  std::error_code ec;
-  for (;;) {
-    ggins::run_control_t c{};
-    c.utime = wall_us();
-    c.run_id = run_id_;
-    c.resend_seq = -1;
-    publish(ch_ping_, c);
-    handle(0.02);
-    if (fs::exists(log, ec) && fs::file_size(log, ec) > 0) break;
-    int st = 0;
-    if (waitpid(logger_pid_, &st, WNOHANG) == logger_pid_) {
-      logger_pid_ = -1;
-      throw Fail("lcm-logger exited at start; see " + (out_ / "lcm-logger.log").string());
-    }
-    if (mono_s() > end) throw Fail("lcm-logger did not record anything within 10 s");
-  }
-}
-
-void Runner::start_hal_sim() {
-  std::vector<std::string> argv =
-      ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms);
-  argv.insert(argv.end(), {"--drop-output-prob", std::to_string(sc_.transport.output_drop_prob), "--inject-seed",
-                           std::to_string(sc_.transport.seed)});
-  if (opt_.conflict > 0) argv.insert(argv.end(), {"--conflict-output-prob", std::to_string(opt_.conflict)});
-  hal_pid_ = auth_.spawn_hal_sim(argv, out_ / "hal_sim.log");
-  const double end = mono_s() + 10.0;
-  while (!hal_) {
-    handle(0.05);
-    check_children();
-    if (mono_s() > end) throw Fail("hal_sim did not report within 10 s; see " + (out_ / "hal_sim.log").string());
-  }
-}
-
-void Runner::configure_hal() {
+// ---- the configuration ------------------------------------------------------------------
+ggins::nav2d_config_t Runner::build_config() {
   const ggins::truth::TruthState t0 = gen_.truth(0);
   ggins::nav2d_config_t c{};
   c.utime = wall_us();
@@ -686,22 +458,7 @@ void Runner::configure_hal() {
     c.baro_max_rejects = static_cast<int32_t>(l.max_rejects);
   }
   hilo(static_cast<Real>(sc_.r_ref_m()), c.r_ref_hi, c.r_ref_lo);
-  const double end = mono_s() + 10.0;
-  double next_send = 0;
-  while (!(hal_ && hal_->config_seq == 0 && hal_->state != ggins::hal_status_t::IDLE)) {
-    if (hal_ && hal_->init_status > 0)
-      throw Fail("the firmware refused the configuration (gg_nav2d_init status " + std::to_string(hal_->init_status) + ")");
-    if (mono_s() >= next_send) {
-      publish(ch_config_, c);
-      next_send = mono_s() + 0.1;
-    }
-    handle(0.02);
-    check_children();
-    if (mono_s() > end) throw Fail("hal_sim did not accept the configuration within 10 s");
-  }
-  if (hal_->init_status != 0)
-    throw Fail("the firmware refused the configuration (gg_nav2d_init status " + std::to_string(hal_->init_status) + ")");
-  send_control(ggins::run_control_t::START);
+  return c;
 }
 
 // ---- the flight ----------------------------------------------------------------------
@@ -729,202 +486,14 @@ void Runner::progress(bool final) {
   }
 }
 
-void Runner::loop_lockstep() {
-  const double timeout = 1e-3 * opt_.resend_timeout_ms;
-  const auto& tp = sc_.transport;
-  for (int64_t k = 0; k < n_; ++k) {
-    const auto uk = static_cast<size_t>(k);
-    if (!sent_ahead_[uk]) {
-      // reorder injection: frame k+1 goes out before frame k
-      if (tp.reorder_prob > 0 && k + 1 < n_ &&
-          ggins::truth::counter_uniform(tp.seed, 12, static_cast<uint64_t>(k), 0, 0) < tp.reorder_prob) {
-        send_frame(k + 1, false);
-        sent_ahead_[uk + 1] = 1;
-        ++frames_reordered_inj_;
-      }
-      send_frame(k, false);
-    }
-    double deadline = mono_s() + timeout;
-    int tries = 0;
-    while (!got_[uk]) {
-      const double now = mono_s();
-      if (now >= deadline) {
-        check_children();
-        if (++tries > opt_.max_resend)
-          throw Fail("no navigation output for step " + std::to_string(k) + " after " + std::to_string(opt_.max_resend) +
-                     " resends; see " + (out_ / "hal_sim.log").string());
-        ++resend_timeouts_;
-        send_frame(k, true);
-        deadline = mono_s() + timeout;
-        continue;
-      }
-      handle(deadline - now);
-    }
-    last_seq_done_ = k;
-    if ((k & 255) == 0) {
-      check_children();
-      progress(false);
-    }
-  }
-}
-
-void Runner::loop_realtime() {
-  const double dt = static_cast<double>(sc_.dt_us()) * 1e-6;
-  const auto& tp = sc_.transport;
-  int64_t held = -1;  // frame held back by reorder injection
-  for (int64_t k = 0; k < n_; ++k) {
-    const double t_send = t_start_ + static_cast<double>(k) * dt;
-    for (double now = mono_s(); now < t_send; now = mono_s()) handle(t_send - now);
-    if (tp.reorder_prob > 0 && held < 0 && k + 1 < n_ &&
-        ggins::truth::counter_uniform(tp.seed, 12, static_cast<uint64_t>(k), 0, 0) < tp.reorder_prob) {
-      held = k;
-      ++frames_reordered_inj_;
-    } else {
-      send_frame(k, false);
-      if (held >= 0) {
-        send_frame(held, false);
-        held = -1;
-      }
-    }
-    while (last_seq_done_ + 1 < n_ && got_[static_cast<size_t>(last_seq_done_ + 1)]) ++last_seq_done_;
-    if ((k & 63) == 0) {
-      check_children();
-      progress(false);
-    }
-  }
-  if (held >= 0) send_frame(held, false);
-  // drain: wait for the outstanding outputs, resending what is missing
-  const double timeout = 1e-3 * opt_.resend_timeout_ms;
-  int rounds = 0;
-  while (outputs_ < n_ && rounds <= opt_.max_resend) {
-    const double end = mono_s() + timeout;
-    for (double now = mono_s(); now < end && outputs_ < n_; now = mono_s()) handle(end - now);
-    if (outputs_ >= n_) break;
-    check_children();
-    ++rounds;
-    int burst = 0;
-    for (int64_t k = 0; k < n_ && burst < 256; ++k)
-      if (!got_[static_cast<size_t>(k)]) {
-        ++resend_timeouts_;
-        send_frame(k, true);
-        ++burst;
-      }
-    if (burst == 0) handle(timeout);  // lost for good at hal_sim: only its final status tells
-  }
-  while (last_seq_done_ + 1 < n_ && got_[static_cast<size_t>(last_seq_done_ + 1)]) ++last_seq_done_;
-}
-
-void Runner::finish_hal() {
-  const int64_t status_before = hal_ ? hal_->seq : -1;
-  for (int i = 0; i < 20; ++i) {
-    send_control(ggins::run_control_t::STOP);
-    const double end = mono_s() + 0.1;
-    while (mono_s() < end) {
-      handle(0.02);
-      if (hal_ && hal_->seq > status_before && hal_->state == ggins::hal_status_t::STOPPED) break;
-    }
-    if (hal_ && hal_->state == ggins::hal_status_t::STOPPED) break;
-  }
-  if (hal_pid_ > 0) {
-    if (wait_child(hal_pid_, 3.0) == -1) stop_child(hal_pid_, SIGTERM, 1.0);
-    hal_pid_ = -1;
-  }
-}
-
-void Runner::cleanup() {
-  if (hal_pid_ > 0) stop_child(hal_pid_, SIGTERM, 1.0);
-  if (logger_pid_ > 0) stop_child(logger_pid_, SIGINT, 10.0);
-  if (lcm_out_ && lcm_out_ != lcm_) lcm_destroy(lcm_out_);
-  lcm_out_ = nullptr;
-  if (lcm_) {
-    lcm_destroy(lcm_);
-    lcm_ = nullptr;
-  }
-}
-
-json Runner::verify_log() {
-  json j;
-  const fs::path p = out_ / "run.lcmlog";
-  j["path"] = p.string();
-  lcm_eventlog_t* log = lcm_eventlog_create(p.c_str(), "r");
-  if (!log) {
-    j["error"] = "cannot open";
-    j["complete"] = false;
-    return j;
-  }
-  std::map<std::string, int64_t> per;
-  int64_t n = 0;
-  std::vector<uint8_t> nav_seen(static_cast<size_t>(n_), 0);
-  for (lcm_eventlog_event_t* e; (e = lcm_eventlog_read_next_event(log)) != nullptr; lcm_eventlog_free_event(e)) {
-    ++n;
-    const std::string ch(e->channel, static_cast<size_t>(e->channellen));
-    ++per[ch];
-    if (ch == ch_nav_) {
-      ggins::nav_output_t m{};
-      if (m.decode(e->data, 0, static_cast<int>(e->datalen)) >= 0 && m.run_id == run_id_ && m.seq >= 0 && m.seq < n_)
-        nav_seen[static_cast<size_t>(m.seq)] = 1;
-    }
-  }
-  lcm_eventlog_destroy(log);
-  j["events"] = n;
-  j["per_channel"] = per;
-  const int64_t nav_unique = std::count(nav_seen.begin(), nav_seen.end(), 1);
-  j["frames_expected"] = frames_published_;
-  j["nav_outputs_unique"] = nav_unique;
-  const int64_t frame_events = frames_published_ + (opt_.log_mode == "internal" ? garbage_inj_ : 0);
-  j["complete"] = per[ch_frame_] >= frame_events && per[ch_truth_] == truth_published_ && nav_unique == outputs_;
-  return j;
-}
-
-json Runner::bus_auth_summary() const {
-  return ggins::hil::bus_auth_summary(auth_, hal_ ? &*hal_ : nullptr, ch_frame_, ch_config_, ch_control_, outputs_conflict_,
-                                      status_conflict_, foreign_msgs_);
-}
-
 json Runner::run() {
   n_ = gen_.n_steps();
-  got_.assign(static_cast<size_t>(n_), 0);
-  attempts_.assign(static_cast<size_t>(n_), 0);
-  sent_ahead_.assign(static_cast<size_t>(n_) + 1, 0);
   const double rate = sc_.rate_hz;
   truth_every_ = sc_.output.truth_rate_hz > 0 ? std::max<int64_t>(1, std::llround(rate / sc_.output.truth_rate_hz)) : 1;
   csv_every_ = std::max<int64_t>(1, std::llround(rate / sc_.output.csv_rate_hz));
   tty_ = isatty(2);
 
-  run_id_ = ggins::hil::new_run_id();
-  if (!opt_.lcm_url.empty()) {
-    url_ = url_in_ = opt_.lcm_url;
-  } else {
-    const std::vector<int> ports = free_udp_ports(2);
-    if (ports.empty()) throw Fail("cannot find free UDP ports for LCM");
-    // a large socket receive buffer (up to net.core.rmem_max) lets lcm-logger
-    // ride out scheduling hiccups without dropping packets
-    long rmem = 4 << 20;
-    if (std::FILE* f = std::fopen("/proc/sys/net/core/rmem_max", "r")) {
-      long v = 0;
-      if (std::fscanf(f, "%ld", &v) == 1 && v > 0) rmem = std::min<long>(v, 16 << 20);
-      std::fclose(f);
-    }
-    auto url = [&](int port) {
-      return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=" + std::to_string(rmem);
-    };
-    // Two ports, one per direction (to hal_sim: frames, truth, configuration,
-    // control; from hal_sim: outputs, status, requests), so that no process has
-    // to receive and discard its own traffic: half the wake-ups per step. A
-    // separate lcm-logger can listen to one URL only: then one port for all.
-    url_ = url(ports[0]);
-    url_in_ = opt_.log_mode == "lcm-logger" ? url_ : url(ports[1]);
-  }
-  const std::string& p = opt_.prefix;
-  ch_frame_ = p + "FRAME";
-  ch_nav_ = p + "NAV";
-  ch_truth_ = p + "TRUTH";
-  ch_config_ = p + "CONFIG";
-  ch_control_ = p + "CONTROL";
-  ch_request_ = p + "REQUEST";
-  ch_hal_ = p + "HAL";
-  ch_ping_ = p + "PING";
-
+  ch_truth_ = opt_.prefix + "TRUTH";
   csv_.open(out_ / "timeseries.csv");
   if (!csv_) throw Fail("cannot write " + (out_ / "timeseries.csv").string());
   csv_ << "t_s,seq";
@@ -939,48 +508,81 @@ json Runner::run() {
   }
 
   const double t_setup = mono_s();
-  check_multicast();
-  if (opt_.log_mode == "lcm-logger") start_logger();
-  if (opt_.log_mode == "internal") rec_ = std::make_unique<Recorder>(out_ / "run.lcmlog");
-  lcm_subscription_t* s_nav = lcm_subscribe(lcm_, ch_nav_.c_str(), on_nav_cb, this);
-  lcm_subscription_t* s_hal = lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this);
-  lcm_subscription_t* s_req = lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this);
-  lcm_subscription_set_queue_capacity(s_nav, 100000);
-  lcm_subscription_set_queue_capacity(s_hal, 100000);
-  lcm_subscription_set_queue_capacity(s_req, 100000);
   if (sc_.navigation.gravity == "model" && sc_.navigation.survey.enable)  // before hal_sim: it may take a while
     survey_grid_ = ggins::truth::make_survey_grid(gen_);                   // (truth field at every node)
-  start_hal_sim();
-  configure_hal();
-  if (!opt_.quiet)
-    std::fprintf(stderr, "ggins run: %s, %lld steps at %g Hz (%s), LCM %s (to hal_sim) %s (back), output %s\n", sc_.name.c_str(),
-                 static_cast<long long>(n_), rate, opt_.realtime ? "realtime" : "lockstep", url_.c_str(), url_in_.c_str(), out_.c_str());
+  ggins::nav2d_config_t cfg = build_config();
+  std::unique_ptr<ggins::hil::Direct<ggins::hil::Task2D>> direct;
+  if (opt_.direct) {
+    run_id_ = cfg.run_id = ggins::hil::new_run_id();
+    direct = std::make_unique<ggins::hil::Direct<ggins::hil::Task2D>>(cfg);
+  } else {
+    ggins::hil::LinkOptions lo;
+    lo.tool = "ggins run";
+    lo.hal_sim = opt_.hal_sim;
+    lo.prefix = opt_.prefix;
+    lo.lcm_url = opt_.lcm_url;
+    lo.log_mode = opt_.log_mode;
+    lo.logger = opt_.logger;
+    lo.resend_timeout_ms = opt_.resend_timeout_ms;
+    lo.max_resend = opt_.max_resend;
+    lo.batch = opt_.batch;
+    lo.window = opt_.window;
+    lo.realtime = opt_.realtime;
+    lo.deadline_s = 1e-3 * opt_.deadline_ms;
+    const auto& tp = sc_.transport;
+    lo.faults = {tp.drop_prob, tp.duplicate_prob, tp.reorder_prob, tp.output_drop_prob, tp.garbage_prob, opt_.conflict,
+                 tp.seed};
+    link_ = std::make_unique<ggins::hil::Link<ggins::hil::Task2D>>(lo, out_, n_, sc_.dt_us());
+    run_id_ = link_->run_id();
+    link_->start(cfg, fnv1a(sc_.name));
+  }
+  if (!opt_.quiet) {
+    if (link_)
+      std::fprintf(stderr, "ggins run: %s, %lld steps at %g Hz (%s), LCM %s (to hal_sim) %s (back), output %s\n",
+                   sc_.name.c_str(), static_cast<long long>(n_), rate, opt_.realtime ? "realtime" : "lockstep",
+                   link_->url_to_hal().c_str(), link_->url_from_hal().c_str(), out_.c_str());
+    else
+      std::fprintf(stderr, "ggins run: %s, %lld steps at %g Hz (direct, in process), output %s\n", sc_.name.c_str(),
+                   static_cast<long long>(n_), rate, out_.c_str());
+  }
 
   t_start_ = mono_s();
+  const double cpu0 = ggins::hil::LinkBase::cpu_s();
+  double fw_ns = 0;  // --direct: the firmware steps (cycles[TOTAL])
   const double setup_s = t_start_ - t_setup;
   std::string error;
   int error_code = 0;
   try {
-    if (opt_.realtime)
-      loop_realtime();
-    else
-      loop_lockstep();
+    if (direct) {
+      for (int64_t k = 0; k < n_; ++k) {
+        const ggins::nav_output_t o = direct->step(make_frame(k));
+        fw_ns += static_cast<double>(static_cast<uint32_t>(o.cycles[GG_MOD_TOTAL]));
+        consume(o);
+        if ((k & 1023) == 0) {
+          if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
+          progress(false);
+        }
+      }
+    } else {
+      link_->run([this](int64_t k) { return make_frame(k); }, [this](const ggins::nav_output_t& m) { consume(m); },
+                 [this](int64_t) { progress(false); });
+    }
   } catch (const Fail& e) {
     error = e.what();
     error_code = e.code;
   }
   wall_loop_ = mono_s() - t_start_;
+  const double cpu_loop = ggins::hil::LinkBase::cpu_s() - cpu0;
   progress(true);
-  if (error_code != 130) finish_hal();
+  if (link_ && error_code != 130) link_->finish();
   csv_.close();
-  if (logger_pid_ > 0) stop_child(logger_pid_, SIGINT, 30.0);  // flushes and closes the log
-  if (rec_) rec_->close();
+  if (link_) link_->close_log();
   // Two different authenticated messages for one seq: the key holder (this
   // process or hal_sim) contradicted itself, or the key is no longer secret.
   // Which of the two copies is right cannot be known, so the run is not
   // completed, whatever its errors look like.
-  const json bus = bus_auth_summary();
-  if (bus["conflicts_total"].get<int64_t>() > 0 && error.empty()) {
+  const json bus = link_ ? link_->bus_auth_summary(link_->outputs_conflict()) : json();
+  if (link_ && bus["conflicts_total"].get<int64_t>() > 0 && error.empty()) {
     error = "conflicting authenticated messages (" + bus["conflicts"].dump() +
             "): two different messages for one seq carried a valid MAC; the run cannot be trusted";
     error_code = 1;
@@ -993,7 +595,7 @@ json Runner::run() {
   s["description"] = sc_.description;
   s["completed"] = error.empty() && outputs_ == n_;
   if (!error.empty()) s["error"] = error;
-  s["mode"] = opt_.realtime ? "realtime" : "lockstep";
+  s["mode"] = opt_.direct ? "direct" : (opt_.realtime ? "realtime" : "lockstep");
   s["duration_s"] = static_cast<double>(n_ - 1) * static_cast<double>(sc_.dt_us()) * 1e-6;
   s["rate_hz"] = rate;
   s["steps"] = outputs_;
@@ -1083,49 +685,23 @@ json Runner::run() {
     s["final"]["gravity_error_vs_field_at_estimated_position_mps2"] = static_cast<double>(d.norm());
   }
   // transport
-  const int64_t hal_recovered = hal_ ? hal_->frames_recovered : 0;
+  const auto& hst = link_ ? link_->hal_status() : std::optional<ggins::hal_status_t>();
+  const int64_t hal_recovered = hst ? hst->frames_recovered : 0;
   // steps without a navigation output at the end of the run (a frame hal_sim gave
   // up on, or an output that never came back despite resends)
   s["frames_lost"] = n_ - outputs_;
   s["frames_recovered"] = hal_recovered;
-  json tr;
-  tr["frames_published"] = frames_published_;
-  tr["truth_published"] = truth_published_;
-  tr["outputs_received"] = outputs_;
-  tr["outputs_duplicate"] = outputs_dup_;
-  tr["outputs_recovered"] = outputs_recovered_;
-  tr["outputs_foreign"] = outputs_foreign_;
-  tr["decode_errors"] = decode_errors_;
-  tr["resend_timeouts"] = resend_timeouts_;
-  tr["resends_on_request"] = resend_on_request_;
-  tr["injected"] = {{"dropped", frames_dropped_inj_}, {"duplicated", frames_dup_inj_}, {"reordered", frames_reordered_inj_},
-                    {"garbage", garbage_inj_}, {"conflicting", conflict_inj_}};
-  if (hal_) {
-    const auto& h = *hal_;
-    tr["hal_sim"] = {{"state", h.state},
-                     {"steps", h.steps},
-                     {"steps_rejected", h.steps_rejected},
-                     {"frames_received", h.frames_received},
-                     {"frames_duplicate", h.frames_duplicate},
-                     {"frames_out_of_order", h.frames_out_of_order},
-                     {"frames_recovered", h.frames_recovered},
-                     {"frames_lost", h.frames_lost},
-                     {"resend_requests", h.resend_requests},
-                     {"outputs_republished", h.outputs_republished},
-                     {"decode_errors", h.decode_errors},
-                     {"foreign_messages", h.foreign_messages},
-                     {"deadline_overruns", h.deadline_overruns},
-                     {"outputs_dropped_injected", h.outputs_dropped_injected},
-                     {"auth_failed_frame", h.auth_failed_frame},
-                     {"auth_failed_config", h.auth_failed_config},
-                     {"auth_failed_control", h.auth_failed_control},
-                     {"frames_conflict", h.frames_conflict},
-                     {"config_conflict", h.config_conflict},
-                     {"outputs_conflict_injected", h.outputs_conflict_injected}};
+  if (link_) {
+    json tr = link_->transport_summary();
+    tr["truth_published"] = truth_published_;
+    s["transport"] = tr;
+    s["bus_auth"] = bus;
+    if (opt_.realtime) s["realtime"] = link_->realtime_summary();
   }
-  s["transport"] = tr;
-  s["bus_auth"] = bus;
   s["wall_s"] = wall_loop_;
+  s["cpu_s"] = {{"runner", cpu_loop}};  // CPU (user + system) of the flight
+  if (link_ && link_->cpu_s_hal_sim() >= 0) s["cpu_s"]["hal_sim"] = link_->cpu_s_hal_sim();
+  if (direct) s["cpu_s"]["firmware_steps"] = 1e-9 * fw_ns;
   s["setup_s"] = setup_s;
   // flight time actually navigated (all of it when the run completed) per wall second
   const double flown_s = static_cast<double>(std::max<int64_t>(outputs_ - 1, 0)) * static_cast<double>(sc_.dt_us()) * 1e-6;
@@ -1144,17 +720,19 @@ json Runner::run() {
   }
   ft["source"] = "gg_nav_output_t.cycles (HAL cycle counter: CLOCK_MONOTONIC ns truncated to uint32)";
   s["firmware_step_ns"] = ft;
-  s["lcm_url"] = url_;
-  s["lcm_url_from_hal"] = url_in_;
+  if (link_) {
+    s["lcm_url"] = link_->url_to_hal();
+    s["lcm_url_from_hal"] = link_->url_from_hal();
+  }
   s["channel_prefix"] = opt_.prefix;
   s["run_id"] = run_id_;
-  if (opt_.log_mode != "none") {
-    s["log"] = verify_log();
+  if (link_ && opt_.log_mode != "none") {
+    s["log"] = link_->verify_log(ch_truth_, truth_published_);
     s["log"]["writer"] = opt_.log_mode;
   }
   s["files"] = {{"summary", "summary.json"}, {"timeseries", "timeseries.csv"}, {"scenario", "scenario.toml"},
                 {"hal_sim_log", "hal_sim.log"}};
-  if (opt_.log_mode != "none") s["files"]["lcm_log"] = "run.lcmlog";
+  if (link_ && opt_.log_mode != "none") s["files"]["lcm_log"] = "run.lcmlog";
   if (!error.empty()) throw std::make_pair(s, Fail(error, error_code));
   return s;
 }
@@ -1176,10 +754,13 @@ int main(int argc, char** argv) {
       "(long double, G evaluated at every sensor), adds the scenario's sensor errors and\n"
       "publishes sensor frames; hal_sim (a separate process) implements the firmware's\n"
       "HAL over LCM and steps the firmware once per frame; every message of the run is\n"
-      "recorded to an LCM log (--log). In lockstep mode (default) frame k+1 is sent\n"
-      "only after the output of step k arrived, so the run goes as fast as the machine allows and never drops a\n"
-      "step: a frame or output that does not arrive within --resend-timeout-ms is sent\n"
-      "again; gaps seen by hal_sim are re-requested; all of it is counted.\n\n"
+      "recorded to an LCM log (--log). In lockstep mode (default) the firmware steps every\n"
+      "frame once, in order, as fast as the machine allows: frames travel --batch per message\n"
+      "with a window of frames in flight sized from the round trip, outputs come back in\n"
+      "batches; a frame hal_sim misses is asked for at once (negative acknowledgement), an\n"
+      "output that is missing is asked for as soon as a later one arrives; all of it is\n"
+      "counted, and the outputs are taken in seq order, so the numbers are the same bit for\n"
+      "bit whatever the transport does, and the same as --direct (in process, no bus).\n\n"
       "Output folder (--out, default out/<scenario>-<UTC time>):\n"
       "  summary.json     final and max position/velocity/gravity error norms, per-axis\n"
       "                   final errors, steps, frames_lost, frames_recovered, wall_s,\n"
@@ -1214,6 +795,14 @@ int main(int argc, char** argv) {
   app.add_option("-s,--scenario", o.scenario, "scenario name or .toml path")->capture_default_str();
   app.add_option("-o,--out", o.out, "output folder (default out/<scenario>-<UTC time>)");
   app.add_flag("--realtime", o.realtime, "pace frames at the sensor rate instead of lockstep");
+  app.add_flag("--direct", o.direct,
+               "step the firmware in this process (no LCM, no hal_sim; hal_sim's message conversions and task\n"
+               "cycle, so the same numbers bit for bit): the reference for the transport's cost");
+  app.add_option("--batch", o.batch, "lockstep: frames per LCM message (default 32)")->check(CLI::Range(1, 128));
+  app.add_option("--window", o.window, "lockstep: frames in flight (default: automatic, from the round trip)")
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--deadline-ms", o.deadline_ms, "realtime: output latency deadline, ms (default one sensor period)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--duration", o.duration_s, "override the scenario's duration, s")->check(CLI::PositiveNumber);
   app.add_option("--seed", o.seed, "override the accelerometer error seed ([accel] seed)");
   app.add_option("--csv-rate", o.csv_rate, "CSV rows per second of flight (default scenario's, 1 Hz)")
@@ -1298,8 +887,12 @@ int main(int argc, char** argv) {
     std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
     return 0;
   }
+  if (o.direct && o.realtime) {
+    std::fprintf(stderr, "ggins run: --direct and --realtime exclude each other\n");
+    return 2;
+  }
   if (o.hal_sim.empty()) o.hal_sim = (ggins::hil::self_dir() / "hal_sim").string();
-  if (access(o.hal_sim.c_str(), X_OK) != 0) {
+  if (!o.direct && access(o.hal_sim.c_str(), X_OK) != 0) {
     std::fprintf(stderr, "ggins run: hal_sim not found at %s (build it, or give --hal-sim)\n", o.hal_sim.c_str());
     return 2;
   }

@@ -4,10 +4,10 @@
 // summary.json, timeseries.csv, errors.png, run.lcmlog.
 //
 // LCM protocol (hal_sim in 3-D mode, see hal_sim --help): nav3d_config_t on
-// P+CONFIG3D until hal_sim reports CONFIGURED, START on P+CONTROL, then in
-// lockstep sensor_frame_t k on P+FRAME -> nav3d_output_t k on P+NAV3D (a frame
-// whose output does not come within --resend-timeout-ms is sent again; RESEND
-// requests on P+REQUEST are answered), truth3d_t on P+TRUTH3D (decimated), STOP.
+// P+CONFIG3D until hal_sim reports CONFIGURED, START on P+CONTROL, then the
+// shared transport (hil_common/link.hpp): frame batches on P+FRAMES, output
+// batches (nav3d_output_batch_t) on P+NAV3DS, negative acknowledgements on
+// P+NAK, truth3d_t on P+TRUTH3D (decimated), STOP.
 #include <lcm/lcm.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -29,14 +29,15 @@
 
 #include "compare3d.hpp"
 #include "config3d.hpp"
-#include "hal_map.h"
 #include "ggins/hal_status_t.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
 #include "ggins/run_control_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
+#include "direct.hpp"
 #include "hil_common.hpp"
+#include "link.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -63,6 +64,10 @@ struct Options {
   std::string lcm_url, prefix = "GGINS_";
   int resend_timeout_ms = 50, max_resend = 100;
   std::string hal_sim, python = GGINS_PLOT_PYTHON;
+  bool realtime = false;
+  int batch = 0, window = 0;
+  double deadline_ms = 0;
+  ggins::hil::Faults faults;
 };
 
 struct MaxFinal {
@@ -78,52 +83,12 @@ class Runner3 {
  public:
   Runner3(const Options& o, const ggins::truth3d::Scenario3& sc, fs::path out)
       : opt_(o), sc_(sc), gen_(sc), out_(std::move(out)) {}
-  ~Runner3() { cleanup(); }
   json run();
 
  private:
-  static void on_nav_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner3*>(u)->on_nav(rb); }
-  static void on_hal_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner3*>(u)->on_hal(rb); }
-  static void on_req_cb(const lcm_recv_buf_t* rb, const char*, void* u) { static_cast<Runner3*>(u)->on_req(rb); }
-  void on_nav(const lcm_recv_buf_t* rb);
-  void on_hal(const lcm_recv_buf_t* rb);
-  void on_req(const lcm_recv_buf_t* rb);
-  template <class M>
-  void publish(const std::string& ch, const M& m) {
-    const int n = m.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-    auth_.sign(ch, buf_.data(), n);  // every message of the run carries its MAC
-    if (n < 0 || lcm_publish(lcm_out_, ch.c_str(), buf_.data(), static_cast<unsigned>(n)) != 0)
-      throw Fail("LCM publish on " + ch + " failed");
-    record(ch, buf_.data(), n, wall_us());
-  }
-  void record(const std::string& ch, const void* d, int n, int64_t ut) {
-    if (log_) log_->write(ch, d, n, ut);
-  }
-  // The checks on a received message (BusAuth::check); authentic messages are
-  // logged under their channel, those of our run whose MAC fails under
-  // <channel>.UNAUTHENTICATED, other runs' traffic and undecodable payloads not.
-  template <class M>
-  bool accept(const lcm_recv_buf_t* rb, const std::string& ch, M& m) {
-    const int n = static_cast<int>(rb->data_size);
-    switch (auth_.check(ch, rb->data, rb->data_size, run_id_, m)) {
-      case ggins::hil::BusAuth::Check::kOk: record(ch, rb->data, n, rb->recv_utime); return true;
-      case ggins::hil::BusAuth::Check::kUndecodable: ++decode_errors_; return false;
-      case ggins::hil::BusAuth::Check::kForeign: ++foreign_msgs_; return false;
-      case ggins::hil::BusAuth::Check::kUnauthenticated:
-        record(ch + ".UNAUTHENTICATED", rb->data, n, rb->recv_utime);
-        return false;
-    }
-    return false;
-  }
-  json bus_auth_summary() const;
-  void handle(double timeout_s) { ggins::hil::handle_lcm(lcm_, timeout_s); }
-  void check_children();
-  void send_frame(int64_t k);
-  void send_control(int32_t cmd);
-  void setup_lcm();
-  void configure_hal();
-  void finish_hal();
-  void cleanup();
+  ggins::sensor_frame_t make_frame(int64_t k);
+  ggins::nav3d_config_t build_config();
+  void on_output(const ggins::nav3d_output_t& m);
   void consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, double step_ns);
   static void from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o);
 
@@ -131,24 +96,15 @@ class Runner3 {
   ggins::truth3d::Scenario3 sc_;
   ggins::truth3d::Generator3 gen_;
   fs::path out_;
-  std::string url_, url_in_;
-  lcm_t *lcm_ = nullptr, *lcm_out_ = nullptr;
-  std::unique_ptr<ggins::hil::Recorder> log_;
-  pid_t hal_pid_ = -1;
+  std::unique_ptr<ggins::hil::Link<ggins::hil::Task3D>> link_;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
-  std::string ch_frame_, ch_nav_, ch_truth_, ch_config_, ch_control_, ch_request_, ch_hal_;
-  std::vector<uint8_t> buf_ = std::vector<uint8_t>(16384);
-  ggins::hil::BusAuth auth_;           // the run's key; MACs
-  ggins::hil::SeqCopies<ggins::nav3d_output_t> out_taken_;  // the outputs taken, per seq
-  int64_t outputs_conflict_ = 0, status_conflict_ = 0, foreign_msgs_ = 0;
-  int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1;
-  int64_t pending_ = -1;  // seq whose output we wait for (lockstep)
-  ggins::truth3d::Truth3 pending_truth_;
-  bool got_pending_ = false;
-  std::vector<uint8_t> attempts_;
-  int64_t frames_published_ = 0, truth_published_ = 0, resend_timeouts_ = 0, resend_on_request_ = 0;
-  int64_t outputs_ = 0, outputs_dup_ = 0, outputs_foreign_ = 0, decode_errors_ = 0, control_seq_ = 0;
-  std::optional<ggins::hal_status_t> hal_;
+  std::string ch_truth_;
+  int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0, outputs_ = 0;
+  int64_t aid_closed_ = 0;           // map-aid epochs closed (updated or rejected)
+  double aid_nis_sum_ = 0;           // sum of their NIS
+  ggins::nav3d_output_t aid_last_{};  // the output of the last step (the aid's counters)
+  static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
+  std::vector<ggins::truth3d::Truth3> truth_ring_;
   // statistics
   MaxFinal pos_, vel_, att_, grav_, gam_e_, gam_b_, hgt_, par_asym_, par_trace_, wdot_;
   std::array<double, 3> fpos_n_{}, fatt_n_{}, fg_n_{};
@@ -194,71 +150,24 @@ void Runner3::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
   for (int i = 0; i < GG_MOD_COUNT && i < m.n_cycles && i < 8; ++i) o.cycles[i] = static_cast<uint32_t>(m.cycles[i]);
 }
 
-void Runner3::on_nav(const lcm_recv_buf_t* rb) {
-  ggins::nav3d_output_t m{};
-  const int64_t foreign_before = foreign_msgs_;
-  if (!accept(rb, ch_nav_, m)) {
-    outputs_foreign_ += foreign_msgs_ - foreign_before;
-    return;
-  }
-  ggins::nav3d_output_t plain = m;
-  plain.republished = 0;  // transport: differs between copies of one output
-  if (m.seq != pending_ || got_pending_) {
-    if (out_taken_.compare(m.seq, plain) < 0) {
-      ++outputs_conflict_;  // two different authenticated outputs for one seq
-      if (outputs_conflict_ <= 10)
-        std::fprintf(stderr, "ggins run3d: conflict: a second authenticated output for step %lld differs from the first\n",
-                     static_cast<long long>(m.seq));
-    } else {
-      ++outputs_dup_;
-    }
-    return;
-  }
-  got_pending_ = true;
-  out_taken_.put(m.seq, plain);
+void Runner3::on_output(const ggins::nav3d_output_t& m) {
   ++outputs_;
+  if (m.mm_updates + m.mm_rejected > aid_closed_) {  // a map-aid epoch finished: its NIS
+    aid_closed_ = m.mm_updates + m.mm_rejected;
+    aid_nis_sum_ += m.mm_nis;
+  }
+  if (m.seq == n_ - 1) aid_last_ = m;
   gg_nav3d_output_t o;
   from_lcm(m, o);
-  consume(m.seq, pending_truth_, o, static_cast<double>(o.cycles[GG_MOD_TOTAL]));
+  consume(m.seq, truth_ring_[static_cast<size_t>(m.seq % kTruthRing)], o, static_cast<double>(o.cycles[GG_MOD_TOTAL]));
 }
 
-void Runner3::on_hal(const lcm_recv_buf_t* rb) {
-  ggins::hal_status_t m{};
-  if (!accept(rb, ch_hal_, m)) return;
-  if (hal_ && m.seq == hal_->seq && !ggins::hil::same_content(*hal_, m)) ++status_conflict_;
-  if (!hal_ || m.seq > hal_->seq) hal_ = m;
-}
-
-void Runner3::on_req(const lcm_recv_buf_t* rb) {
-  ggins::run_control_t m{};
-  if (!accept(rb, ch_request_, m)) return;
-  if (m.command != ggins::run_control_t::RESEND) return;
-  if (m.resend_seq == pending_) {  // lockstep: only the frame in flight can be missing
-    ++resend_on_request_;
-    send_frame(pending_);
-  }
-}
-
-void Runner3::check_children() {
-  if (hal_pid_ > 0) {
-    int st = 0;
-    if (waitpid(hal_pid_, &st, WNOHANG) == hal_pid_) {
-      hal_pid_ = -1;
-      throw Fail("hal_sim exited unexpectedly; see " + (out_ / "hal_sim.log").string());
-    }
-  }
-  if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
-}
-
-void Runner3::send_frame(int64_t k) {
+ggins::sensor_frame_t Runner3::make_frame(int64_t k) {
   gg_frame_t f;
   ggins::truth3d::Truth3 t;
   gen_.frame(k, f, &t);
-  auto& att = attempts_[static_cast<size_t>(k)];
-  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, att);
-  publish(ch_frame_, m);
-  ++frames_published_;
-  if (att == 0 && (k % truth_every_ == 0 || k == n_ - 1)) {
+  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, 0);
+  if (link_ && (k % truth_every_ == 0 || k == n_ - 1)) {
     ggins::truth3d_t tm{};
     tm.utime = t.utime;
     tm.seq = k;
@@ -288,74 +197,19 @@ void Runner3::send_frame(int64_t k) {
     tm.lat_rad = static_cast<double>(t.s.lat);
     tm.lon_rad = static_cast<double>(t.s.lon);
     tm.h_m = static_cast<double>(t.s.h);
-    publish(ch_truth_, tm);
+    link_->publish(ch_truth_, tm);
     ++truth_published_;
   }
-  if (att < 255) ++att;
-  pending_ = k;
-  pending_truth_ = t;
+  truth_ring_[static_cast<size_t>(k % kTruthRing)] = t;
+  return m;
 }
 
-void Runner3::send_control(int32_t cmd) {
-  ggins::run_control_t c{};
-  c.utime = wall_us();
-  c.seq = control_seq_++;
-  c.run_id = run_id_;
-  c.command = cmd;
-  c.resend_seq = -1;
-  c.n_steps = n_;
-  publish(ch_control_, c);
-}
-
-void Runner3::setup_lcm() {
-  if (!opt_.lcm_url.empty()) {
-    url_ = url_in_ = opt_.lcm_url;
-  } else {
-    const std::vector<int> ports = free_udp_ports(2);
-    if (ports.empty()) throw Fail("cannot find free UDP ports for LCM");
-    auto url = [](int port) { return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304"; };
-    url_ = url(ports[0]);     // to hal_sim
-    url_in_ = url(ports[1]);  // from hal_sim
-  }
-  lcm_ = lcm_create(url_in_.c_str());
-  if (!lcm_)
-    throw Fail("cannot open LCM at " + url_in_ +
-                   " (UDP multicast on loopback needed: ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo)",
-               3);
-  lcm_out_ = lcm_;
-  if (url_ != url_in_) {
-    lcm_out_ = lcm_create(url_.c_str());
-    if (!lcm_out_) throw Fail("cannot open LCM at " + url_, 3);
-  }
-  lcm_subscription_t* s = lcm_subscribe(lcm_, ch_nav_.c_str(), on_nav_cb, this);
-  lcm_subscription_set_queue_capacity(s, 100000);
-  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_hal_.c_str(), on_hal_cb, this), 100000);
-  lcm_subscription_set_queue_capacity(lcm_subscribe(lcm_, ch_request_.c_str(), on_req_cb, this), 100000);
-  auto hal_argv = ggins::hil::hal_sim_argv(opt_.hal_sim, url_, url_in_, opt_.prefix, run_id_, opt_.resend_timeout_ms);
-  {  // the onboard map tiles of the map aid: hal_sim's map storage
-    const auto aid = ggins::run3d::parse_aid_ukf(sc_.text, sc_.source);
-    if (aid.enabled)
-      for (const auto& p : ggins::run3d::aid_ukf_map_paths(aid, sc_.source)) {
-        hal_argv.push_back("--map");
-        hal_argv.push_back(fs::absolute(p).string());
-      }
-  }
-  hal_pid_ = auth_.spawn_hal_sim(hal_argv, out_ / "hal_sim.log");
-  const double end = mono_s() + 10.0;
-  while (!hal_) {
-    handle(0.05);
-    check_children();
-    if (mono_s() > end) throw Fail("hal_sim did not report within 10 s; see " + (out_ / "hal_sim.log").string());
-  }
-}
-
-void Runner3::configure_hal() {
+ggins::nav3d_config_t Runner3::build_config() {
   gg_nav3d_config_t c;
   ggins::truth3d::nav3d_config(sc_, gen_, c);
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
   m.seq = 0;
-  m.run_id = run_id_;
   std::memcpy(m.scenario, sc_.name.data(), std::min<size_t>(sc_.name.size(), 63));
   for (int i = 0; i < 3; ++i) {
     m.half_base_m[i] = static_cast<double>(c.geometry.half_base_m[i]);
@@ -400,42 +254,7 @@ void Runner3::configure_hal() {
   m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
   m.aid_mm_lambda = c.aid_mm.lambda;
   m.aid_mm_gate_nis = c.aid_mm.gate_nis;
-  const double end = mono_s() + 10.0;
-  double next_send = 0;
-  while (!(hal_ && hal_->config_seq == 0 && hal_->state != ggins::hal_status_t::IDLE)) {
-    if (mono_s() >= next_send) {
-      publish(ch_config_, m);
-      next_send = mono_s() + 0.1;
-    }
-    handle(0.02);
-    check_children();
-    if (mono_s() > end) throw Fail("hal_sim did not accept the configuration within 10 s");
-  }
-  if (hal_->init_status != 0)
-    throw Fail("the firmware refused the configuration (gg_nav3d_init status " + std::to_string(hal_->init_status) + ")");
-  send_control(ggins::run_control_t::START);
-}
-
-void Runner3::finish_hal() {
-  for (int i = 0; i < 20; ++i) {
-    send_control(ggins::run_control_t::STOP);
-    const double end = mono_s() + 0.1;
-    while (mono_s() < end && !(hal_ && hal_->state == ggins::hal_status_t::STOPPED)) handle(0.02);
-    if (hal_ && hal_->state == ggins::hal_status_t::STOPPED) break;
-  }
-  if (hal_pid_ > 0) {
-    if (wait_child(hal_pid_, 3.0) == -1) stop_child(hal_pid_);
-    hal_pid_ = -1;
-  }
-}
-
-void Runner3::cleanup() {
-  if (hal_pid_ > 0) stop_child(hal_pid_);
-  if (lcm_out_ && lcm_out_ != lcm_) lcm_destroy(lcm_out_);
-  lcm_out_ = nullptr;
-  if (lcm_) lcm_destroy(lcm_);
-  lcm_ = nullptr;
-  log_.reset();
+  return m;
 }
 
 void Runner3::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, double step_ns) {
@@ -483,25 +302,13 @@ void Runner3::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d
   }
 }
 
-json Runner3::bus_auth_summary() const {
-  return ggins::hil::bus_auth_summary(auth_, hal_ ? &*hal_ : nullptr, ch_frame_, ch_config_, ch_control_, outputs_conflict_,
-                                      status_conflict_, foreign_msgs_);
-}
 
 json Runner3::run() {
   n_ = gen_.n_steps();
-  attempts_.assign(static_cast<size_t>(n_), 0);
+  truth_ring_.resize(static_cast<size_t>(kTruthRing));
   csv_every_ = std::max<int64_t>(1, std::llround(sc_.rate_hz / (opt_.csv_rate ? *opt_.csv_rate : sc_.csv_rate_hz)));
   truth_every_ = opt_.truth_rate > 0 ? std::max<int64_t>(1, std::llround(sc_.rate_hz / opt_.truth_rate)) : 1;
-  run_id_ = ggins::hil::new_run_id();
-  const std::string& p = opt_.prefix;
-  ch_frame_ = p + "FRAME";
-  ch_nav_ = p + "NAV3D";
-  ch_truth_ = p + "TRUTH3D";
-  ch_config_ = p + "CONFIG3D";
-  ch_control_ = p + "CONTROL";
-  ch_request_ = p + "REQUEST";
-  ch_hal_ = p + "HAL";
+  ch_truth_ = opt_.prefix + "TRUTH3D";
   csv_.open(out_ / "timeseries.csv");
   if (!csv_) throw Fail("cannot write " + (out_ / "timeseries.csv").string());
   csv_ << "t_s,seq,lat_deg,lon_deg,h_m,roll_deg,pitch_deg,yaw_deg,speed_mps,nav_lat_deg,nav_lon_deg,nav_h_m,"
@@ -509,89 +316,75 @@ json Runner3::run() {
           "att_err_n_rad,att_err_e_rad,att_err_d_rad,att_err_rad,err_gn_mps2,err_ge_mps2,err_gd_mps2,err_g_mps2,"
           "err_gamma_e_E,err_gamma_b_E,err_h_m,parity_x,parity_y,parity_z,parity_trace,baro_innov_m,a_c_mps2,status,"
           "health\n";
-  const double t0 = mono_s();
-  static gg_nav3d_t nav;  // large: static storage (direct mode)
-  static hal_map_store_t maps;  // the computer's map storage (direct mode; hal_sim/hal_map.c)
+  const ggins::nav3d_config_t cfg = build_config();
   const auto aid = ggins::run3d::parse_aid_ukf(sc_.text, sc_.source);
-  json aid_j;  // the map aid's counters (direct mode)
+  std::vector<std::string> maps;  // the onboard map tiles of the map aid: the computer's map storage
+  if (aid.enabled)
+    for (const auto& p : ggins::run3d::aid_ukf_map_paths(aid, sc_.source)) maps.push_back(fs::absolute(p).string());
+  std::unique_ptr<ggins::hil::Direct<ggins::hil::Task3D>> direct;
   if (opt_.direct) {
-    gg_nav3d_config_t c;
-    ggins::truth3d::nav3d_config(sc_, gen_, c);
-    const gg_status_t st = gg_nav3d_init(&nav, &c);
-    if (st != GG_OK) throw Fail("gg_nav3d_init refused the configuration (status " + std::to_string(st) + ")");
-    hal_map_init(&maps);
-    if (aid.enabled) {
-      for (const auto& p : ggins::run3d::aid_ukf_map_paths(aid, sc_.source)) {
-        char err[512];
-        if (hal_map_load(&maps, p.c_str(), err, sizeof err) != 0) throw Fail(std::string("aid_ukf.map: ") + err);
-      }
-    }
-    gg_hal_t hal{};
-    hal.map = maps.n_tiles > 0 ? &maps.ops : nullptr;
-    uint32_t closed = 0;
-    double nis_sum = 0.0;
-    gg_nav3d_output_t last{};
-    for (int64_t k = 0; k < n_; ++k) {
-      gg_frame_t f;
-      ggins::truth3d::Truth3 t;
-      gen_.frame(k, f, &t);
-      gg_nav3d_output_t o;
-      const auto a = std::chrono::steady_clock::now();
-      gg_nav3d_step(&nav, &f, &hal, &o);
-      const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - a).count();
-      ++outputs_;
-      consume(k, t, o, ns);
-      if (o.mm_updates + o.mm_rejected > closed) {  // an epoch finished: its NIS
-        closed = o.mm_updates + o.mm_rejected;
-        nis_sum += o.mm_nis;
-      }
-      last = o;
-      if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
-    }
-    if (aid.enabled) {
-      aid_j["epochs"] = last.mm_epochs;
-      aid_j["updates"] = last.mm_updates;
-      aid_j["rejected"] = last.mm_rejected;
-      aid_j["no_map"] = last.mm_no_map;
-      aid_j["nis_mean"] = closed > 0 ? nis_sum / closed : 0.0;
-      aid_j["nis_dof"] = 6;
-      aid_j["sigma_pos_m"] = {last.mm_sigma[0], last.mm_sigma[1], last.mm_sigma[2]};
-      aid_j["tiles"] = maps.n_tiles;
-    }
-    hal_map_free(&maps);
+    run_id_ = ggins::hil::new_run_id();
+    direct = std::make_unique<ggins::hil::Direct<ggins::hil::Task3D>>(cfg);
+    for (const auto& p : maps) direct->add_map(p);
   } else {
-    if (!opt_.no_log) {
-      log_ = std::make_unique<ggins::hil::Recorder>(out_ / "run.lcmlog");
-    }
-    setup_lcm();
-    configure_hal();
-    const double timeout = 1e-3 * opt_.resend_timeout_ms;
-    for (int64_t k = 0; k < n_; ++k) {
-      got_pending_ = false;
-      send_frame(k);
-      double deadline = mono_s() + timeout;
-      int tries = 0;
-      while (!got_pending_) {
-        const double now = mono_s();
-        if (now >= deadline) {
-          check_children();
-          if (++tries > opt_.max_resend)
-            throw Fail("no navigation output for step " + std::to_string(k) + "; see " + (out_ / "hal_sim.log").string());
-          ++resend_timeouts_;
-          send_frame(k);
-          deadline = mono_s() + timeout;
-          continue;
-        }
-        handle(deadline - now);
-      }
-      if ((k & 1023) == 0) check_children();
-      if (!opt_.quiet && (k % std::max<int64_t>(1, n_ / 10)) == 0 && k > 0)
-        std::fprintf(stderr, "ggins run3d: t = %.0f / %.0f s  |dr| %.3g m\n", static_cast<double>(gen_.time_of(k)),
-                     sc_.duration_s, pos_.final);
-    }
-    finish_hal();
+    ggins::hil::LinkOptions lo;
+    lo.tool = "ggins run3d";
+    lo.hal_sim = opt_.hal_sim;
+    lo.prefix = opt_.prefix;
+    lo.lcm_url = opt_.lcm_url;
+    lo.log_mode = opt_.no_log ? "none" : "internal";
+    lo.resend_timeout_ms = opt_.resend_timeout_ms;
+    lo.max_resend = opt_.max_resend;
+    lo.batch = opt_.batch;
+    lo.window = opt_.window;
+    lo.realtime = opt_.realtime;
+    lo.deadline_s = 1e-3 * opt_.deadline_ms;
+    lo.faults = opt_.faults;
+    for (const auto& p : maps) lo.hal_args.insert(lo.hal_args.end(), {"--map", p});
+    link_ = std::make_unique<ggins::hil::Link<ggins::hil::Task3D>>(lo, out_, n_, gen_.dt_us());
+    run_id_ = link_->run_id();
+    link_->start(cfg, 0);
   }
-  const double wall = mono_s() - t0;
+  const double t0 = mono_s();
+  const double cpu0 = ggins::hil::LinkBase::cpu_s();
+  double fw_ns = 0;  // --direct: the firmware steps (cycles[TOTAL])
+  auto progress = [&](int64_t k) {
+    static int64_t last = -1;
+    const int64_t tenth = std::max<int64_t>(1, n_ / 10);
+    if (!opt_.quiet && k / tenth > last && k > 0) {
+      last = k / tenth;
+      std::fprintf(stderr, "ggins run3d: t = %.0f / %.0f s  |dr| %.3g m\n", static_cast<double>(gen_.time_of(k)),
+                   sc_.duration_s, pos_.final);
+    }
+  };
+  std::string error;
+  int error_code = 0;
+  try {
+    if (direct) {
+      for (int64_t k = 0; k < n_; ++k) {
+        ggins::sensor_frame_t m = make_frame(k);
+        m.run_id = run_id_;
+        const ggins::nav3d_output_t o = direct->step(m);
+        fw_ns += static_cast<double>(static_cast<uint32_t>(o.cycles[GG_MOD_TOTAL]));
+        on_output(o);
+        if ((k & 1023) == 0) {
+          if (ggins::hil::interrupted()) throw Fail("interrupted", 130);
+          progress(k);
+        }
+      }
+    } else {
+      link_->run([this](int64_t k) { return make_frame(k); }, [this](const ggins::nav3d_output_t& m) { on_output(m); },
+                 progress);
+    }
+  } catch (const Fail& e) {
+    error = e.what();
+    error_code = e.code;
+  }
+  const double wall = mono_s() - t0;  // the flight (not the STOP handshake)
+  const double cpu_loop = ggins::hil::LinkBase::cpu_s() - cpu0;
+  if (link_ && error_code != 130) link_->finish();
+  if (link_) link_->close_log();
+  if (error_code != 0) throw Fail(error, error_code);
   csv_.close();
   std::vector<double> s = step_ns_;
   std::sort(s.begin(), s.end());
@@ -604,15 +397,31 @@ json Runner3::run() {
   j["gravity_model"] = sc_.gravity.model;
   j["navigation_gravity"] = sc_.nav_gravity;
   j["baro_loop"] = sc_.baro_loop_enabled();
-  j["mode"] = opt_.direct ? "direct (in process, no LCM)" : "host-in-the-loop over LCM (hal_sim)";
+  j["mode"] = opt_.direct ? "direct (in process, no LCM)"
+                          : (opt_.realtime ? "host-in-the-loop over LCM (hal_sim), real time"
+                                           : "host-in-the-loop over LCM (hal_sim), batched lockstep");
   j["duration_s"] = sc_.duration_s;
   j["rate_hz"] = sc_.rate_hz;
   j["steps"] = n_;
   j["outputs"] = outputs_;
+  j["run_id"] = run_id_;
   j["steps_rejected"] = rejected_;
   j["health_or"] = health_or_;
   j["position_error_m"] = pos_.j();
-  j["aid_ukf"] = aid.enabled ? (opt_.direct ? aid_j : json("on (counters in the LCM output)")) : json("off");
+  if (aid.enabled) {  // the map aid's counters at the last step
+    json a;
+    a["epochs"] = aid_last_.mm_epochs;
+    a["updates"] = aid_last_.mm_updates;
+    a["rejected"] = aid_last_.mm_rejected;
+    a["no_map"] = aid_last_.mm_no_map;
+    a["nis_mean"] = aid_closed_ > 0 ? aid_nis_sum_ / static_cast<double>(aid_closed_) : 0.0;
+    a["nis_dof"] = 6;
+    a["sigma_pos_m"] = {aid_last_.mm_sigma[0], aid_last_.mm_sigma[1], aid_last_.mm_sigma[2]};
+    a["tiles"] = maps.size();
+    j["aid_ukf"] = a;
+  } else {
+    j["aid_ukf"] = "off";
+  }
   j["position_error_final_ned_m"] = fpos_n_;
   j["velocity_error_mps"] = vel_.j();
   j["height_error_m"] = hgt_.j();
@@ -627,26 +436,25 @@ json Runner3::run() {
   j["parity_trace_ps2"] = par_trace_.j();
   j["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
   j["wall_s"] = wall;
+  j["cpu_s"] = {{"runner", cpu_loop}};  // CPU (user + system) of the flight
+  if (link_ && link_->cpu_s_hal_sim() >= 0) j["cpu_s"]["hal_sim"] = link_->cpu_s_hal_sim();
+  if (direct) j["cpu_s"]["firmware_steps"] = 1e-9 * fw_ns;
   j["realtime_factor"] = wall > 0 ? sc_.duration_s / wall : 0.0;
   j["step_ns"] = {{"median", pct(0.5)}, {"p99", pct(0.99)}, {"max", s.empty() ? 0.0 : s.back()}};
-  if (!opt_.direct) {
-    j["transport"] = {{"frames_published", frames_published_}, {"truth_published", truth_published_},
-                      {"resend_timeouts", resend_timeouts_}, {"resend_on_request", resend_on_request_},
-                      {"outputs_duplicate", outputs_dup_}, {"outputs_foreign", outputs_foreign_},
-                      {"decode_errors", decode_errors_}};
-    if (hal_)
-      j["hal_sim"] = {{"steps", hal_->steps}, {"steps_rejected", hal_->steps_rejected},
-                      {"frames_received", hal_->frames_received}, {"frames_lost", hal_->frames_lost},
-                      {"frames_duplicate", hal_->frames_duplicate}, {"decode_errors", hal_->decode_errors},
-                      {"foreign_messages", hal_->foreign_messages}, {"auth_failed_frame", hal_->auth_failed_frame},
-                      {"auth_failed_config", hal_->auth_failed_config},
-                      {"auth_failed_control", hal_->auth_failed_control}, {"frames_conflict", hal_->frames_conflict},
-                      {"config_conflict", hal_->config_conflict}};
-    j["bus_auth"] = bus_auth_summary();
+  if (link_) {
+    json tr = link_->transport_summary();
+    tr["truth_published"] = truth_published_;
+    j["transport"] = tr;
+    j["hal_sim"] = link_->hal_sim_summary();
+    j["bus_auth"] = link_->bus_auth_summary(link_->outputs_conflict());
+    if (opt_.realtime) j["realtime"] = link_->realtime_summary();
     // two different authenticated messages for one seq: which copy was right
     // cannot be known, so the run is not completed (exit 1)
-    j["completed"] = j["bus_auth"]["conflicts_total"].get<int64_t>() == 0;
+    j["completed"] = j["bus_auth"]["conflicts_total"].get<int64_t>() == 0 && outputs_ == n_;
     j["lcm_log"] = opt_.no_log ? "" : (out_ / "run.lcmlog").string();
+    j["lcm_url"] = link_->url_to_hal();
+    j["lcm_url_from_hal"] = link_->url_from_hal();
+    if (!opt_.no_log) j["log"] = link_->verify_log(ch_truth_, truth_published_);
   }
   return j;
 }
@@ -679,7 +487,30 @@ int main(int argc, char** argv) {
   app.add_option("--csv-rate", o.csv_rate, "CSV rows per second (default: scenario, 1)");
   app.add_option("--truth-rate", o.truth_rate, "truth3d_t messages per second on LCM (0: every step)")
       ->capture_default_str();
-  app.add_flag("--direct", o.direct, "step the firmware in this process (no LCM, no hal_sim)");
+  app.add_flag("--direct", o.direct,
+               "step the firmware in this process (no LCM, no hal_sim; hal_sim's message conversions and task\n"
+               "cycle, so the same numbers bit for bit)");
+  app.add_flag("--realtime", o.realtime, "pace frames at the sensor rate instead of lockstep");
+  app.add_option("--batch", o.batch, "lockstep: frames per LCM message (default 32)")->check(CLI::Range(1, 128));
+  app.add_option("--window", o.window, "lockstep: frames in flight (default: automatic, from the round trip)")
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--deadline-ms", o.deadline_ms, "realtime: output latency deadline, ms (default one sensor period)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--drop-prob", o.faults.drop, "inject: drop each frame transmission with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--dup-prob", o.faults.dup, "inject: send a frame twice with this probability")->check(CLI::Range(0.0, 0.99));
+  app.add_option("--reorder-prob", o.faults.reorder, "inject: send frame k+1 before frame k with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--drop-output-prob", o.faults.drop_output, "inject: hal_sim drops each navigation output with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--garbage-prob", o.faults.garbage,
+                 "inject: before a frame, an undecodable payload on the frame channel with this probability")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--conflict-prob", o.faults.conflict,
+                 "inject: a second, different, signed frame for a seq (and output in hal_sim) with this probability\n"
+                 "(counted as conflicts, the first copies flown, the run fails)")
+      ->check(CLI::Range(0.0, 0.99));
+  app.add_option("--fault-seed", o.faults.seed, "seed of the transport fault injection")->capture_default_str();
   app.add_flag("--no-log", o.no_log, "do not record run.lcmlog");
   app.add_flag("--no-plots", o.no_plots, "do not make errors.png");
   app.add_flag("-q,--quiet", o.quiet, "no progress lines");
@@ -720,6 +551,10 @@ int main(int argc, char** argv) {
   if (print_scenario) {
     std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
     return 0;
+  }
+  if (o.direct && o.realtime) {
+    std::fprintf(stderr, "ggins run3d: --direct and --realtime exclude each other\n");
+    return 2;
   }
   if (!o.direct) {
     if (o.hal_sim.empty()) o.hal_sim = (ggins::hil::self_dir() / "hal_sim").string();

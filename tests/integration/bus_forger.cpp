@@ -5,7 +5,8 @@
 // It finds the run's hal_sim (the child of --runner-pid), reads the two LCM
 // URLs and the channel prefix from hal_sim's command line (public in /proc),
 // and the run id from the frames it sees on the bus. When it has seen frame K
-// (--start-seq) and output K it publishes, each counted per channel:
+// (--start-seq) and output K (alone, or items of the frame and output batches
+// of batched lockstep) it publishes, each counted per channel:
 //   P+FRAME    frame K copied as K+1..K+3 and as K+100..K+102 (seq patched, the
 //              MAC of frame K kept), frame K with a changed reading as K+200 and
 //              its MAC zeroed;
@@ -139,10 +140,38 @@ struct Forger {
   static constexpr size_t kF = 36;                 // sensor_frame_t f[0][0] (after n_acc)
   static constexpr size_t kR = 44;                 // nav_output_t r_i[0], nav3d_output_t r_e[0] (after status, health)
 
-  static void on_frame(const lcm_recv_buf_t* rb, const char*, void* u) {
-    auto* f = static_cast<Forger*>(u);
-    if (rb->data_size < 200) return;
+  // A batch (frame_batch_t, nav_output_batch_t, nav3d_output_batch_t: type hash,
+  // utime, seq, run_id, n, then n items without type hash, the batch's MAC last):
+  // each item as the standalone message it would be (item type hash + item).
+  static std::vector<std::vector<uint8_t>> unbatch(const lcm_recv_buf_t* rb, int64_t item_hash) {
+    std::vector<std::vector<uint8_t>> out;
     const auto* p = static_cast<const uint8_t*>(rb->data);
+    if (rb->data_size < 36 + 32) return out;
+    const int64_t n = static_cast<int32_t>(static_cast<uint32_t>(be64(p + 28) & 0xffffffff));
+    if (n <= 0) return out;
+    const size_t size = (rb->data_size - 36 - 32) / static_cast<size_t>(n);
+    for (int64_t i = 0; i < n; ++i) {
+      std::vector<uint8_t> m(8);
+      put_be64(m, 0, static_cast<uint64_t>(item_hash));
+      const uint8_t* it = p + 36 + static_cast<size_t>(i) * size;
+      m.insert(m.end(), it, it + size);
+      out.push_back(std::move(m));
+    }
+    return out;
+  }
+  static void on_frames(const lcm_recv_buf_t* rb, const char*, void* u) {
+    for (auto& m : unbatch(rb, ggins::sensor_frame_t::getHash())) take_frame(static_cast<Forger*>(u), m.data(), m.size());
+  }
+  static void on_navs(const lcm_recv_buf_t* rb, const char*, void* u) {
+    auto* f = static_cast<Forger*>(u);
+    const int64_t h = f->mode3d ? ggins::nav3d_output_t::getHash() : ggins::nav_output_t::getHash();
+    for (auto& m : unbatch(rb, h)) take_nav(f, m.data(), m.size());
+  }
+  static void on_frame(const lcm_recv_buf_t* rb, const char*, void* u) {
+    take_frame(static_cast<Forger*>(u), static_cast<const uint8_t*>(rb->data), rb->data_size);
+  }
+  static void take_frame(Forger* f, const uint8_t* p, size_t size) {
+    if (size < 200) return;
     const int64_t run = be64(p + kRunId);
     if (!f->run_id) f->run_id = run;  // the run id, read from the bus
     if (run != *f->run_id) return;
@@ -150,14 +179,15 @@ struct Forger {
     // progress of the flight (frames come in seq order; our own forged frames come back to us
     // too, and only the rare one that happens to be the next seq moves this)
     if (f->last_seen < 0 || seq == f->last_seen + 1) f->last_seen = seq;
-    if (!f->frame_k && seq >= f->start_seq) f->frame_k = std::vector<uint8_t>(p, p + rb->data_size);
+    if (!f->frame_k && seq >= f->start_seq) f->frame_k = std::vector<uint8_t>(p, p + size);
   }
   static void on_nav(const lcm_recv_buf_t* rb, const char*, void* u) {
-    auto* f = static_cast<Forger*>(u);
+    take_nav(static_cast<Forger*>(u), static_cast<const uint8_t*>(rb->data), rb->data_size);
+  }
+  static void take_nav(Forger* f, const uint8_t* p, size_t size) {
     if (f->out_k || !f->frame_k) return;
-    const auto* p = static_cast<const uint8_t*>(rb->data);
-    if (rb->data_size < 200 || be64(p + kRunId) != *f->run_id) return;
-    if (be64(p + kSeq) >= f->start_seq) f->out_k = std::vector<uint8_t>(p, p + rb->data_size);
+    if (size < 200 || be64(p + kRunId) != *f->run_id) return;
+    if (be64(p + kSeq) >= f->start_seq) f->out_k = std::vector<uint8_t>(p, p + size);
   }
 
   void pump(double seconds) {
@@ -311,6 +341,9 @@ int main(int argc, char** argv) {
   }
   lcm_subscription_set_queue_capacity(lcm_subscribe(f.to, f.ch("FRAME").c_str(), Forger::on_frame, &f), 100000);
   lcm_subscription_set_queue_capacity(lcm_subscribe(f.from, f.ch_nav().c_str(), Forger::on_nav, &f), 100000);
+  // batched lockstep: frames and outputs travel in batches
+  lcm_subscription_set_queue_capacity(lcm_subscribe(f.to, f.ch("FRAMES").c_str(), Forger::on_frames, &f), 100000);
+  lcm_subscription_set_queue_capacity(lcm_subscribe(f.from, (f.ch_nav() + "S").c_str(), Forger::on_navs, &f), 100000);
   while (!(f.frame_k && f.out_k)) {
     f.pump(0.005);
     if (now_s() > t_end) {

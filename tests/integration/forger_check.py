@@ -83,8 +83,10 @@ def check_counts(s_bus, fj, prefix, runner_channels):
 
 def case_forged_2d(a):
     os.makedirs(a.workdir, exist_ok=True)
-    n = 10001
-    cmd = [a.ggins_run, "-s", "welker-table1", "--duration", "100", "--no-plots", "-q"]
+    # long enough that the attack (a paced flood) ends during the flight: batched
+    # lockstep flies 2-D at ~1000x real time
+    n = 100001
+    cmd = [a.ggins_run, "-s", "welker-table1", "--duration", "1000", "--no-plots", "-q"]
     rc0, out0 = run_clean(cmd, os.path.join(a.workdir, "clean"))
     check(rc0 == 0, "clean flight completed (exit %d)" % rc0)
     rc1, out1, frc, fj = run_attacked(cmd, os.path.join(a.workdir, "attacked"), a.forger, "2d", 1000, 2000)
@@ -98,8 +100,12 @@ def case_forged_2d(a):
     ts_same = read(os.path.join(a.workdir, "clean", "timeseries.csv")) == read(
         os.path.join(a.workdir, "attacked", "timeseries.csv"))
     check(ts_same, "timeseries.csv byte for byte the same as the clean flight")
-    for k in ["final", "max", "steps", "steps_rejected", "health_bits_seen", "vertical", "horizontal"]:
+    for k in ["final", "max", "steps", "steps_rejected", "vertical", "horizontal"]:
         check(s0[k] == s1[k], "summary %-18s the same to the last digit (final |dr| %r m)" % (k, s1["final"]["position_error_m"]))
+    # DEADLINE flags a step that took longer than its period on this machine's clock (a busy
+    # machine descheduling hal_sim): timing, not navigation; every other bit must be the same
+    nav_bits = [[b for b in s["health_seen"] if b != "DEADLINE"] for s in (s0, s1)]
+    check(nav_bits[0] == nav_bits[1], "summary health bits the same but for DEADLINE (%s)" % nav_bits[1])
     check(s1["completed"] and s1["steps"] == n, "all %d steps flown" % n)
     check(s1["transport"]["outputs_received"] == n, "one accepted output per step")
     bus = s1["bus_auth"]

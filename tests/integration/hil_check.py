@@ -9,7 +9,7 @@ truth columns; those columns are checked against it as well. The LCM log is
 parsed with an independent reader of the LCM event-log format.
 
 usage: hil_check.py TEST --ggins-run PATH --workdir DIR
-tests: perfect, bias, faults, realtime, shared-url, cli
+tests: perfect, bias, faults, realtime, shared-url, cli, direct
 Only the Python standard library is used.
 """
 import argparse
@@ -117,6 +117,52 @@ def read_lcm_log(path):
     return events
 
 
+BATCH_HEAD = 36  # a batch message: type hash 8, utime, seq, run_id (i64), n (i32), then the items
+BATCH_MAC = 32   # ... and the batch's MAC last
+
+
+def batch_items(data):
+    """[(offset, size)] of the n fixed-size items of an encoded batch message."""
+    n = struct.unpack_from(">i", data, 32)[0]
+    if n <= 0:
+        return []
+    size = (len(data) - BATCH_HEAD - BATCH_MAC) // n
+    return [(BATCH_HEAD + i * size, size) for i in range(n)]
+
+
+def log_records(events, single, batch):
+    """Every message on `single` and every item of the batches on `batch`, as
+    (event index, base): field F of the record is at base + (offset of F in
+    the standalone message, counted after its 8-byte type hash) + 8, i.e. base is
+    0 for a standalone message and item offset - 8 for a batch item."""
+    out = []
+    for i, (ch, d) in enumerate(events):
+        if ch == single:
+            out.append((i, 0))
+        elif ch == batch:
+            out += [(i, off - 8) for off, _ in batch_items(d)]
+    return out
+
+
+def log_item_seqs(events, single, batch):
+    """Seqs of the messages on channel `single` (an LCM message: 8-byte type
+    hash, then utime i64, seq i64, ...) and of the items of the batches on
+    `batch` (hash, utime, seq, run_id i64, n i32, then n fixed-size items
+    without hash, each starting utime i64, seq i64; the batch's 32-byte MAC last)."""
+    out = []
+    for ch, d in events:
+        if ch == single:
+            out.append(struct.unpack_from(">q", d, 16)[0])
+        elif ch == batch:
+            n = struct.unpack_from(">i", d, 32)[0]
+            if n <= 0:
+                continue
+            size = (len(d) - 36 - 32) // n
+            for i in range(n):
+                out.append(struct.unpack_from(">q", d, 36 + i * size + 8)[0])
+    return out
+
+
 def nav_errors(row):
     """Errors of the navigation columns against the independent truth."""
     t = Decimal(row["t_s"])
@@ -176,12 +222,15 @@ def test_perfect(a):
     chans = {}
     for ch, _ in ev_:
         chans[ch] = chans.get(ch, 0) + 1
-    check(chans.get("GGINS_FRAME") == n, "log holds %d frames (got %s)" % (n, chans.get("GGINS_FRAME")))
-    check(chans.get("GGINS_NAV") == n, "log holds %d navigation outputs (got %s)" % (n, chans.get("GGINS_NAV")))
+    seqs = sorted(log_item_seqs(ev_, "GGINS_FRAME", "GGINS_FRAMES"))
+    outs = sorted(log_item_seqs(ev_, "GGINS_NAV", "GGINS_NAVS"))
+    check(len(seqs) == n, "log holds %d frames (got %d, in %s batches)" % (n, len(seqs), chans.get("GGINS_FRAMES")))
+    check(outs == list(range(n)), "log holds %d navigation outputs, one per seq (got %d)" % (n, len(outs)))
     check(chans.get("GGINS_TRUTH") == n, "log holds %d truth messages" % n)
     check(chans.get("GGINS_CONFIG", 0) >= 1, "log holds the configuration")
-    seqs = sorted(struct.unpack_from(">q", d, 16)[0] for ch, d in ev_ if ch == "GGINS_FRAME")
     check(seqs == list(range(n)), "frame seqs in the log are 0..%d" % (n - 1))
+    check(chans.get("GGINS_FRAMES", 0) < n / 4, "frames travel in batches (%s messages for %d frames)"
+          % (chans.get("GGINS_FRAMES"), n))
     check(s["log"]["complete"] is True, "summary says the log is complete")
     player = shutil.which("lcm-logplayer")
     if player:
@@ -262,6 +311,55 @@ def test_faults(a):
     check(sf["log"]["complete"] is True, "the log of the faulty run is complete")
 
 
+def test_direct(a):
+    """The same flight three ways: over LCM (batched lockstep), over LCM with 5 % of
+    every transport fault, and in process (--direct, hal_sim's conversions and task
+    cycle without the bus). The navigation must be the same bit for bit: the
+    timeseries byte for byte, the summary's errors to the last digit."""
+    common = ["--scenario", "welker-table1", "--duration", "20", "--csv-rate", "100", "--no-plots"]
+    runs = {}
+    for name, extra in (("lcm", []), ("direct", ["--direct"]),
+                        ("lossy", ["--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
+                                   "--drop-output-prob", "0.05"])):
+        out = os.path.join(a.workdir, name)
+        run(a.ggins_run, out, *common, *extra)
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        with open(os.path.join(out, "timeseries.csv"), "rb") as f:
+            runs[name] = (s, f.read())
+    n = 2001
+    sl, sd, sx = runs["lcm"][0], runs["direct"][0], runs["lossy"][0]
+    check(sd["mode"] == "direct" and "transport" not in sd, "--direct: no transport")
+    check(sl["completed"] and sd["completed"] and sx["completed"], "all three runs completed")
+    check(sl["steps"] == sd["steps"] == sx["steps"] == n, "%d steps each" % n)
+    # DEADLINE (bit 9 of health) flags a step that overran its period on this machine's
+    # clock: timing, not navigation. Every other byte of the timeseries must be the same.
+    def nav_only(raw):
+        lines = raw.decode().splitlines()
+        col = lines[0].split(",").index("health")
+        out = [lines[0]]
+        for ln in lines[1:]:
+            f = ln.split(",")
+            f[col] = str(int(f[col]) & ~(1 << 9))
+            out.append(",".join(f))
+        return out
+    dl = [nav_only(runs[k][1]) for k in ("lcm", "direct", "lossy")]
+    check(dl[0] == dl[1], "timeseries.csv: LCM and --direct byte for byte the same (but for DEADLINE)")
+    check(dl[2] == dl[1], "timeseries.csv: lossy LCM and --direct byte for byte the same (but for DEADLINE)")
+    for k in ("final", "max", "vertical", "horizontal", "steps_rejected"):
+        check(sl[k] == sd[k] == sx[k], "summary %s the same to the last digit in all three" % k)
+    tr = sl["transport"]
+    check(tr["frame_messages"] * 4 < n and tr["output_messages"] * 4 < n,
+          "frames and outputs travel in batches (%d frame and %d output messages for %d steps)"
+          % (tr["frame_messages"], tr["output_messages"], n))
+    inj = sx["transport"]["injected"]
+    check(min(inj["dropped"], inj["duplicated"], inj["reordered"]) > 30 and sx["transport"]["hal_sim"][
+        "outputs_dropped_injected"] > 30, "faults were injected (%s)" % inj)
+    check(sx["transport"]["resends_on_request"] > 0 and sx["transport"]["resends_on_output_gap"] > 0,
+          "losses were recovered on negative acknowledgement and on output gaps, not by timeouts only (%s)"
+          % {k: sx["transport"][k] for k in ("resends_on_request", "resends_on_output_gap", "resend_timeouts")})
+
+
 def test_realtime(a):
     """--realtime paces the frames at the sensor rate; frames dropped or reordered
     on the way are noticed by hal_sim from the seq gap, re-requested and recovered."""
@@ -280,6 +378,25 @@ def test_realtime(a):
     check(0.5 < s["realtime_factor"] < 1.05, "real-time factor near 1 (%.3f)" % s["realtime_factor"])
     er, _, eg, _, _ = nav_errors(rows[-1])
     check(norm(er) < 1e-8 and norm(eg) < 1e-13, "errors at the floor (%.2e m, %.2e m/s^2)" % (norm(er), norm(eg)))
+    # timing of the schedule and of the outputs, against the deadline (one sensor period)
+    rt = s.get("realtime", {})
+    lat, lt = rt.get("lateness_us", {}), rt.get("output_latency_us", {})
+    check(lat.get("n") == 301 and 0 <= lat["median"] <= lat["p99"] <= lat["max"],
+          "lateness of every step reported, median <= p99 <= max (%s)" % lat)
+    check(lt.get("n") == 301 and 0 < lt["median"] <= lt["p99"] <= lt["max"],
+          "output latency of every step reported (%s)" % lt)
+    check(rt.get("deadline_us") == 10000.0, "deadline: one sensor period (10 ms)")
+    over = sum(1 for x in [lt["max"]] if x > 10000.0)
+    check(isinstance(rt.get("deadline_overruns"), int) and (rt["deadline_overruns"] > 0) == (over > 0)
+          and rt.get("outputs_never_received") == 0,
+          "overruns counted (%s; max latency %.0f us)" % (rt.get("deadline_overruns"), lt["max"]))
+    # a deadline every output misses: every step is an overrun
+    out2 = os.path.join(a.workdir, "realtime-deadline")
+    run(a.ggins_run, out2, "--scenario", "welker-perfect", "--duration", "1", "--realtime", "--no-plots",
+        "--no-log", "--deadline-ms", "0.000001")
+    s2, _ = load(out2)
+    check(s2["realtime"]["deadline_overruns"] == 101, "a 1 ns deadline: all 101 steps overrun (%s)"
+          % s2["realtime"]["deadline_overruns"])
 
 
 def test_shared_url(a):
@@ -347,6 +464,7 @@ def test_cli(a):
 
 
 TESTS = {"perfect": test_perfect, "bias": test_bias, "faults": test_faults, "realtime": test_realtime,
+         "direct": test_direct,
          "shared-url": test_shared_url, "cli": test_cli}
 
 

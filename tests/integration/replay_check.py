@@ -104,6 +104,88 @@ def set_i64(data, off, v):
     return bytes(b)
 
 
+# ---- outputs alone (GGINS_NAV*) or as items of output batches (GGINS_NAV*S) -----------------
+# A record is (event index, base): field F of the output is at data[base + offset of F].
+def records(evs, nav_ch):
+    return H.log_records([(e.ch, e.data) for e in evs], nav_ch, nav_ch + "S")
+
+
+def rec_i64(evs, r, off):
+    return struct.unpack_from(">q", evs[r[0]].data, r[1] + off)[0]
+
+
+def rec_item(evs, r):
+    """The bytes of the record's output (a standalone message's data; a batch item's bytes)."""
+    i, base = r
+    if base == 0:
+        return None
+    for off, size in H.batch_items(evs[i].data):
+        if off - 8 == base:
+            return evs[i].data[off:off + size]
+    raise AssertionError("no item at %d" % base)
+
+
+def batch_of(template, items):
+    """A batch message with the header and MAC bytes of `template` holding `items`."""
+    head = bytearray(template[:H.BATCH_HEAD])
+    struct.pack_into(">i", head, 32, len(items))
+    return bytes(head) + b"".join(items) + template[len(template) - H.BATCH_MAC:]
+
+
+def without_seq(evs, nav_lay, nav_ch, k):
+    """The log without any output of seq k (messages dropped, batch items removed)."""
+    out, so = [], field_off(nav_lay, "seq")
+    for e in evs:
+        if e.ch == nav_ch and struct.unpack_from(">q", e.data, so)[0] == k:
+            continue
+        if e.ch == nav_ch + "S":
+            items = [e.data[o:o + n] for o, n in H.batch_items(e.data)]
+            keep = [it for it in items if struct.unpack_from(">q", it, so - 8)[0] != k]
+            if len(keep) != len(items):
+                if keep:
+                    out.append(Ev(0, 0, e.ts, e.ch, batch_of(e.data, keep)))
+                continue
+        out.append(e)
+    return out
+
+
+def isolated(evs, nav_lay, nav_ch, k):
+    """The log with every batch that holds output k split in three (items before,
+    output k alone, items after): [events], [indices of the events holding k alone]."""
+    out, alone, so = [], [], field_off(nav_lay, "seq")
+    for e in evs:
+        if e.ch == nav_ch + "S":
+            items = [e.data[o:o + n] for o, n in H.batch_items(e.data)]
+            idx = [j for j, it in enumerate(items) if struct.unpack_from(">q", it, so - 8)[0] == k]
+            if idx:
+                j = idx[0]
+                if j > 0:
+                    out.append(Ev(0, 0, e.ts, e.ch, batch_of(e.data, items[:j])))
+                alone.append(len(out))
+                out.append(Ev(0, 0, e.ts, e.ch, batch_of(e.data, [items[j]])))
+                if j + 1 < len(items):
+                    out.append(Ev(0, 0, e.ts, e.ch, batch_of(e.data, items[j + 1:])))
+                continue
+        if e.ch == nav_ch and struct.unpack_from(">q", e.data, so)[0] == k:
+            alone.append(len(out))
+        out.append(e)
+    return out, alone
+
+
+def copy_of(evs, r, nav_lay, seq=None):
+    """A new event holding a copy of record r's output (seq patched if given)."""
+    e = evs[r[0]]
+    item = rec_item(evs, r)
+    if item is None:
+        d = e.data
+        if seq is not None:
+            d = set_i64(d, field_off(nav_lay, "seq"), seq)
+        return Ev(0, 0, e.ts, e.ch, d)
+    if seq is not None:
+        item = set_i64(item, field_off(nav_lay, "seq") - 8, seq)
+    return Ev(0, 0, e.ts, e.ch, batch_of(e.data, [item]))
+
+
 # ---- running replay ---------------------------------------------------------------------
 def replay(a, log, *extra):
     cmd = [a.ggins_replay, log, "--show", "5"] + list(extra)
@@ -137,9 +219,10 @@ def not_boundary(evs, cut):
 def damage_cases(a, raw, nav_ch, nav_lay, n, prefix):
     """Damaged copies of a clean log of an n-step run: each must fail, named."""
     evs = parse(raw)
-    navs = [i for i, e in enumerate(evs) if e.ch == nav_ch]
+    so = field_off(nav_lay, "seq")
+    navs = records(evs, nav_ch)
     k = 567 if n > 600 else n // 2
-    of_k = [i for i in navs if seq_of(evs[i], nav_lay) == k]
+    of_k = [r for r in navs if rec_i64(evs, r, so) == k]
     check(len(of_k) >= 1, "%s: the log has the output of seq %d (%d copies)" % (prefix, k, len(of_k)))
     mid = evs[len(evs) * 2 // 5]
 
@@ -166,29 +249,30 @@ def damage_cases(a, raw, nav_ch, nav_lay, n, prefix):
     struct.pack_into(">i", b, mid.off + 20, 0)
     expect(a, prefix + "-channel-length-0", bytes(b), CORRUPT, ["channel length 0", "byte %d" % mid.off])
 
-    drop = [e for i, e in enumerate(evs) if i not in of_k]
+    drop = without_seq(evs, nav_lay, nav_ch, k)
     expect(a, prefix + "-output-dropped", serialize(drop), INCOMPLETE, ["missing", "seq %d" % k])
-    expect(a, prefix + "-output-dropped-not-renumbered", serialize(drop, renumber=False), CORRUPT,
+    holding_k = {r[0] for r in of_k}
+    drop_nr = [e for i, e in enumerate(evs) if i not in holding_k]
+    expect(a, prefix + "-output-dropped-not-renumbered", serialize(drop_nr, renumber=False), CORRUPT,
            ["event numbers"])
 
-    und = list(evs)
-    for i in of_k:
+    und, alone = isolated(evs, nav_lay, nav_ch, k)
+    for i in alone:
         d = bytearray(und[i].data)
         d[0] ^= 0xFF  # fingerprint: the payload no longer decodes as the output type
         und[i] = Ev(0, 0, und[i].ts, und[i].ch, bytes(d))
     expect(a, prefix + "-output-undecodable", serialize(und), INCOMPLETE, ["undecodable", "seq %d" % k])
 
-    last = max(navs, key=lambda i: seq_of(evs[i], nav_lay))
+    last = max(navs, key=lambda r: rec_i64(evs, r, so))
     extra = list(evs)
-    e = evs[last]
-    extra.insert(last + 1, Ev(0, 0, e.ts, e.ch, set_i64(e.data, field_off(nav_lay, "seq"), n)))
+    extra.insert(last[0] + 1, copy_of(evs, last, nav_lay, seq=n))
     expect(a, prefix + "-output-extra-beyond-n", serialize(extra), INCOMPLETE, ["extra", "seq %d" % n])
 
     rep = field_off(nav_lay, "republished")
-    first = [i for i in navs if evs[i].data[rep] == 0 and seq_of(evs[i], nav_lay) > k]
+    first = [r for r in navs if evs[r[0]].data[r[1] + rep] == 0 and rec_i64(evs, r, so) > k]
     check(len(first) > 0, "%s: an output published once as a first publication" % prefix)
-    extra, ks = list(evs), seq_of(evs[first[0]], nav_lay)
-    extra.insert(first[0] + 1, evs[first[0]])
+    extra, ks = list(evs), rec_i64(evs, first[0], so)
+    extra.insert(first[0][0] + 1, copy_of(evs, first[0], nav_lay))
     expect(a, prefix + "-output-extra-copy", serialize(extra), INCOMPLETE, ["extra", "seq %d" % ks])
 
     cmd = field_off(layout("run_control_t"), "command")
@@ -206,9 +290,10 @@ def damage_cases(a, raw, nav_ch, nav_lay, n, prefix):
 def field_cases(a, raw, nav_ch, nav_lay, prefix):
     """One bit of one field of one output flipped, field by field."""
     evs = parse(raw)
-    navs = [i for i, e in enumerate(evs) if e.ch == nav_ch]
-    k = seq_of(evs[navs[len(navs) // 2]], nav_lay)
-    of_k = [i for i in navs if seq_of(evs[i], nav_lay) == k]
+    so = field_off(nav_lay, "seq")
+    navs = records(evs, nav_ch)
+    k = rec_i64(evs, navs[len(navs) // 2], so)
+    of_k = [r for r in navs if rec_i64(evs, r, so) == k]
     skip = {"cycles", "republished", "mac"}  # not reproducible: timing and transport (replay has no key)
     renamed = {"seq", "run_id"}            # the output then belongs to another step or run
     for name, typ, off, cnt, dims in nav_lay:
@@ -216,9 +301,9 @@ def field_cases(a, raw, nav_ch, nav_lay, prefix):
         eoff = off + SIZES[typ] * el
         byte = eoff + SIZES[typ] - 1  # big-endian: the least significant byte
         ev = list(evs)
-        for i in of_k:
+        for i, base in of_k:
             d = bytearray(ev[i].data)
-            d[byte] ^= 1
+            d[base + byte] ^= 1
             ev[i] = Ev(0, 0, ev[i].ts, ev[i].ch, bytes(d))
         path = os.path.join(a.workdir, "%s-flip-%s.lcmlog" % (prefix, name))
         with open(path, "wb") as f:

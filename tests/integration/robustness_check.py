@@ -198,15 +198,13 @@ def test_fault(a, case):
     # of nav_output_t after the 8-byte fingerprint)
     ev = H.read_lcm_log(os.path.join(out, "run.lcmlog"))
     last = None
-    for ch, d in ev:
-        if ch == "GGINS_NAV" and len(d) >= 8 + 16:
-            seq = struct.unpack_from(">q", d, 16)[0]
-            if seq == n - 1:
-                last = d
+    for i, base in H.log_records(ev, "GGINS_NAV", "GGINS_NAVS"):  # alone or in output batches
+        if struct.unpack_from(">q", ev[i][1], base + 16)[0] == n - 1:
+            last = (ev[i][1], base)
     if last is not None:
         # fingerprint 8, utime 8, seq 8, run_id 8, status 4, health 8, 7 x 3 + 9 doubles... see nav_output_t.lcm
         off = 8 + 8 + 8 + 8 + 4 + 8 + 8 * (3 + 3 + 3 + 9 + 3 + 1 + 1 + 1 + 1) + 4 + 8 * 8 + 1 + 8 * 2
-        excluded_final = struct.unpack_from(">q", last, off)[0]
+        excluded_final = struct.unpack_from(">q", last[0], last[1] + off)[0]
     rejected = sum(1 for k in range(K_FAULT, n) if health.get(k, 0) & HEALTH["FRAME_REJECTED"])
     # frames that may be rejected: the faulty ones of a time-stamp fault; accelerometer
     # faults are all accommodated (nothing rejected)
@@ -248,8 +246,8 @@ def test_fault(a, case):
 
 
 def flip_bit_in_log(src, dst, seq_want, field_off, byte_in_field=7):
-    """Copy an LCM log, flipping the lowest bit of one big-endian double of the GGINS_NAV
-    message(s) with seq == seq_want."""
+    """Copy an LCM log, flipping the lowest bit of one big-endian double of the
+    output(s) with seq == seq_want (GGINS_NAV messages or items of GGINS_NAVS batches)."""
     with open(src, "rb") as f:
         data = bytearray(f.read())
     pos, flipped = 0, 0
@@ -258,9 +256,11 @@ def flip_bit_in_log(src, dst, seq_want, field_off, byte_in_field=7):
         pos += 28
         ch = bytes(data[pos:pos + clen]).decode()
         pos += clen
-        if ch == "GGINS_NAV" and struct.unpack_from(">q", data, pos + 16)[0] == seq_want:
-            data[pos + field_off + byte_in_field] ^= 1
-            flipped += 1
+        d = bytes(data[pos:pos + dlen])
+        for _, base in H.log_records([(ch, d)], "GGINS_NAV", "GGINS_NAVS"):
+            if struct.unpack_from(">q", d, base + 16)[0] == seq_want:
+                data[pos + base + field_off + byte_in_field] ^= 1
+                flipped += 1
         pos += dlen
     with open(dst, "wb") as f:
         f.write(data)

@@ -5,8 +5,11 @@
   hil      a short run over LCM: every step answered (no loss, no rejection),
            files written, and the errors equal to the in-process run (--direct)
            of the same scenario: the LCM transport (frames as doubles + sub-ulp
-           residuals, configuration as double-double pairs) must not change a bit.
+           residuals, configuration as double-double pairs) must not change a bit;
+           and again with 5 % of every transport fault: recovered, counted in
+           summary.json (hal_sim's counters), the same bit for bit.
   cli      --help, --list-scenarios, unknown scenario, bad key.
+  realtime --realtime: paced at the sensor rate, lateness / output latency / overruns reported.
 
 usage: hil3d_check.py CASE --ggins-run3d PATH --workdir DIR [--scenario S] [--duration S]
 Python stdlib only.
@@ -36,6 +39,20 @@ def run(exe, out, *args):
         return json.load(f)
 
 
+def nav_csv(path):
+    """timeseries.csv with the DEADLINE health bit (bit 9: a step that overran its period on
+    this machine's clock, timing and not navigation) cleared; everything else as written."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    col = lines[0].split(",").index("health")
+    out = [lines[0]]
+    for ln in lines[1:]:
+        x = ln.split(",")
+        x[col] = str(int(x[col]) & ~(1 << 9))
+        out.append(",".join(x))
+    return out
+
+
 def case_hil(a):
     lcm_dir = os.path.join(a.workdir, "lcm")
     dir_dir = os.path.join(a.workdir, "direct")
@@ -52,8 +69,41 @@ def case_hil(a):
     for k in ("position_error_m", "velocity_error_mps", "attitude_error_rad", "gravity_error_mps2",
               "gamma_error_ecef_E", "gamma_error_body_E", "height_error_m"):
         check(s[k] == d[k], "%s identical over LCM and in process (%s vs %s)" % (k, s[k], d[k]))
-    with open(os.path.join(lcm_dir, "timeseries.csv")) as f1, open(os.path.join(dir_dir, "timeseries.csv")) as f2:
-        check(f1.read() == f2.read(), "timeseries.csv identical over LCM and in process")
+    check(nav_csv(os.path.join(lcm_dir, "timeseries.csv")) == nav_csv(os.path.join(dir_dir, "timeseries.csv")),
+          "timeseries.csv identical over LCM and in process (but for DEADLINE)")
+    # the same flight with 5 % of every transport fault (and undecodable payloads):
+    # recovered, counted, and the same bit for bit
+    lossy_dir = os.path.join(a.workdir, "lossy")
+    x = run(a.ggins_run3d, lossy_dir, *common, "--drop-prob", "0.05", "--dup-prob", "0.05", "--reorder-prob", "0.05",
+            "--drop-output-prob", "0.05", "--garbage-prob", "0.05")
+    check(nav_csv(os.path.join(lossy_dir, "timeseries.csv")) == nav_csv(os.path.join(dir_dir, "timeseries.csv")),
+          "timeseries.csv with transport faults identical to the in-process run (but for DEADLINE)")
+    for k in ("position_error_m", "attitude_error_rad", "gravity_error_mps2", "gamma_error_ecef_E", "outputs"):
+        check(x[k] == d[k], "%s identical with transport faults (%s)" % (k, x[k]))
+    hs, inj = x.get("hal_sim", {}), x.get("transport", {}).get("injected", {})
+    for k in ("foreign_messages", "decode_errors", "auth_failed_frame", "auth_failed_config", "auth_failed_control",
+              "resend_requests", "frames_duplicate", "outputs_dropped_injected", "outputs_republished"):
+        check(k in hs, "summary hal_sim.%s reported (%s)" % (k, hs.get(k)))
+    check(min(inj.get("dropped", 0), inj.get("duplicated", 0), inj.get("reordered", 0)) > 0
+          and hs.get("outputs_dropped_injected", 0) > 0, "faults were injected (%s)" % inj)
+    check(hs.get("decode_errors") == inj.get("garbage") and inj.get("garbage", 0) > 0,
+          "hal_sim counted every undecodable payload (%s of %s)" % (hs.get("decode_errors"), inj.get("garbage")))
+    check(hs.get("resend_requests", 0) > 0 and hs.get("frames_duplicate", 0) >= inj.get("duplicated", 0),
+          "hal_sim asked for the dropped frames and counted the duplicates")
+    check(x["bus_auth"]["rejected_total"] == 0 and x["bus_auth"]["conflicts_total"] == 0, "no MAC reject, no conflict")
+
+
+def case_realtime(a):
+    """--realtime in 3-D: one frame per sensor period, paced; timing reported."""
+    out = os.path.join(a.workdir, "rt")
+    s = run(a.ggins_run3d, out, "--scenario", a.scenario, "--duration", "2", "--realtime", "--no-log")
+    check(s["outputs"] == 201 and s.get("hal_sim", {}).get("frames_lost", -1) == 0, "201 steps, none lost")
+    check(0.5 < s["realtime_factor"] < 1.05, "paced at the sensor rate (real-time factor %.3f)" % s["realtime_factor"])
+    rt = s.get("realtime", {})
+    check(rt.get("lateness_us", {}).get("n") == 201 and rt.get("output_latency_us", {}).get("n") == 201
+          and "deadline_overruns" in rt, "lateness, output latency and overruns reported (%s)"
+          % {k: rt.get(k) for k in ("lateness_us", "output_latency_us", "deadline_overruns")})
+    check(s["transport"]["frame_messages"] >= 201, "one frame per message")
 
 
 def case_cli(a):
@@ -74,7 +124,7 @@ def case_cli(a):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("case", choices=["hil", "cli"])
+    ap.add_argument("case", choices=["hil", "cli", "realtime"])
     ap.add_argument("--ggins-run3d", required=True)
     ap.add_argument("--workdir", required=True)
     ap.add_argument("--scenario", default="3d-tumble")
@@ -82,7 +132,7 @@ def main():
     a = ap.parse_args()
     shutil.rmtree(a.workdir, ignore_errors=True)
     os.makedirs(a.workdir)
-    {"hil": case_hil, "cli": case_cli}[a.case](a)
+    {"hil": case_hil, "cli": case_cli, "realtime": case_realtime}[a.case](a)
     if FAILS:
         print("%d check(s) failed" % len(FAILS))
         sys.exit(1)
