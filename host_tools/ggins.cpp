@@ -28,6 +28,8 @@ static const struct {
     {"campaign", "Monte Carlo sets and parameter sweeps of these commands on Dask (local or a cluster), resumable"},
     {"coldatom", "cold-atom partial-gradient particle filter (Phillips et al.): Liverpool-Toulouse flights, sweeps"},
     {"field", "potential, gravitation and gradient of a model (normal, SH file, anomalies) at points or along a route"},
+    {"spy", "lcm-spy with the ggins message types: decoded fields of a live run or a replayed log"},
+    {"logtime", "LCM logs in Python (ggins_log): channels, event times rewritten to flight time, CSV"},
 };
 
 static void usage(FILE* out) {
