@@ -38,6 +38,10 @@ static void usage(FILE* out) {
                "ggins - gravity-gradiometer integrated INS: host tools.\n\ncommands:\n");
   for (const auto& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.what);
   std::fprintf(out, "\nWith no command, `ggins` prints this help. A command not built yet is reported.\n");
+  std::fprintf(out,
+               "\nexit status (mapnav, coldatom, covariance, covariance3d; host_tools/common/include/ggins/cli_checks.hpp):\n"
+               "  0 success, 1 the run failed (the message says why), 2 bad arguments (the option or key, its value\n"
+               "  and the allowed range are named). ggins run adds its own codes (ggins run --help).\n");
 }
 
 int main(int argc, char** argv) {

@@ -84,6 +84,9 @@ CASES = [
     ("ggins-covariance3d", ["--half-base", "0", "0.5", "0.5"], 2, "--half-base"),
     ("ggins-covariance3d", ["--lat0-deg", "inf"], 2, "--lat0-deg"),
     ("ggins-covariance3d", ["-o", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-covariance3d", ["--g0-sigma", "1e308"], 2, "--g0-sigma"),
+    ("ggins-covariance3d", ["--dt", "1e4", "--duration", "60"], 2, "--dt"),
+    ("ggins-covariance", ["--dt", "100", "--duration", "60"], 2, "--dt"),
 ]
 # controls: valid command lines still run (the checks do not refuse good input)
 CONTROLS = [

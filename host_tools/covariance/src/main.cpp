@@ -117,8 +117,8 @@ int main(int argc, char** argv) {
   app.add_option("-o,--out", out_dir, "output directory (default out/covariance/<scenario>)")->check(C::OutputDir());
   app.add_flag("--json", want_json, "print the JSON summary (values at the end of the run) on stdout");
   app.add_flag("--eigen", want_eigen, "print the eigenvalues of the reduced error dynamics along the flight");
-  app.add_option("--dt", dt, "integration step, s (RK4)")->capture_default_str()->check(C::PositiveFinite());
-  app.add_option("--output-dt", output_dt, "CSV sample spacing, s")->capture_default_str()->check(C::PositiveFinite());
+  app.add_option("--dt", dt, "integration step, s (RK4)")->capture_default_str()->check(C::FiniteRange(0, 1e5, C::kOpenLow));
+  app.add_option("--output-dt", output_dt, "CSV sample spacing, s")->capture_default_str()->check(C::FiniteRange(0, 1e9, C::kOpenLow));
   app.add_option("--method", method_s, "transition: RK4 on Phi, P = Phi P0 Phi^T; lyapunov: RK4 on P")
       ->capture_default_str()
       ->check(CLI::IsMember({"transition", "lyapunov"}));
@@ -129,8 +129,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"centre", "baseline"}));
   app.add_option("--g", g_override,
                  "use omega_s^2 = g/R_e with this g (m/s^2) instead of g = GM/R_e^2 (sets GM = g R_e^2)")->check(C::FiniteRange(0, 1e3, C::kOpenLow));
-  app.add_option("--sigma-g0", sigma_g0, "initial gravity uncertainty dG(0), one sigma, m/s^2 (eq. 8)")->check(C::NonNegativeFinite());
-  app.add_option("--duration", duration, "override the scenario duration, s")->check(C::PositiveFinite());
+  app.add_option("--sigma-g0", sigma_g0, "initial gravity uncertainty dG(0), one sigma, m/s^2 (eq. 8)")->check(C::FiniteRange(0, 1e3));
+  app.add_option("--duration", duration, "override the scenario duration, s")->check(C::FiniteRange(0, 1e9, C::kOpenLow));
   app.add_flag("--no-plot", no_plot, "do not run the matplotlib plot script");
   app.add_option("--python", python, "python interpreter with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
   return C::run("ggins-covariance", app, argc, argv, [&]() -> int {
@@ -154,6 +154,9 @@ int main(int argc, char** argv) {
   if (g_override) sc.gm_m3ps2 = *g_override * sc.radius_m * sc.radius_m;
   if (sigma_g0) sc.gravity0_sigma_x_mps2 = sc.gravity0_sigma_z_mps2 = *sigma_g0;
   if (duration) sc.duration_s = *duration;
+  if (dt > sc.duration_s)
+    throw C::BadArgument("--dt " + std::to_string(dt) + " s is longer than the duration " + std::to_string(sc.duration_s) +
+                         " s (allowed: --dt <= duration)");
   if (sc.duration_s / dt > 1e8)
     throw C::BadArgument("duration " + std::to_string(sc.duration_s) + " s with --dt " + std::to_string(dt) +
                          " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
