@@ -38,6 +38,7 @@ unknown_section = scen("unknown_section", BASE + "[trajectoryy]\nspeed_mps = 1.0
 unknown_initial = scen("unknown_initial", BASE + "[initial]\nposition_sigma = 1.0\n")
 nan_sigma = scen("nan_sigma", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = nan"))
 neg_sigma = scen("neg_sigma", BASE + "[initial]\nvelocity_sigma_mps = -1.0\n")
+empty = scen("empty", "# nothing\n")
 good = scen("good", BASE + "[initial]\ngravity_sigma_mps2 = [1e-12, 3e-12]\n")
 
 # (tool, arguments, expected exit code, text that stderr must contain)
@@ -74,6 +75,7 @@ CASES = [
     ("ggins-covariance", ["-s", unknown_initial, "--no-plot", "-o", out + "/c3"], 2, "initial.position_sigma"),
     ("ggins-covariance", ["-s", nan_sigma, "--no-plot", "-o", out + "/c4"], 2, "bias_sigma_mps2"),
     ("ggins-covariance", ["-s", neg_sigma, "--no-plot", "-o", out + "/c5"], 2, "initial.velocity_sigma_mps"),
+    ("ggins-covariance", ["-s", empty, "--no-plot", "-o", out + "/c6"], 2, "sets no key"),
     ("ggins-covariance", ["--duration", "nan"], 2, "--duration"),
     ("ggins-covariance", ["--dt", "nan"], 2, "--dt"),
     ("ggins-covariance", ["--sigma-g0", "nan"], 2, "--sigma-g0"),

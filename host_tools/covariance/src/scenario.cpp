@@ -43,6 +43,9 @@ double num(const toml::node* n, const std::string& key) {
 // unknown key or section, a NaN, a value out of range is an error there) plus the
 // covariance-only [initial] table, checked here.
 void check_against_truth_schema(const toml::table& tbl, const std::string& path) {
+  if (tbl.empty())
+    throw std::runtime_error("scenario " + path + ": the file sets no key (allowed: a scenario table; for the defaults "
+                             "use the built-in welker-table1)");
   toml::table rest = tbl;
   if (const toml::node* n = tbl.get("initial")) {
     if (!n->is_table()) throw std::runtime_error("scenario " + path + ": 'initial' must be a table ([initial])");
