@@ -51,6 +51,8 @@ def main(argv=None):
                     cols.append(v2)
                     names += [k] if v2.shape[1] == 1 else [f"{k}_{i}" for i in range(v2.shape[1])]
             np.savetxt(a.out, np.hstack(cols), delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+    except BrokenPipeError:  # output piped into head, less
+        return 0
     except (OSError, ValueError) as e:
         print(f"ggins logtime: {e}", file=sys.stderr)
         return 1

@@ -127,7 +127,7 @@ def read(path, types=None, channels=None) -> Log:
             if cls is not None:
                 try:
                     msg = cls.decode(e.data)
-                except (ValueError, Exception):  # a message of a known type that does not decode
+                except Exception:  # a message of a known type that does not decode (truncated, corrupt)
                     msg = None
             if msg is None:
                 log.unknown[e.channel] = log.unknown.get(e.channel, 0) + 1
