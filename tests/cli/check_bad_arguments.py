@@ -38,6 +38,8 @@ unknown_section = scen("unknown_section", BASE + "[trajectoryy]\nspeed_mps = 1.0
 unknown_initial = scen("unknown_initial", BASE + "[initial]\nposition_sigma = 1.0\n")
 nan_sigma = scen("nan_sigma", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = nan"))
 neg_sigma = scen("neg_sigma", BASE + "[initial]\nvelocity_sigma_mps = -1.0\n")
+nan_axis = scen("nan_axis", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [1e-12, nan, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12]"))
+axes = scen("axes", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [1e-12, 2e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12]"))
 empty = scen("empty", "# nothing\n")
 good = scen("good", BASE + "[initial]\ngravity_sigma_mps2 = [1e-12, 3e-12]\n")
 
@@ -75,6 +77,7 @@ CASES = [
     ("ggins-covariance", ["-s", unknown_initial, "--no-plot", "-o", out + "/c3"], 2, "initial.position_sigma"),
     ("ggins-covariance", ["-s", nan_sigma, "--no-plot", "-o", out + "/c4"], 2, "bias_sigma_mps2"),
     ("ggins-covariance", ["-s", neg_sigma, "--no-plot", "-o", out + "/c5"], 2, "initial.velocity_sigma_mps"),
+    ("ggins-covariance", ["-s", nan_axis, "--no-plot", "-o", out + "/c7"], 2, "bias_sigma_mps2"),
     ("ggins-covariance", ["-s", empty, "--no-plot", "-o", out + "/c6"], 2, "sets no key"),
     ("ggins-covariance", ["--duration", "nan"], 2, "--duration"),
     ("ggins-covariance", ["--dt", "nan"], 2, "--dt"),
@@ -93,6 +96,7 @@ CASES = [
 # controls: valid command lines still run (the checks do not refuse good input)
 CONTROLS = [
     ("ggins-covariance", ["-s", good, "--no-plot", "-o", out + "/good"], 0, ""),
+    ("ggins-covariance", ["-s", axes, "--no-plot", "-o", out + "/axes"], 0, ""),
     ("ggins-covariance3d", ["--duration", "60", "--no-plot", "-o", out + "/good3d"], 0, ""),
     ("ggins-mapnav", ["--help"], 0, ""),
 ]

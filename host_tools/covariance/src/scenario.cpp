@@ -53,6 +53,11 @@ void check_against_truth_schema(const toml::table& tbl, const std::string& path)
                                             {"gravity_sigma_mps2", "position_sigma_m", "velocity_sigma_mps"}, path);
     rest.erase("initial");
   }
+  // per-axis sigmas (8 values, f1x..f4z) are a covariance-only form of two accel keys: the
+  // truth generator takes one number there; the arrays are checked element by element here
+  if (toml::table* acc = rest["accel"].as_table())
+    for (const char* k : {"bias_sigma_mps2", "noise_sigma_mps2"})
+      if (acc->get(k) && acc->get(k)->is_array()) acc->insert_or_assign(k, 0.0);
   std::ostringstream os;
   os << rest;
   (void)ggins::truth::parse_scenario(os.str(), fs::path(path).stem().string(), path);
