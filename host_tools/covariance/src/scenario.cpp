@@ -164,8 +164,13 @@ CovScenario load_scenario_toml(const std::string& path) {
       dst.assign(8, num(n, dotted));
     }
   };
-  vec8("accel.bias_sigma_mps2", s.bias_sigma_mps2);
-  vec8("accel.noise_sigma_mps2", s.noise_sigma_mps2);
+  try {
+    vec8("accel.bias_sigma_mps2", s.bias_sigma_mps2);
+    vec8("accel.noise_sigma_mps2", s.noise_sigma_mps2);
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    throw std::runtime_error(m.rfind(path, 0) == 0 ? m : "scenario " + path + ": " + m);
+  }
   get("accel.scale_sigma", s.scale_sigma);
   if (const toml::node* n = node("initial.gravity_sigma_mps2")) {
     if (const toml::array* arr = n->as_array()) {
