@@ -1,5 +1,5 @@
 // ggins gmap: generate an onboard gravity-gradient map tile (firmware gmap.h)
-// from EGM96 for a lat/lon box at one altitude. Issues 10 and 11.
+// from EGM96 for a lat/lon box at one altitude, for the map-matching UKF (Gao et al.) and the cold-atom particle filter (Phillips et al.).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
       "Gradient tensor Gamma = dG/dx of EGM96 (spherical harmonics to --degree; total = WGS-84 normal\n"
       "gravitation + disturbance, or --anomaly = disturbance only) in the NED frame of each node, six\n"
       "components NN EE DD NE ND ED (s^-2) and their height derivatives, on a lat/lon grid at --alt.\n"
-      "The UKF of issue 10 uses the TOTAL field. --noise-e adds seeded N(0, sigma) database noise."};
+      "The map-matching UKF uses the TOTAL field. --noise-e adds seeded N(0, sigma) database noise."};
   app.add_option("--lat-min", sp.lat_min_deg, "south edge, deg")->required();
   app.add_option("--lat-max", sp.lat_max_deg, "north edge, deg (rounded up to a whole node)")->required();
   app.add_option("--lon-min", sp.lon_min_deg, "west edge, deg")->required();

@@ -2,7 +2,7 @@
 // calls, no LCM) along the analytic great-circle flight of ggins-covariance3d
 // with seeded random sensor errors (18 accelerometer biases, gyro biases,
 // optional white noise), against the covariance of the same scenario
-// (issue 7 item 5). The sample one-sigma s = sqrt(sum e^2 / N) of each NED
+// The sample one-sigma s = sqrt(sum e^2 / N) of each NED
 // component is compared with the covariance sigma; N s^2/sigma^2 ~ chi^2_N,
 // band at +-3 standard-normal quantiles (Wilson-Hilferty).
 #include <CLI/CLI.hpp>

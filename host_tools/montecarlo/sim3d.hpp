@@ -1,6 +1,6 @@
 // Direct-call simulation of the 3-D firmware (gg_nav3d_step, no LCM) along
 // the analytic trajectories of the 3-D error analysis (trajectory3d.hpp),
-// with seeded sensor errors (issue 7 item 5, Monte Carlo and the firmware
+// with seeded sensor errors (Monte Carlo and the firmware
 // linearization test). The truth is computed in long double and handed to
 // the firmware as hi/lo double pairs:
 //   f_s = C_e_b (a_i,e - G_e(r_e + C_b_e d_s)) + ([wdot x] + [w x]^2) d_s   (Gao et al. eq. 22)

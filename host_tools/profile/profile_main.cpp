@@ -18,7 +18,7 @@
 
 namespace fs = std::filesystem;
 
-// The filter kernels that run beside the navigation step at their own rates (issue 11's
+// The filter kernels that run beside the navigation step at their own rates (the cold-atom particle filter's
 // particle filter, 1 Hz): timed in-process on this host with the settings of
 // coldatom-pf-bench (pf_bench.hpp), printed as rows of the same table.
 static int print_filter_rows(int shots, int chunk) {

@@ -1,5 +1,5 @@
-// ggins covariance model of the barometric vertical loop (welker2d_baro.hpp,
-// issue 5) against an independent prediction: the stationary variance of the
+// ggins covariance model of the barometric vertical loop (welker2d_baro.hpp)
+// against an independent prediction: the stationary variance of the
 // vertical error of the loop, computed in the frequency domain from the loop's
 // transfer function H_b(s) = (k1 s^2 + k2 s + k3) / (s^3 + k1 s^2 + (k2 - 2 w^2) s + k3)
 // (docs/vertical.md), plus the constant bias b at DC gain 1:

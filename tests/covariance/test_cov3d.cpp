@@ -1,4 +1,4 @@
-// 3-D error model (nav3d_model.hpp, issue 7 item 5) against closed forms that
+// 3-D error model (nav3d_model.hpp) against closed forms that
 // do not come from the model code:
 //  1. non-rotating point-mass Earth: eig(F) = +-sqrt2 w_s, +-j w_s (twice),
 //     0 (three times: the dead reckoning), w_s^2 = GM/r^3, at every point of a

@@ -128,7 +128,7 @@ VectorXd final_sigmas(const LinearErrorModel& m, const MatrixXd& P0, double T, d
 // ---------------------------------------------------------------------------
 
 // Constant bias through a double integrator: sigma_x = s t^2/2, sigma_v = s t,
-// cov(x, v) = s^2 t^3/2 (issue 4 item 6). Phi is quadratic in t, so RK4 is exact
+// cov(x, v) = s^2 t^3/2. Phi is quadratic in t, so RK4 is exact
 // up to round-off even with a coarse, non-dividing step (T/dt not an integer).
 void test_double_integrator(void**) {
   DoubleIntegrator m;

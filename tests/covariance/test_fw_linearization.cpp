@@ -1,4 +1,4 @@
-// Issue 4 item 4: the covariance tool's model is the firmware's model.
+// The covariance tool's model is the firmware's model.
 // Linearizes the firmware's actual navigation step (gg_nav2d_step) by finite
 // differences -- perturbing each of the six navigation states (through the
 // initial state of the nav task) and each of the eight accelerometer readings

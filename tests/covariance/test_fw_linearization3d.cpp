@@ -1,4 +1,4 @@
-// Issue 7 item 5: the 3-D error model (nav3d_model.hpp) is the firmware's
+// The 3-D error model (nav3d_model.hpp) is the firmware's
 // model. The real firmware (gg_nav3d_step, direct calls) is flown along the
 // rotating-Earth great-circle flight (45 deg, heading 45 deg, 300 m/s, WGS-84
 // normal field, 10 Hz, 300 s) with one error at a time - each of the 18

@@ -137,6 +137,24 @@ def main():
     L.extend(unit)
     L.append("```")
     L.append("")
+    L.append("## 3-D (tests/truth3d/test_faults3d.cpp, in-process)")
+    L.append("")
+    p3 = os.path.join(b, "bin", "test_faults3d")
+    if os.path.exists(p3):
+        q3 = subprocess.run([p3], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        L.append("Faults injected by the 3-D truth generator (`[sensor_faults]`, "
+                 "`host_tools/truth3d/include/ggins/truth3d/faults3d.hpp`, keys in docs/hil3d.md) on a 30 s strapdown "
+                 "route leg (45 N eastbound, 150 m/s, perfect sensors, baro loop, default fault detection threshold "
+                 "derived from the sensor errors: 2e-12 m/s^2 here); `gg_nav3d_step` called as `ggins run3d --direct` "
+                 "does (`%s/bin/test_faults3d`, exit %d). Excluded mask: bit 3*sensor+axis (fdi3d.h). The same flights "
+                 "through `ggins run3d --direct`: CTest `truth3d.run3d.bias`, `truth3d.run3d.nanpair`." % (a.build, q3.returncode))
+        L.append("")
+        L.append("```")
+        L.extend(l.strip() for l in q3.stdout.splitlines() if l.startswith("FAULTMATRIX3D |"))
+        L.append("```")
+    else:
+        L.append("(test_faults3d not built)")
+    L.append("")
     L.append("## Transport faults and replay")
     L.append("")
     L.append("`integration.hil.faults`: 5% of each transport fault (drop, duplicate, reorder, dropped output, "

@@ -1,4 +1,4 @@
-// Truth barometer (issue 5): statistics of the generated error against the
+// Truth barometer: statistics of the generated error against the
 // model it claims (generator.hpp, BaroSample): constant bias, first-order
 // Gauss-Markov error by the exact discrete recursion (stationary variance
 // sigma^2, autocorrelation exp(-|lag| / tau)), white noise, sample rate,

@@ -1,4 +1,4 @@
-// Survey grid of the programmed anomalies (issue 6; truth/survey.hpp) and its
+// Survey grid of the programmed anomalies (truth/survey.hpp) and its
 // scenario keys ([navigation.survey]):
 //  - parsing: defaults, values, unknown keys and out-of-range values rejected;
 //  - geometry: node positions along the flight, recomputed here from the

@@ -86,7 +86,7 @@ static void check_point_mass(int with_lo, long double tol_gamma)
     assert_true(worst_f < 1e-13L);
 }
 
-/* Issue 2 bound with plain double readings: 1e-4 E. */
+/* Bound with plain double readings: 1e-4 E. */
 static void test_point_mass_double_readings(void **state)
 {
     (void)state;

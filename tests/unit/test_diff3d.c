@@ -81,7 +81,7 @@ static void check_body(const long double w[3], const long double wd[3], const lo
            "|df_c| = %.3Lg m/s^2, trace = %.3Lg E\n",
            sqrtl(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]), worst_g * 1e9L, worst_w, worst_f,
            out.trace * 1e9L);
-    assert_true(worst_g < 1e-13L);          /* 1e-4 E (issue 7) */
+    assert_true(worst_g < 1e-13L);          /* 1e-4 E */
     assert_true(fabsl(out.trace) < 1e-13L); /* Laplace */
     assert_true(worst_w < 1e-12L);
     assert_true(worst_f < 1e-13L);

@@ -38,7 +38,7 @@ static long double dr_error(long double T, long n, int trapezoid_only)
     return norm3l(gdl, g);
 }
 
-/* Issue 2 bound: 1 h at 100 Hz, V = 300 m/s, |G - G_true| < 1e-13 m/s^2. */
+/* Bound: 1 h at 100 Hz, V = 300 m/s, |G - G_true| < 1e-13 m/s^2. */
 static void test_flight_1h_100hz(void **state)
 {
     (void)state;

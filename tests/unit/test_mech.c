@@ -46,7 +46,7 @@ static long double mech_error(long double T, long n, long double *ev)
     return norm3l(rcl, r);
 }
 
-/* Issue 2 bound: 1 h at 100 Hz ends within 0.1 mm of the analytic position. */
+/* Bound: 1 h at 100 Hz ends within 0.1 mm of the analytic position. */
 static void test_flight_1h_100hz(void **state)
 {
     (void)state;

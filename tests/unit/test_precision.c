@@ -1,4 +1,4 @@
-/* Precision audit (issue 8): built three times from this one source -
+/* Precision audit: built three times from this one source -
  *   precision.native : firmware and test with x86-64 long double (64-bit mantissa)
  *   precision.ld64   : both built with -mlong-double-64 (long double = double,
  *                      the Arm Cortex-M ABI): compensated accumulators must

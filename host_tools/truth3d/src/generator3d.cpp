@@ -9,6 +9,7 @@
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/spherical_harmonic.hpp"
 #include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth3d/route3d.hpp"
 
 namespace ggins::truth3d {
 
@@ -47,6 +48,7 @@ std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s) {
     p.speed_mps = t.speed_mps;
     return std::make_unique<Circle3>(p, att);
   }
+  if (t.type == "route") return make_route3(s);
   if (t.type == "tumble") {
     TumbleParams p;
     p.lat = static_cast<Real>(t.lat_deg) * kDeg;
@@ -126,6 +128,7 @@ Generator3::Generator3(const Scenario3& s) : traj_(make_trajectory3(s)), field_(
   opt_.accel = s.accel;
   opt_.gyro = s.gyro;
   opt_.baro = s.baro;
+  opt_.faults = s.sensor_faults;
   init_errors();
 }
 
@@ -254,6 +257,7 @@ void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
       out.baro_status = GG_SENSOR_OK;
     }
   }
+  apply_sensor_faults3(opt_.faults, *this, k, out);
   if (truth_out) *truth_out = t;
 }
 

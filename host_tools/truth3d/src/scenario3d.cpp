@@ -10,6 +10,8 @@
 #include <toml++/toml.h>
 
 #include "ggins/truth/scenario_toml.hpp"
+#include "ggins/truth3d/faults3d.hpp"
+#include "ggins/truth3d/route3d.hpp"
 
 extern "C" {
 #include "ggins/fdi3d.h"
@@ -73,6 +75,87 @@ struct P {
   }
 };
 
+int64_t line_of(const toml::node& n) { return static_cast<int64_t>(n.source().begin.line); }
+std::string at_line(int64_t line) { return line > 0 ? " (line " + std::to_string(line) + ")" : ""; }
+
+// route keys of [trajectory] and its [[trajectory.waypoint]] entries
+void parse_route(const P& p, const toml::table& t, Trajectory3Params& r) {
+  const std::string w = "trajectory";
+  const bool route = r.type == "route";
+  for (const char* k : {"waypoint", "initial_speed_mps", "turn_rate_dps", "climb_rate_mps", "accel_mps2",
+                        "vertical_accel_mps2"})
+    if (!route && t.contains(k))
+      p.fail(std::string("trajectory.") + k + at_line(line_of(*t.get(k))) + " is a key of type = \"route\"");
+  if (!route) return;
+  r.initial_speed_mps = p.num(t, w, "initial_speed_mps", r.initial_speed_mps);
+  r.turn_rate_dps = p.num(t, w, "turn_rate_dps", r.turn_rate_dps);
+  r.climb_rate_mps = p.num(t, w, "climb_rate_mps", r.climb_rate_mps);
+  r.accel_mps2 = p.num(t, w, "accel_mps2", r.accel_mps2);
+  r.vertical_accel_mps2 = p.num(t, w, "vertical_accel_mps2", r.vertical_accel_mps2);
+  if (!(r.speed_mps >= 1)) p.fail("trajectory.speed_mps must be >= 1 m/s for a route (the attitude follows the velocity)");
+  if (t.contains("initial_speed_mps") && !(r.initial_speed_mps >= 1))
+    p.fail("trajectory.initial_speed_mps" + at_line(line_of(*t.get("initial_speed_mps"))) + " must be >= 1 m/s");
+  p.positive(r.turn_rate_dps, "trajectory.turn_rate_dps");
+  p.positive(r.climb_rate_mps, "trajectory.climb_rate_mps");
+  p.positive(r.accel_mps2, "trajectory.accel_mps2");
+  p.positive(r.vertical_accel_mps2, "trajectory.vertical_accel_mps2");
+  const toml::node* wn = t.get("waypoint");
+  if (!wn) p.fail("trajectory.waypoint: a route needs at least one [[trajectory.waypoint]] after its start");
+  const toml::array* a = wn->as_array();
+  if (!a) p.fail("trajectory.waypoint" + at_line(line_of(*wn)) + " must be an array of tables ([[trajectory.waypoint]])");
+  double h = r.height_m, v = r.speed_mps;
+  for (size_t i = 0; i < a->size(); ++i) {
+    const toml::table* e = (*a)[i].as_table();
+    const std::string where = "trajectory.waypoint[" + std::to_string(i + 1) + "]";
+    const int64_t line = line_of((*a)[i]);
+    const std::string loc = where + at_line(line);
+    if (!e) p.fail(loc + " must be a table");
+    for (const auto& [k, val] : *e) {
+      (void)val;
+      static const std::set<std::string> allowed = {"lat_deg",       "lon_deg",        "height_m",
+                                                    "speed_mps",     "turn_rate_dps",  "climb_rate_mps",
+                                                    "accel_mps2",    "vertical_accel_mps2"};
+      if (!allowed.count(std::string(k.str()))) {
+        std::string list;
+        for (const auto& x : allowed) list += (list.empty() ? "" : ", ") + x;
+        p.fail("unknown key '" + where + "." + std::string(k.str()) + "'" + at_line(line) + " (allowed: " + list + ")");
+      }
+    }
+    if (!e->contains("lat_deg") || !e->contains("lon_deg")) p.fail(loc + ": lat_deg and lon_deg are required");
+    WaypointParams q;
+    q.line = line;
+    q.lat_deg = p.num(*e, loc, "lat_deg", 0);
+    q.lon_deg = p.num(*e, loc, "lon_deg", 0);
+    q.height_m = p.num(*e, loc, "height_m", h);
+    q.speed_mps = p.num(*e, loc, "speed_mps", v);
+    q.turn_rate_dps = p.num(*e, loc, "turn_rate_dps", r.turn_rate_dps);
+    q.climb_rate_mps = p.num(*e, loc, "climb_rate_mps", r.climb_rate_mps);
+    q.accel_mps2 = p.num(*e, loc, "accel_mps2", r.accel_mps2);
+    q.vertical_accel_mps2 = p.num(*e, loc, "vertical_accel_mps2", r.vertical_accel_mps2);
+    if (std::fabs(q.lat_deg) > 85) p.fail(loc + ".lat_deg must be within +-85");
+    if (!(std::fabs(q.lon_deg) <= 360)) p.fail(loc + ".lon_deg must be within +-360");
+    if (q.height_m < -1000 || q.height_m > 1e5) p.fail(loc + ".height_m must be in [-1000, 1e5]");
+    if (!(q.speed_mps >= 1)) p.fail(loc + ".speed_mps must be >= 1 m/s (the attitude follows the velocity)");
+    if (!(q.speed_mps <= 3000)) p.fail(loc + ".speed_mps must be <= 3000 m/s");
+    p.positive(q.turn_rate_dps, loc + ".turn_rate_dps");
+    p.positive(q.climb_rate_mps, loc + ".climb_rate_mps");
+    p.positive(q.accel_mps2, loc + ".accel_mps2");
+    p.positive(q.vertical_accel_mps2, loc + ".vertical_accel_mps2");
+    h = q.height_m;
+    v = q.speed_mps;
+    r.waypoints.push_back(q);
+  }
+  // the geometry and the timing: legs, turns, climbs must fit
+  try {
+    Route3 check(route_params(r), Attitude::Coordinated);
+  } catch (const RouteError& e) {
+    const size_t k = static_cast<size_t>(e.waypoint);
+    const int64_t line = k >= 1 && k <= r.waypoints.size() ? r.waypoints[k - 1].line : 0;
+    p.fail((k == 0 ? std::string("trajectory (the start)") : "trajectory.waypoint[" + std::to_string(k) + "]") +
+           at_line(line) + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 int64_t Scenario3::dt_us() const { return std::llround(1e6 / rate_hz); }
@@ -97,18 +180,19 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   s.text = text;
   s.gravity.model = "wgs84-normal";
   p.keys(root, "", {"name", "description", "trajectory", "platform", "gravity", "time", "accel", "gyro", "baro",
-                    "navigation", "firmware", "output"});
+                    "navigation", "firmware", "output", "sensor_faults"});
   s.name = p.str(root, "", "name", fallback_name);
   s.description = p.str(root, "", "description", "");
   if (const auto* t = p.sub(root, "trajectory")) {
     const std::string w = "trajectory";
     p.keys(*t, w, {"type", "lat_deg", "lon_deg", "height_m", "velocity_ned_mps", "maneuver", "radius_m", "speed_mps",
                    "spin_radps", "precession_radps", "nutation_deg", "nutation_amp_deg", "nutation_radps", "psi0_deg",
-                   "phi0_deg"});
+                   "phi0_deg", "waypoint", "initial_speed_mps", "turn_rate_dps", "climb_rate_mps", "accel_mps2",
+                   "vertical_accel_mps2"});
     auto& r = s.trajectory;
     r.type = p.str(*t, w, "type", r.type);
-    if (r.type != "flight" && r.type != "circle" && r.type != "tumble")
-      p.fail("trajectory.type must be \"flight\", \"circle\" or \"tumble\"");
+    if (r.type != "flight" && r.type != "circle" && r.type != "tumble" && r.type != "route")
+      p.fail("trajectory.type must be \"flight\", \"circle\", \"tumble\" or \"route\"");
     r.lat_deg = p.num(*t, w, "lat_deg", r.lat_deg);
     r.lon_deg = p.num(*t, w, "lon_deg", r.lon_deg);
     r.height_m = p.num(*t, w, "height_m", r.height_m);
@@ -132,6 +216,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
     }
     r.radius_m = p.num(*t, w, "radius_m", r.radius_m);
     r.speed_mps = p.num(*t, w, "speed_mps", r.speed_mps);
+    parse_route(p, *t, r);
     p.positive(r.radius_m, "trajectory.radius_m");
     r.spin_radps = p.num(*t, w, "spin_radps", r.spin_radps);
     r.precession_radps = p.num(*t, w, "precession_radps", r.precession_radps);
@@ -307,6 +392,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                                                   (a.bias_mps2[r][j] + a.bias_mps2[r + 3][j])));
     s.fdi_parity_f_max_mps2 = 7.0 * sp + fixed + GG_FDI3D_FLOOR_MPS2;
   }
+  if (const auto* t = p.sub(root, "sensor_faults")) s.sensor_faults = parse_sensor_faults3(*t, source);
   if (const auto* t = p.sub(root, "output")) {
     p.keys(*t, "output", {"csv_rate_hz"});
     s.csv_rate_hz = p.num(*t, "output", "csv_rate_hz", s.csv_rate_hz);

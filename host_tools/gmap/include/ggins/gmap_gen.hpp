@@ -1,4 +1,4 @@
-// Host side of the onboard gradient map (issues 10 and 11): generates a
+// Host side of the onboard gradient map: generates a
 // firmware tile (firmware/include/ggins/gmap.h) from a gravitation model,
 // writes and reads the binary tile format and a JSON copy.
 //

@@ -1,4 +1,4 @@
-// The particle filter's step-time benchmark (issue 11), shared by coldatom-pf-bench and
+// The particle filter's step-time benchmark, shared by coldatom-pf-bench and
 // ggins profile: gg_pf_step with 500 particles whose candidates come from a synthetic
 // 50 x 50 gmap tile (Gamma_DD varying smoothly, the normal field's height gradient), pairs
 // on the ellipse of ~3080 E with the laser phase turning 0.7 rad per shot, and the flights'

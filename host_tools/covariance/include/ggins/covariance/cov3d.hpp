@@ -1,4 +1,4 @@
-// 3-D covariance scenarios (issue 7 item 5): parameters, model construction,
+// 3-D covariance scenarios: parameters, model construction,
 // NED projection and the eigen analysis of the 3-D error dynamics, shared by
 // ggins-covariance3d, ggins-montecarlo3d and the tests.
 #pragma once

@@ -1,5 +1,5 @@
 // The 3-D error analysis along the trajectories of the 3-D truth generator
-// (host_tools/truth3d, issue 7 item 4): scenarios/3d-*.toml (flights with
+// (host_tools/truth3d): scenarios/3d-*.toml (flights with
 // turns, climbs and descents; circles; tumbling bodies) and their gravity
 // models, with their sensor-error sigmas, as a Cov3DScenario.
 #pragma once

@@ -6,7 +6,7 @@
 // The disturbances d are themselves states of the augmented system
 //     d/dt [dx; d] = Fa(t) [dx; d] + w,  Fa = [F Gamma; 0 D(t)]   (eq. 11 with D = 0)
 // D(t) (m x m) is zero for constant random biases (the paper's model) and can
-// be -1/tau for Gauss-Markov errors (a barometer, issue 5). w is optional
+// be -1/tau for Gauss-Markov errors (a barometer). w is optional
 // continuous white noise with spectral density Qa(t) ((n+m) x (n+m)).
 // State and disturbance dimensions are run-time data so the same propagator
 // serves the 2-D model of the paper, a baro-augmented model and the 3-D one.

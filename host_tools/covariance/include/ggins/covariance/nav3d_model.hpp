@@ -1,5 +1,5 @@
 // Linear error model of the 3-D gradiometer-integrated INS on a rotating
-// Earth (issue 7 item 5), the firmware design of nav3d.h: mechanization
+// Earth, the firmware design of nav3d.h: mechanization
 // r''_i = f_i + G_i in ECI, gravity dead reckoning dG_e = Gamma_e dr_e in
 // ECEF, Gamma_b from the six tri-axis accelerometers (diff3d.h: Gamma_b =
 // [w x]^2 - (M + M^T)/2, Gao et al. eqs. 24-27), attitude from the gyros

@@ -35,7 +35,7 @@ struct CovScenario {
   double gravity0_sigma_x_mps2 = 2e-12, gravity0_sigma_z_mps2 = 2e-12;
   // Initial position/velocity uncertainty (zero in the paper: "known position").
   double pos0_sigma_m = 0.0, vel0_sigma_mps = 0.0;
-  // Barometric vertical loop (issue 5; [navigation.baro] and [baro] of the
+  // Barometric vertical loop ([navigation.baro] and [baro] of the
   // truth generator, same defaults): welker2d_baro.hpp. The constant baro bias
   // is treated as random with sigma = |bias_m|.
   bool baro_loop = false;

@@ -1,4 +1,4 @@
-// Reference trajectories of the 3-D error analysis (issue 7 item 5), on a
+// Reference trajectories of the 3-D error analysis, on a
 // rotating Earth. Frames (nav3d design, DESIGN.md): ECEF `_e` (z to the north
 // pole, x to Greenwich), ECI `_i` = ECEF at t = 0 turning as
 // r_i = R3(theta) r_e, theta = omega_ie t, R3(theta) = [[c,-s,0],[s,c,0],[0,0,1]];

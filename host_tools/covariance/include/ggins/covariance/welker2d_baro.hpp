@@ -1,5 +1,5 @@
 // The Welker et al. 2-D error model (welker2d.hpp) with the barometric
-// vertical loop of the firmware (firmware/include/ggins/vchan.h, issue 5), in
+// vertical loop of the firmware (firmware/include/ggins/vchan.h), in
 // its continuous-time form (the firmware's discrete loop has its poles at
 // exp(-p_i T), so for p T << 1 the two agree; docs/vertical.md).
 //

@@ -29,7 +29,7 @@
 //   "time_repeat" utime of the step = utime of the step before
 //   "time_back"   utime -= size microseconds
 // Barometer faults are not here: the barometer model belongs to the truth
-// generator's barometer (issue 5); outliers/dropouts go on top of it there.
+// generator's barometer; outliers/dropouts go on top of it there.
 #pragma once
 
 #include <cstdint>

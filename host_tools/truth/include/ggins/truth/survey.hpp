@@ -1,4 +1,4 @@
-// Survey grid for the conventional INS's programmed anomalies (issue 6,
+// Survey grid for the conventional INS's programmed anomalies (the
 // Rubenstein & Winter "anomaly grid"): the firmware's polar anomaly grid
 // (firmware/include/ggins/gmodel.h, gg_gmodel_grid_t) along the scenario's
 // north flight, node values = the truth disturbance G_truth - G_onboard-zonal

@@ -53,6 +53,7 @@ struct Generator3Options {
   truth::AccelErrorParams accel;
   GyroErrorParams gyro;
   truth::BaroParams baro;
+  SensorFaults3 faults;  // injected sensor faults (faults3d.hpp)
 };
 
 std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s);

@@ -5,11 +5,17 @@
 //
 // Layout (defaults in brackets):
 //   name, description
-//   [trajectory] type = "flight" | "circle" | "tumble"
+//   [trajectory] type = "flight" | "circle" | "tumble" | "route"
 //     lat_deg [45], lon_deg [10], height_m [5000]     (flight: start; circle: centre; tumble: the fixed point)
 //     flight: velocity_ned_mps [[200, 0, 0]],
 //             [[trajectory.maneuver]] t_s, duration_s [60], dv_ned_mps [[0, 0, 0]]  (trajectory3d.hpp)
 //     circle: radius_m [5000], speed_mps [200]
+//     route (route3d.hpp): the start is waypoint 0; speed_mps [200] (first leg), initial_speed_mps
+//             [speed_mps] (at t = 0), turn_rate_dps [3], climb_rate_mps [5], accel_mps2 [0.5],
+//             vertical_accel_mps2 [0.5] (defaults of every waypoint);
+//             [[trajectory.waypoint]] lat_deg, lon_deg (required), height_m [previous], speed_mps
+//             [previous leg's] (ground speed on the leg ending here), climb_rate_mps, accel_mps2,
+//             vertical_accel_mps2 (of that leg), turn_rate_dps (of the turn at this waypoint)
 //     tumble: spin_radps [1], precession_radps [0.2], nutation_deg [30], nutation_amp_deg [5],
 //             nutation_radps [0.05], psi0_deg [0], phi0_deg [0]
 //   [platform] kind = "stabilized" | "strapdown" [strapdown], a_m [0.5], b_m [0.5], c_m [0.5]
@@ -34,6 +40,8 @@
 //   [firmware] f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0],
 //              fdi_parity_f_max_mps2 [derived from [accel], see below; 0 = off]
 //   [output]   csv_rate_hz [1]
+//   [sensor_faults] seed [1], [[sensor_faults.fault]] kind, sensor (0..5 | "gyro"), axis, start_s,
+//              duration_s, size, prob (faults3d.hpp)
 #pragma once
 
 #include <array>
@@ -42,6 +50,7 @@
 #include <vector>
 
 #include "ggins/truth/scenario.hpp"
+#include "ggins/truth3d/faults3d.hpp"
 
 namespace ggins::truth3d {
 
@@ -50,8 +59,18 @@ struct ManeuverParams {
   std::array<double, 3> dv_ned_mps{0, 0, 0};
 };
 
+struct WaypointParams {  // [[trajectory.waypoint]] of a route (route3d.hpp)
+  double lat_deg = 0, lon_deg = 0, height_m = 0;
+  double speed_mps = 0, turn_rate_dps = 0, climb_rate_mps = 0, accel_mps2 = 0, vertical_accel_mps2 = 0;
+  int64_t line = 0;  // line of the entry in the scenario text (0: unknown)
+};
+
 struct Trajectory3Params {
   std::string type = "flight";
+  // route: waypoint 0 = (lat_deg, lon_deg, height_m); defaults of the waypoints' keys
+  std::vector<WaypointParams> waypoints;
+  double initial_speed_mps = -1;  // < 0: speed_mps
+  double turn_rate_dps = 3, climb_rate_mps = 5, accel_mps2 = 0.5, vertical_accel_mps2 = 0.5;
   double lat_deg = 45, lon_deg = 10, height_m = 5000;
   std::array<double, 3> velocity_ned_mps{200, 0, 0};
   std::vector<ManeuverParams> maneuvers;
@@ -97,6 +116,7 @@ struct Scenario3 {
   // reading moves its pair mean by 5e-9: flagged at once on perfect sensors.
   double fdi_parity_f_max_mps2 = 0;
   double csv_rate_hz = 1;
+  SensorFaults3 sensor_faults;  // [sensor_faults] (faults3d.hpp)
 
   bool strapdown() const { return platform == "strapdown"; }
   int64_t dt_us() const;
