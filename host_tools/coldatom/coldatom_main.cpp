@@ -23,6 +23,7 @@ extern "C" {
 #include <thread>
 #include <vector>
 
+#include "ggins/cli_checks.hpp"
 #include "ggins/coldatom/flight.hpp"
 #include "ggins/coldatom/route_map.hpp"
 
@@ -49,6 +50,7 @@ double stdev(const std::vector<double>& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace C = ggins::cli;
   CLI::App app{"Cold-atom partial-gradient position fixing: flights Liverpool -> Toulouse (issue 11)"};
   std::string egm96 = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt";
   std::string out = "out/coldatom";
@@ -63,53 +65,58 @@ int main(int argc, char** argv) {
   bool no_topo = false, no_egm = false, direct_map = false, dump_flights = false, tile_on_ins = false;
   double tile_recentre = 2000.0, tile_step = 250.0, topo_rms = 150.0;
   app.add_option("--egm96", egm96, "EGM96 coefficient file");
-  app.add_option("--out", out, "output folder");
-  app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)");
+  app.add_option("--out", out, "output folder")->check(C::OutputDir())->capture_default_str();
+  app.add_option("--cache", cache, "cache folder for the EGM96 grid (default <out>/cache)")->check(C::OutputDir());
   app.add_option("--sweep", sweep, "none | phase | fail")->check(CLI::IsMember({"none", "phase", "fail"}));
-  app.add_option("--flights", flights, "flights per setting")->check(CLI::Range(1, 100000))->capture_default_str();
-  app.add_option("--threads", threads, "worker threads")->check(CLI::Range(1, 256))->capture_default_str();
-  app.add_option("--particles", particles, "particles (1 .. GG_PF_MAX = 500)")->check(CLI::Range(1, GG_PF_MAX))->capture_default_str();
+  app.add_option("--flights", flights, "flights per setting")->check(C::IntRange(1, 100000))->capture_default_str();
+  app.add_option("--threads", threads, "worker threads")->check(C::IntRange(1, 256))->capture_default_str();
+  app.add_option("--particles", particles, "particles (1 .. GG_PF_MAX = 500)")->check(C::IntRange(1, GG_PF_MAX))->capture_default_str();
   app.add_option("--duration", duration, "seconds per flight (0: the whole route, 11,370 s; else >= 10, the record interval)")
-      ->check(CLI::Range(0.0, 1e6));
-  app.add_option("--phase-noise", phase_mrad, "phase noise, mrad (sweep none)")->check(CLI::Range(0.0, 1000.0));
-  app.add_option("--p-fail", p_fail, "failure probability, 0..1 (sweep none / phase)")->check(CLI::Range(0.0, 1.0));
-  app.add_option("--cloud-rw", cloud_rw, "atom-cloud horizontal random walk, m/sqrt(s)")->check(CLI::Range(0.0, 1.0));
-  app.add_option("--gain", gain, "PF smoothing gain, (0, 1]")->check(CLI::Range(1e-6, 1.0))->capture_default_str();
-  app.add_option("--q-pos", q_pos, "PF process noise, m per shot (<0: the model's default, RW 2, INS 0)");
-  app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot (<0: RW 0.02, INS from Table I)");
-  app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m")->check(CLI::Range(0.0, 1e5))->capture_default_str();
-  app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s (<0: RW 0.05, INS 0)");
+      ->check(C::FiniteRange(0.0, 1e6));
+  app.add_option("--phase-noise", phase_mrad, "phase noise, mrad (sweep none)")->check(C::FiniteRange(0.0, 1000.0));
+  app.add_option("--p-fail", p_fail, "failure probability, 0..1 (sweep none / phase)")->check(C::FiniteRange(0.0, 1.0));
+  app.add_option("--cloud-rw", cloud_rw, "atom-cloud horizontal random walk, m/sqrt(s)")->check(C::FiniteRange(0.0, 1.0));
+  app.add_option("--gain", gain, "PF smoothing gain, (0, 1]")->check(C::FiniteRange(1e-6, 1.0))->capture_default_str();
+  app.add_option("--q-pos", q_pos, "PF process noise, m per shot (<0: the model's default, RW 2, INS 0)")->check(C::FiniteRange(-C::kInf, 1e5, C::kOpenLow));
+  app.add_option("--q-vel", q_vel, "PF process noise, m/s per shot (<0: RW 0.02, INS from Table I)")->check(C::FiniteRange(-C::kInf, 1e3, C::kOpenLow));
+  app.add_option("--sigma0-pos", sigma0_pos, "PF initial spread, m")->check(C::FiniteRange(0.0, 1e5))->capture_default_str();
+  app.add_option("--sigma0-vel", sigma0_vel, "PF initial velocity spread, m/s (<0: RW 0.05, INS 0)")->check(C::FiniteRange(-C::kInf, 1e3, C::kOpenLow));
   app.add_option("--model", model,
                  "PF particle dynamics: rw (random walk, first version) | ins (INS error dynamics in every particle) | "
                  "rbpf (Rao-Blackwellised: particles for the position, a Kalman filter per particle for velocity, "
                  "tilt, gyro bias and accelerometer error)")
       ->check(CLI::IsMember({"rw", "ins", "rbpf"}))->capture_default_str();
-  app.add_option("--q-jerk", q_jerk, "RBPF random walk of the gyro-bias (jerk) states, m/s^3 per shot (<0: 0)");
-  app.add_option("--q-bias", q_bias, "RBPF random walk of the accelerometer-error states, m/s^2 per shot (<0: 0)");
-  app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)");
-  app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)");
-  app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N (0..1)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off; <0: RBPF 1.0, INS 0.5, RW 0)");
+  app.add_option("--q-jerk", q_jerk, "RBPF random walk of the gyro-bias (jerk) states, m/s^3 per shot (<0: 0)")->check(C::FiniteRange(-C::kInf, 1e3, C::kOpenLow));
+  app.add_option("--q-bias", q_bias, "RBPF random walk of the accelerometer-error states, m/s^2 per shot (<0: 0)")->check(C::FiniteRange(-C::kInf, 1e3, C::kOpenLow));
+  app.add_option("--q-acc", q_acc, "PF process noise on the specific-force error, m/s^2 per shot (<0: from Table I)")->check(C::FiniteRange(-C::kInf, 1e3, C::kOpenLow));
+  app.add_option("--sigma0-acc", sigma0_acc, "PF initial specific-force error spread, m/s^2 (<0: from Table I)")->check(C::FiniteRange(-C::kInf, 1e3, C::kOpenLow));
+  app.add_option("--ess", ess_frac, "PF resampling threshold, fraction of N (0..1)")->check(C::FiniteRange(0.0, 1.0))->capture_default_str();
+  app.add_option("--reg-bw", reg_bw, "PF regularised resampling bandwidth, multiple of Silverman's (0: off->check(C::FiniteRange(-C::kInf, 100, C::kOpenLow)); <0: RBPF 1.0, INS 0.5, RW 0)");
   app.add_option("--dz", dz,
                  "interferometer separation, m (1: the baseline; 2: delta phi 2.33 rad > pi/2, where the ellipse fit "
                  "under-estimates as in the paper)")
-      ->check(CLI::Range(0.01, 100.0))->capture_default_str();
-  app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)")->check(CLI::Range(0.0, 10.0));
-  app.add_option("--atoms", n_atoms, "mean atoms per shot")->check(CLI::Range(1.0, 1e12))->capture_default_str();
-  app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)")->check(CLI::Range(0.0, 1e3));
-  app.add_option("--seed", seed, "first flight's seed");
+      ->check(C::FiniteRange(0.01, 100.0))->capture_default_str();
+  app.add_option("--sigma-like", sigma_like, "PF likelihood sigma (0: from the noise model)")->check(C::FiniteRange(0.0, 10.0));
+  app.add_option("--atoms", n_atoms, "mean atoms per shot")->check(C::FiniteRange(1.0, 1e12))->capture_default_str();
+  app.add_option("--ins-scale", ins_scale, "multiplier of all Table I errors (0: perfect INS)")->check(C::FiniteRange(0.0, 1e3));
+  app.add_option("--seed", seed, "first flight's seed")->check(C::Seed())->capture_default_str();
   app.add_flag("--direct-map", direct_map, "candidates from the route map directly instead of paged gmap tiles");
   app.add_flag("--tile-on-ins", tile_on_ins, "page the gmap tile around the raw INS position (before 2026-12) instead of the corrected one");
   app.add_option("--tile-recentre", tile_recentre, "re-centre the gmap tile when its centre is this far (m) from the position it follows")
-      ->check(CLI::Range(1.0, 1e5))->capture_default_str();
-  app.add_option("--tile-step", tile_step, "gmap tile node spacing, m (50 x 50 nodes)")->check(CLI::Range(10.0, 5000.0))->capture_default_str();
+      ->check(C::FiniteRange(1.0, 1e5))->capture_default_str();
+  app.add_option("--tile-step", tile_step, "gmap tile node spacing, m (50 x 50 nodes)")->check(C::FiniteRange(10.0, 5000.0))->capture_default_str();
   app.add_flag("--dump-flights", dump_flights, "write flight_<tag>_<i>.csv per flight (errors and filter diagnostics)");
   app.add_flag("--no-topo", no_topo, "EGM96 only (no synthetic terrain field)");
   app.add_option("--topo-rms", topo_rms, "rms height of the synthetic terrain, m (a sensitivity check; the runs use 150)")
-      ->check(CLI::Range(1.0, 2000.0))->capture_default_str();
+      ->check(C::FiniteRange(1.0, 2000.0))->capture_default_str();
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
-  CLI11_PARSE(app, argc, argv);
+  return C::run("ggins coldatom", app, argc, argv, [&]() -> int {
+  if (duration > 0 && duration < 10)
+    throw C::BadArgument("--duration: value " + std::to_string(duration) + " is not allowed (0: the whole route, else >= 10 s)");
   if (cache.empty()) cache = out + "/cache";
+  if (const std::string why = C::output_dir_problem(cache); !why.empty())
+    throw C::BadArgument("--cache: cannot write to folder '" + cache + "': " + why +
+                         " (allowed: a writable folder, or one that can be created)");
   std::filesystem::create_directories(cache);
   std::filesystem::create_directories(out);
 
@@ -246,7 +253,8 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     summary.push_back(js);
   }
-  std::ofstream(out + "/summary_" + sweep + ".json") << summary.dump(2) << "\n";
+  C::write_file(out + "/summary_" + sweep + ".json", summary.dump(2) + "\n");
   std::printf("report: %s\n", out.c_str());
   return 0;
+  });
 }

@@ -33,9 +33,11 @@
 #include <vector>
 
 #include "diff3d_sim.hpp"
+#include "ggins/cli_checks.hpp"
 #include "ggins/gmap_gen.hpp"
 
 extern "C" {
+#include "ggins/limits.h"
 #include "ggins/mmukf.h"
 }
 
@@ -338,33 +340,34 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace C = ggins::cli;
   Opt o;
   CLI::App app{"ggins mapnav - gravity-gradient map matching UKF (Gao et al.) vs pure inertial on a voyage with\n"
                "acceleration, cruise, deceleration and turns; Monte Carlo with NEES/NIS. Defaults = Gao's Table 1."};
-  app.add_option("--hours", o.hours, "voyage length, h")->capture_default_str();
-  app.add_option("--dt", o.dt, "IMU / mechanization step, s")->capture_default_str();
-  app.add_option("--update", o.update, "measurement update period, s")->capture_default_str();
-  app.add_option("--meas-noise-e", o.meas_e, "gradiometer noise, E")->capture_default_str();
-  app.add_option("--db-noise-e", o.db_e, "map database noise, E")->capture_default_str();
-  app.add_option("--att0-deg", o.att_deg, "initial attitude error (one sigma per axis), deg")->capture_default_str();
-  app.add_option("--vel0", o.vel, "initial velocity error, m/s")->capture_default_str();
-  app.add_option("--pos0", o.pos, "initial position error, m")->capture_default_str();
-  app.add_option("--gyro-bias-dph", o.gyro_dph, "gyro bias, deg/h")->capture_default_str();
-  app.add_option("--acc-bias-ug", o.acc_ug, "accelerometer bias, micro-g")->capture_default_str();
-  app.add_option("--arw", o.arw_dprh, "gyro angle random walk, deg/sqrt(h)")->capture_default_str();
-  app.add_option("--vrw", o.vrw_ug_rhz, "accelerometer noise, micro-g/sqrt(Hz)")->capture_default_str();
-  app.add_option("--lat0", o.lat0, "start latitude, deg")->capture_default_str();
-  app.add_option("--lon0", o.lon0, "start longitude, deg")->capture_default_str();
-  app.add_option("--depth", o.depth, "depth below the ellipsoid, m")->capture_default_str();
-  app.add_option("--speed", o.speed, "cruise speed, m/s")->capture_default_str();
-  app.add_option("--spacing", o.spacing, "map node spacing, deg")->capture_default_str();
-  app.add_option("--lambda", o.lambda, "UT spread (0 = Gao)")->capture_default_str();
-  app.add_option("--gate", o.gate, "NIS gate (0 = none)")->capture_default_str();
-  app.add_option("--passes", o.passes, "max progressive update passes (1 = Gao's single UKF update)")->capture_default_str();
-  app.add_option("--runs", o.runs, "Monte Carlo runs")->capture_default_str();
-  app.add_option("--threads", o.threads, "parallel runs")->capture_default_str();
-  app.add_option("--seed", o.seed, "seed")->capture_default_str();
-  app.add_option("--first-run", o.first_run, "index of the first run (to repeat one run of a Monte Carlo set)")->capture_default_str();
+  app.add_option("--hours", o.hours, "voyage length, h")->capture_default_str()->check(C::FiniteRange(0, 1000, C::kOpenLow));
+  app.add_option("--dt", o.dt, "IMU / mechanization step, s")->capture_default_str()->check(C::FiniteRange(0, GG_LIM_MM_DT_MAX_S, C::kOpenLow));
+  app.add_option("--update", o.update, "measurement update period, s")->capture_default_str()->check(C::FiniteRange(0, 1e5, C::kOpenLow));
+  app.add_option("--meas-noise-e", o.meas_e, "gradiometer noise, E")->capture_default_str()->check(C::FiniteRange(0, 1e5, C::kOpenLow));
+  app.add_option("--db-noise-e", o.db_e, "map database noise, E")->capture_default_str()->check(C::FiniteRange(0, 1e5));
+  app.add_option("--att0-deg", o.att_deg, "initial attitude error (one sigma per axis), deg")->capture_default_str()->check(C::FiniteRange(0, 0.5 / kD2R, C::kOpenLow));
+  app.add_option("--vel0", o.vel, "initial velocity error, m/s")->capture_default_str()->check(C::FiniteRange(0, 1e3, C::kOpenLow));
+  app.add_option("--pos0", o.pos, "initial position error, m")->capture_default_str()->check(C::FiniteRange(0, 1e5, C::kOpenLow));
+  app.add_option("--gyro-bias-dph", o.gyro_dph, "gyro bias, deg/h")->capture_default_str()->check(C::FiniteRange(0, 1e3));
+  app.add_option("--acc-bias-ug", o.acc_ug, "accelerometer bias, micro-g")->capture_default_str()->check(C::FiniteRange(0, 1e5));
+  app.add_option("--arw", o.arw_dprh, "gyro angle random walk, deg/sqrt(h)")->capture_default_str()->check(C::FiniteRange(0, 1e2));
+  app.add_option("--vrw", o.vrw_ug_rhz, "accelerometer noise, micro-g/sqrt(Hz)")->capture_default_str()->check(C::FiniteRange(0, 1e5));
+  app.add_option("--lat0", o.lat0, "start latitude, deg")->capture_default_str()->check(C::FiniteRange(-85, 85));
+  app.add_option("--lon0", o.lon0, "start longitude, deg")->capture_default_str()->check(C::FiniteRange(-180, 360));
+  app.add_option("--depth", o.depth, "depth below the ellipsoid, m")->capture_default_str()->check(C::FiniteRange(-1e4, 1.1e4));
+  app.add_option("--speed", o.speed, "cruise speed, m/s")->capture_default_str()->check(C::FiniteRange(0, 300));
+  app.add_option("--spacing", o.spacing, "map node spacing, deg")->capture_default_str()->check(C::FiniteRange(1e-3, 1));
+  app.add_option("--lambda", o.lambda, "UT spread (0 = Gao)")->capture_default_str()->check(C::FiniteRange(0, 100));
+  app.add_option("--gate", o.gate, "NIS gate (0 = none)")->capture_default_str()->check(C::NonNegativeFinite());
+  app.add_option("--passes", o.passes, "max progressive update passes (1 = Gao's single UKF update)")->capture_default_str()->check(C::IntRange(1, GG_MM_MAX_PASSES));
+  app.add_option("--runs", o.runs, "Monte Carlo runs")->capture_default_str()->check(C::IntRange(1, 100000));
+  app.add_option("--threads", o.threads, "parallel runs")->capture_default_str()->check(C::IntRange(1, 256));
+  app.add_option("--seed", o.seed, "seed")->capture_default_str()->check(C::Seed(2147483647));
+  app.add_option("--first-run", o.first_run, "index of the first run (to repeat one run of a Monte Carlo set)")->capture_default_str()->check(C::IntRange(0, 2147483647));
   app.add_flag("--fixed-errors", o.fixed_errors, "initial errors and biases = +1 sigma on every axis (no draw)");
   app.add_flag("!--no-plot", o.plot, "skip the plots");
   app.add_option("--egm96", o.egm, "EGM96 coefficients")->capture_default_str();
@@ -372,23 +375,32 @@ int main(int argc, char** argv) {
                  "direct: Gamma_b = field + white noise; diff3d: six accelerometers at +-a through the firmware's gg_diff3d")
       ->check(CLI::IsMember({"direct", "diff3d"}))
       ->capture_default_str();
-  app.add_option("--half-base", o.half_base, "diff3d: half-baseline a = b = c, m")->capture_default_str();
+  app.add_option("--half-base", o.half_base, "diff3d: half-baseline a = b = c, m")->capture_default_str()->check(C::FiniteRange(0, 10, C::kOpenLow));
   app.add_flag("!--no-gyro-term", o.gyro_term,
                "diff3d with --diff3d-omega imu/imu-mean: do not tell the filter that the gyro's rate removed [Omega x]^2 "
                "(by default it predicts [w x]^2 - [(w - b_g) x]^2 and adds the rate noise's share to R)");
   app.add_option("--offdiag-ratio", o.offdiag_ratio,
                  "filter's noise of the off-diagonal components relative to the diagonal ones "
-                 "(< 0: 1/sqrt(2) with --gradiometer diff3d, whose off-diagonal elements average four readings; 1 with direct)")
+                 "(< 0: 1/sqrt(2) with --gradiometer diff3d, whose off-diagonal elements average four readings->check(C::FiniteRange(-1, GG_LIM_MM_OFFDIAG_MAX)); 1 with direct)")
       ->capture_default_str();
   app.add_option("--diff3d-omega", o.diff3d_omega, "diff3d: rate removing [Omega x]^2: true; imu (the epoch's noisy, biased gyro sample); "
                  "imu-mean (each sample's gyro, averaged over the update period)")
       ->check(CLI::IsMember({"true", "imu", "imu-mean"}))
       ->capture_default_str();
   app.add_option("--tile", o.tile, "use this map tile (.bin/.json) instead of generating one");
-  app.add_option("--out", o.out, "output folder")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-  try {
+  app.add_option("--out", o.out, "output folder")->capture_default_str()->check(C::OutputDir());
+  return C::run("ggins mapnav", app, argc, argv, [&]() -> int {
     namespace fs = std::filesystem;
+    // combinations: at least one update in the voyage, an update period of whole steps
+    if (o.update < o.dt)
+      throw C::BadArgument("--update " + std::to_string(o.update) + " s is shorter than --dt " + std::to_string(o.dt) +
+                           " s (allowed: --update >= --dt)");
+    if (o.hours * 3600.0 < o.update)
+      throw C::BadArgument("--hours " + std::to_string(o.hours) + " is shorter than one update period (--update " +
+                           std::to_string(o.update) + " s): no measurement would be used (allowed: --hours * 3600 >= --update)");
+    if (o.hours * 3600.0 / o.dt > 1e9)
+      throw C::BadArgument("--hours " + std::to_string(o.hours) + " with --dt " + std::to_string(o.dt) +
+                           " s is more than 1e9 steps (allowed: hours * 3600 / dt <= 1e9)");
     fs::create_directories(o.out);
     const auto t0 = std::chrono::steady_clock::now();
     gg_mm_nav_t start{};
@@ -421,12 +433,13 @@ int main(int argc, char** argv) {
       map = std::make_unique<gg_gmap_t>();
       if (gg_gmap_init(map.get(), tile.get()) != GG_OK) throw std::runtime_error("tile rejected");
       const auto b = ggins::gmap::encode(*tile);
-      std::ofstream(o.out + "/tile.bin", std::ios::binary).write(reinterpret_cast<const char*>(b.data()), b.size());
+      C::write_file(o.out + "/tile.bin", std::string(reinterpret_cast<const char*>(b.data()), b.size()), true);
     }
     const double t_tile = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<RunResult> res(o.runs);
     std::mutex mu;
     int next = 0;
+    std::exception_ptr failure;
     std::vector<std::thread> pool;
     for (int w = 0; w < std::max(1, o.threads); ++w)
       pool.emplace_back([&] {
@@ -434,10 +447,18 @@ int main(int argc, char** argv) {
           int r;
           { std::lock_guard<std::mutex> l(mu); r = next++; }
           if (r >= o.runs) return;
-          res[r] = run_one(o, o.first_run + r, map.get(), *truth_field, start);
+          try {
+            res[r] = run_one(o, o.first_run + r, map.get(), *truth_field, start);
+          } catch (...) {  // handed to the main thread (an exception must not leave a worker)
+            std::lock_guard<std::mutex> l(mu);
+            if (!failure) failure = std::current_exception();
+            next = o.runs;
+            return;
+          }
         }
       });
     for (auto& th : pool) th.join();
+    if (failure) std::rethrow_exception(failure);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // Table 2 style: mean and spread (sd over runs) of |final error| and of the 2 h RMS
     nlohmann::json J;
@@ -505,7 +526,7 @@ int main(int argc, char** argv) {
                      {"sigma_acc_mps2", std::sqrt(2.0) * o.half_base * o.meas_e * kE}, {"samples", n}, {"gamma_minus_field", d}};
     }
     J["tile_nodes"] = map->tile.nlat * map->tile.nlon; J["tile_s"] = t_tile; J["wall_s"] = wall;
-    std::ofstream(o.out + "/summary.json") << J.dump(2) << "\n";
+    C::write_file(o.out + "/summary.json", J.dump(2) + "\n");
     {
       std::ofstream f(o.out + "/timeseries.csv");
       f << "t_s,ggan_pitch_am,ggan_roll_am,ggan_yaw_am,ggan_vE,ggan_vN,ggan_vU,ggan_lat_m,ggan_lon_m,ggan_h_m,"
@@ -514,6 +535,8 @@ int main(int argc, char** argv) {
         for (int j = 0; j < 24; ++j) f << (j ? "," : "") << row[j];
         f << "\n";
       }
+      f.close();
+      if (!f) throw std::runtime_error("cannot write " + o.out + "/timeseries.csv");
     }
     std::printf("mapnav: %d run(s), %.1f h, update %.0f s, meas %.3g E, db %.3g E; wall %.1f s (tile %.1f s, %d nodes)\n",
                 o.runs, o.hours, o.update, o.meas_e, o.db_e, wall, t_tile, map->tile.nlat * map->tile.nlon);
@@ -540,9 +563,6 @@ int main(int argc, char** argv) {
     }
 #endif
     std::printf("report: %s\n", o.out.c_str());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ggins mapnav: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

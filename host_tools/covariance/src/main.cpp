@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+
+#include "ggins/cli_checks.hpp"
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -93,6 +95,7 @@ std::string find_python(const std::string& requested) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace C = ggins::cli;
   CLI::App app{
       "ggins covariance: covariance propagation of the gradiometer-integrated INS error model\n"
       "(Welker, Pachter & Huffman, eqs. 7-11: 6 navigation error states + 8 constant accelerometer\n"
@@ -111,11 +114,11 @@ int main(int argc, char** argv) {
                      builtin_names().front() + ")")
       ->capture_default_str();
   app.add_flag("--builtin", builtin_only, "use the built-in definition even if scenarios/<name>.toml exists");
-  app.add_option("-o,--out", out_dir, "output directory (default out/covariance/<scenario>)");
+  app.add_option("-o,--out", out_dir, "output directory (default out/covariance/<scenario>)")->check(C::OutputDir());
   app.add_flag("--json", want_json, "print the JSON summary (values at the end of the run) on stdout");
   app.add_flag("--eigen", want_eigen, "print the eigenvalues of the reduced error dynamics along the flight");
-  app.add_option("--dt", dt, "integration step, s (RK4)")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--output-dt", output_dt, "CSV sample spacing, s")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--dt", dt, "integration step, s (RK4)")->capture_default_str()->check(C::FiniteRange(0, 1e5, C::kOpenLow));
+  app.add_option("--output-dt", output_dt, "CSV sample spacing, s")->capture_default_str()->check(C::FiniteRange(0, 1e9, C::kOpenLow));
   app.add_option("--method", method_s, "transition: RK4 on Phi, P = Phi P0 Phi^T; lyapunov: RK4 on P")
       ->capture_default_str()
       ->check(CLI::IsMember({"transition", "lyapunov"}));
@@ -125,12 +128,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"centre", "baseline"}));
   app.add_option("--g", g_override,
-                 "use omega_s^2 = g/R_e with this g (m/s^2) instead of g = GM/R_e^2 (sets GM = g R_e^2)");
-  app.add_option("--sigma-g0", sigma_g0, "initial gravity uncertainty dG(0), one sigma, m/s^2 (eq. 8)");
-  app.add_option("--duration", duration, "override the scenario duration, s")->check(CLI::PositiveNumber);
+                 "use omega_s^2 = g/R_e with this g (m/s^2) instead of g = GM/R_e^2 (sets GM = g R_e^2)")->check(C::FiniteRange(0, 1e3, C::kOpenLow));
+  app.add_option("--sigma-g0", sigma_g0, "initial gravity uncertainty dG(0), one sigma, m/s^2 (eq. 8)")->check(C::FiniteRange(0, 1e3));
+  app.add_option("--duration", duration, "override the scenario duration, s")->check(C::FiniteRange(0, 1e9, C::kOpenLow));
   app.add_flag("--no-plot", no_plot, "do not run the matplotlib plot script");
   app.add_option("--python", python, "python interpreter with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
-  CLI11_PARSE(app, argc, argv);
+  return C::run("ggins-covariance", app, argc, argv, [&]() -> int {
+  if (duration && *duration / dt > 1e8)
+    throw C::BadArgument("--duration " + std::to_string(*duration) + " s with --dt " + std::to_string(dt) +
+                         " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
 
   CovScenario sc;
   try {
@@ -148,6 +154,12 @@ int main(int argc, char** argv) {
   if (g_override) sc.gm_m3ps2 = *g_override * sc.radius_m * sc.radius_m;
   if (sigma_g0) sc.gravity0_sigma_x_mps2 = sc.gravity0_sigma_z_mps2 = *sigma_g0;
   if (duration) sc.duration_s = *duration;
+  if (dt > sc.duration_s)
+    throw C::BadArgument("--dt " + std::to_string(dt) + " s is longer than the duration " + std::to_string(sc.duration_s) +
+                         " s (allowed: --dt <= duration)");
+  if (sc.duration_s / dt > 1e8)
+    throw C::BadArgument("duration " + std::to_string(sc.duration_s) + " s with --dt " + std::to_string(dt) +
+                         " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
   const auto src = gradient_s == "baseline" ? Welker2DModel::GradientSource::kBaseline
                                             : Welker2DModel::GradientSource::kCentre;
   Method method = method_s == "lyapunov" ? Method::kLyapunov : Method::kTransition;
@@ -366,7 +378,7 @@ int main(int argc, char** argv) {
     j["table1"] = t;
   }
   const fs::path jpath = fs::path(out_dir) / "covariance.json";
-  std::ofstream(jpath) << j.dump(2) << '\n';
+  C::write_file(jpath, j.dump(2) + '\n');
 
   std::string plot_msg;
   if (!no_plot) {
@@ -413,4 +425,5 @@ int main(int argc, char** argv) {
   }
   if (!plot_msg.empty()) std::fprintf(stderr, "ggins-covariance: %s\n", plot_msg.c_str());
   return 0;
+  });
 }

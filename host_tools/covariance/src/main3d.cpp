@@ -4,6 +4,8 @@
 // platform, with the eigenvalues of the 3-D error dynamics along the flight.
 // See docs/error-analysis.md, section "3-D".
 #include <CLI/CLI.hpp>
+
+#include "ggins/cli_checks.hpp"
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -69,6 +71,7 @@ double match_dev(const std::vector<cdv>& ev, const std::vector<cdv>& pred, doubl
 }  // namespace
 
 int main(int argc, char** argv) {
+  namespace C = ggins::cli;
   CLI::App app{
       "ggins covariance3d: covariance propagation of the linear error model of the 3-D\n"
       "gradiometer-integrated INS on a rotating Earth (ECI mechanization, gravity dead reckoning\n"
@@ -93,33 +96,36 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"stabilized", "strapdown"}));
   app.add_option("--field", field_s, "normal (WGS-84 normal gravitation) | point-mass")
       ->check(CLI::IsMember({"normal", "point-mass"}));
-  app.add_option("--omega-ie", omega_ie, "Earth rate, rad/s (0: non-rotating)");
-  app.add_option("--lat0-deg", lat0, "start geocentric latitude, deg");
-  app.add_option("--lon0-deg", lon0, "start longitude, deg");
-  app.add_option("--heading-deg", heading, "initial heading from north, deg");
-  app.add_option("--speed", speed, "ground speed, m/s (0: at rest)");
-  app.add_option("--height", height, "height above the 6378137 m sphere, m");
-  app.add_option("--duration", duration, "s")->check(CLI::PositiveNumber);
-  app.add_option("--half-base", half_base, "a b c, m")->expected(3);
-  app.add_option("--acc-bias-sigma", acc_bias, "constant bias of each of the 18 readings, 1 sigma, m/s^2");
-  app.add_option("--gyro-bias-sigma", gyro_bias, "constant gyro bias per axis, 1 sigma, rad/s (strapdown)");
-  app.add_option("--acc-noise-sigma", acc_noise, "white noise per reading per sample, m/s^2");
-  app.add_option("--gyro-noise-sigma", gyro_noise, "white gyro noise per axis per sample, rad/s");
-  app.add_option("--rate-hz", rate, "sample rate for the noise densities, Hz");
-  app.add_option("--g0-sigma", g0, "initial gravity error per ECEF axis, 1 sigma, m/s^2");
-  app.add_option("--psi0-sigma", psi0, "initial attitude error per axis, 1 sigma, rad (strapdown)");
+  app.add_option("--omega-ie", omega_ie, "Earth rate, rad/s (0: non-rotating)")->check(C::FiniteRange(0, 1e-3));
+  app.add_option("--lat0-deg", lat0, "start geocentric latitude, deg")->check(C::FiniteRange(-90, 90));
+  app.add_option("--lon0-deg", lon0, "start longitude, deg")->check(C::FiniteRange(-360, 360));
+  app.add_option("--heading-deg", heading, "initial heading from north, deg")->check(C::FiniteRange(-360, 360));
+  app.add_option("--speed", speed, "ground speed, m/s (0: at rest)")->check(C::FiniteRange(0, 1e4));
+  app.add_option("--height", height, "height above the 6378137 m sphere, m")->check(C::FiniteRange(-1e4, 1e6));
+  app.add_option("--duration", duration, "s")->check(C::FiniteRange(0, 1e9, C::kOpenLow));
+  app.add_option("--half-base", half_base, "a b c, m")->expected(3)->check(C::FiniteRange(0, 100, C::kOpenLow));
+  app.add_option("--acc-bias-sigma", acc_bias, "constant bias of each of the 18 readings, 1 sigma, m/s^2")->check(C::FiniteRange(0, 1e3));
+  app.add_option("--gyro-bias-sigma", gyro_bias, "constant gyro bias per axis, 1 sigma, rad/s (strapdown)")->check(C::FiniteRange(0, 10));
+  app.add_option("--acc-noise-sigma", acc_noise, "white noise per reading per sample, m/s^2")->check(C::FiniteRange(0, 1e3));
+  app.add_option("--gyro-noise-sigma", gyro_noise, "white gyro noise per axis per sample, rad/s")->check(C::FiniteRange(0, 10));
+  app.add_option("--rate-hz", rate, "sample rate for the noise densities, Hz")->check(C::FiniteRange(0, 1e6, C::kOpenLow));
+  app.add_option("--g0-sigma", g0, "initial gravity error per ECEF axis, 1 sigma, m/s^2")->check(C::FiniteRange(0, 1e3));
+  app.add_option("--psi0-sigma", psi0, "initial attitude error per axis, 1 sigma, rad (strapdown)")->check(C::FiniteRange(0, 1));
   app.add_option("--baro", baro, "barometric vertical loop on/off (true/false)");
-  app.add_option("--baro-bias-sigma", baro_bias, "constant barometer bias, 1 sigma, m");
-  app.add_option("--dt", dt, "RK4 step, s")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--output-dt", output_dt, "CSV spacing, s")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--baro-bias-sigma", baro_bias, "constant barometer bias, 1 sigma, m")->check(C::FiniteRange(0, 1e5));
+  app.add_option("--dt", dt, "RK4 step, s")->capture_default_str()->check(C::FiniteRange(0, 1e5, C::kOpenLow));
+  app.add_option("--output-dt", output_dt, "CSV spacing, s")->capture_default_str()->check(C::FiniteRange(0, 1e9, C::kOpenLow));
   app.add_option("--method", method_s, "transition | lyapunov")->capture_default_str()
       ->check(CLI::IsMember({"transition", "lyapunov"}));
-  app.add_option("-o,--out", out_dir, "output directory (default out/covariance3d/<scenario>)");
+  app.add_option("-o,--out", out_dir, "output directory (default out/covariance3d/<scenario>)")->check(C::OutputDir());
   app.add_flag("--json", want_json, "print the JSON summary on stdout");
   app.add_flag("--eigen", want_eigen, "print the eigenvalues along the flight");
   app.add_flag("--no-plot", no_plot, "no matplotlib plot");
   app.add_option("--python", python, "python with matplotlib");
-  CLI11_PARSE(app, argc, argv);
+  return C::run("ggins-covariance3d", app, argc, argv, [&]() -> int {
+  if (duration && *duration / dt > 1e8)
+    throw C::BadArgument("--duration " + std::to_string(*duration) + " s with --dt " + std::to_string(dt) +
+                         " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
 
   auto b = builtin_scenario3d(scen);
   std::vector<std::string> unmodelled;
@@ -148,6 +154,12 @@ int main(int argc, char** argv) {
   if (speed) s.speed_mps = *speed;
   if (height) s.height_m = *height;
   if (duration) s.duration_s = *duration;
+  if (dt > s.duration_s)
+    throw C::BadArgument("--dt " + std::to_string(dt) + " s is longer than the duration " + std::to_string(s.duration_s) +
+                         " s (allowed: --dt <= duration)");
+  if (s.duration_s / dt > 1e8)
+    throw C::BadArgument("duration " + std::to_string(s.duration_s) + " s with --dt " + std::to_string(dt) +
+                         " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
   if (!half_base.empty()) for (int i = 0; i < 3; ++i) s.model.half_base_m[size_t(i)] = half_base[size_t(i)];
   if (acc_bias) s.acc_bias_sigma_mps2 = *acc_bias;
   if (gyro_bias) s.gyro_bias_sigma_radps = *gyro_bias;
@@ -308,7 +320,7 @@ int main(int argc, char** argv) {
                 {"max_charpoly_residual", model->baro() ? json(nullptr) : json(max_charpoly)},
                 {"samples", eig}};
   const fs::path jp = fs::path(out_dir) / "covariance3d.json";
-  std::ofstream(jp) << j.dump(2) << '\n';
+  C::write_file(jp, j.dump(2) + '\n');
 
   std::string plot_msg;
   if (!no_plot) {
@@ -346,4 +358,5 @@ int main(int argc, char** argv) {
   }
   if (!plot_msg.empty()) std::fprintf(stderr, "ggins-covariance3d: %s\n", plot_msg.c_str());
   return 0;
+  });
 }

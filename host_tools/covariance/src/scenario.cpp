@@ -2,8 +2,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 #include <toml++/toml.h>
+
+#include "ggins/truth/scenario.hpp"
+#include "ggins/truth/scenario_toml.hpp"
 
 namespace ggins::covariance {
 
@@ -28,8 +32,41 @@ namespace {
 
 double num(const toml::node* n, const std::string& key) {
   if (!n) throw std::runtime_error("missing " + key);
-  if (auto v = n->value<double>()) return *v;
+  if (auto v = n->value<double>()) {
+    if (!std::isfinite(*v)) throw std::runtime_error(key + " = " + std::to_string(*v) + " is not finite (allowed: a finite number)");
+    return *v;
+  }
   throw std::runtime_error(key + " is not a number");
+}
+
+// The file is a scenario of the truth generator (the same keys, types and ranges: an
+// unknown key or section, a NaN, a value out of range is an error there) plus the
+// covariance-only [initial] table, checked here.
+void check_against_truth_schema(const toml::table& tbl, const std::string& path) {
+  if (tbl.empty())
+    throw std::runtime_error("scenario " + path + ": the file sets no key (allowed: a scenario table; for the defaults "
+                             "use the built-in welker-table1)");
+  toml::table rest = tbl;
+  if (const toml::node* n = tbl.get("initial")) {
+    if (!n->is_table()) throw std::runtime_error("scenario " + path + ": 'initial' must be a table ([initial])");
+    ggins::truth::scenario_toml::check_keys(*n->as_table(), "initial",
+                                            {"gravity_sigma_mps2", "position_sigma_m", "velocity_sigma_mps"}, path);
+    rest.erase("initial");
+  }
+  // per-axis sigmas (8 values, f1x..f4z) are a covariance-only form of two accel keys: the
+  // truth generator takes one number there; the arrays are checked element by element here
+  if (toml::table* acc = rest["accel"].as_table())
+    for (const char* k : {"bias_sigma_mps2", "noise_sigma_mps2"})
+      if (acc->get(k) && acc->get(k)->is_array()) acc->insert_or_assign(k, 0.0);
+  std::ostringstream os;
+  os << rest;
+  (void)ggins::truth::parse_scenario(os.str(), fs::path(path).stem().string(), path);
+}
+
+void check_sigma(double v, const std::string& path, const std::string& key) {
+  if (!(std::isfinite(v) && v >= 0.0))
+    throw std::runtime_error("scenario " + path + ": " + key + " = " + std::to_string(v) +
+                             " (allowed: a finite number >= 0)");
 }
 
 }  // namespace
@@ -41,6 +78,7 @@ CovScenario load_scenario_toml(const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw std::runtime_error(path + ": " + std::string(e.description()));
   }
+  check_against_truth_schema(tbl, path);
   // Keys shared with the truth generator / ggins run (scenarios/*.toml, see
   // host_tools/truth/include/ggins/truth/scenario.hpp). Missing keys take the
   // truth generator's defaults (no accelerometer errors) and are listed in
@@ -105,9 +143,7 @@ CovScenario load_scenario_toml(const std::string& path) {
   get("trajectory.radius_m", s.radius_m);
   get("trajectory.speed_mps", s.speed_mps);
   get("trajectory.height_m", s.height_m);
-  if (node("trajectory.lat0_rad")) {
-    get("trajectory.lat0_rad", s.lat0_rad);
-  } else {
+  {
     double d = 0;
     get("trajectory.lat0_deg", d);
     s.lat0_rad = d * M_PI / 180.0;
@@ -128,8 +164,13 @@ CovScenario load_scenario_toml(const std::string& path) {
       dst.assign(8, num(n, dotted));
     }
   };
-  vec8("accel.bias_sigma_mps2", s.bias_sigma_mps2);
-  vec8("accel.noise_sigma_mps2", s.noise_sigma_mps2);
+  try {
+    vec8("accel.bias_sigma_mps2", s.bias_sigma_mps2);
+    vec8("accel.noise_sigma_mps2", s.noise_sigma_mps2);
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    throw std::runtime_error(m.rfind(path, 0) == 0 ? m : "scenario " + path + ": " + m);
+  }
   get("accel.scale_sigma", s.scale_sigma);
   if (const toml::node* n = node("initial.gravity_sigma_mps2")) {
     if (const toml::array* arr = n->as_array()) {
@@ -144,6 +185,22 @@ CovScenario load_scenario_toml(const std::string& path) {
   }
   get("initial.position_sigma_m", s.pos0_sigma_m);
   get("initial.velocity_sigma_mps", s.vel0_sigma_mps);
+  for (size_t i = 0; i < 8; ++i) {
+    check_sigma(s.bias_sigma_mps2[i], path, "accel.bias_sigma_mps2[" + std::to_string(i) + "]");
+    check_sigma(s.noise_sigma_mps2[i], path, "accel.noise_sigma_mps2[" + std::to_string(i) + "]");
+  }
+  check_sigma(s.scale_sigma, path, "accel.scale_sigma");
+  check_sigma(s.gravity0_sigma_x_mps2, path, "initial.gravity_sigma_mps2");
+  check_sigma(s.gravity0_sigma_z_mps2, path, "initial.gravity_sigma_mps2");
+  check_sigma(s.pos0_sigma_m, path, "initial.position_sigma_m");
+  check_sigma(s.vel0_sigma_mps, path, "initial.velocity_sigma_mps");
+  if (s.baro_loop) {
+    check_sigma(s.baro_bias_m, path, "baro.bias_m");
+    check_sigma(s.baro_gm_sigma_m, path, "baro.gm_sigma_m");
+    check_sigma(s.baro_noise_sigma_m, path, "baro.noise_sigma_m");
+    if (!(std::isfinite(s.baro_period_s) && s.baro_period_s > 0) || !(std::isfinite(s.baro_gm_tau_s) && s.baro_gm_tau_s > 0))
+      throw std::runtime_error("scenario " + path + ": baro period and baro.gm_tau_s must be finite and > 0");
+  }
   if (!(s.duration_s > 0) || !(s.radius_m > 0) || !(s.gm_m3ps2 > 0) || !(s.a_m > 0) || !(s.b_m > 0) ||
       !(s.rate_hz > 0))
     throw std::runtime_error(path + ": duration, radius, GM, rate and half-baselines must be > 0");

@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""Command-line fuzzing of the host tools (mapnav, coldatom, covariance, covariance3d):
+random adversarial values (NaN, inf, signs, huge numbers, junk text, paths under a file,
+broken scenario files) on each tool's options, run as a user would run the program.
+Every run must end with exit 0, 1 (the run failed, with a message) or 2 (bad arguments,
+with a message): a signal (abort, segfault), an uncaught exception ('terminate') or any
+other exit code is a finding. Runs over the time limit are killed and counted, not
+findings (a valid command line may start a long computation).
+
+  fuzz/cli_fuzz.py --bin build/bin [--runs 200] [--seed 1] [--timeout 5]
+
+Bounded in runs and time; no network. Exit 1 on a finding (printed with its command line).
+"""
+import argparse
+import os
+import random
+import subprocess
+import sys
+import tempfile
+
+VALUES = ["nan", "-nan", "inf", "-inf", "0", "-0", "-1", "1e308", "-1e308", "1e-320", "2147483648",
+          "18446744073709551616", "-9223372036854775809", "abc", "", "1e", "0x10", " 1", "1,5", "--", "-"]
+
+# option -> a few sensible values (mixed with the adversarial ones above)
+TOOLS = {
+    "ggins-mapnav": {
+        "base": ["--hours", "0.05", "--no-plot", "--egm96", "{missing}"],
+        "opts": {"--hours": ["0.02", "1"], "--dt": ["0.1", "1"], "--update": ["1", "60"], "--meas-noise-e": ["0.01"],
+                 "--db-noise-e": ["0"], "--att0-deg": ["0.5", "28"], "--vel0": ["1"], "--pos0": ["10"],
+                 "--gyro-bias-dph": ["0"], "--acc-bias-ug": ["10"], "--arw": ["0"], "--vrw": ["1"], "--lat0": ["30", "85"],
+                 "--lon0": ["140"], "--depth": ["100"], "--speed": ["10"], "--spacing": ["0.05"], "--lambda": ["0"],
+                 "--gate": ["0"], "--passes": ["1", "40"], "--runs": ["1"], "--threads": ["1"], "--seed": ["1"],
+                 "--first-run": ["0"], "--half-base": ["0.5"], "--offdiag-ratio": ["-1", "10"],
+                 "--gradiometer": ["direct", "diff3d", "x"], "--diff3d-omega": ["true", "imu", "y"],
+                 "--out": ["{out}", "{under_file}"], "--tile": ["{missing}", "{a_file}"]},
+    },
+    "ggins-coldatom": {
+        "base": ["--egm96", "{missing}", "--flights", "1", "--threads", "1"],
+        "opts": {"--out": ["{out}", "{under_file}"], "--cache": ["{out}/c", "{under_file}"], "--sweep": ["none", "z"],
+                 "--particles": ["1", "500"], "--duration": ["0", "10"], "--phase-noise": ["0"], "--p-fail": ["0", "1"],
+                 "--cloud-rw": ["0"], "--gain": ["0.05"], "--q-pos": ["-1"], "--q-vel": ["-1"], "--sigma0-pos": ["50"],
+                 "--sigma0-vel": ["-1"], "--model": ["rw", "ins", "rbpf", "q"], "--q-jerk": ["-1"], "--q-bias": ["-1"],
+                 "--q-acc": ["-1"], "--sigma0-acc": ["-1"], "--ess": ["0.5"], "--reg-bw": ["-1"], "--dz": ["1"],
+                 "--sigma-like": ["0"], "--atoms": ["1e5"], "--ins-scale": ["1"], "--seed": ["1"],
+                 "--tile-recentre": ["2000"], "--tile-step": ["250"], "--topo-rms": ["150"]},
+    },
+    "ggins-covariance": {
+        "base": ["--duration", "60", "--no-plot", "-o", "{out}"],
+        "opts": {"-s": ["welker-table1", "{scenario}", "{missing}", "{a_file}"], "--dt": ["1", "0.5"],
+                 "--output-dt": ["10"], "--method": ["transition", "lyapunov", "m"], "--gradient": ["centre", "baseline"],
+                 "--g": ["9.8"], "--sigma-g0": ["2e-12"], "--duration": ["60", "600"], "-o": ["{out}", "{under_file}"]},
+    },
+    "ggins-covariance3d": {
+        "base": ["--duration", "60", "--no-plot", "-o", "{out}"],
+        "opts": {"-s": ["gc3d-stabilized", "gc3d-strapdown", "{missing}", "{a_file}"], "--platform": ["stabilized", "strapdown"],
+                 "--field": ["normal", "point-mass"], "--omega-ie": ["0", "7.29e-5"], "--lat0-deg": ["45"],
+                 "--lon0-deg": ["0"], "--heading-deg": ["90"], "--speed": ["200"], "--height": ["1000"],
+                 "--duration": ["60"], "--acc-bias-sigma": ["1e-9"], "--gyro-bias-sigma": ["1e-8"],
+                 "--acc-noise-sigma": ["0"], "--gyro-noise-sigma": ["0"], "--rate-hz": ["100"], "--g0-sigma": ["0"],
+                 "--psi0-sigma": ["0"], "--baro": ["true", "false", "maybe"], "--baro-bias-sigma": ["1"],
+                 "--dt": ["1"], "--output-dt": ["10"], "--method": ["transition", "lyapunov"], "-o": ["{out}", "{under_file}"]},
+    },
+}
+
+SCENARIO_LINES = ["name = \"f\"", "[trajectory]", "type = \"north-flight\"", "speed_mps = {v}", "height_m = {v}",
+                  "[time]", "duration_s = {v}", "rate_hz = {v}", "[accel]", "bias_sigma_mps2 = {v}",
+                  "noise_sigma_mps2 = [{v}, 1, 2]", "[initial]", "gravity_sigma_mps2 = [{v}, {v}]",
+                  "position_sigma_m = {v}", "[bogus]", "x = 1", "[baro]", "noise_sigma_m = {v}", "[navigation.baro]",
+                  "enable = true", "poles_radps = [{v}, 0.1, 0.1]", "= =", "[platform]", "a_m = {v}"]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--bin", required=True)
+    ap.add_argument("--runs", type=int, default=200)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--timeout", type=float, default=5.0)
+    ap.add_argument("--show", type=int, default=-1, help="print each run with this exit code and its first stderr line")
+    a = ap.parse_args()
+    a.bin = os.path.abspath(a.bin)
+    rng = random.Random(a.seed)
+    tmp = tempfile.mkdtemp(prefix="ggins-clifuzz-")
+    a_file = os.path.join(tmp, "a_file")
+    open(a_file, "w").write("x\n")
+    tools = [t for t in TOOLS if os.path.exists(os.path.join(a.bin, t))]
+    findings, counts, killed = [], {0: 0, 1: 0, 2: 0}, 0
+    for i in range(a.runs):
+        tool = tools[i % len(tools)]
+        spec = TOOLS[tool]
+        scen = os.path.join(tmp, f"s{i}.toml")
+        lines = rng.sample(SCENARIO_LINES, rng.randint(1, len(SCENARIO_LINES)))
+        open(scen, "w").write("\n".join(l.replace("{v}", rng.choice(VALUES[:12] + ["1", "0.5", "\"s\""])) for l in lines) + "\n")
+        subst = {"{missing}": os.path.join(tmp, "missing"), "{out}": os.path.join(tmp, f"o{i}"),
+                 "{under_file}": os.path.join(a_file, "sub"), "{a_file}": a_file, "{scenario}": scen}
+        args = list(spec["base"])
+        for opt in rng.sample(sorted(spec["opts"]), rng.randint(1, 3)):
+            v = rng.choice(VALUES) if rng.random() < 0.6 else rng.choice(spec["opts"][opt])
+            args += [opt, v]
+        for k, v in subst.items():
+            args = [x.replace(k, v) for x in args]
+        cmd = [os.path.join(a.bin, tool)] + args
+        try:
+            r = subprocess.run(cmd, capture_output=True, text=True, timeout=a.timeout, cwd=tmp)
+        except subprocess.TimeoutExpired:
+            killed += 1
+            continue
+        if r.returncode == a.show:
+            print(f"exit {r.returncode}: {' '.join(args)[:150]} | {(r.stderr.strip().splitlines() or [''])[-1][:200]}")
+        bad = r.returncode not in (0, 1, 2) or "terminate called" in r.stderr
+        if r.returncode in (1, 2) and not r.stderr.strip():
+            bad = True  # a failure must say why
+        if bad:
+            findings.append((cmd, r.returncode, r.stderr[-600:]))
+        else:
+            counts[r.returncode] += 1
+    for cmd, rc, err in findings:
+        print(f"FINDING exit {rc}: {' '.join(repr(x) for x in cmd)}\n{err}")
+    print(f"cli_fuzz: {a.runs} runs of {', '.join(tools)}: exit 0 {counts[0]}, exit 1 {counts[1]}, exit 2 {counts[2]}, "
+          f"killed at {a.timeout:g} s {killed}, findings {len(findings)}")
+    print(f"{a.runs - len(findings)} passed, {len(findings)} failed")
+    return 1 if findings else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Bad command-line values and scenario keys of the host tools: each case must exit with
+the expected code (2: bad arguments, 1: the run failed), name the option or key in
+stderr, and never die of a signal or an uncaught exception (exit 134 / 139, 'terminate').
+
+usage: check_bad_arguments.py ggins-mapnav=/path/to/ggins-mapnav ...
+"""
+import os
+import subprocess
+import sys
+import tempfile
+
+tools = dict(a.split("=", 1) for a in sys.argv[1:])
+tmp = tempfile.mkdtemp(prefix="ggins-cli-")
+afile = os.path.join(tmp, "a_file")
+open(afile, "w").write("not a folder\n")
+out = os.path.join(tmp, "out")
+
+
+def scen(name, text):
+    p = os.path.join(tmp, name + ".toml")
+    open(p, "w").write(text)
+    return p
+
+
+BASE = """name = "cli-test"
+[trajectory]
+type = "north-flight"
+speed_mps = 300.0
+[time]
+duration_s = 60.0
+rate_hz = 10.0
+[accel]
+bias_sigma_mps2 = 2e-12
+"""
+typo_key = scen("typo_key", BASE.replace("speed_mps", "sped_mps"))
+unknown_section = scen("unknown_section", BASE + "[trajectoryy]\nspeed_mps = 1.0\n")
+unknown_initial = scen("unknown_initial", BASE + "[initial]\nposition_sigma = 1.0\n")
+nan_sigma = scen("nan_sigma", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = nan"))
+neg_sigma = scen("neg_sigma", BASE + "[initial]\nvelocity_sigma_mps = -1.0\n")
+nan_axis = scen("nan_axis", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [1e-12, nan, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12]"))
+axes = scen("axes", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [1e-12, 2e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12]"))
+empty = scen("empty", "# nothing\n")
+good = scen("good", BASE + "[initial]\ngravity_sigma_mps2 = [1e-12, 3e-12]\n")
+
+# (tool, arguments, expected exit code, text that stderr must contain)
+CASES = [
+    ("ggins-mapnav", ["--dt", "0"], 2, "--dt"),
+    ("ggins-mapnav", ["--dt", "nan"], 2, "--dt"),
+    ("ggins-mapnav", ["--dt", "-0.1"], 2, "--dt"),
+    ("ggins-mapnav", ["--dt", "2"], 2, "--dt"),
+    ("ggins-mapnav", ["--update", "0"], 2, "--update"),
+    ("ggins-mapnav", ["--update", "0.05"], 2, "--update"),
+    ("ggins-mapnav", ["--meas-noise-e", "-1"], 2, "--meas-noise-e"),
+    ("ggins-mapnav", ["--passes", "0"], 2, "--passes"),
+    ("ggins-mapnav", ["--passes", "1000"], 2, "--passes"),
+    ("ggins-mapnav", ["--pos0", "-10"], 2, "--pos0"),
+    ("ggins-mapnav", ["--half-base", "0"], 2, "--half-base"),
+    ("ggins-mapnav", ["--runs", "0"], 2, "--runs"),
+    ("ggins-mapnav", ["--hours", "inf"], 2, "--hours"),
+    ("ggins-mapnav", ["--hours", "nan"], 2, "--hours"),
+    ("ggins-mapnav", ["--hours", "0.001"], 2, "--hours"),
+    ("ggins-mapnav", ["--seed", "-1"], 2, "--seed"),
+    ("ggins-mapnav", ["--lat0", "nan"], 2, "--lat0"),
+    ("ggins-mapnav", ["--out", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-mapnav", ["--hours", "0.05", "--no-plot", "--egm96", os.path.join(tmp, "missing.txt"),
+                      "--out", out + "/m"], 1, "ggins mapnav"),
+    ("ggins-coldatom", ["--out", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-coldatom", ["--cache", os.path.join(afile, "c")], 2, "--cache"),
+    ("ggins-coldatom", ["--duration", "nan"], 2, "--duration"),
+    ("ggins-coldatom", ["--duration", "5"], 2, "--duration"),
+    ("ggins-coldatom", ["--gain", "nan"], 2, "--gain"),
+    ("ggins-coldatom", ["--q-pos", "nan"], 2, "--q-pos"),
+    ("ggins-coldatom", ["--seed", "-1"], 2, "--seed"),
+    ("ggins-covariance", ["-s", typo_key, "--no-plot", "-o", out + "/c1"], 2, "sped_mps"),
+    ("ggins-covariance", ["-s", unknown_section, "--no-plot", "-o", out + "/c2"], 2, "trajectoryy"),
+    ("ggins-covariance", ["-s", unknown_initial, "--no-plot", "-o", out + "/c3"], 2, "initial.position_sigma"),
+    ("ggins-covariance", ["-s", nan_sigma, "--no-plot", "-o", out + "/c4"], 2, "bias_sigma_mps2"),
+    ("ggins-covariance", ["-s", neg_sigma, "--no-plot", "-o", out + "/c5"], 2, "initial.velocity_sigma_mps"),
+    ("ggins-covariance", ["-s", nan_axis, "--no-plot", "-o", out + "/c7"], 2, "bias_sigma_mps2"),
+    ("ggins-covariance", ["-s", empty, "--no-plot", "-o", out + "/c6"], 2, "sets no key"),
+    ("ggins-covariance", ["--duration", "nan"], 2, "--duration"),
+    ("ggins-covariance", ["--dt", "nan"], 2, "--dt"),
+    ("ggins-covariance", ["--sigma-g0", "nan"], 2, "--sigma-g0"),
+    ("ggins-covariance", ["--duration", "1e9", "--dt", "1e-3"], 2, "--dt"),
+    ("ggins-covariance", ["-o", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-covariance3d", ["--acc-bias-sigma", "nan"], 2, "--acc-bias-sigma"),
+    ("ggins-covariance3d", ["--duration", "nan"], 2, "--duration"),
+    ("ggins-covariance3d", ["--half-base", "0", "0.5", "0.5"], 2, "--half-base"),
+    ("ggins-covariance3d", ["--lat0-deg", "inf"], 2, "--lat0-deg"),
+    ("ggins-covariance3d", ["-o", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-covariance3d", ["--g0-sigma", "1e308"], 2, "--g0-sigma"),
+    ("ggins-covariance3d", ["--dt", "1e4", "--duration", "60"], 2, "--dt"),
+    ("ggins-covariance", ["--dt", "100", "--duration", "60"], 2, "--dt"),
+]
+# controls: valid command lines still run (the checks do not refuse good input)
+CONTROLS = [
+    ("ggins-covariance", ["-s", good, "--no-plot", "-o", out + "/good"], 0, ""),
+    ("ggins-covariance", ["-s", axes, "--no-plot", "-o", out + "/axes"], 0, ""),
+    ("ggins-covariance3d", ["--duration", "60", "--no-plot", "-o", out + "/good3d"], 0, ""),
+    ("ggins-mapnav", ["--help"], 0, ""),
+]
+
+failed = 0
+passed = 0
+for tool, args, want, needle in CASES + CONTROLS:
+    if tool not in tools:
+        print(f"skip {tool} (not built)")
+        continue
+    r = subprocess.run([tools[tool]] + args, capture_output=True, text=True, timeout=60, cwd=tmp)
+    err = r.stderr
+    ok = r.returncode == want and needle in err and "terminate" not in err
+    if want == 2:  # the message gives the allowed values
+        ok = ok and ("allowed" in err or "not in" in err or "unknown key" in err or "must be" in err)
+    line = f"{tool} {' '.join(args)}: exit {r.returncode} (want {want})"
+    if ok:
+        passed += 1
+        print("ok   " + line + " | " + (err.strip().splitlines() or [""])[0][:150])
+    else:
+        failed += 1
+        print("FAIL " + line + f", stderr must name '{needle}':\n" + err[-800:])
+print(f"{passed} passed, {failed} failed")
+sys.exit(1 if failed else 0)
