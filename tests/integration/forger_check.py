@@ -120,8 +120,9 @@ def case_forged_2d(a):
 
 def case_forged_3d(a):
     os.makedirs(a.workdir, exist_ok=True)
-    n = 10001
-    cmd = [a.ggins_run3d, "-s", "3d-stabilized-1h", "--duration", "100", "--no-plots", "-q"]
+    # batched lockstep flies 3-D at a few hundred times real time: long enough for the whole attack
+    n = 60001
+    cmd = [a.ggins_run3d, "-s", "3d-stabilized-1h", "--duration", "600", "--no-plots", "-q"]
     rc0, out0 = run_clean(cmd, os.path.join(a.workdir, "clean"))
     check(rc0 == 0, "clean 3-D flight completed (exit %d)" % rc0)
     rc1, out1, frc, fj = run_attacked(cmd, os.path.join(a.workdir, "attacked"), a.forger, "3d", 1000, 2000)

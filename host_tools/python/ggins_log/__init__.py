@@ -13,7 +13,7 @@ build knows is read, with no list of channels here. Events whose fingerprint mat
 type are counted in ``Log.unknown``.
 """
 from .eventlog import Event, read_events, write_events, SYNC
-from .arrays import Channel, Log, read, load_types
+from .arrays import Channel, Log, read, load_types, batch_items, item_channel
 from .retime import retime
 
-__all__ = ["Event", "read_events", "write_events", "SYNC", "Channel", "Log", "read", "load_types", "retime"]
+__all__ = ["Event", "read_events", "write_events", "SYNC", "Channel", "Log", "read", "load_types", "batch_items", "item_channel", "retime"]

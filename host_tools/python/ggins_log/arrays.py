@@ -49,6 +49,25 @@ def _flatten(msg, prefix=""):
             yield prefix + name, v
 
 
+def batch_items(msg):
+    """The inner messages of a batch message (a ``*_batch_t``: frames or outputs several to
+    a message, as the batched lockstep sends them), or None for any other message."""
+    if not type(msg).__name__.endswith("_batch_t"):
+        return None
+    for name in msg.__slots__:
+        v = getattr(msg, name)
+        if isinstance(v, (list, tuple)) and (not v or hasattr(v[0], "__slots__")) and name != "mac":
+            return list(v)
+    return None
+
+
+def item_channel(batch_channel):
+    """The channel of single messages whose items a batch channel carries: the runners
+    name a batch channel by the plural of its single channel (GGINS_FRAMES carries
+    GGINS_FRAME's frames, GGINS_NAVS GGINS_NAV's outputs, GGINS_NAV3DS GGINS_NAV3D's)."""
+    return batch_channel[:-1] if batch_channel.endswith("S") else batch_channel
+
+
 def _to_array(values):
     first = values[0]
     if isinstance(first, (bytes, bytearray)):
@@ -112,15 +131,20 @@ class Log(dict):
         self.unknown = {}
 
 
-def read(path, types=None, channels=None) -> Log:
+def read(path, types=None, channels=None, unbatch=True) -> Log:
     """Read an LCM log into a Log. types: a fingerprint -> class map (load_types());
-    channels: only these channel names (default all)."""
+    channels: only these channel names (default all; batch channels are selected by
+    the name of the channel their items go to). unbatch: the items of batch messages
+    are listed, in log order, under the channel of single messages they stand for
+    (item_channel), beside any single messages sent there (real-time runs send one
+    frame per message); the event stamp and number of an item are its batch's."""
     types = types or load_types()
     acc = {}
     log = Log()
     with open(path, "rb") as f:
         for e in read_events(f):
-            if channels is not None and e.channel not in channels:
+            if channels is not None and e.channel not in channels and (
+                    not unbatch or item_channel(e.channel) not in channels):
                 continue
             cls = types.get(e.data[:8])
             msg = None
@@ -132,10 +156,18 @@ def read(path, types=None, channels=None) -> Log:
             if msg is None:
                 log.unknown[e.channel] = log.unknown.get(e.channel, 0) + 1
                 continue
-            a = acc.setdefault((e.channel, cls), ([], [], []))
-            a[0].append(msg)
-            a[1].append(e.timestamp)
-            a[2].append(e.eventnum)
+            items = batch_items(msg) if unbatch else None
+            if items is None:
+                items, ch = [msg], e.channel
+            else:
+                ch = item_channel(e.channel)
+                if channels is not None and ch not in channels:
+                    continue
+            for m in items:
+                a = acc.setdefault((ch, type(m)), ([], [], []))
+                a[0].append(m)
+                a[1].append(e.timestamp)
+                a[2].append(e.eventnum)
     for (ch, cls), (msgs, ts, num) in acc.items():
         name = ch if ch not in log else f"{ch}:{cls.__name__}"  # two types on one channel
         log[name] = Channel(name, cls, msgs, ts, num)

@@ -12,7 +12,7 @@ events keep their place in the file and take the stamp of the event before them,
 stamps never decrease. The rule reads only the messages, never a list of channels or
 types, so types added to lcmtypes/ are retimed by the same rule."""
 from .eventlog import Event, read_events, write_events
-from .arrays import load_types
+from .arrays import batch_items, load_types
 
 
 WALL_CLOCK_WINDOW_US = 86400 * 10**6  # a utime this close to its event's stamp is a wall clock
@@ -21,6 +21,9 @@ WALL_CLOCK_WINDOW_US = 86400 * 10**6  # a utime this close to its event's stamp 
 def flight_utime(msg, event_timestamp):
     """The flight time of a decoded message, microseconds, or None if it has none
     (no scalar utime, or a utime on the wall clock)."""
+    items = batch_items(msg)
+    if items:  # a batch: the flight time of its last item (a batch exists once its last item does)
+        return flight_utime(items[-1], event_timestamp)
     if "utime" not in getattr(msg, "__slots__", ()):
         return None
     u = getattr(msg, "utime")
