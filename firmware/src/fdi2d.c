@@ -408,8 +408,18 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
             } else {
                 /* no single reading explains the residuals (several faults):
                  * every reading of the tests that fired is suspect on this
-                 * frame; their groups degrade */
-                const uint32_t sus = test_readings(hit_x, hit_z, hit_s) & ~bad;
+                 * frame, and so is the whole group of a suspect whose own
+                 * test passed (a second fault there may cancel in it) or
+                 * which holds a rebuilt reading (built from all the others);
+                 * their groups degrade */
+                uint32_t sus = test_readings(hit_x, hit_z, hit_s) & ~bad;
+                const int tested[2] = {test_x, test_z};
+                for (ax = 0U; ax < 2U; ++ax) {
+                    const uint32_t gm = group_mask(ax);
+                    if (((sus & gm) != 0U) && ((tested[ax] != 0) || ((o.rebuilt & gm) != 0U))) {
+                        sus |= gm & ~bad;
+                    }
+                }
                 w = *in;
                 o.rebuilt = 0U;
                 o.flags |= GG_FDI_SUSPECT;

@@ -40,8 +40,12 @@
  *    readings are then synthesised consistently (GG_FDI_DEGRADED);
  *  - residuals that no single reading explains (several faults at once):
  *    every reading of the parity tests that fired is suspect on that frame
- *    (GG_FDI_SUSPECT) and its group rebuilt or degraded as above; only
- *    before a first frame was used (nothing to hold) is the set refused.
+ *    (GG_FDI_SUSPECT), and so is the whole group of a suspect whose own group
+ *    test passed (a second fault may cancel in it: two stuck z readings
+ *    leave p_z at 0) or which holds a rebuilt reading (built from all the
+ *    others); the groups are rebuilt or degraded as above. Conservative: the
+ *    error is then that of the held components, whatever the faults' size;
+ *    only before a first frame was used (nothing to hold) is the set refused.
  * Error of a held component: it drifts with the field along the path,
  * |dGamma/dt| <= |grad Gamma| |v| (point mass: 3 GM/r^4 |v| = 2.2e-10 s^-2/s
  * at 300 m/s near the Earth's surface), so G errs by <= 1/2 (3 GM/r^4) |v|^2 t^2
