@@ -549,8 +549,11 @@ static void print_table(void)
                 char hn[96];
                 health_names(a->seen, hn, sizeof hn);
                 const char *res = a->pass == a->cases ? (a->vis == 2 ? "pass (invisible: fault's own error)" : "pass") : "FAIL";
-                printf("| %d-D | %s | %s | %d | %d/%d (%d) | %d/%d | %s | %d/%d | %d | %.2Le m | %.2Lf | %s | %s |\n", dim,
-                       kClass[cls], kKind[k], a->cases, a->detected, a->cases, a->max_det, a->flagged, a->cases, hn,
+                char lat[16];
+                if (a->detected) snprintf(lat, sizeof lat, "%d", a->max_det);
+                else snprintf(lat, sizeof lat, "-");
+                printf("| %d-D | %s | %s | %d | %d/%d (%s) | %d/%d | %s | %d/%d | %d | %.2Le m | %.2Lf | %s | %s |\n", dim,
+                       kClass[cls], kKind[k], a->cases, a->detected, a->cases, lat, a->flagged, a->cases, hn,
                        a->navigating, a->cases, a->rejected, a->max_err, a->max_ratio, res,
                        (k == 0 || cls >= C_AXIS) ? geometry_note(dim, cls) : "");
             }
