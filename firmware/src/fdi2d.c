@@ -194,10 +194,11 @@ static gg_status_t degrade_group(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uin
 {
     const gg_real_t a = st->cfg.a_m;
     const gg_real_t b = st->cfg.b_m;
-    const int u0 = ((bad & GG_FDI_BIT(0, ax)) == 0U) ? 1 : 0;
-    const int u1 = ((bad & GG_FDI_BIT(1, ax)) == 0U) ? 1 : 0;
-    const int u2 = ((bad & GG_FDI_BIT(2, ax)) == 0U) ? 1 : 0;
-    const int u3 = ((bad & GG_FDI_BIT(3, ax)) == 0U) ? 1 : 0;
+    const uint32_t usable = ~bad;
+    const uint32_t u0 = usable & GG_FDI_BIT(0, ax);
+    const uint32_t u1 = usable & GG_FDI_BIT(1, ax);
+    const uint32_t u2 = usable & GG_FDI_BIT(2, ax);
+    const uint32_t u3 = usable & GG_FDI_BIT(3, ax);
     gg_real_t q[3];
     gg_real_t other[3];
     uint32_t fl = GG_FDI_DEGRADED;
@@ -207,40 +208,48 @@ static gg_status_t degrade_group(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uin
     q[0] = 0.0L;
     q[1] = 0.0L;
     q[2] = 0.0L;
-    if ((u0 != 0) && (u2 != 0)) {
+    if ((u0 != 0U) && (u2 != 0U)) {
         q[1] = (((gg_real_t)w->f[2][ax] - (gg_real_t)w->f[0][ax]) +
                 ((gg_real_t)w->f_lo[2][ax] - (gg_real_t)w->f_lo[0][ax]));
     } else if ((ax == 1U) && (avail_other != 0)) {
         q[1] = (a / b) * other[2];
     } else if (st->have_good != 0) {
         q[1] = st->held[ax][1];
-        fl |= (ax == 0U) ? GG_FDI_COAST_GXX : GG_FDI_COAST_OFFD;
+        if (ax == 0U) {
+            fl |= GG_FDI_COAST_GXX;
+        } else {
+            fl |= GG_FDI_COAST_OFFD;
+        }
     } else {
         return GG_ERR_SENSOR; /* nothing to hold yet */
     }
-    if ((u1 != 0) && (u3 != 0)) {
+    if ((u1 != 0U) && (u3 != 0U)) {
         q[2] = (((gg_real_t)w->f[3][ax] - (gg_real_t)w->f[1][ax]) +
                 ((gg_real_t)w->f_lo[3][ax] - (gg_real_t)w->f_lo[1][ax]));
     } else if ((ax == 0U) && (avail_other != 0)) {
         q[2] = (b / a) * other[1];
     } else if (st->have_good != 0) {
         q[2] = st->held[ax][2];
-        fl |= (ax == 0U) ? GG_FDI_COAST_OFFD : GG_FDI_COAST_GZZ;
+        if (ax == 0U) {
+            fl |= GG_FDI_COAST_OFFD;
+        } else {
+            fl |= GG_FDI_COAST_GZZ;
+        }
     } else {
         return GG_ERR_SENSOR;
     }
     /* centre mean of pair A from whatever reading is left */
-    if ((u0 != 0) && (u2 != 0)) {
+    if ((u0 != 0U) && (u2 != 0U)) {
         q[0] = 0.5L * (rd(w, 0U, ax) + rd(w, 2U, ax));
-    } else if ((u1 != 0) && (u3 != 0)) {
+    } else if ((u1 != 0U) && (u3 != 0U)) {
         q[0] = (0.5L * (rd(w, 1U, ax) + rd(w, 3U, ax))) + p_exp;
-    } else if (u0 != 0) {
+    } else if (u0 != 0U) {
         q[0] = rd(w, 0U, ax) + (0.5L * q[1]);
-    } else if (u2 != 0) {
+    } else if (u2 != 0U) {
         q[0] = rd(w, 2U, ax) - (0.5L * q[1]);
-    } else if (u1 != 0) {
+    } else if (u1 != 0U) {
         q[0] = (rd(w, 1U, ax) + (0.5L * q[2])) + p_exp;
-    } else if (u3 != 0) {
+    } else if (u3 != 0U) {
         q[0] = (rd(w, 3U, ax) - (0.5L * q[2])) + p_exp;
     } else if (st->have_good != 0) {
         q[0] = st->held[ax][0];
@@ -248,8 +257,6 @@ static gg_status_t degrade_group(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uin
     } else {
         return GG_ERR_SENSOR;
     }
-    (void)a;
-    (void)b;
     {
         const gg_real_t mb = q[0] - p_exp;
         wr(w, 0U, ax, q[0] - (0.5L * q[1]));
@@ -264,7 +271,7 @@ static gg_status_t degrade_group(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uin
 /* Accommodate the unusable readings `bad` in w: a group with one is rebuilt
  * from its parity relation, a group with more is degraded (degrade_group).
  * *rebuilt gets the readings written. */
-static gg_status_t accommodate(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uint32_t bad,
+static gg_status_t accommodate_groups(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uint32_t bad,
                                const gg_real_t p_exp[2], uint32_t *rebuilt, uint32_t *flags)
 {
     gg_status_t res = GG_OK;
@@ -334,7 +341,7 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
     bad = known_bad | excluded;
     o.flags = 0U;
     o.rebuilt = 0U;
-    res = accommodate(st, &w, bad, p_exp, &o.rebuilt, &o.flags);
+    res = accommodate_groups(st, &w, bad, p_exp, &o.rebuilt, &o.flags);
     if (res != GG_OK) {
         return res;
     }
@@ -362,9 +369,18 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
         const gg_real_t fs = (test_s != 0) ? o.p_s : 0.0L;
         const gg_real_t lf = (gg_real_t)st->cfg.parity_f_max;
         const gg_real_t ls = (gg_real_t)st->cfg.asym_max;
-        const int hit_x = ((test_x != 0) && ((fx > lf) || (fx < -lf))) ? 1 : 0;
-        const int hit_z = ((test_z != 0) && ((fz > lf) || (fz < -lf))) ? 1 : 0;
-        const int hit_s = ((test_s != 0) && ((fs > ls) || (fs < -ls))) ? 1 : 0;
+        int hit_x = 0;
+        int hit_z = 0;
+        int hit_s = 0;
+        if ((test_x != 0) && ((fx > lf) || (fx < -lf))) {
+            hit_x = 1;
+        }
+        if ((test_z != 0) && ((fz > lf) || (fz < -lf))) {
+            hit_z = 1;
+        }
+        if ((test_s != 0) && ((fs > ls) || (fs < -ls))) {
+            hit_s = 1;
+        }
         if ((hit_x != 0) || (hit_z != 0) || (hit_s != 0)) {
             uint32_t pair = 0U;
             uint32_t which = isolate(st, fx, fz, fs, &pair);
@@ -372,15 +388,18 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
             if ((which & bad) != 0U) {
                 which = 0U;
             }
-            if ((which != 0U) && (pair == 0U) &&
-                (popcount8((bad | which) & group_mask(((which & 0x55u) != 0U) ? 0U : 1U)) > 1U)) {
+            uint32_t which_group = 0xAAu;
+            if ((which & 0x55u) != 0U) {
+                which_group = 0x55u;
+            }
+            if ((which != 0U) && (pair == 0U) && (popcount8((bad | which) & which_group) > 1U)) {
                 /* isolated, but its group already lost a reading: exclude it
                  * for good and degrade the group */
                 excluded |= which;
                 o.flags |= GG_FDI_NEW_EXCL;
                 w = *in;
                 o.rebuilt = 0U;
-                res = accommodate(st, &w, bad | which, p_exp, &o.rebuilt, &o.flags);
+                res = accommodate_groups(st, &w, bad | which, p_exp, &o.rebuilt, &o.flags);
             } else if ((which != 0U) && (pair == 0U)) {
                 /* isolated: exclude for good and rebuild it */
                 excluded |= which;
@@ -423,7 +442,7 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
                 w = *in;
                 o.rebuilt = 0U;
                 o.flags |= GG_FDI_SUSPECT;
-                res = accommodate(st, &w, bad | sus, p_exp, &o.rebuilt, &o.flags);
+                res = accommodate_groups(st, &w, bad | sus, p_exp, &o.rebuilt, &o.flags);
             }
         }
     }
