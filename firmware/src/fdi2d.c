@@ -77,8 +77,15 @@ gg_status_t gg_fdi2d_init(gg_fdi2d_t *st, const gg_fdi2d_config_t *cfg)
     }
     st->cfg = *cfg;
     st->excluded = 0U;
-    st->gxx_good = 0.0L;
-    st->gzz_good = 0.0L;
+    {
+        uint32_t ax;
+        uint32_t k;
+        for (ax = 0U; ax < 2U; ++ax) {
+            for (k = 0U; k < 3U; ++k) {
+                st->held[ax][k] = 0.0L;
+            }
+        }
+    }
     st->have_good = 0;
     st->initialized = 1;
     return GG_OK;
@@ -135,11 +142,179 @@ static uint32_t isolate(const gg_fdi2d_t *st, gg_real_t px, gg_real_t pz, gg_rea
     return best_bits;
 }
 
+/* Readings of axis group ax (mask). */
+static uint32_t group_mask(uint32_t ax)
+{
+    uint32_t m = 0x55u;
+    if (ax != 0U) {
+        m = 0xAAu;
+    }
+    return m;
+}
+
+/* Readings a fired parity test involves: p_x the x group, p_z the z group,
+ * p_s the off-diagonal pairs (2x, 4x, 1z, 3z). */
+static uint32_t test_readings(int fx, int fz, int fs)
+{
+    uint32_t m = 0U;
+    if (fx != 0) {
+        m |= 0x55u;
+    }
+    if (fz != 0) {
+        m |= 0xAAu;
+    }
+    if (fs != 0) {
+        m |= GG_FDI_BIT(1, 0) | GG_FDI_BIT(3, 0) | GG_FDI_BIT(0, 1) | GG_FDI_BIT(2, 1);
+    }
+    return m;
+}
+
+/* Group quantities of axis group ax (fdi2d.h): centre mean mA of pair A
+ * (sensors 1, 3), difference dA = r3 - r1 of pair A, difference dB = r4 - r2
+ * of pair B (sensors 2, 4), from four valid readings. */
+static void group_quantities(const gg_diff2d_input_t *in, uint32_t ax, gg_real_t q[3])
+{
+    q[0] = 0.5L * (rd(in, 0U, ax) + rd(in, 2U, ax));
+    q[1] = (((gg_real_t)in->f[2][ax] - (gg_real_t)in->f[0][ax]) +
+            ((gg_real_t)in->f_lo[2][ax] - (gg_real_t)in->f_lo[0][ax]));
+    q[2] = (((gg_real_t)in->f[3][ax] - (gg_real_t)in->f[1][ax]) +
+            ((gg_real_t)in->f_lo[3][ax] - (gg_real_t)in->f_lo[1][ax]));
+}
+
+/* Degraded group ax: it lost more readings (bad) than its parity relation can
+ * rebuild. Its three quantities are taken, in this order of preference, from
+ * (1) its own usable readings, (2) the symmetry of the gradient (the group's
+ * off-diagonal difference from the other group's, Gxz = Gzx: x pair B <-> z
+ * pair A, scaled by the baselines), when that pair of the other group is
+ * usable (avail_other), (3) the values held from the last good frame; then
+ * all four readings are synthesised consistently (pair B's mean = mA - p_exp).
+ * Flags of what was held into *flags. */
+static gg_status_t degrade_group(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uint32_t ax,
+                                 uint32_t bad, int avail_other, gg_real_t p_exp, uint32_t *flags)
+{
+    const gg_real_t a = st->cfg.a_m;
+    const gg_real_t b = st->cfg.b_m;
+    const uint32_t usable = ~bad;
+    const uint32_t u0 = usable & GG_FDI_BIT(0, ax);
+    const uint32_t u1 = usable & GG_FDI_BIT(1, ax);
+    const uint32_t u2 = usable & GG_FDI_BIT(2, ax);
+    const uint32_t u3 = usable & GG_FDI_BIT(3, ax);
+    gg_real_t q[3];
+    gg_real_t other[3];
+    uint32_t fl = GG_FDI_DEGRADED;
+    /* the other group's off-diagonal difference, in this group's scale:
+     * x group dB = 2b Gxz = 2b Gzx = (b/a) * (z group dA); z group dA = (a/b) * (x group dB) */
+    group_quantities(w, 1U - ax, other);
+    q[0] = 0.0L;
+    q[1] = 0.0L;
+    q[2] = 0.0L;
+    if ((u0 != 0U) && (u2 != 0U)) {
+        q[1] = (((gg_real_t)w->f[2][ax] - (gg_real_t)w->f[0][ax]) +
+                ((gg_real_t)w->f_lo[2][ax] - (gg_real_t)w->f_lo[0][ax]));
+    } else if ((ax == 1U) && (avail_other != 0)) {
+        q[1] = (a / b) * other[2];
+    } else if (st->have_good != 0) {
+        q[1] = st->held[ax][1];
+        if (ax == 0U) {
+            fl |= GG_FDI_COAST_GXX;
+        } else {
+            fl |= GG_FDI_COAST_OFFD;
+        }
+    } else {
+        return GG_ERR_SENSOR; /* nothing to hold yet */
+    }
+    if ((u1 != 0U) && (u3 != 0U)) {
+        q[2] = (((gg_real_t)w->f[3][ax] - (gg_real_t)w->f[1][ax]) +
+                ((gg_real_t)w->f_lo[3][ax] - (gg_real_t)w->f_lo[1][ax]));
+    } else if ((ax == 0U) && (avail_other != 0)) {
+        q[2] = (b / a) * other[1];
+    } else if (st->have_good != 0) {
+        q[2] = st->held[ax][2];
+        if (ax == 0U) {
+            fl |= GG_FDI_COAST_OFFD;
+        } else {
+            fl |= GG_FDI_COAST_GZZ;
+        }
+    } else {
+        return GG_ERR_SENSOR;
+    }
+    /* centre mean of pair A from whatever reading is left */
+    if ((u0 != 0U) && (u2 != 0U)) {
+        q[0] = 0.5L * (rd(w, 0U, ax) + rd(w, 2U, ax));
+    } else if ((u1 != 0U) && (u3 != 0U)) {
+        q[0] = (0.5L * (rd(w, 1U, ax) + rd(w, 3U, ax))) + p_exp;
+    } else if (u0 != 0U) {
+        q[0] = rd(w, 0U, ax) + (0.5L * q[1]);
+    } else if (u2 != 0U) {
+        q[0] = rd(w, 2U, ax) - (0.5L * q[1]);
+    } else if (u1 != 0U) {
+        q[0] = (rd(w, 1U, ax) + (0.5L * q[2])) + p_exp;
+    } else if (u3 != 0U) {
+        q[0] = (rd(w, 3U, ax) - (0.5L * q[2])) + p_exp;
+    } else if (st->have_good != 0) {
+        q[0] = st->held[ax][0];
+        fl |= GG_FDI_HOLD_FORCE;
+    } else {
+        return GG_ERR_SENSOR;
+    }
+    {
+        const gg_real_t mb = q[0] - p_exp;
+        wr(w, 0U, ax, q[0] - (0.5L * q[1]));
+        wr(w, 2U, ax, q[0] + (0.5L * q[1]));
+        wr(w, 1U, ax, mb - (0.5L * q[2]));
+        wr(w, 3U, ax, mb + (0.5L * q[2]));
+    }
+    *flags |= fl;
+    return GG_OK;
+}
+
+/* Accommodate the unusable readings `bad` in w: a group with one is rebuilt
+ * from its parity relation, a group with more is degraded (degrade_group).
+ * *rebuilt gets the readings written. */
+static gg_status_t accommodate_groups(const gg_fdi2d_t *st, gg_diff2d_input_t *w, uint32_t bad,
+                               const gg_real_t p_exp[2], uint32_t *rebuilt, uint32_t *flags)
+{
+    gg_status_t res = GG_OK;
+    uint32_t deg = 0U; /* degraded groups: bit ax */
+    uint32_t s;
+    uint32_t ax;
+    for (ax = 0U; ax < 2U; ++ax) {
+        const uint32_t g = bad & group_mask(ax);
+        if (popcount8(g) > 1U) {
+            deg |= 1U << ax;
+        } else {
+            for (s = 0U; s < 4U; ++s) {
+                if ((g & GG_FDI_BIT(s, ax)) != 0U) {
+                    rebuild(w, s, ax, p_exp[ax]);
+                    *rebuilt |= GG_FDI_BIT(s, ax);
+                }
+            }
+        }
+    }
+    for (ax = 0U; (ax < 2U) && (res == GG_OK); ++ax) {
+        if ((deg & (1U << ax)) != 0U) {
+            /* symmetry source: z pair A (1z, 3z) for the x group, x pair B (2x, 4x) for z */
+            uint32_t src = GG_FDI_BIT(0, 1) | GG_FDI_BIT(2, 1);
+            int avail = 0;
+            if (ax == 1U) {
+                src = GG_FDI_BIT(1, 0) | GG_FDI_BIT(3, 0);
+            }
+            if (((deg & (1U << (1U - ax))) == 0U) || ((bad & src) == 0U)) {
+                avail = 1;
+            }
+            res = degrade_group(st, w, ax, bad, avail, p_exp[ax], flags);
+            *rebuilt |= group_mask(ax);
+        }
+    }
+    return res;
+}
+
 gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_exp[2],
                           gg_diff2d_input_t *in, gg_fdi2d_output_t *out)
 {
     gg_diff2d_input_t w;
     gg_fdi2d_output_t o;
+    gg_status_t res;
     uint32_t s;
     uint32_t ax;
     uint32_t excluded;
@@ -166,27 +341,17 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
     bad = known_bad | excluded;
     o.flags = 0U;
     o.rebuilt = 0U;
-    /* at most one unusable reading per axis group can be rebuilt */
-    for (ax = 0U; ax < 2U; ++ax) {
-        const uint32_t g = bad & (GG_FDI_BIT(0, ax) | GG_FDI_BIT(1, ax) | GG_FDI_BIT(2, ax) |
-                                  GG_FDI_BIT(3, ax));
-        if (popcount8(g) > 1U) {
-            return GG_ERR_SENSOR;
-        }
-    }
-    for (s = 0U; s < 4U; ++s) {
-        for (ax = 0U; ax < 2U; ++ax) {
-            if ((bad & GG_FDI_BIT(s, ax)) != 0U) {
-                rebuild(&w, s, ax, p_exp[ax]);
-                o.rebuilt |= GG_FDI_BIT(s, ax);
-            }
-        }
+    res = accommodate_groups(st, &w, bad, p_exp, &o.rebuilt, &o.flags);
+    if (res != GG_OK) {
+        return res;
     }
     parity(st, &w, &o.p_x, &o.p_z, &o.p_s);
     o.p_x -= p_exp[0];
     o.p_z -= p_exp[1];
     {
-        /* a group with a rebuilt reading has no parity left to test */
+        /* a group with a rebuilt reading has no parity left to test; a
+         * degraded group's synthesised pairs make the symmetry residual
+         * vanish by construction */
         int test_x = 0;
         int test_z = 0;
         int test_s = 0;
@@ -196,7 +361,7 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
         if (((o.rebuilt & 0xAAu) == 0U) && (st->cfg.parity_f_max > 0.0)) {
             test_z = 1;
         }
-        if (st->cfg.asym_max > 0.0) {
+        if ((st->cfg.asym_max > 0.0) && ((o.flags & GG_FDI_DEGRADED) == 0U)) {
             test_s = 1;
         }
         const gg_real_t fx = (test_x != 0) ? o.p_x : 0.0L;
@@ -204,24 +369,39 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
         const gg_real_t fs = (test_s != 0) ? o.p_s : 0.0L;
         const gg_real_t lf = (gg_real_t)st->cfg.parity_f_max;
         const gg_real_t ls = (gg_real_t)st->cfg.asym_max;
-        if (((test_x != 0) && ((fx > lf) || (fx < -lf))) ||
-            ((test_z != 0) && ((fz > lf) || (fz < -lf))) ||
-            ((test_s != 0) && ((fs > ls) || (fs < -ls)))) {
+        int hit_x = 0;
+        int hit_z = 0;
+        int hit_s = 0;
+        if ((test_x != 0) && ((fx > lf) || (fx < -lf))) {
+            hit_x = 1;
+        }
+        if ((test_z != 0) && ((fz > lf) || (fz < -lf))) {
+            hit_z = 1;
+        }
+        if ((test_s != 0) && ((fs > ls) || (fs < -ls))) {
+            hit_s = 1;
+        }
+        if ((hit_x != 0) || (hit_z != 0) || (hit_s != 0)) {
             uint32_t pair = 0U;
-            const uint32_t which = isolate(st, fx, fz, fs, &pair);
+            uint32_t which = isolate(st, fx, fz, fs, &pair);
             o.flags |= GG_FDI_DETECTED;
-            if ((which == 0U) || ((which & bad) != 0U)) {
-                return GG_ERR_SENSOR; /* no single reading explains it */
+            if ((which & bad) != 0U) {
+                which = 0U;
             }
-            if (pair == 0U) {
+            uint32_t which_group = 0xAAu;
+            if ((which & 0x55u) != 0U) {
+                which_group = 0x55u;
+            }
+            if ((which != 0U) && (pair == 0U) && (popcount8((bad | which) & which_group) > 1U)) {
+                /* isolated, but its group already lost a reading: exclude it
+                 * for good and degrade the group */
+                excluded |= which;
+                o.flags |= GG_FDI_NEW_EXCL;
+                w = *in;
+                o.rebuilt = 0U;
+                res = accommodate_groups(st, &w, bad | which, p_exp, &o.rebuilt, &o.flags);
+            } else if ((which != 0U) && (pair == 0U)) {
                 /* isolated: exclude for good and rebuild it */
-                uint32_t gx = 0xAAu;
-                if ((which & 0x55u) != 0U) {
-                    gx = 0x55u;
-                }
-                if (popcount8((bad | which) & gx) > 1U) {
-                    return GG_ERR_SENSOR;
-                }
                 excluded |= which;
                 o.flags |= GG_FDI_NEW_EXCL;
                 for (s = 0U; s < 4U; ++s) {
@@ -232,32 +412,49 @@ gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_
                         }
                     }
                 }
-            } else if (st->have_good == 0) {
-                return GG_ERR_SENSOR; /* nothing to coast on yet */
-            } else if ((which & 0x55u) != 0U) {
+            } else if ((which != 0U) && (st->have_good != 0) && ((which & 0x55u) != 0U)) {
                 /* 1x or 3x: centre x force from sensors 2, 4; Gxx coasts */
                 const gg_real_t m = 0.5L * (rd(&w, 1U, 0U) + rd(&w, 3U, 0U));
-                wr(&w, 0U, 0U, m - (st->cfg.a_m * st->gxx_good));
-                wr(&w, 2U, 0U, m + (st->cfg.a_m * st->gxx_good));
+                wr(&w, 0U, 0U, (m + p_exp[0]) - (0.5L * st->held[0][1]));
+                wr(&w, 2U, 0U, (m + p_exp[0]) + (0.5L * st->held[0][1]));
                 o.flags |= GG_FDI_COAST_GXX;
-            } else {
+            } else if ((which != 0U) && (st->have_good != 0)) {
                 /* 2z or 4z: centre z force from sensors 1, 3; Gzz coasts */
                 const gg_real_t m = 0.5L * (rd(&w, 0U, 1U) + rd(&w, 2U, 1U));
-                wr(&w, 1U, 1U, m - (st->cfg.b_m * st->gzz_good));
-                wr(&w, 3U, 1U, m + (st->cfg.b_m * st->gzz_good));
+                wr(&w, 1U, 1U, (m - p_exp[1]) - (0.5L * st->held[1][2]));
+                wr(&w, 3U, 1U, (m - p_exp[1]) + (0.5L * st->held[1][2]));
                 o.flags |= GG_FDI_COAST_GZZ;
+            } else {
+                /* no single reading explains the residuals (several faults):
+                 * every reading of the tests that fired is suspect on this
+                 * frame, and so is the whole group of a suspect whose own
+                 * test passed (a second fault there may cancel in it) or
+                 * which holds a rebuilt reading (built from all the others);
+                 * their groups degrade */
+                uint32_t sus = test_readings(hit_x, hit_z, hit_s) & ~bad;
+                const int tested[2] = {test_x, test_z};
+                for (ax = 0U; ax < 2U; ++ax) {
+                    const uint32_t gm = group_mask(ax);
+                    if (((sus & gm) != 0U) && ((tested[ax] != 0) || ((o.rebuilt & gm) != 0U))) {
+                        sus |= gm & ~bad;
+                    }
+                }
+                w = *in;
+                o.rebuilt = 0U;
+                o.flags |= GG_FDI_SUSPECT;
+                res = accommodate_groups(st, &w, bad | sus, p_exp, &o.rebuilt, &o.flags);
             }
         }
+    }
+    if (res != GG_OK) {
+        return res;
     }
     if (o.rebuilt != 0U) {
         o.flags |= GG_FDI_REBUILT;
     }
-    /* remember the diagonal gradients while they come from good readings */
-    if ((o.flags & GG_FDI_COAST_GXX) == 0U) {
-        st->gxx_good = (rd(&w, 2U, 0U) - rd(&w, 0U, 0U)) / (2.0L * st->cfg.a_m);
-    }
-    if ((o.flags & GG_FDI_COAST_GZZ) == 0U) {
-        st->gzz_good = (rd(&w, 3U, 1U) - rd(&w, 1U, 1U)) / (2.0L * st->cfg.b_m);
+    /* hold the group quantities of this frame (held ones stay as they were) */
+    for (ax = 0U; ax < 2U; ++ax) {
+        group_quantities(&w, ax, st->held[ax]);
     }
     st->have_good = 1;
     st->excluded = excluded;

@@ -201,7 +201,7 @@ static gg_status_t accommodate(const gg_fdi3d_t *st, uint32_t bad, uint32_t pair
 static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, const gg_real_t w[3],
                           const gg_real_t wd[3], int wd_ok, double nf[6][3], double nlo[6][3],
                           uint32_t *new_bad, uint32_t *new_pairs, gg_real_t *pmax,
-                          uint32_t *flags)
+                          uint32_t *flags, gg_real_t expect_out[3][3])
 {
     const gg_real_t tau = (gg_real_t)st->cfg.parity_f_max;
     size_t j;
@@ -264,6 +264,7 @@ static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, co
                 }
                 if (absr(t) >= (0.5L * expect)) {
                     sensor = ((t * d) < 0.0L) ? fp : (fp + 3U);
+                    expect_out[fp][j] = expect;
                 }
             } else if (wd_ok != 0) {
                 /* the antisymmetric part moves by +d/(4h) for sensor p, -d/(4h) for p + 3 */
@@ -272,6 +273,7 @@ static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, co
                                     cross_entry(wd, j, fp);
                 if (absr(a) >= (0.5L * expect)) {
                     sensor = ((a * d) > 0.0L) ? fp : (fp + 3U);
+                    expect_out[fp][j] = expect;
                 }
             } else {
                 /* no reference for the antisymmetric part: ambiguous */
@@ -280,10 +282,77 @@ static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, co
                 *new_bad |= rbit(sensor, j);
             } else {
                 *new_pairs |= rbit(fp, j);
+                /* marked negative: verify checks the whole tensor */
+                expect_out[fp][j] = -(absr(d) / (4.0L * st->cfg.half_base_m[fp]));
             }
         }
     }
     return GG_OK;
+}
+
+/* After readings were newly isolated and rebuilt: the residual each
+ * isolation read (trace for a reading along its own offset, antisymmetric
+ * part otherwise) must have dropped below half the move its fault made
+ * (expect, as in detect). Two faults at once whose moves add up in one
+ * residual (e.g. two readings feeding the same antisymmetric entry) can
+ * point the isolation at the good sensor of a pair; the residual then stays.
+ * A pair-axis excluded as ambiguous (expect < 0: |d|/(4h)) may be the one
+ * good pair of three when the other two carry equal faults (two stuck
+ * readings of one axis): then the rebuilt tensor is no gradient - every
+ * antisymmetric residual (when the reference is known) and the trace must be
+ * below half that move. Either: GG_ERR_SENSOR (a double fault: the frame is
+ * rejected, the task coasts). */
+static gg_status_t verify(const gg_fdi3d_t *st, const gg_real_t w[3], const gg_real_t wd[3],
+                          int wd_ok, double nf[6][3], double nlo[6][3], gg_real_t expect[3][3])
+{
+    gg_status_t res = GG_OK;
+    gg_real_t pair_move = 0.0L;
+    size_t p;
+    size_t j;
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            if (-expect[p][j] > pair_move) {
+                pair_move = -expect[p][j];
+            }
+        }
+    }
+    if (pair_move > 0.0L) {
+        gg_real_t t = -2.0L * ((w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]));
+        for (p = 0U; p < 3U; ++p) {
+            t -= m_entry(st, nf, nlo, p, p);
+            for (j = p + 1U; (j < 3U) && (wd_ok != 0); ++j) {
+                const gg_real_t a = (0.5L * (m_entry(st, nf, nlo, j, p) - m_entry(st, nf, nlo, p, j))) -
+                                    cross_entry(wd, j, p);
+                if (absr(a) >= (0.5L * pair_move)) {
+                    res = GG_ERR_SENSOR;
+                }
+            }
+        }
+        if (absr(t) >= pair_move) {
+            res = GG_ERR_SENSOR;
+        }
+    }
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            if (expect[p][j] > 0.0L) {
+                gg_real_t r;
+                if (j == p) {
+                    size_t k;
+                    r = -2.0L * ((w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]));
+                    for (k = 0U; k < 3U; ++k) {
+                        r -= m_entry(st, nf, nlo, k, k);
+                    }
+                } else {
+                    r = (0.5L * (m_entry(st, nf, nlo, j, p) - m_entry(st, nf, nlo, p, j))) -
+                        cross_entry(wd, j, p);
+                }
+                if (absr(r) >= (0.5L * expect[p][j])) {
+                    res = GG_ERR_SENSOR;
+                }
+            }
+        }
+    }
+    return res;
 }
 
 gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
@@ -300,6 +369,7 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     uint32_t new_pairs = 0U;
     int wd_ok;
     gg_status_t status;
+    gg_real_t expect[3][3] = {{0.0L, 0.0L, 0.0L}, {0.0L, 0.0L, 0.0L}, {0.0L, 0.0L, 0.0L}};
     size_t s;
     size_t p;
     size_t j;
@@ -334,7 +404,7 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     status = accommodate(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &o.rebuilt);
     if (status == GG_OK) {
         status = detect(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &new_bad, &new_pairs,
-                        &o.parity_max, &o.flags);
+                        &o.parity_max, &o.flags, expect);
     }
     if ((status == GG_OK) && ((new_bad != 0U) || (new_pairs != 0U))) {
         if (st->have_good == 0) {
@@ -351,6 +421,9 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
             pairs |= new_pairs;
             o.flags |= GG_FDI3D_NEW_EXCL;
             status = accommodate(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &o.rebuilt);
+            if (status == GG_OK) {
+                status = verify(st, omega_b, wd, wd_ok, nf, nlo, expect);
+            }
         }
     }
     if (status != GG_OK) {

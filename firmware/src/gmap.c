@@ -21,7 +21,7 @@ static int geometry_ok(int32_t nlat, int32_t nlon, double lat0, double lon0, dou
         !GG_ISFINITE(h0) || !GG_ISFINITE(hr)) {
         return 0;
     }
-    if ((dlat <= 0.0) || (dlon <= 0.0) || (hr < 0.0) || (hr > 1.0e5) || (h0 < -1.2e4) ||
+    if ((dlat < GG_GMAP_SPACING_MIN_RAD) || (dlon < GG_GMAP_SPACING_MIN_RAD) || (hr < 0.0) || (hr > 1.0e5) || (h0 < -1.2e4) ||
         (h0 > 1.0e6)) {
         return 0;
     }
@@ -40,7 +40,8 @@ static int nodes_finite(const double (*node)[GG_GMAP_NVAL], int32_t n)
 {
     for (int32_t i = 0; i < n; ++i) {
         for (int k = 0; k < GG_GMAP_NVAL; ++k) {
-            if (!GG_ISFINITE(node[i][k])) {
+            if (!GG_ISFINITE(node[i][k]) || (node[i][k] > GG_GMAP_VALUE_MAX) ||
+                (node[i][k] < -GG_GMAP_VALUE_MAX)) {
                 return 0;
             }
         }
@@ -136,7 +137,8 @@ gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len)
     }
     /* validate every value before touching the state */
     for (size_t i = 0; i < (n * (size_t)GG_GMAP_NVAL); ++i) {
-        if (!GG_ISFINITE(rd_f64(buf, GG_GMAP_HEADER_BYTES + (8u * i)))) {
+        const double v = rd_f64(buf, GG_GMAP_HEADER_BYTES + (8u * i));
+        if (!GG_ISFINITE(v) || (v > GG_GMAP_VALUE_MAX) || (v < -GG_GMAP_VALUE_MAX)) {
             return GG_ERR_NONFINITE;
         }
     }

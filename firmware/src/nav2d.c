@@ -311,8 +311,14 @@ static uint32_t fdi_health(const gg_fdi2d_output_t *fo)
     if ((fo->flags & GG_FDI_REBUILT) != 0U) {
         h |= GG_HEALTH_ACC_REBUILT;
     }
-    if ((fo->flags & (GG_FDI_COAST_GXX | GG_FDI_COAST_GZZ)) != 0U) {
+    if ((fo->flags & (GG_FDI_COAST_GXX | GG_FDI_COAST_GZZ | GG_FDI_COAST_OFFD)) != 0U) {
         h |= GG_HEALTH_GRAD_COAST;
+    }
+    if ((fo->flags & (GG_FDI_DEGRADED | GG_FDI_SUSPECT)) != 0U) {
+        h |= GG_HEALTH_ACC_DEGRADED;
+    }
+    if ((fo->flags & GG_FDI_HOLD_FORCE) != 0U) {
+        h |= GG_HEALTH_FORCE_COAST;
     }
     return h;
 }

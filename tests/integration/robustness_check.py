@@ -39,6 +39,9 @@ K_FAULT = int(round(T_FAULT * RATE))
 # fdi2d thresholds as in tests/unit/test_fdi2d.c: 30x above the curvature terms
 # (~3e-13 m/s^2 at 0.5 m), far below what a 1e-12 m/s^2-class accelerometer must notice
 FDI = "fdi_parity_f_max_mps2 = 1e-11\nfdi_asym_max_ps2 = 1e-11\n"
+# the control case turns the checks off explicitly (a scenario without the keys
+# gets thresholds derived from its sensors and field: host_tools/truth fdi_thresholds.hpp)
+FDI_OFF = "fdi_parity_f_max_mps2 = 0\nfdi_asym_max_ps2 = 0\n"
 
 HEALTH = {
     "NOT_INIT": 0x1, "ACC_NONFINITE": 0x2, "ACC_RANGE": 0x4, "ACC_SENSOR": 0x8, "SEQ_GAP": 0x10,
@@ -51,7 +54,7 @@ def scenario(name, faults, fdi=True, duration=DURATION, extra=""):
     """Scenario text: welker-perfect's flight, `duration` s at 100 Hz, every step in the CSV."""
     s = ('name = "%s"\n[time]\nduration_s = %g\nrate_hz = %d\n[output]\ncsv_rate_hz = %d\n'
          'truth_rate_hz = 10\n[firmware]\nf_max_mps2 = 50.0\nasym_max_ps2 = 1e-6\n%s'
-         % (name, duration, RATE, RATE, FDI if fdi else ""))
+         % (name, duration, RATE, RATE, FDI if fdi else FDI_OFF))
     s += "[sensor_faults]\nseed = 7\n"
     for f in faults:
         s += "[[sensor_faults.fault]]\n"

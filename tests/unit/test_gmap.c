@@ -159,7 +159,15 @@ static void test_rejects(void **state)
     g_tile.node[20][7] = NAN;
     assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_NONFINITE);
     assert_int_equal(g_map.initialized, 0);
+    /* finite but implausible (fuzzing: 6e228 s^-2 on a 1e-130 rad grid gave
+     * Inf derivatives): refused */
+    g_tile.node[20][7] = 6e228;
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_NONFINITE);
     g_tile.node[20][7] = 0.0;
+    g_tile.dlat_rad = 1e-130;
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG);
+    g_tile.dlat_rad = kD;
+    assert_int_equal(g_map.initialized, 0);
     assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_OK);
     /* outside the tile, beyond the height range, NaN input: out untouched */
     const long double bad[][3] = {{kLat0 - 1e-8L * kD, kLon0, kH0},

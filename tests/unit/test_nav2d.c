@@ -147,8 +147,6 @@ static void spoil_repeat(gg_frame_t *f) { f->seq -= 1; }
 static void spoil_time(gg_frame_t *f) { f->utime += 5000; }
 static void spoil_time_back(gg_frame_t *f) { f->utime -= 20000; }
 
-static void spoil_two_nan(gg_frame_t *f) { f->f[0][0] = NAN; f->f[2][0] = NAN; }
-static void spoil_two_bad(gg_frame_t *f) { f->acc_status[1] = GG_SENSOR_BAD; f->f[3][2] = INFINITY; }
 
 /* Fuzzing findings (docs/robustness.md): time stamps / seq at the ends of
  * int64 must not overflow the step checks; absurd-but-finite configurations
@@ -196,9 +194,8 @@ static void test_extreme_time_and_config(void **state)
 static void test_bad_frames_rejected_state_untouched(void **state)
 {
     (void)state;
-    /* two unusable readings in one axis group cannot be rebuilt */
-    check_rejected(spoil_two_nan, GG_ERR_SENSOR, GG_HEALTH_ACC_NONFINITE);
-    check_rejected(spoil_two_bad, GG_ERR_SENSOR, GG_HEALTH_ACC_SENSOR);
+    /* (two unusable readings in one axis group degrade the group instead:
+     * test_group_degraded) */
     check_rejected(spoil_count, GG_ERR_SENSOR, GG_HEALTH_FRAME_REJECTED);
     /* seq one ahead but the time stamp one step on: inconsistent, rejected */
     check_rejected(spoil_gap, GG_ERR_SEQUENCE, GG_HEALTH_TIME_JUMP);
@@ -357,14 +354,14 @@ static long double fly_fault(gg_nav2d_config_t *cfg, int64_t n, fault_fn fault, 
     return pos_err(&out, n - 1);
 }
 
-/* 1.5 s with all four z readings NaN (nothing to rebuild from): the stream
- * is followed, 0.5 s is coasted on the held inputs, 1 s bridged, and every
- * frame after is used. Before, the 101st rejected frame froze the task for
- * good: every later frame a "gap", 17 km of error after a minute. */
-static int f_all_z_nan(int64_t k, gg_frame_t *fr)
+/* 1.5 s of malformed frames (three accelerometers: nothing to rebuild or
+ * degrade from): the stream is followed, 0.5 s is coasted on the held inputs,
+ * 1 s bridged, and every frame after is used. Before, the 101st rejected
+ * frame froze the task for good: every later frame a "gap", 17 km of error
+ * after a minute. */
+static int f_malformed(int64_t k, gg_frame_t *fr)
 {
-    if (k >= 1000 && k < 1150)
-        for (int i = 0; i < 4; ++i) fr->f[i][2] = NAN;
+    if (k >= 1000 && k < 1150) fr->n_acc = 3;
     return 1;
 }
 
@@ -415,9 +412,9 @@ static void test_recovery(void **state)
     long double e, bound;
 
     make_config(&cfg);
-    e = fly_fault(&cfg, n, f_all_z_nan, 1150, &seen, &out, &max_outage);
+    e = fly_fault(&cfg, n, f_malformed, 1150, &seen, &out, &max_outage);
     bound = held_input_bound(0.5L, 1.0L, 58.5L);
-    printf("recovery: all z NaN 1.5 s: |dr| %.3Lg m after 60 s (held-input estimate %.3Lg m), "
+    printf("recovery: malformed frames 1.5 s: |dr| %.3Lg m after 60 s (held-input estimate %.3Lg m), "
            "outage %.2f s, %u steps coasted\n", e, bound, max_outage, out.coast_steps);
     assert_true((seen & GG_HEALTH_COAST) != 0U);
     assert_int_equal(out.coast_steps, 50);
@@ -452,6 +449,128 @@ static void test_recovery(void **state)
     printf("recovery: 150 forged frames: |dr| %.3Lg m after 60 s (held-input estimate %.3Lg m), "
            "%u resyncs\n", e, bound, out.resync_count);
     assert_int_equal(out.resync_count, 2);
+    assert_true(e < 2.0L * bound);
+}
+
+/* ---- a sensor group that loses more readings than parity rebuilds degrades ---- */
+
+/* Error that holding gradient component Gamma_jk costs (fdi2d.h): held from
+ * t0 for T s, it is off by |dGamma_jk/dt| tau after tau s, taken here from the
+ * independent point-mass truth along the flight (central difference, the
+ * largest over the hold); G then errs by <= gd V tau^2 / 2 and the position,
+ * flown on to t_end, by gd V (T^4/24 + T^3/6 dt + T^2/4 dt^2), dt = t_end - t0 - T
+ * (the vertical mode's growth over a minute, cosh(sqrt(2g/R) 60 s) - 1 = 0.5 %,
+ * is inside the factor 2 the tests allow). */
+static long double held_grad_bound(int j, int kk, long double t0, long double T, long double t_end)
+{
+    long double gd = 0.0L;
+    for (int i = 0; i <= 10; ++i) {
+        long double t = t0 + T * (long double)i / 10.0L, r1[3], r2[3], v[3], a[3], g1[3][3], g2[3][3];
+        t_flight(&kFlight, t - 0.5L, r1, v, a);
+        t_flight(&kFlight, t + 0.5L, r2, v, a);
+        t_point_mass_gamma(r1, g1);
+        t_point_mass_gamma(r2, g2);
+        const long double d = fabsl(g2[j][kk] - g1[j][kk]);
+        if (d > gd) gd = d;
+    }
+    const long double dt = t_end - t0 - T, V = kFlight.v;
+    return gd * V * (powl(T, 4) / 24.0L + powl(T, 3) / 6.0L * dt + T * T / 4.0L * dt * dt);
+}
+
+static int f_x_pair_a_nan(int64_t k, gg_frame_t *fr) /* 1x and 3x NaN for 10 s */
+{
+    if (k >= 1000 && k < 2000) { fr->f[0][0] = NAN; fr->f[2][0] = NAN; }
+    return 1;
+}
+static int f_sensor2_bad_4z_inf(int64_t k, gg_frame_t *fr) /* sensor 2 bad, 4z Inf, 10 s */
+{
+    if (k >= 1000 && k < 2000) { fr->acc_status[1] = GG_SENSOR_BAD; fr->f[3][2] = INFINITY; }
+    return 1;
+}
+static int f_stuck2x_nan4x(int64_t k, gg_frame_t *fr) /* 2x stuck from 10 s, 4x NaN 20-30 s */
+{
+    static double stuck;
+    if (k == 1000) stuck = fr->f[1][0];
+    if (k >= 1000) { fr->f[1][0] = stuck; fr->f_lo[1][0] = 0.0; }
+    if (k >= 2000 && k < 3000) fr->f[3][0] = NAN;
+    return 1;
+}
+static int f_bad3_step2x(int64_t k, gg_frame_t *fr) /* sensor 3 bad and 2x +1e-9 step, 10 s */
+{
+    if (k >= 1000 && k < 2000) { fr->acc_status[2] = GG_SENSOR_BAD; fr->f_lo[1][0] += 1e-9; }
+    return 1;
+}
+static int f_all_z_nan(int64_t k, gg_frame_t *fr) /* all four z NaN for 1.5 s */
+{
+    if (k >= 1000 && k < 1150)
+        for (int i = 0; i < 4; ++i) fr->f[i][2] = NAN;
+    return 1;
+}
+
+/* Every frame is used (none rejected) through the fault, flagged
+ * ACC_DEGRADED, and the error after a minute stays inside twice the
+ * held-input bound of the components that had to be held (1e-6 m where
+ * everything came from readings or symmetry). */
+static void test_group_degraded(void **state)
+{
+    (void)state;
+    gg_nav2d_config_t cfg;
+    gg_nav_output_t out;
+    uint32_t seen;
+    double max_outage;
+    const int64_t n = 6000;
+    long double e, bound;
+
+    make_config(&cfg);
+    e = fly_fault(&cfg, n, f_x_pair_a_nan, 0, &seen, &out, &max_outage);
+    bound = held_grad_bound(0, 0, 10.0L, 10.0L, 60.0L);
+    printf("degraded: 1x+3x NaN 10 s (Gxx held): |dr| %.3Lg m after 60 s (bound %.3Lg m)\n", e, bound);
+    assert_true((seen & GG_HEALTH_ACC_DEGRADED) && (seen & GG_HEALTH_GRAD_COAST));
+    assert_true(!(seen & (GG_HEALTH_FRAME_REJECTED | GG_HEALTH_COAST | GG_HEALTH_FORCE_COAST)));
+    assert_true(e < 2.0L * bound + 1e-6L);
+
+    make_config(&cfg);
+    e = fly_fault(&cfg, n, f_sensor2_bad_4z_inf, 0, &seen, &out, &max_outage);
+    bound = held_grad_bound(2, 2, 10.0L, 10.0L, 60.0L);
+    printf("degraded: sensor 2 bad + 4z Inf 10 s (Gzz held): |dr| %.3Lg m after 60 s (bound %.3Lg m)\n", e, bound);
+    assert_true((seen & GG_HEALTH_ACC_DEGRADED) && (seen & GG_HEALTH_GRAD_COAST));
+    assert_true(!(seen & (GG_HEALTH_FRAME_REJECTED | GG_HEALTH_COAST | GG_HEALTH_FORCE_COAST)));
+    assert_true(e < 2.0L * bound + 1e-6L);
+
+    make_config(&cfg);
+    cfg.fdi_parity_f_max = 1e-11;
+    cfg.fdi_asym_max = 1e-11;
+    e = fly_fault(&cfg, n, f_stuck2x_nan4x, 0, &seen, &out, &max_outage);
+    printf("degraded: 2x stuck + 4x NaN 10 s (Gxz from symmetry): |dr| %.3Lg m after 60 s\n", e);
+    assert_true((seen & GG_HEALTH_ACC_DEGRADED) && (seen & GG_HEALTH_ACC_FAULT));
+    assert_true(!(seen & (GG_HEALTH_FRAME_REJECTED | GG_HEALTH_COAST | GG_HEALTH_FORCE_COAST |
+                          GG_HEALTH_GRAD_COAST)));
+    assert_int_equal(out.acc_excluded, GG_FDI_BIT(1, 0));
+    assert_true(e < 1e-6L);
+
+    make_config(&cfg);
+    cfg.fdi_parity_f_max = 1e-11;
+    cfg.fdi_asym_max = 1e-11;
+    e = fly_fault(&cfg, n, f_bad3_step2x, 0, &seen, &out, &max_outage);
+    /* the residual fits no single reading: the x group (3x rebuilt, so every
+     * x reading is suspect) and the off-diagonal readings are set aside: the
+     * x force, Gxx, Gxz and Gzx held */
+    bound = held_input_bound(10.0L, 0.0L, 50.0L) + held_grad_bound(0, 0, 10.0L, 10.0L, 60.0L) +
+            held_grad_bound(0, 2, 10.0L, 10.0L, 60.0L) + held_grad_bound(2, 0, 10.0L, 10.0L, 60.0L);
+    printf("degraded: sensor 3 bad + 2x step 10 s (x force, Gxx, Gxz, Gzx held): |dr| %.3Lg m after 60 s "
+           "(bound %.3Lg m)\n", e, bound);
+    assert_true((seen & GG_HEALTH_ACC_DEGRADED) && (seen & GG_HEALTH_ACC_FAULT) &&
+                (seen & GG_HEALTH_GRAD_COAST));
+    assert_true(!(seen & (GG_HEALTH_FRAME_REJECTED | GG_HEALTH_COAST)));
+    assert_true(e < 2.0L * bound + 1e-6L);
+
+    make_config(&cfg);
+    e = fly_fault(&cfg, n, f_all_z_nan, 0, &seen, &out, &max_outage);
+    bound = held_input_bound(1.5L, 0.0L, 58.5L) + held_grad_bound(2, 2, 10.0L, 1.5L, 60.0L);
+    printf("degraded: all z NaN 1.5 s (z force and Gzz held): |dr| %.3Lg m after 60 s "
+           "(bound %.3Lg m)\n", e, bound);
+    assert_true((seen & GG_HEALTH_ACC_DEGRADED) && (seen & GG_HEALTH_FORCE_COAST));
+    assert_true(!(seen & (GG_HEALTH_FRAME_REJECTED | GG_HEALTH_COAST)));
     assert_true(e < 2.0L * bound);
 }
 
@@ -826,6 +945,7 @@ int main(void)
         cmocka_unit_test(test_extreme_time_and_config),
         cmocka_unit_test(test_lost_frames_bridged),
         cmocka_unit_test(test_recovery),
+        cmocka_unit_test(test_group_degraded),
         cmocka_unit_test(test_asymmetry_flagged),
         cmocka_unit_test(test_task_cycle_through_hal),
         cmocka_unit_test(test_baro_loop_poles_model_mode),

@@ -27,8 +27,31 @@
  *  - a fault isolated only to a pair (1x/3x or 2z/4z): the centre force of
  *    that axis comes from the other pair, and Gxx (or Gzz) coasts on its
  *    last good value;
- *  - anything else (two faults in one group, a signature that fits no single
- *    reading) rejects the frame.
+ *  - a group that lost more readings than its parity relation can rebuild
+ *    (two or more known bad or excluded, e.g. 2x excluded and 4x NaN) is
+ *    degraded: each of its three quantities - the centre mean, the diagonal
+ *    difference (x: Gxx from 1x/3x; z: Gzz from 2z/4z) and the off-diagonal
+ *    difference (x: Gxz from 2x/4x; z: Gzx from 1z/3z) - comes from its own
+ *    usable readings where a whole pair (or, for the centre mean, one reading
+ *    and the pair's difference) is left, the off-diagonal otherwise from the
+ *    symmetry of the gradient (Gxz = Gzx, from the other group's pair), and
+ *    otherwise from its value of the last frame used (held: GRAD_COAST for a
+ *    gradient component, HOLD_FORCE for the centre specific force); the four
+ *    readings are then synthesised consistently (GG_FDI_DEGRADED);
+ *  - residuals that no single reading explains (several faults at once):
+ *    every reading of the parity tests that fired is suspect on that frame
+ *    (GG_FDI_SUSPECT), and so is the whole group of a suspect whose own group
+ *    test passed (a second fault may cancel in it: two stuck z readings
+ *    leave p_z at 0) or which holds a rebuilt reading (built from all the
+ *    others); the groups are rebuilt or degraded as above. Conservative: the
+ *    error is then that of the held components, whatever the faults' size;
+ *    only before a first frame was used (nothing to hold) is the set refused.
+ * Error of a held component: it drifts with the field along the path,
+ * |dGamma/dt| <= |grad Gamma| |v| (point mass: 3 GM/r^4 |v| = 2.2e-10 s^-2/s
+ * at 300 m/s near the Earth's surface), so G errs by <= 1/2 (3 GM/r^4) |v|^2 t^2
+ * and the position by <= 1/24 (3 GM/r^4) |v|^2 t^4 after t seconds held; a
+ * held centre force drifts with the vehicle's turn rate (|f| |omega| t). In
+ * gravity-model mode G does not depend on the gradient at all.
  * Detection thresholds come from the configuration; a threshold of 0 turns
  * that parity check off.
  */
@@ -53,8 +76,9 @@ typedef struct {
 typedef struct {
     gg_fdi2d_config_t cfg;
     uint32_t excluded;      /**< readings isolated as faulty, latched (GG_FDI_BIT mask) */
-    gg_real_t gxx_good;     /**< last gradient Gxx computed from healthy readings, s^-2 */
-    gg_real_t gzz_good;     /**< last Gzz likewise, s^-2 */
+    gg_real_t held[2][3];   /**< per axis group (0 = x, 1 = z) of the last frame used: the
+                                 centre mean of pair 1/3, the differences r3 - r1 and r4 - r2,
+                                 m/s^2 (what a degraded group holds) */
     int have_good;
     int initialized;
 } gg_fdi2d_t;
@@ -65,6 +89,10 @@ typedef struct {
 #define GG_FDI_COAST_GXX  0x04u /**< Gxx coasting on its last good value (1x/3x ambiguous) */
 #define GG_FDI_COAST_GZZ  0x08u /**< Gzz coasting likewise (2z/4z ambiguous) */
 #define GG_FDI_NEW_EXCL   0x10u /**< a reading was newly isolated and excluded this step */
+#define GG_FDI_DEGRADED   0x20u /**< a group lost more readings than parity rebuilds: synthesised */
+#define GG_FDI_HOLD_FORCE 0x40u /**< a centre specific force held (no reading of that axis usable) */
+#define GG_FDI_COAST_OFFD 0x80u /**< an off-diagonal gradient held (neither its pair nor symmetry) */
+#define GG_FDI_SUSPECT    0x100u /**< residuals fit no single reading: the tested ones set aside */
 
 typedef struct {
     gg_real_t p_x;          /**< parity residuals less the expected ones, before accommodation: m/s^2 */
@@ -80,7 +108,8 @@ gg_status_t gg_fdi2d_init(gg_fdi2d_t *st, const gg_fdi2d_config_t *cfg);
 /** Check and accommodate one set of readings in place. known_bad: readings
  *  the caller already knows are unusable (their values are ignored); p_exp:
  *  expected p_x, p_z (m/s^2). GG_ERR_SENSOR when the set cannot be
- *  accommodated (in untouched, state untouched); GG_ERR_NONFINITE if a
+ *  accommodated (only before a first set was used: nothing to hold; in
+ *  untouched, state untouched); GG_ERR_NONFINITE if a
  *  reading not marked known_bad, or p_exp, is not finite. */
 gg_status_t gg_fdi2d_step(gg_fdi2d_t *st, uint32_t known_bad, const gg_real_t p_exp[2],
                           gg_diff2d_input_t *in, gg_fdi2d_output_t *out);

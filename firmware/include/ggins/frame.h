@@ -70,6 +70,11 @@ typedef struct {
 #define GG_HEALTH_GYRO_INVALID    0x00080000u /**< 3-D strapdown: gyro sample NaN/Inf, out of range or flagged bad */
 #define GG_HEALTH_RESYNC          0x00100000u /**< the task re-synchronised to the frame stream (seq/clock) at this frame */
 #define GG_HEALTH_COAST           0x00200000u /**< degraded: steps propagated on the last usable inputs (outage) */
+#define GG_HEALTH_ACC_DEGRADED    0x01000000u /**< degraded: an accelerometer axis group lost more readings
+                                                   than parity rebuilds; its gradient components from
+                                                   symmetry or held (GRAD_COAST), see fdi2d.h */
+#define GG_HEALTH_FORCE_COAST     0x02000000u /**< degraded: no reading of an axis usable, its centre
+                                                   specific force held on the last good value */
 /* 3-D gradient-map aid (aid_mmukf.h), the top bits */
 #define GG_HEALTH_MM_BAD_MEAS     0x08000000u /**< map aid: epoch postponed, the gradient was rebuilt, bridged or coasting */
 #define GG_HEALTH_MM_NO_MAP       0x10000000u /**< map aid: no tile of the map storage covers the position (epoch skipped) */

@@ -79,6 +79,15 @@
  *  filters whose sigma points or particles spread beyond the band). */
 #define GG_GMAP_H_EXTRAPOLATE (1u << 8)
 
+/** Plausibility of a tile (gg_gmap_init / gg_gmap_load refuse beyond it):
+ *  |node value| <= GG_GMAP_VALUE_MAX (s^-2 and s^-2/m; the Earth's gradient is
+ *  ~3e-6 s^-2, 1e-2 is far beyond any field) and spacings >= GG_GMAP_SPACING_MIN_RAD
+ *  (6 mm): finite nodes on too fine a grid (1e228 s^-2 over 1e-130 rad, found
+ *  by fuzzing) made the interpolant's derivatives overflow to Inf. With both,
+ *  every value and derivative gg_gmap_eval returns is finite. */
+#define GG_GMAP_VALUE_MAX 1.0e-2
+#define GG_GMAP_SPACING_MIN_RAD 1.0e-9
+
 /** Tile flag: values are total minus the WGS-84 normal gravitation gradient. */
 #define GG_GMAP_ANOMALY 0x1u
 
@@ -115,7 +124,7 @@ gg_status_t gg_gmap_init(gg_gmap_t *st, const gg_gmap_tile_t *tile);
 
 /** Parse the binary tile format above from a byte buffer (len bytes) into st.
  *  GG_ERR_CONFIG on a bad magic, size or geometry; GG_ERR_NONFINITE on a
- *  non-finite value; state untouched on error. */
+ *  non-finite value or one beyond GG_GMAP_VALUE_MAX; state untouched on error. */
 gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len);
 
 /** Interpolate at geodetic (lat, lon) rad, height h m. mask selects the

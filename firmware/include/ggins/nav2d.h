@@ -10,10 +10,14 @@
  * f(t0); every later frame advances the state by exactly one step.
  * Frames are validated before any module runs. A reading that is NaN/Inf,
  * out of range or from a sensor flagged bad is flagged and rebuilt from the
- * redundancy of the others (fdi2d.h: at most one per axis group); parity
+ * redundancy of the others (fdi2d.h: one per axis group; a group that loses
+ * more degrades - its components from its remaining pairs, the symmetry of
+ * the gradient or held on their last good values, GG_HEALTH_ACC_DEGRADED,
+ * GRAD_COAST, FORCE_COAST - instead of rejecting the frame); parity
  * checks (when configured) detect and isolate faults the sensors do not
  * report themselves (stuck, stepped, drifting axes) and accommodate them.
- * A frame that cannot be accommodated, or whose seq/utime is inconsistent
+ * A malformed frame (too few accelerometers), a first frame that would need
+ * held values, or one whose seq/utime is inconsistent
  * (repeated or backward seq, a time stamp not one step - or, after lost
  * frames, n + 1 steps - on), is rejected and flagged in the health word; its
  * readings never reach the navigation state. Up to GG_NAV2D_MAX_BRIDGE lost

@@ -1,4 +1,5 @@
 #include "ggins/truth/scenario.hpp"
+#include "ggins/truth/fdi_thresholds.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -230,6 +231,8 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
     f.gravdr_trapezoid_only = get_bool(*t, "firmware", "gravdr_trapezoid_only", f.gravdr_trapezoid_only, source);
     if (!(f.f_max_mps2 > 0) || !(f.asym_max_ps2 > 0) || f.dt_tol_us < 0)
       fail(source, "firmware.f_max_mps2 and asym_max_ps2 must be > 0, dt_tol_us >= 0");
+    f.fdi_parity_f_max_set = t->contains("fdi_parity_f_max_mps2");
+    f.fdi_asym_max_set = t->contains("fdi_asym_max_ps2");
     f.fdi_parity_f_max_mps2 = get_num(*t, "firmware", "fdi_parity_f_max_mps2", f.fdi_parity_f_max_mps2, source);
     f.fdi_asym_max_ps2 = get_num(*t, "firmware", "fdi_asym_max_ps2", f.fdi_asym_max_ps2, source);
     if (f.fdi_parity_f_max_mps2 < 0 || f.fdi_asym_max_ps2 < 0)
@@ -384,6 +387,13 @@ std::vector<std::string> builtin_scenario_names() {
   return v;
 }
 
+namespace {
+Scenario with_fdi_defaults(Scenario s) {
+  apply_default_fdi_thresholds(s);
+  return s;
+}
+}  // namespace
+
 Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {
   namespace fs = std::filesystem;
   auto read_file = [](const fs::path& p) {
@@ -395,17 +405,17 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
   };
   std::error_code ec;
   const fs::path p(name_or_path);
-  if (fs::is_regular_file(p, ec)) return parse_scenario(read_file(p), p.stem().string(), p.string());
+  if (fs::is_regular_file(p, ec)) return with_fdi_defaults(parse_scenario(read_file(p), p.stem().string(), p.string()));
   const bool looks_like_path =
       name_or_path.find('/') != std::string::npos || p.extension() == ".toml";
   if (looks_like_path) throw std::runtime_error("scenario file not found: " + name_or_path);
   for (const auto& d : search_dirs) {
     const fs::path f = fs::path(d) / (name_or_path + ".toml");
-    if (fs::is_regular_file(f, ec)) return parse_scenario(read_file(f), name_or_path, f.string());
+    if (fs::is_regular_file(f, ec)) return with_fdi_defaults(parse_scenario(read_file(f), name_or_path, f.string()));
   }
   for (int i = 0; i < kBuiltinScenarioCount; ++i)
     if (name_or_path == kBuiltinScenarios[i].name)
-      return parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path);
+      return with_fdi_defaults(parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path));
   std::string known;
   for (const auto& n : builtin_scenario_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::runtime_error("unknown scenario '" + name_or_path + "' (built-in: " + known +

@@ -42,7 +42,9 @@
 //                 garbage_prob [0]
 //   [output]      csv_rate_hz [1], truth_rate_hz [10; 0 = every step]
 //   [sensor_faults] seed [1], [[sensor_faults.fault]] ... (sensor_faults.hpp)
-//   [firmware]    also fdi_parity_f_max_mps2 [0 = off], fdi_asym_max_ps2 [0 = off] (fdi2d.h)
+//   [firmware]    also fdi_parity_f_max_mps2, fdi_asym_max_ps2 (fdi2d.h; 0 = off) [derived by
+//                 load_scenario from the sensor noise, biases, baseline and field:
+//                 fdi_thresholds.hpp]
 #pragma once
 
 #include <array>
@@ -159,6 +161,8 @@ struct FirmwareParams {
   bool gravdr_trapezoid_only = false;
   double fdi_parity_f_max_mps2 = 0.0;  // accelerometer parity detection threshold (0: off)
   double fdi_asym_max_ps2 = 0.0;       // gradient-symmetry detection threshold (0: off)
+  bool fdi_parity_f_max_set = false;   // given in the scenario (else load_scenario derives it)
+  bool fdi_asym_max_set = false;
 };
 
 struct TransportParams {

@@ -1,0 +1,229 @@
+/* libFuzzer harness: the 3-D navigation step from arbitrary configurations
+ * and frames (gg_nav3d_init, gg_nav3d_step).
+ *
+ * Input layout (fuzz_bytes.h cursor; missing bytes read as 0):
+ *   byte 0    bit 0 strapdown, bit 1 gravity-model mode, bit 2 barometer,
+ *             bit 3 fault detection on (GG_FDI3D_FLOOR_MPS2), bits 4-7: number
+ *             of configuration changes that follow
+ *   changes   field index (1 byte) + value (fz_value): one of the reference
+ *             configuration's numbers replaced (raw bits or a small change)
+ *   frames    up to 64 ops of 1 byte each and their operands: 0 the
+ *             reference frame of the next step; 1 that frame with readings,
+ *             statuses, gyro or barometer changed; 2 raw bytes over the whole
+ *             gg_frame_t; 3 seq and utime replaced; 4 a lost frame (skip)
+ * The reference is a platform at rest relative to inertial space at the
+ * equator (point-mass field, body = ECEF axes), so unchanged frames are
+ * accepted and mutations start from plausible input.
+ * Invariants (abort = a finding): no crash or sanitizer report; a refused
+ * configuration makes every step GG_ERR_NOT_INIT; a rejected frame leaves the
+ * navigation state byte for byte as it was (apart from the stream follower
+ * and, during an outage longer than the bridge, the coasting), and is flagged
+ * FRAME_REJECTED; no NaN/Inf in any output or in the state's position,
+ * velocity, G, gradient and specific force. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ggins/nav3d.h"
+#include "fuzz_bytes.h"
+
+#define GM 3.986004418e14
+#define R0 6378137.0
+#define DT_US 10000
+
+#define FAIL(...)                                                   \
+    do {                                                            \
+        fprintf(stderr, "FUZZ INVARIANT BROKEN: " __VA_ARGS__);     \
+        fprintf(stderr, "\n");                                      \
+        abort();                                                    \
+    } while (0)
+
+static void ref_config(gg_nav3d_config_t *c, uint8_t sel)
+{
+    memset(c, 0, sizeof *c);
+    for (int j = 0; j < 3; ++j) c->geometry.half_base_m[j] = 0.5L;
+    c->platform = (sel & 1u) ? GG_PLATFORM_STRAPDOWN : GG_PLATFORM_STABILIZED;
+    c->dt_us = DT_US;
+    c->dt_tol_us = 100;
+    c->r0_e[0] = R0;
+    c->g0_e[0] = -GM / (R0 * R0);
+    c->q0_b_e[0] = 1.0L;
+    c->omega_ie = -1.0L; /* non-rotating: the reference frames are exact at rest */
+    c->f_max = 100.0;
+    c->asym_max = 1e-6;
+    c->fdi_parity_f_max = (sel & 8u) ? GG_FDI3D_FLOOR_MPS2 : 0.0;
+    c->gravity_mode = (sel & 2u) ? GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER;
+    if (sel & 2u) {
+        c->model.gm = (gg_real_t)GM;
+        c->model.a_m = (gg_real_t)R0;
+    }
+    c->baro_enable = (sel & 4u) ? 1 : 0;
+    c->baro.poles[0] = 0.01L;
+    c->baro.poles[1] = 0.012L;
+    c->baro.poles[2] = 0.014L;
+    c->baro.omega_s2 = 9.8L / 6.4e6L;
+    c->baro.period_us = 10 * DT_US;
+    c->baro.max_age_us = 10 * DT_US;
+    c->baro.coast_us = 100 * DT_US;
+    c->baro.alt_min_m = -1000.0;
+    c->baro.alt_max_m = 30000.0;
+    c->baro.gate_m = 50.0;
+    c->baro.max_rejects = 10;
+}
+
+/* pointers to the configuration's numbers the fuzzer may change */
+static void change_config(gg_nav3d_config_t *c, fz_cur_t *cur)
+{
+    const unsigned idx = fz_u8(cur) % 24u;
+    gg_real_t *lr[] = {&c->geometry.half_base_m[0], &c->geometry.half_base_m[1],
+                       &c->geometry.half_base_m[2], &c->r0_e[0], &c->r0_e[1], &c->r0_e[2],
+                       &c->v0_e[0], &c->v0_e[1], &c->v0_e[2], &c->g0_e[0], &c->g0_e[1],
+                       &c->g0_e[2], &c->q0_b_e[0], &c->q0_b_e[1], &c->q0_b_e[2],
+                       &c->q0_b_e[3], &c->omega_ie, &c->baro.poles[0], &c->baro.omega_s2};
+    if (idx < 19u) {
+        *lr[idx] = (gg_real_t)fz_value(cur, (double)*lr[idx]);
+    } else if (idx == 19u) {
+        c->f_max = fz_value(cur, c->f_max);
+    } else if (idx == 20u) {
+        c->asym_max = fz_value(cur, c->asym_max);
+    } else if (idx == 21u) {
+        c->fdi_parity_f_max = fz_value(cur, c->fdi_parity_f_max);
+    } else if (idx == 22u) {
+        c->dt_us = fz_i64(cur);
+    } else {
+        c->dt_tol_us = fz_i64(cur);
+    }
+}
+
+/* the frame of step k of the reference flight (at rest, body = ECEF, point mass) */
+static void ref_frame(int64_t k, gg_frame_t *f)
+{
+    static const double off[6][3] = {{0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5},
+                                     {-0.5, 0, 0}, {0, -0.5, 0}, {0, 0, -0.5}};
+    memset(f, 0, sizeof *f);
+    f->utime = k * DT_US;
+    f->seq = k;
+    f->n_acc = 6;
+    for (int s = 0; s < 6; ++s) {
+        long double p[3] = {R0 + off[s][0], off[s][1], off[s][2]};
+        const long double rr = sqrtl(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        for (int j = 0; j < 3; ++j) {
+            const long double fv = (long double)GM * p[j] / (rr * rr * rr); /* f = -G */
+            f->f[s][j] = (double)fv;
+            f->f_lo[s][j] = (double)(fv - (long double)f->f[s][j]);
+        }
+        f->acc_status[s] = GG_SENSOR_OK;
+    }
+    f->gyro_status = GG_SENSOR_OK;
+    f->baro_alt_m = 0.0;
+    f->baro_utime = f->utime;
+    f->baro_status = (k % 10 == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
+}
+
+static void change_frame(gg_frame_t *f, fz_cur_t *cur)
+{
+    const unsigned n = 1u + (fz_u8(cur) & 7u);
+    for (unsigned i = 0; i < n; ++i) {
+        const unsigned idx = fz_u8(cur) % 46u;
+        if (idx < 18u) {
+            f->f[idx / 3u][idx % 3u] = fz_value(cur, f->f[idx / 3u][idx % 3u]);
+        } else if (idx < 36u) {
+            const unsigned j = idx - 18u;
+            f->f_lo[j / 3u][j % 3u] = fz_value(cur, f->f_lo[j / 3u][j % 3u]);
+        } else if (idx < 42u) {
+            f->acc_status[idx - 36u] = (int32_t)(int8_t)fz_u8(cur);
+        } else if (idx < 45u) {
+            f->omega_b[idx - 42u] = fz_value(cur, 1e-3);
+        } else {
+            f->gyro_status = (int32_t)(int8_t)fz_u8(cur);
+            f->n_acc = (int32_t)(int8_t)fz_u8(cur);
+            f->baro_alt_m = fz_value(cur, f->baro_alt_m);
+            f->baro_status = (int32_t)(int8_t)fz_u8(cur);
+        }
+    }
+}
+
+static int fin(const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(v[i])) return 0;
+    return 1;
+}
+
+static void check_output(const gg_nav3d_output_t *o)
+{
+    if (!fin(o->r_e, 3) || !fin(o->r_e_lo, 3) || !fin(o->v_e, 3) || !isfinite(o->lat_rad) ||
+        !isfinite(o->lon_rad) || !isfinite(o->h_m) || !fin(o->v_n, 3) || !fin(o->g_e, 3) ||
+        !fin(o->g_e_lo, 3) || !fin(&o->gamma_e[0][0], 9) || !fin(&o->gamma_b[0][0], 9) ||
+        !fin(o->f_b, 3) || !fin(o->q_b_e, 4) || !fin(o->rpy_rad, 3) || !fin(o->omega_b, 3) ||
+        !fin(o->omega_dot_b, 3) || !fin(o->parity, 4) || !isfinite(o->h_ins_m) ||
+        !isfinite(o->baro_innov_m) || !isfinite(o->g_up_corr) || !isfinite(o->t_s) ||
+        !isfinite(o->outage_s) || !isfinite(o->state_lag_s))
+        FAIL("non-finite value in the 3-D output of seq %lld (status %d, health 0x%x)",
+             (long long)o->seq, (int)o->status, (unsigned)o->health);
+}
+
+static void check_state(const gg_nav3d_t *nav)
+{
+    gg_real_t r[3], v[3];
+    if (!nav->started) return;
+    if (gg_mech_get(&nav->mech, r, v) == GG_OK && (!gg_finite3(r) || !gg_finite3(v)))
+        FAIL("non-finite position/velocity in the 3-D state");
+    for (int j = 0; j < 3; ++j) {
+        if (!isfinite(nav->f_b[j]) || !isfinite(nav->w_k[j])) FAIL("non-finite f_b / w in the 3-D state");
+        for (int k = 0; k < 3; ++k)
+            if (!isfinite(nav->gamma_b[j][k]) || !isfinite(nav->gamma_e[j][k]))
+                FAIL("non-finite gradient in the 3-D state");
+    }
+    for (int j = 0; j < 4; ++j)
+        if (!isfinite(nav->q_b_i[j])) FAIL("non-finite attitude in the 3-D state");
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    static gg_nav3d_t nav, saved, cmp;
+    gg_nav3d_config_t cfg;
+    fz_cur_t cur = {data, size, 0};
+    const uint8_t sel = fz_u8(&cur);
+    ref_config(&cfg, sel);
+    const unsigned nchg = sel >> 4;
+    for (unsigned i = 0; i < nchg; ++i) change_config(&cfg, &cur);
+    const gg_status_t st_init = gg_nav3d_init(&nav, &cfg);
+    int64_t k = 0;
+    for (int op_i = 0; op_i < 64 && fz_left(&cur); ++op_i) {
+        const uint8_t op = fz_u8(&cur) % 5u;
+        gg_frame_t f;
+        gg_nav3d_output_t out;
+        ref_frame(k, &f);
+        if (op == 1u) {
+            change_frame(&f, &cur);
+        } else if (op == 2u) {
+            for (size_t b = 0; b < sizeof f; ++b) ((uint8_t *)&f)[b] = fz_u8(&cur);
+        } else if (op == 3u) {
+            f.seq = fz_i64(&cur);
+            f.utime = fz_i64(&cur);
+        } else if (op == 4u) {
+            ++k;
+            continue;
+        }
+        ++k;
+        memcpy(&saved, &nav, sizeof nav);
+        const gg_status_t st = gg_nav3d_step(&nav, &f, NULL, &out);
+        if (st_init != GG_OK) {
+            if (st != GG_ERR_NOT_INIT) FAIL("refused configuration (status %d), but a step ran (status %d)", (int)st_init, (int)st);
+            continue;
+        }
+        if (st != GG_OK) {
+            memcpy(&cmp, &nav, sizeof nav);
+            memcpy(&cmp.seq, &saved.seq, sizeof saved.seq);
+            if (!(out.health & GG_HEALTH_COAST) && memcmp(&saved, &cmp, sizeof cmp) != 0)
+                FAIL("3-D frame seq %lld rejected (status %d) but the state changed", (long long)f.seq, (int)st);
+            if (!(out.health & GG_HEALTH_FRAME_REJECTED)) FAIL("rejected 3-D frame not flagged FRAME_REJECTED");
+        }
+        check_state(&nav);
+        check_output(&out);
+    }
+    return 0;
+}

@@ -1,0 +1,579 @@
+/* Generated fault matrix, in process: every kind of accelerometer fault on
+ * every single reading, every pair of readings (the same kind on both), every
+ * known-bad reading together with a stepped one, and the common-mode cases
+ * (every reading of one axis, every reading), for the 2-D task (nav2d, four
+ * dual-axis accelerometers, parity detection on) and the 3-D task (nav3d,
+ * six tri-axis accelerometers on a stabilized platform, pair-mean detection
+ * on), fed synthetic frames of closed-form flights:
+ *   2-D  the analytic north flight of truth2d.h (300 m/s along a circle of
+ *        the point-mass Earth, every reading the exact field at its sensor);
+ *   3-D  a straight inertial line at 300 m/s, 3 km up at 0.7 rad latitude
+ *        (non-rotating point-mass Earth, a = 0 so f_p = -G(r + d_p) exactly).
+ * For each case: detected (a validation or parity health bit from the first
+ * faulty frame on), flagged (a degraded-mode bit: readings rebuilt, group
+ * degraded, gradient or force held, frames rejected/coasted), navigating (no
+ * freeze: at the end the state has caught up with the frame stream, within
+ * the bridge, and every output is finite), and the position error at the end
+ * against the truth, compared with a bound computed for that case before it
+ * runs from what its health says was held (GRAD_COAST, FORCE_COAST, COAST) and
+ * which faulty readings were not set aside (see case_bound).
+ *
+ * Geometry (what parity can and cannot see): an equal fault on every reading
+ * of one axis - all x, all z (2-D), all x, y or z (3-D), or all readings - is
+ * indistinguishable from a change of the centre specific force: no parity
+ * relation moves, so it is neither detected nor flagged, and its error is the
+ * fault's own (the matrix checks that bound, nothing more). Every other
+ * additive pattern moves some parity residual and must be detected.
+ *
+ *   test_fault_matrix            reduced matrix (3 s flights), exit 1 on any
+ *                                freeze, unflagged visible fault or error above
+ *                                its bound (CTest unit.test_fault_matrix)
+ *   test_fault_matrix --full     30 s flights; --md prints the markdown table
+ *                                (scripts/fault-matrix puts it in docs/faults.md) */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_common.h"
+#include "truth2d.h"
+#include "ggins/nav2d.h"
+#include "ggins/nav3d.h"
+
+#define DT_US 10000
+#define K0 100 /* first faulty step (1 s) */
+
+enum { K_NAN, K_RANGE, K_STATUS, K_STUCK, K_STEP, K_DRIFT, K_COUNT };
+static const char *kKind[K_COUNT] = {"NaN", "out of range", "status bad", "stuck", "step 1e-9",
+                                     "drift 1e-10/s"};
+#define STEP_MPS2 1e-9L
+#define DRIFT_MPS3 1e-10L
+
+enum { C_SINGLE, C_PAIR_IN, C_PAIR_ACROSS, C_MIXED, C_AXIS, C_ALL, C_COUNT };
+static const char *kClass[C_COUNT] = {"single reading", "pair, same axis group",
+                                      "pair, different axes", "known-bad + step on another",
+                                      "common mode: one axis, every sensor",
+                                      "common mode: every reading"};
+
+#define DETECT_BITS (GG_HEALTH_ACC_NONFINITE | GG_HEALTH_ACC_RANGE | GG_HEALTH_ACC_SENSOR | \
+                     GG_HEALTH_ACC_FAULT | GG_HEALTH_GAMMA_ASYM)
+#define FLAG_BITS (GG_HEALTH_ACC_REBUILT | GG_HEALTH_ACC_DEGRADED | GG_HEALTH_GRAD_COAST | \
+                   GG_HEALTH_FORCE_COAST | GG_HEALTH_COAST | GG_HEALTH_FRAME_REJECTED)
+
+typedef struct {
+    int dim;          /* 2 or 3 */
+    int cls;
+    int kind;         /* on mask */
+    uint32_t mask;    /* readings: 2-D bit 2 s + ax (ax 0 x, 1 z), 3-D bit 3 s + j */
+    uint32_t step_mask; /* C_MIXED: readings stepped (kind on mask is known-bad) */
+} fcase_t;
+
+typedef struct {
+    int det;          /* steps from K0 to the first detection bit, -1 none */
+    uint32_t seen;    /* health bits seen from K0 on */
+    int rejected;
+    int navigating;
+    long double err;  /* |dr| at the end, m */
+    long double bound;
+} fresult_t;
+
+static int g_n = 300;   /* steps per flight */
+static long double g_ref_err[4];
+
+/* ---------------- truth ---------------- */
+static const t_flight_t kFlight2 = {300.0L, 0.0L, 0.0L};
+
+static const long double kHb3[3] = {0.5L, 0.4L, 0.6L};
+static void truth3(long double t, long double r[3], long double v[3])
+{
+    const long double lat = 0.7L, lon = 0.2L, R = T_RE + 3000.0L;
+    v[0] = -300.0L * sinl(lon);
+    v[1] = 300.0L * cosl(lon);
+    v[2] = 0.0L;
+    r[0] = R * cosl(lat) * cosl(lon) + v[0] * t;
+    r[1] = R * cosl(lat) * sinl(lon) + v[1] * t;
+    r[2] = R * sinl(lat) + v[2] * t;
+}
+
+static void frame3(int64_t k, gg_frame_t *fr)
+{
+    long double r[3], v[3];
+    truth3((long double)k * DT_US * 1e-6L, r, v);
+    memset(fr, 0, sizeof *fr);
+    fr->utime = k * DT_US;
+    fr->seq = k;
+    fr->n_acc = 6;
+    for (int s = 0; s < 6; ++s) {
+        long double p[3] = {r[0], r[1], r[2]}, g[3];
+        p[s % 3] += (s < 3 ? 1.0L : -1.0L) * kHb3[s % 3];
+        t_point_mass_g(p, g);
+        for (int j = 0; j < 3; ++j) {
+            fr->f[s][j] = (double)-g[j];
+            fr->f_lo[s][j] = (double)(-g[j] - (long double)fr->f[s][j]);
+        }
+        fr->acc_status[s] = GG_SENSOR_OK;
+    }
+    fr->gyro_status = GG_SENSOR_OK;
+    fr->baro_status = GG_SENSOR_ABSENT;
+}
+
+static void frame2(int64_t k, gg_frame_t *fr) { t_make_frame(&kFlight2, k, DT_US, 1000000, NULL, 0, fr); }
+
+/* largest |dGamma_jk/dt| and |df_c/dt| along the flight (central differences of the truth) */
+static void rates(int dim, long double *gdot, long double *fdot)
+{
+    *gdot = 0.0L;
+    *fdot = 0.0L;
+    for (int i = 0; i <= 10; ++i) {
+        const long double t = (long double)g_n * DT_US * 1e-6L * i / 10.0L;
+        long double r1[3], r2[3], v[3], a1[3], a2[3], g1[3], g2[3], G1[3][3], G2[3][3];
+        if (dim == 2) {
+            t_flight(&kFlight2, t - 0.5L, r1, v, a1);
+            t_flight(&kFlight2, t + 0.5L, r2, v, a2);
+        } else {
+            truth3(t - 0.5L, r1, v);
+            truth3(t + 0.5L, r2, v);
+            memset(a1, 0, sizeof a1);
+            memset(a2, 0, sizeof a2);
+        }
+        t_point_mass_g(r1, g1);
+        t_point_mass_g(r2, g2);
+        t_point_mass_gamma(r1, G1);
+        t_point_mass_gamma(r2, G2);
+        long double df = 0.0L;
+        for (int j = 0; j < 3; ++j) {
+            const long double d = (a2[j] - g2[j]) - (a1[j] - g1[j]);
+            df += d * d;
+            for (int k = 0; k < 3; ++k)
+                if (fabsl(G2[j][k] - G1[j][k]) > *gdot) *gdot = fabsl(G2[j][k] - G1[j][k]);
+        }
+        if (sqrtl(df) > *fdot) *fdot = sqrtl(df);
+    }
+}
+
+/* ---------------- one flight ---------------- */
+static void apply(int dim, int kind, uint32_t mask, int64_t k, const gg_frame_t *f0, gg_frame_t *fr)
+{
+    const int per = (dim == 2) ? 2 : 3;
+    for (int r = 0; r < per * (dim == 2 ? 4 : 6); ++r) {
+        if (!(mask & (1u << r))) continue;
+        const int s = r / per;
+        const int ax = (dim == 2) ? ((r % 2) ? 2 : 0) : r % 3;
+        long double v = (long double)fr->f[s][ax] + (long double)fr->f_lo[s][ax];
+        switch (kind) {
+        case K_NAN: fr->f[s][ax] = NAN; continue;
+        case K_RANGE: fr->f[s][ax] = 1e3; fr->f_lo[s][ax] = 0.0; continue;
+        case K_STATUS: fr->acc_status[s] = GG_SENSOR_BAD; continue;
+        case K_STUCK: fr->f[s][ax] = f0->f[s][ax]; fr->f_lo[s][ax] = f0->f_lo[s][ax]; continue;
+        case K_STEP: v += STEP_MPS2; break;
+        default: v += DRIFT_MPS3 * (long double)(k - K0) * DT_US * 1e-6L; break;
+        }
+        fr->f[s][ax] = (double)v;
+        fr->f_lo[s][ax] = (double)(v - (long double)fr->f[s][ax]);
+    }
+}
+
+static void config2(gg_nav2d_config_t *cfg)
+{
+    long double r[3], v[3], a[3], g[3];
+    memset(cfg, 0, sizeof *cfg);
+    t_flight(&kFlight2, 0.0L, r, v, a);
+    t_point_mass_g(r, g);
+    cfg->geometry.a_m = 0.5L;
+    cfg->geometry.b_m = 0.5L;
+    cfg->dt_us = DT_US;
+    cfg->dt_tol_us = 100;
+    for (int j = 0; j < 3; ++j) {
+        cfg->r0[j] = r[j];
+        cfg->v0[j] = v[j];
+        cfg->g0[j] = g[j];
+    }
+    cfg->f_max = 100.0;
+    cfg->asym_max = 1e-6;
+    cfg->fdi_parity_f_max = 1e-11;
+    cfg->fdi_asym_max = 1e-11;
+}
+
+static void config3(gg_nav3d_config_t *cfg)
+{
+    long double r[3], v[3], g[3];
+    truth3(0.0L, r, v);
+    t_point_mass_g(r, g);
+    memset(cfg, 0, sizeof *cfg);
+    for (int j = 0; j < 3; ++j) {
+        cfg->geometry.half_base_m[j] = kHb3[j];
+        cfg->r0_e[j] = r[j];
+        cfg->v0_e[j] = v[j];
+        cfg->g0_e[j] = g[j];
+    }
+    cfg->q0_b_e[0] = 1.0L;
+    cfg->platform = GG_PLATFORM_STABILIZED;
+    cfg->dt_us = DT_US;
+    cfg->dt_tol_us = 100;
+    cfg->omega_ie = -1.0L; /* non-rotating */
+    cfg->f_max = 100.0;
+    cfg->asym_max = 1e-6;
+    cfg->fdi_parity_f_max = 1e-11;
+    cfg->gravity_mode = GG_GRAVITY_GRADIOMETER;
+}
+
+static long double err_at(int dim, const void *out, int64_t k)
+{
+    long double r[3], v[3], a[3], rn[3];
+    const long double t = (long double)k * DT_US * 1e-6L;
+    if (dim == 2) {
+        const gg_nav_output_t *o = out;
+        t_flight(&kFlight2, t, r, v, a);
+        for (int j = 0; j < 3; ++j) rn[j] = o->r_i[j];
+    } else {
+        const gg_nav3d_output_t *o = out;
+        truth3(t, r, v);
+        for (int j = 0; j < 3; ++j) rn[j] = (long double)o->r_e[j] + (long double)o->r_e_lo[j];
+    }
+    return norm3l(rn, r);
+}
+
+static int finite_out(int dim, const void *out)
+{
+    if (dim == 2) {
+        const gg_nav_output_t *o = out;
+        for (int j = 0; j < 3; ++j)
+            if (!isfinite(o->r_i[j]) || !isfinite(o->v_i[j]) || !isfinite(o->g_i[j])) return 0;
+    } else {
+        const gg_nav3d_output_t *o = out;
+        for (int j = 0; j < 3; ++j)
+            if (!isfinite(o->r_e[j]) || !isfinite(o->v_e[j]) || !isfinite(o->g_e[j])) return 0;
+    }
+    return 1;
+}
+
+/* fly one case (kind < 0: no fault) */
+static void fly(const fcase_t *c, fresult_t *res, uint32_t *set_aside)
+{
+    static gg_nav2d_t nav2;
+    static gg_nav3d_t nav3;
+    gg_nav2d_config_t c2;
+    gg_nav3d_config_t c3;
+    gg_frame_t fr, f0;
+    gg_nav_output_t o2;
+    gg_nav3d_output_t o3;
+    memset(res, 0, sizeof *res);
+    memset(&f0, 0, sizeof f0);
+    res->det = -1;
+    res->navigating = 1;
+    if (c->dim == 2) {
+        config2(&c2);
+        if (gg_nav2d_init(&nav2, &c2) != GG_OK) abort();
+    } else {
+        config3(&c3);
+        if (gg_nav3d_init(&nav3, &c3) != GG_OK) abort();
+    }
+    for (int64_t k = 0; k < g_n; ++k) {
+        if (c->dim == 2) frame2(k, &fr);
+        else frame3(k, &fr);
+        if (k == K0) f0 = fr;
+        if (c->kind >= 0 && k >= K0) {
+            apply(c->dim, c->kind, c->mask, k, &f0, &fr);
+            if (c->step_mask) apply(c->dim, K_STEP, c->step_mask, k, &f0, &fr);
+        }
+        uint32_t h;
+        double lag;
+        const void *out;
+        if (c->dim == 2) {
+            (void)gg_nav2d_step(&nav2, &fr, NULL, &o2);
+            h = o2.health;
+            lag = o2.state_lag_s;
+            out = &o2;
+            *set_aside = o2.acc_excluded;
+        } else {
+            (void)gg_nav3d_step(&nav3, &fr, NULL, &o3);
+            h = o3.health;
+            lag = o3.state_lag_s;
+            out = &o3;
+            *set_aside = o3.acc_excluded;
+        }
+        if (!finite_out(c->dim, out)) res->navigating = 0;
+        if (k >= K0) {
+            res->seen |= h;
+            if ((h & DETECT_BITS) && res->det < 0) res->det = (int)(k - K0);
+            if (h & GG_HEALTH_FRAME_REJECTED) res->rejected++;
+        }
+        if (k == g_n - 1) {
+            /* the output's state is that of the task clock, lag behind this
+             * frame (up to the bridge while coasting): compared with the
+             * truth at the state's own time */
+            if (lag > (GG_NAV2D_MAX_BRIDGE + 1) * DT_US * 1e-6) res->navigating = 0;
+            res->err = err_at(c->dim, out, k - (int64_t)llround(lag / (DT_US * 1e-6)));
+        }
+    }
+}
+
+/* Bound on the error at the end, from what the health says was held and
+ * which faulty readings stayed in use (T = time from the fault to the end,
+ * V = 300 m/s, h = the shortest half-baseline, gd/fd the truth's largest
+ * gradient and specific-force rates):
+ *   clean run's own error + 1e-9 m
+ *   + gradient held (GRAD_COAST):          2 x 4 gd V T^4 / 24   (up to four components)
+ *   + inputs held (FORCE_COAST, COAST):    2 x (fd T^3 / 6 + 4 gd V T^4 / 24)
+ *     (the factor 2 as in test_nav2d: the estimates leave out the vertical
+ *     mode and the step the held value is late by)
+ *   + per faulty reading excluded at the end: d_det (T^2/2 + 2 V T^3 / (6 h)),
+ *     d_det its fault's size when detected (the 3-D rebuild keeps the pair-mean
+ *     difference of the last frame used, which may hold that much of it)
+ *   + per faulty reading not excluded for good at the end (a reading rebuilt
+ *     or synthesised this step may still carry a share of a fault the parity
+ *     left in the readings it was built from, at most the fault itself):
+ *       step d:    d (T^2/2 + 2 V T^3 / (6 h))   (into the centre force, and into a
+ *                                                 gradient through itself and a reading
+ *                                                 rebuilt from it)
+ *       drift d':  d' (T^3/6 + 2 V T^4 / (24 h))
+ *       stuck:     fd (T^3/6 + 2 V T^4 / (24 h)) (off by the change of its true reading) */
+static long double case_bound(const fcase_t *c, const fresult_t *r, uint32_t set_aside)
+{
+    long double gd, fd;
+    rates(c->dim, &gd, &fd);
+    const long double T = (long double)(g_n - 1 - K0) * DT_US * 1e-6L, V = 300.0L;
+    const long double h = (c->dim == 2) ? 0.5L : 0.4L;
+    long double b = g_ref_err[c->dim] + 1e-9L;
+    const long double grad_hold = 2.0L * 4.0L * gd * V * powl(T, 4) / 24.0L;
+    if (r->seen & (GG_HEALTH_FORCE_COAST | GG_HEALTH_COAST)) b += 2.0L * fd * powl(T, 3) / 6.0L + grad_hold;
+    else if (r->seen & GG_HEALTH_GRAD_COAST) b += grad_hold;
+    const uint32_t add_mask = ((c->kind >= K_STUCK) ? c->mask : 0U) | c->step_mask;
+    for (int i = 0; i < 18; ++i) {
+        if (!(add_mask & (1u << i))) continue;
+        const int kind = (c->step_mask & (1u << i)) ? K_STEP : c->kind;
+        if (set_aside & (1u << i)) {
+            /* excluded after det steps: its fault had grown to d_det; the
+             * 3-D rebuild keeps the pair-mean difference of the last frame
+             * used (fdi3d.h), which may hold up to d_det of it from then on */
+            const long double td = (long double)(r->det + 1) * DT_US * 1e-6L;
+            const long double d = (kind == K_STEP) ? STEP_MPS2 : (kind == K_DRIFT) ? DRIFT_MPS3 * td : fd * td;
+            b += d * (T * T / 2.0L + 2.0L * V * powl(T, 3) / (6.0L * h));
+            continue;
+        }
+        if (kind == K_STEP) b += STEP_MPS2 * (T * T / 2.0L + 2.0L * V * powl(T, 3) / (6.0L * h));
+        else if (kind == K_DRIFT) b += DRIFT_MPS3 * (powl(T, 3) / 6.0L + 2.0L * V * powl(T, 4) / (24.0L * h));
+        else b += fd * (powl(T, 3) / 6.0L + 2.0L * V * powl(T, 4) / (24.0L * h));
+    }
+    return b;
+}
+
+/* an equal additive fault on a union of whole axis groups moves no parity relation */
+static int visible(const fcase_t *c)
+{
+    if (c->step_mask) {
+        /* 2-D: with one reading of pair 1x/3x (2z/4z) lost, its partner alone
+         * gives Gxx (Gzz), which no parity relation contains: a fault on the
+         * partner is invisible */
+        if (c->dim == 2) {
+            const uint32_t pa = GG_FDI_BIT(0, 0) | GG_FDI_BIT(2, 0), pb = GG_FDI_BIT(1, 1) | GG_FDI_BIT(3, 1);
+            if (((c->mask & pa) && (c->step_mask & pa)) || ((c->mask & pb) && (c->step_mask & pb))) return 0;
+        }
+        return 1;
+    }
+    if (c->kind < K_STUCK) return 1;
+    const int per = (c->dim == 2) ? 2 : 3, ns = (c->dim == 2) ? 4 : 6;
+    for (int ax = 0; ax < per; ++ax) {
+        uint32_t g = 0U;
+        for (int s = 0; s < ns; ++s) g |= 1u << (per * s + ax);
+        const uint32_t in = c->mask & g;
+        if (in != 0U && in != g) return 1;
+    }
+    return 0;
+}
+
+/* ---------------- the matrix ---------------- */
+typedef struct {
+    int cases, detected, flagged, navigating, pass, rejected, max_det;
+    uint32_t seen;
+    long double max_err, max_ratio;
+    int vis;
+} agg_t;
+
+static agg_t g_agg[4][C_COUNT][K_COUNT];
+static int g_fail;
+
+static void name_readings(int dim, uint32_t m, char *buf, size_t n)
+{
+    const int per = (dim == 2) ? 2 : 3;
+    const char *axn = (dim == 2) ? "xz" : "xyz";
+    size_t o = 0;
+    buf[0] = 0;
+    for (int i = 0; i < 18 && o + 6 < n; ++i)
+        if (m & (1u << i)) o += (size_t)snprintf(buf + o, n - o, "%s%d%c", o ? "," : "", i / per + 1, axn[i % per]);
+}
+
+static void run_case(const fcase_t *c)
+{
+    fresult_t r;
+    uint32_t set_aside = 0U;
+    fly(c, &r, &set_aside);
+    r.bound = case_bound(c, &r, set_aside);
+    const int vis = visible(c);
+    const int det = r.det >= 0;
+    const int flg = (r.seen & FLAG_BITS) != 0U;
+    int ok = r.navigating && r.err <= r.bound;
+    if (vis && !(det && flg)) ok = 0;
+    agg_t *a = &g_agg[c->dim][c->cls][c->kind];
+    a->cases++;
+    a->vis |= vis ? 1 : 2;
+    a->detected += det;
+    a->flagged += flg;
+    a->navigating += r.navigating;
+    a->pass += ok;
+    a->rejected += r.rejected;
+    if (r.det > a->max_det) a->max_det = r.det;
+    a->seen |= r.seen;
+    if (r.err > a->max_err) a->max_err = r.err;
+    if (r.err / r.bound > a->max_ratio) a->max_ratio = r.err / r.bound;
+    if (!ok || getenv("FM_VERBOSE")) {
+        char b1[96], b2[96];
+        name_readings(c->dim, c->mask, b1, sizeof b1);
+        name_readings(c->dim, c->step_mask, b2, sizeof b2);
+        printf("%s %d-D %s %s on %s%s%s: detected %d (after %d), flagged %d, navigating %d, "
+               "|dr| %.3Lg m (bound %.3Lg), health seen 0x%08x\n",
+               ok ? "CASE" : "FAIL", c->dim, kClass[c->cls], kKind[c->kind], b1, b2[0] ? " + step on " : "", b2, det, r.det,
+               flg, r.navigating, r.err, r.bound, r.seen);
+        if (!ok) g_fail++;
+    }
+}
+
+static void run_matrix(int dim)
+{
+    const int per = (dim == 2) ? 2 : 3, ns = (dim == 2) ? 4 : 6, nr = per * ns;
+    fcase_t c = {dim, 0, -1, 0U, 0U};
+    fresult_t r;
+    uint32_t sa;
+    fly(&c, &r, &sa);
+    g_ref_err[dim] = r.err;
+    printf("%d-D clean flight: |dr| %.3Lg m after %.2f s\n", dim, r.err, (g_n - 1) * DT_US * 1e-6);
+    for (int kind = 0; kind < K_COUNT; ++kind) {
+        c.kind = kind;
+        c.step_mask = 0U;
+        if (kind == K_STATUS) {
+            /* sensor-level: every sensor, every pair of sensors */
+            for (int s = 0; s < ns; ++s) {
+                c.cls = C_SINGLE;
+                c.mask = ((1u << per) - 1u) << (per * s);
+                run_case(&c);
+                for (int t = s + 1; t < ns; ++t) {
+                    c.cls = C_PAIR_ACROSS;
+                    c.mask = (((1u << per) - 1u) << (per * s)) | (((1u << per) - 1u) << (per * t));
+                    run_case(&c);
+                }
+            }
+        } else {
+            for (int i = 0; i < nr; ++i) {
+                c.cls = C_SINGLE;
+                c.mask = 1u << i;
+                run_case(&c);
+                for (int j = i + 1; j < nr; ++j) {
+                    c.cls = (i % per == j % per) ? C_PAIR_IN : C_PAIR_ACROSS;
+                    c.mask = (1u << i) | (1u << j);
+                    run_case(&c);
+                }
+            }
+        }
+        for (int ax = 0; ax < per; ++ax) {
+            c.cls = C_AXIS;
+            c.mask = 0U;
+            for (int s = 0; s < ns; ++s) c.mask |= 1u << (per * s + ax);
+            if (kind == K_STATUS) continue; /* a status is per sensor */
+            run_case(&c);
+        }
+        c.cls = C_ALL;
+        c.mask = (1u << nr) - 1u;
+        run_case(&c);
+        if (kind <= K_STATUS) {
+            for (int i = 0; i < nr; ++i) {
+                for (int j = 0; j < nr; ++j) {
+                    if (i == j) continue;
+                    c.cls = C_MIXED;
+                    c.mask = (kind == K_STATUS) ? ((1u << per) - 1u) << (per * (i / per)) : 1u << i;
+                    if (c.mask & (1u << j)) continue;
+                    if (kind == K_STATUS && (i % per) != 0) continue; /* once per sensor */
+                    c.step_mask = 1u << j;
+                    run_case(&c);
+                }
+            }
+            c.step_mask = 0U;
+        }
+    }
+}
+
+static const char *geometry_note(int dim, int cls)
+{
+    if (dim == 2) {
+        switch (cls) {
+        case C_SINGLE: return "2x, 4x, 1z, 3z isolated (excluded, rebuilt); 1x/3x and 2z/4z only as a pair (Gxx / Gzz held); known-bad rebuilt";
+        case C_PAIR_IN: return "not isolable within the group: the group degrades (its pair or the symmetry Gxz = Gzx, else held)";
+        case C_PAIR_ACROSS: return "one per group rebuilt when known; additive pairs fit no single reading: the tested readings are set aside (group degrades)";
+        case C_MIXED: return "the stepped reading is isolated by the remaining parity where it can be, else the affected groups degrade";
+        case C_AXIS: return "additive: invisible to parity (a change of the centre force); known-bad: the axis force and its gradients held";
+        default: return "additive: invisible; known-bad: nothing usable, frames rejected, the task coasts on held inputs";
+        }
+    }
+    switch (cls) {
+    case C_SINGLE: return "isolated from the pair means with trace / antisymmetric part, excluded and rebuilt";
+    case C_PAIR_IN: return "two sensors on one axis: rebuilt from the other pairs when each pair keeps a reading; a whole pair lost rejects the frame (coast)";
+    case C_PAIR_ACROSS: return "different axes: each rebuilt on its own axis";
+    case C_MIXED: return "the stepped reading isolated where its axis keeps two whole pairs, else frames rejected (coast)";
+    case C_AXIS: return "additive: invisible to the pair means (a change of the centre force); known-bad: no pair left, frames rejected (coast)";
+    default: return "additive: invisible; known-bad: nothing usable, frames rejected (coast)";
+    }
+}
+
+static void health_names(uint32_t h, char *buf, size_t n)
+{
+    static const struct { uint32_t b; const char *s; } t[] = {
+        {GG_HEALTH_ACC_REBUILT, "REBUILT"}, {GG_HEALTH_ACC_DEGRADED, "DEGRADED"},
+        {GG_HEALTH_GRAD_COAST, "GRAD_COAST"}, {GG_HEALTH_FORCE_COAST, "FORCE_COAST"},
+        {GG_HEALTH_FRAME_REJECTED, "REJECTED"}, {GG_HEALTH_COAST, "COAST"}};
+    size_t o = 0;
+    buf[0] = 0;
+    for (size_t i = 0; i < sizeof t / sizeof t[0]; ++i)
+        if (h & t[i].b) o += (size_t)snprintf(buf + o, n - o, "%s%s", o ? "+" : "", t[i].s);
+    if (o == 0) snprintf(buf, n, "-");
+}
+
+static void print_table(void)
+{
+    printf("| dim | class | fault | cases | detected (max latency, steps) | flagged | degraded modes seen | navigating | frames rejected | max \\|dr\\| at end | max \\|dr\\|/bound | result | geometry |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (int dim = 2; dim <= 3; ++dim)
+        for (int cls = 0; cls < C_COUNT; ++cls)
+            for (int k = 0; k < K_COUNT; ++k) {
+                const agg_t *a = &g_agg[dim][cls][k];
+                if (a->cases == 0) continue;
+                char hn[96];
+                health_names(a->seen, hn, sizeof hn);
+                const char *res = a->pass == a->cases ? (a->vis == 2 ? "pass (invisible: fault's own error)" : "pass") : "FAIL";
+                char lat[16];
+                if (a->detected) snprintf(lat, sizeof lat, "%d", a->max_det);
+                else snprintf(lat, sizeof lat, "-");
+                printf("| %d-D | %s | %s | %d | %d/%d (%s) | %d/%d | %s | %d/%d | %d | %.2Le m | %.2Lf | %s | %s |\n", dim,
+                       kClass[cls], kKind[k], a->cases, a->detected, a->cases, lat, a->flagged, a->cases, hn,
+                       a->navigating, a->cases, a->rejected, a->max_err, a->max_ratio, res,
+                       (k == 0 || cls >= C_AXIS) ? geometry_note(dim, cls) : "");
+            }
+}
+
+int main(int argc, char **argv)
+{
+    int md = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--full") == 0) g_n = 3000;
+        else if (strcmp(argv[i], "--md") == 0) md = 1;
+    }
+    run_matrix(2);
+    run_matrix(3);
+    int total = 0;
+    for (int d = 2; d <= 3; ++d)
+        for (int c = 0; c < C_COUNT; ++c)
+            for (int k = 0; k < K_COUNT; ++k) total += g_agg[d][c][k].cases;
+    if (md) print_table();
+    printf("fault matrix: %d cases, %.1f s flights from a fault at %.1f s, %d failed\n", total,
+           (g_n - 1) * DT_US * 1e-6, K0 * DT_US * 1e-6, g_fail);
+    return g_fail ? 1 : 0;
+}
