@@ -149,7 +149,10 @@ json health_names(uint32_t h) {
                {GG_HEALTH_BARO_COAST, "BARO_COAST"},     {GG_HEALTH_ACC_FAULT, "ACC_FAULT"},
                {GG_HEALTH_ACC_REBUILT, "ACC_REBUILT"},   {GG_HEALTH_GRAD_COAST, "GRAD_COAST"},
                {GG_HEALTH_MODEL_OUTSIDE, "MODEL_OUTSIDE"}, {GG_HEALTH_GYRO_INVALID, "GYRO_INVALID"},
-               {GG_HEALTH_RESYNC, "RESYNC"},             {GG_HEALTH_COAST, "COAST"}};
+               {GG_HEALTH_RESYNC, "RESYNC"},             {GG_HEALTH_COAST, "COAST"},
+               {GG_HEALTH_ACC_DEGRADED, "ACC_DEGRADED"}, {GG_HEALTH_FORCE_COAST, "FORCE_COAST"},
+               {GG_HEALTH_MM_BAD_MEAS, "MM_BAD_MEAS"},   {GG_HEALTH_MM_NO_MAP, "MM_NO_MAP"},
+               {GG_HEALTH_MM_GATED, "MM_GATED"},         {GG_HEALTH_MM_FAIL, "MM_FAIL"}};
   json j = json::array();
   uint32_t known = 0;
   for (const auto& b : kBits) {
@@ -610,10 +613,11 @@ json Runner::run() {
                      {"final_state_lag_s", last_out_->state_lag_s}};
   }
   // degraded: flown to the end, but not every frame's readings entered the
-  // navigation, or the last step's output is missing, or the run ended in
-  // an outage (exit status 4)
+  // navigation (frames rejected, or an axis group that lost more readings than
+  // parity rebuilds: components held), or the last step's output is missing,
+  // or the run ended in an outage (exit status 4)
   s["degraded"] = steps_rejected_ > 0 || !last_out_ || last_out_->seq != n_ - 1 ||
-                  last_out_->outage_s != 0.0;
+                  last_out_->outage_s != 0.0 || (health_or_ & (GG_HEALTH_ACC_DEGRADED | GG_HEALTH_FORCE_COAST)) != 0;
   s["health_bits_seen"] = health_or_;  // OR of every output's GG_HEALTH_* word
   s["health_seen"] = health_names(health_or_);
   auto axes = [](const std::array<double, 3>& v) { return json{{"x", v[0]}, {"y", v[1]}, {"z", v[2]}}; };
