@@ -456,6 +456,12 @@ json Runner3::run() {
     j["lcm_url_from_hal"] = link_->url_from_hal();
     if (!opt_.no_log) j["log"] = link_->verify_log(ch_truth_, truth_published_);
   }
+  if (!link_) j["completed"] = outputs_ == n_;
+  // degraded: flown to the end, but not every frame's readings entered the navigation (frames
+  // rejected, axis groups degraded), the last step's output missing, or an outage at the end
+  const bool last_ok = outputs_ > 0 && aid_last_.seq == n_ - 1;
+  j["degraded"] = rejected_ > 0 || outputs_ != n_ || !last_ok || (last_ok && aid_last_.outage_s != 0.0) ||
+                  (health_or_ & (GG_HEALTH_ACC_DEGRADED | GG_HEALTH_FORCE_COAST)) != 0;
   return j;
 }
 
@@ -466,7 +472,7 @@ int main(int argc, char** argv) {
   bool list = false, print_scenario = false;
   CLI::App app{
       "ggins run3d: fly one 3-D scenario (six tri-axis accelerometers, rotating WGS-84 Earth,\n"
-      "stabilized or strapdown platform; issue 7) against the 3-D firmware (nav3d.h).\n\n"
+      "stabilized or strapdown platform) against the 3-D firmware (nav3d.h).\n\n"
       "The 3-D truth generator (host_tools/truth3d, this process) evaluates the scenario's\n"
       "analytic trajectory on Taylor jets (r, v, a, attitude, body rate and its derivative\n"
       "mutually exact), each accelerometer's f = C_i_b (a_j - G(r_j)) with the field at the\n"
@@ -617,6 +623,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins run3d: conflicting authenticated messages (%s); the run cannot be trusted\n",
                  summary["bus_auth"]["conflicts"].dump().c_str());
     return 1;
+  }
+  if (summary.value("degraded", false)) {
+    std::fprintf(stderr, "ggins run3d: completed but degraded (%lld steps rejected; see summary.json)\n",
+                 static_cast<long long>(summary["steps_rejected"].get<int64_t>()));
+    return 4;
   }
   return 0;
 }

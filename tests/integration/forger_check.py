@@ -133,12 +133,27 @@ def case_forged_3d(a):
     check(fj["seq_at_end"] < n - 1000, "the attack ended during the flight (frame %d of %d)" % (fj["seq_at_end"], n))
     s0 = json.load(open(os.path.join(a.workdir, "clean", "summary.json")))
     s1 = json.load(open(os.path.join(a.workdir, "attacked", "summary.json")))
-    check(read(os.path.join(a.workdir, "clean", "timeseries.csv")) == read(
-        os.path.join(a.workdir, "attacked", "timeseries.csv")), "timeseries.csv byte for byte the same as the clean flight")
+    # DEADLINE (0x200) flags a step that overran its period on this machine's clock (a busy
+    # machine descheduling the process): a timing flag, not navigation, so it is masked here
+    def nav_rows(path):
+        rows = read(path).decode().splitlines()
+        head = rows[0].split(",")
+        ih = head.index("health")
+        out = [rows[0]]
+        for r in rows[1:]:
+            f = r.split(",")
+            f[ih] = str(int(f[ih]) & ~0x200)
+            out.append(",".join(f))
+        return out
+    check(nav_rows(os.path.join(a.workdir, "clean", "timeseries.csv")) == nav_rows(
+        os.path.join(a.workdir, "attacked", "timeseries.csv")),
+        "timeseries.csv the same as the clean flight, byte for byte but for the DEADLINE bit")
     for k in ["position_error_m", "position_error_final_ned_m", "velocity_error_mps", "height_error_m",
               "attitude_error_rad", "gravity_error_mps2", "gamma_error_ecef_E", "gamma_error_body_E", "parity_trace_ps2",
-              "steps_rejected", "health_or", "outputs"]:
+              "steps_rejected", "outputs"]:
         check(s0[k] == s1[k], "summary %-28s the same to the last digit: %r" % (k, s1[k]))
+    check(s0["health_or"] & ~0x200 == s1["health_or"] & ~0x200,
+          "summary health_or the same but for DEADLINE: %r" % (s1["health_or"] & ~0x200))
     check(s1.get("completed") and s1["outputs"] == n, "all %d steps flown" % n)
     check(s1["hal_sim"]["steps"] == n, "hal_sim stepped the firmware %d times (no forged frame flown)" % n)
     check_counts(s1["bus_auth"], fj, "GGINS_", ["NAV3D", "CONFIG3D"])

@@ -37,13 +37,13 @@ def check(cond, what):
         FAILS.append(what)
 
 
-def run(a, scenario, *args):
+def run(a, scenario, *args, want_rc=0):
     out = os.path.join(a.workdir, "out")
     p = subprocess.run([a.ggins_run3d, "--direct", "--no-plots", "--no-log", "-q", "--out", out,
                         "--scenario", scenario, *args],
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
     print(p.stdout)
-    check(p.returncode == 0, "ggins run3d --direct exit 0")
+    check(p.returncode == want_rc, "ggins run3d --direct exit %d (got %d)" % (want_rc, p.returncode))
     with open(os.path.join(out, "summary.json")) as f:
         s = json.load(f)
     with open(os.path.join(out, "timeseries.csv")) as f:
@@ -90,7 +90,9 @@ def main():
         sc = with_faults(a, "route-nanpair", '[sensor_faults]\n'
                          '[[sensor_faults.fault]]\nkind = "nan"\nsensor = 2\naxis = "z"\nstart_s = 10.0\nduration_s = 1.5\n'
                          '[[sensor_faults.fault]]\nkind = "nan"\nsensor = 5\naxis = "z"\nstart_s = 10.0\nduration_s = 1.5\n')
-        s, rows = run(a, sc, "--duration", "60", "--csv-rate", "100")
+        # frames rejected while the pair is NaN: completed but degraded (exit 4)
+        s, rows = run(a, sc, "--duration", "60", "--csv-rate", "100", want_rc=4)
+        check(s["degraded"] is True, "summary.json: degraded")
         flagged = [float(r["t_s"]) for r in rows if int(r["health"]) & ACC_NONFINITE]
         check(flagged and abs(min(flagged) - 10.0) < 1e-9 and abs(max(flagged) - 11.49) < 1e-9,
               "ACC_NONFINITE from 10 s to 11.49 s only (%s .. %s)" % (flagged[:1], flagged[-1:]))
