@@ -1,5 +1,5 @@
 /* Shared by the libFuzzer harnesses: the navigation configuration of the
- * welker-perfect flight (r0, v0, G0 at t = 0 of DESIGN.md's north flight,
+ * welker-perfect flight (r0, v0, G0 at t = 0 of docs/design.md's north flight,
  * point-mass Earth), parity checks on, and the "nothing non-finite" checks. */
 #ifndef GGINS_FUZZ_COMMON_H
 #define GGINS_FUZZ_COMMON_H

@@ -1,5 +1,5 @@
 /* Space-stabilized platform mechanization (Welker, Pachter & Huffman,
- * section V) with r'' = f + G (DESIGN.md), velocity-Verlet fixed step. */
+ * section V) with r'' = f + G (docs/design.md), velocity-Verlet fixed step. */
 #include "ggins/mech.h"
 
 #include <stddef.h>

@@ -200,7 +200,7 @@ void test_welker_matrices_closed_form(void**) {
     const double gxx = ws2 * (2 * c * c - s * s), gxz = 3 * ws2 * c * s, gzz = ws2 * (2 * s * s - c * c);
     MatrixXd Fw = MatrixXd::Zero(6, 6);
     Fw(0, 2) = Fw(1, 3) = 1;
-    Fw(2, 4) = Fw(3, 5) = +1;  // dV' = 1/4 sum df + dG (DESIGN.md sign fix)
+    Fw(2, 4) = Fw(3, 5) = +1;  // dV' = 1/4 sum df + dG (docs/design.md sign fix)
     Fw(4, 2) = gxx;
     Fw(4, 3) = gxz;
     Fw(5, 2) = gxz;
@@ -286,7 +286,7 @@ void test_step_halving_and_order(void**) {
 }
 
 // Signs: the linear model against the nonlinear mechanization of Welker et al.
-// section V (DESIGN.md: r'' = f + G, G' = Gamma_measured v) flown on simulated
+// section V (docs/design.md: r'' = f + G, G' = Gamma_measured v) flown on simulated
 // accelerometers with biases d. nav(d) - nav(0) must equal Phi_xd(T) d to first
 // order; a sign error in F or Gamma (e.g. the paper's printed -dG) fails this.
 struct Nav {

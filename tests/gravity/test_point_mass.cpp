@@ -6,7 +6,7 @@
 using namespace ggins::gravity;
 
 // On the x axis at r: V = GM/r, G = (-GM/r^2, 0, 0), Gamma = GM/r^3 diag(2, -1, -1)
-// (DESIGN.md: Gamma = w_s^2 (3 r^ r^T - I)). Numbers typed from the formula, not the code.
+// (docs/design.md: Gamma = w_s^2 (3 r^ r^T - I)). Numbers typed from the formula, not the code.
 static void test_axis_values(void**) {
   const PointMassField f(3.986004418e14L);
   const Real r = 7.0e6L;

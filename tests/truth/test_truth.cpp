@@ -26,7 +26,7 @@ static Scenario scen(const std::string& extra = "") {
 }
 
 // v = dr/dt and a = dv/dt by central differences (long double), and the
-// closed form of DESIGN.md at t = 0.
+// closed form of docs/design.md at t = 0.
 static void test_trajectory() {
   NorthFlight nf(300.0L, 1000.0L, 0.3L, 6378137.0L);
   const Real t = 1234.5L, h = 1e-2L;
@@ -59,7 +59,7 @@ static void test_frame_geometry() {
   const Real w2 = 3.986004418e14L / (r * r * r);
   const Real gxx = w2 * (3 * u(0) * u(0) - 1), gxz = w2 * 3 * u(0) * u(2), gzz = w2 * (3 * u(2) * u(2) - 1);
   const Real a = 0.5L, b = 0.5L;
-  // Gxx = (f3x - f1x)/2a, Gxz = (f4x - f2x)/2b, Gzx = (f3z - f1z)/2a, Gzz = (f4z - f2z)/2b (DESIGN.md)
+  // Gxx = (f3x - f1x)/2a, Gxz = (f4x - f2x)/2b, Gzx = (f3z - f1z)/2a, Gzz = (f4z - f2z)/2b (docs/design.md)
   const Real m_xx = (rd(2, 0) - rd(0, 0)) / (2 * a), m_xz = (rd(3, 0) - rd(1, 0)) / (2 * b);
   const Real m_zx = (rd(2, 2) - rd(0, 2)) / (2 * a), m_zz = (rd(3, 2) - rd(1, 2)) / (2 * b);
   // baseline truncation ~ Gamma * (a/r)^2 ~ 1e-20 s^-2; rounding of hi+lo ~ 1e-22

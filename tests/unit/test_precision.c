@@ -277,7 +277,7 @@ static void test_loop_perfect_baro(void **state)
 }
 
 /* ---- 3. a 1e-12 m/s^2 bias on one accelerometer against the linear error
- * model (Welker et al. eqs. 7, 9, 10 with DESIGN.md's sign: dV' = 1/4 sum df
+ * model (Welker et al. eqs. 7, 9, 10 with docs/design.md's sign: dV' = 1/4 sum df
  * + dG), integrated here by RK4 in binary128 along the true trajectory.
  * Bias on sensor 2, x axis: d = df2x enters dV'x with 1/4 and dG'x through
  * dGamma_xz = -d/2b times Vz. The firmware's error is taken as (biased run -

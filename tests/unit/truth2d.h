@@ -1,5 +1,5 @@
 /* Closed-form truth for the unit tests (independent of the firmware):
- * spherical point-mass Earth and the analytic north flight of DESIGN.md,
+ * spherical point-mass Earth and the analytic north flight of docs/design.md,
  * in long double. Vectors are 3-D, index 0 = x (equatorial), 1 = y (0),
  * 2 = z (polar). */
 #ifndef GGINS_TESTS_TRUTH2D_H

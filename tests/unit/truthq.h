@@ -2,7 +2,7 @@
  * independent of the width of `long double`, so the same truth serves the
  * native build (64-bit mantissa long double), the -mlong-double-64 build
  * (long double = double, the Cortex-M ABI) and the naive build. Spherical
- * point-mass Earth and the analytic north flight of DESIGN.md. */
+ * point-mass Earth and the analytic north flight of docs/design.md. */
 #ifndef GGINS_TESTS_TRUTHQ_H
 #define GGINS_TESTS_TRUTHQ_H
 

@@ -5,7 +5,7 @@
  *
  * Four dual-axis accelerometers on a space-stabilized platform at offsets
  * 1:(+a,0) 2:(0,+b) 3:(-a,0) 4:(0,-b) in the (x,z) plane. Each reads
- * f_i = a - G(r + d_i). Then (DESIGN.md)
+ * f_i = a - G(r + d_i). Then (docs/design.md)
  *   Gxx = (f3x - f1x)/2a   Gxz = (f4x - f2x)/2b
  *   Gzx = (f3z - f1z)/2a   Gzz = (f4z - f2z)/2b
  * and the centre specific force is the mean of the four readings.

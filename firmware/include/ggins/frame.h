@@ -2,7 +2,7 @@
  * @file frame.h
  * @brief Sensor frame (HAL input) and navigation output (HAL output).
  *
- * Conventions (../shared/DESIGN.md): SI units; the accelerometers read
+ * Conventions (docs/design.md): SI units; the accelerometers read
  * specific force f = a - G in platform axes; on the space-stabilized
  * platform of Welker, Pachter & Huffman the platform axes are the inertial
  * axes (_i). Axis index 0 = x, 1 = y, 2 = z. In the 2-D case (vertical plane

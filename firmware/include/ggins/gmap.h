@@ -7,7 +7,7 @@
  * Shared by the map-matching UKF (issue 10, Gao et al.) and the cold-atom
  * particle filter (issue 11, which needs Gamma_DD at candidate positions).
  *
- * Conventions (../shared/DESIGN.md): Gamma_jk = dG_j/dx_k (s^-2), G the
+ * Conventions (docs/design.md): Gamma_jk = dG_j/dx_k (s^-2), G the
  * gravitation (no centrifugal term), frame NED (north, east, down) at the
  * node's geodetic latitude/longitude on the WGS-84 ellipsoid. The six
  * independent components are stored in the order of Gao et al. eq. (31):

@@ -2,7 +2,7 @@
  * @file mech.h
  * @brief Space-stabilized platform mechanization r'' = f + G
  *        (Welker, Pachter & Huffman, section V, with the sign convention of
- *        DESIGN.md: f = a - G, so a = f + G).
+ *        docs/design.md: f = a - G, so a = f + G).
  *
  * Fixed-step velocity Verlet with end corrections (h = dt, a_k = f_k + G_k):
  *   position:  dr = v_k h + h^2/2 a_k + h^2/6 (a_k - a_{k-1});  r_{k+1} = r_k + dr

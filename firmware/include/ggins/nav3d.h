@@ -5,7 +5,7 @@
  *        strapdown platform (issue 7; Welker, Pachter & Huffman section III,
  *        Fig. 1; Gao et al. section 3, eqs. 15-30).
  *
- * Frames (DESIGN.md suffixes):
+ * Frames (docs/design.md suffixes):
  *  - _e  ECEF, WGS-84: z to the north pole, x to the Greenwich meridian.
  *  - _i  ECI: coincides with _e at the first accepted frame (t = 0). The
  *        Earth turns about z at omega_ie: r_i = R3(theta) r_e, theta = omega_ie t,

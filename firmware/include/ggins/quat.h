@@ -2,7 +2,7 @@
  * @file quat.h
  * @brief Quaternion and 3x3 matrix algebra of the firmware, in gg_real_t.
  *
- * Conventions (DESIGN.md): quaternions are scalar first, q = (w, x, y, z);
+ * Conventions (docs/design.md): quaternions are scalar first, q = (w, x, y, z);
  * a unit quaternion q_a_b rotates vectors of frame a into frame b,
  * v_b = q_a_b (x) (0, v_a) (x) q_a_b*, and its direction-cosine matrix
  * C_a_b = gg_quat_to_dcm(q_a_b) does the same (v_b = C_a_b v_a). Products

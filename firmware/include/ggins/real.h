@@ -9,7 +9,7 @@
  * from ~1e-5 m/s^2 steps) are held in gg_acc_t, a compensated sum
  * (value = hi + lo, updated with Knuth's error-free TwoSum), so that the
  * rounding error of the running sum stays near 2^-106 relative whatever the
- * width of long double (see ../shared/DESIGN.md, "Numerical precision").
+ * width of long double (see docs/design.md, "Numerical precision").
  *
  * Build switch GGINS_NAIVE_ACCUM (for the precision audit only): the
  * accumulators become plain `double` sums, to measure what compensation buys.

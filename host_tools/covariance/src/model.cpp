@@ -23,7 +23,7 @@ MatrixXd LinearErrorModel::augmented(double t) const {
 }
 
 // Welker et al., section VI: L = L0 + V t/(R_e+h), Vx = -V sin L, Vz = V cos L;
-// position (R_e+h)(cos L, sin L) in the (x, z) plane (DESIGN.md).
+// position (R_e+h)(cos L, sin L) in the (x, z) plane (docs/design.md).
 TrajectoryPoint NorthGreatCircle2D::at(double t) const {
   const double r = re_ + h_;
   const double w = v_ / r;

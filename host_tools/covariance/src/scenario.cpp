@@ -20,7 +20,7 @@ std::optional<CovScenario> builtin_scenario(const std::string& name) {
     // Welker, Pachter & Huffman, section VI and Table I: V = 300 m/s, L0 = 0,
     // level flight (h = 0) due north for T = 3600 s over a spherical Earth,
     // sigma_a = 2e-12 m/s^2 on all eight accelerometer axes (eq. 11's P(0)),
-    // dG(0) ~ 2e-12 m/s^2 (eq. 8), half-baseline a = b = 0.5 m (DESIGN.md).
+    // dG(0) ~ 2e-12 m/s^2 (eq. 8), half-baseline a = b = 0.5 m (docs/design.md).
     CovScenario s;  // the defaults are this scenario
     s.name = name;
     return s;

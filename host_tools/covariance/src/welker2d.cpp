@@ -47,7 +47,7 @@ void Welker2DModel::matrices(double t, MatrixXd& F, MatrixXd& Gam) const {
   const double vx = p.v(0), vz = p.v(2);
   const Eigen::Matrix2d g = gradient(t);
 
-  // F, Welker et al. eq. (9), with the sign fix (DESIGN.md): dV' = 1/4 sum df + dG.
+  // F, Welker et al. eq. (9), with the sign fix (docs/design.md): dV' = 1/4 sum df + dG.
   F.setZero(6, 6);
   F(kX, kVx) = 1.0;
   F(kZ, kVz) = 1.0;

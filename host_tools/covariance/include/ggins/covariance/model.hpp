@@ -12,7 +12,7 @@
 // serves the 2-D model of the paper, a baro-augmented model and the 3-D one.
 //
 // Naming: in code `Gam` is the paper's disturbance input matrix Gamma (eq. 10);
-// the gravitation gradient (also written Gamma in DESIGN.md) is `grad`.
+// the gravitation gradient (also written Gamma in docs/design.md) is `grad`.
 #pragma once
 
 #include <Eigen/Dense>

@@ -23,7 +23,7 @@ class Trajectory {
 
 // Flight due north at constant speed V and height h from latitude L0 over a
 // spherical Earth of radius R, in the (x, z) plane (Welker et al., section VI;
-// DESIGN.md): L = L0 + V t/(R+h), r = (R+h)(cos L, sin L), v = V(-sin L, cos L).
+// docs/design.md): L = L0 + V t/(R+h), r = (R+h)(cos L, sin L), v = V(-sin L, cos L).
 class NorthGreatCircle2D final : public Trajectory {
  public:
   NorthGreatCircle2D(double speed_mps, double height_m, double lat0_rad, double radius_m)

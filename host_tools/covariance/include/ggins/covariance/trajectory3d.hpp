@@ -1,5 +1,5 @@
 // Reference trajectories of the 3-D error analysis, on a
-// rotating Earth. Frames (nav3d design, DESIGN.md): ECEF `_e` (z to the north
+// rotating Earth. Frames (nav3d design, docs/design.md): ECEF `_e` (z to the north
 // pole, x to Greenwich), ECI `_i` = ECEF at t = 0 turning as
 // r_i = R3(theta) r_e, theta = omega_ie t, R3(theta) = [[c,-s,0],[s,c,0],[0,0,1]];
 // body `_b`: x forward, y right, z down.

@@ -3,7 +3,7 @@
 //   states  dx = (dx, dz, dVx, dVz, dGx, dGz)                       (6)
 //   biases  d  = (df1x, df2x, df3x, df4x, df1z, df2z, df3z, df4z)   (8)
 //   d/dt dx = F(t) dx + Gamma(t) d                                  (eq. 7)
-// F from eq. (9), Gamma from eq. (10), with the sign fix of DESIGN.md: the
+// F from eq. (9), Gamma from eq. (10), with the sign fix of docs/design.md: the
 // printed "-dG" in the velocity error equations is a typo, dV' = 1/4 sum df + dG
 // (the +1 entries of F in eq. 9, consistent with r'' = f + G).
 //

@@ -2,7 +2,7 @@
 // analysis). One interface; every model gives the potential, the
 // gravitation vector and the full gradient tensor at any point.
 //
-// Conventions (../shared/DESIGN.md):
+// Conventions (docs/design.md):
 //   - positions in an Earth-fixed frame (_e) centred on the Earth's centre of
 //     mass, metres; in the 2-D non-rotating case of Welker et al. this frame
 //     is also the inertial frame (x equatorial, z polar);

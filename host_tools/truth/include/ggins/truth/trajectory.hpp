@@ -2,7 +2,7 @@
 // acceleration come from one closed-form expression, so they agree exactly
 // (to long-double rounding), whatever the step of the consumer.
 //
-// Conventions (../shared/DESIGN.md): SI units, inertial frame (_i), axis
+// Conventions (docs/design.md): SI units, inertial frame (_i), axis
 // index 0 = x, 1 = y, 2 = z. In the 2-D case of Welker et al. the motion is in
 // the (x, z) plane: x equatorial, z polar, y = 0.
 #pragma once
@@ -34,7 +34,7 @@ class Trajectory {
 };
 
 // Flight due north over a non-rotating spherical Earth at constant speed V and
-// height h, starting at latitude L0 (DESIGN.md, "The 2-D case"):
+// height h, starting at latitude L0 (docs/design.md, "The 2-D case"):
 //   L = L0 + V t / (R + h),  r = (R+h)(cos L, 0, sin L),
 //   v = V(-sin L, 0, cos L), a = -(V^2/(R+h))(cos L, 0, sin L).
 class NorthFlight final : public Trajectory {
