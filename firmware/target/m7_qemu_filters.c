@@ -1,9 +1,9 @@
 /* Instruction-count benchmark images for the Cortex-M7 (QEMU mps2-an500) of
  * the filters. Built with -DPF_BENCH: STEPS shots of the cold-atom particle
- * filter (pf.h, issue 11; 500 particles, INS error model, regularised
+ * filter (pf.h; 500 particles, INS error model, regularised
  * resampling, candidates from a gmap tile: the settings of
  * host_tools/coldatom/pf_bench.cpp). Otherwise the map-matching filter
- * (mmukf.h, issue 10): STEPS filter steps at 10 Hz
+ * (mmukf.h): STEPS filter steps at 10 Hz
  * on a level platform at rest over a synthetic 50 x 50 gradient tile, then
  * exit through semihosting. MM_UPDATE = 0: propagation only (31 sigma
  * states through the NED mechanization); MM_UPDATE = 1: a one-pass

@@ -51,7 +51,7 @@ double stdev(const std::vector<double>& v) {
 
 int main(int argc, char** argv) {
   namespace C = ggins::cli;
-  CLI::App app{"Cold-atom partial-gradient position fixing: flights Liverpool -> Toulouse (issue 11)"};
+  CLI::App app{"Cold-atom partial-gradient position fixing: flights Liverpool -> Toulouse"};
   std::string egm96 = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt";
   std::string out = "out/coldatom";
   std::string cache;

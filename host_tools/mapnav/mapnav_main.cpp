@@ -1,4 +1,4 @@
-// ggins mapnav: the 10 h voyage of Gao et al. (issue 10 item 3): gravity-gradient
+// ggins mapnav: the 10 h voyage of Gao et al.: gravity-gradient
 // map matching UKF (firmware mmukf) against pure inertial on the same flight,
 // direct calls (no LCM). Truth: the firmware's own NED mechanization driven by
 // error-free IMU samples computed from the commanded motion (acceleration,

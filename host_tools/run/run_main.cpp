@@ -215,7 +215,7 @@ class Runner {
   uint32_t health_or_ = 0;
   CycleStats cyc_[GG_MOD_COUNT];
   Stats pos_, vel_, grav_, gam_;
-  // vertical channel and gravimeter (issue 5)
+  // vertical channel and gravimeter
   Stats vert_, horiz_, gravim_;
   double settle_s_ = 0;  // statistics "after settling" start here (6 / smallest loop pole)
   double vert_ss_ = 0, vert_max_settled_ = 0, gravim_ss_ = 0, gravim_true_ss_ = 0, gravim_true_sum_ = 0;
@@ -417,7 +417,7 @@ ggins::nav2d_config_t Runner::build_config() {
   c.gravdr_trapezoid_only = sc_.firmware.gravdr_trapezoid_only ? 1 : 0;
   c.fdi_parity_f_max = sc_.firmware.fdi_parity_f_max_mps2;
   c.fdi_asym_max = sc_.firmware.fdi_asym_max_ps2;
-  // gravity source, onboard model, barometric loop, altitude reference (issue 5)
+  // gravity source, onboard model, barometric loop, altitude reference
   c.gravity_mode = sc_.navigation.gravity == "model" ? 1 : 0;  // GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER (nav2d.h)
   {
     const ggins::truth::NavModelParams nm = sc_.nav_model();
@@ -425,7 +425,7 @@ ggins::nav2d_config_t Runner::build_config() {
     c.model_a_m = nm.a_m;
     for (int n = 0; n < 9; ++n) c.model_j[n] = nm.j[static_cast<size_t>(n)];
   }
-  if (c.gravity_mode == 1 && survey_grid_) {  // programmed anomaly grid (issue 6; truth/survey.hpp)
+  if (c.gravity_mode == 1 && survey_grid_) {  // programmed anomaly grid (truth/survey.hpp)
     const ggins::truth::SurveyGrid& g = *survey_grid_;
     c.grid_n_th = g.n_th;
     c.grid_n_rho = g.n_rho;
@@ -633,7 +633,7 @@ json Runner::run() {
               {"gravity_error_mps2", grav_.max},
               {"gradient_error_max_abs_ps2", gam_.max}};
   s["gravity_error_definition"] = "|G estimated by the firmware - true gravitation at the TRUE position|";
-  {  // vertical channel, horizontal errors, gravimeter, barometer (issue 5)
+  {  // vertical channel, horizontal errors, gravimeter, barometer
     json v;
     v["definition"] = "h = |r| - r_ref; error = h(nav) - h(true); horizontal = dr less its component along the true up";
     v["r_ref_m"] = sc_.r_ref_m();

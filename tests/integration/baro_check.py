@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Host-in-the-loop tests of the barometric vertical channel and the airborne
-gravimeter (issue 5): ggins-run, hal_sim and the firmware over real LCM on
+gravimeter: ggins-run, hal_sim and the firmware over real LCM on
 short scenarios written here, checked against independent predictions.
 
 usage: baro_check.py TEST --ggins-run PATH --workdir DIR

@@ -46,7 +46,7 @@ def main():
         r["test_exit"] = q.returncode
         rows.append(r)
         print("%-22s exit %d" % (case, q.returncode))
-    # barometer faults: issue 5's test (tests/integration/baro_check.py baro-faults), its own output
+    # barometer faults: the barometer test (tests/integration/baro_check.py baro-faults), its own output
     baro = None
     bc = os.path.join(here, "baro_check.py")
     if os.path.exists(bc):
@@ -157,7 +157,7 @@ def main():
     L.append("## Barometer faults (host-in-the-loop)")
     L.append("")
     L.append("Injected by the truth generator's barometer model (`[baro]` outlier_prob/outlier_m, "
-             "dropout_prob/dropouts, invalid_prob; issue 5) and checked by `integration.baro.baro-faults` "
+             "dropout_prob/dropouts, invalid_prob) and checked by `integration.baro.baro-faults` "
              "(tests/integration/baro_check.py): a 1200 s flight with a 1 Hz barometer, 5 % outliers of 200 m, "
              "3 % NaN samples, 5 % dropouts and a scheduled 300–330 s dropout; detection on the sample itself "
              "(0 steps), coasting flagged exactly when no sample was accepted for > 10 s, vertical error bounded.")

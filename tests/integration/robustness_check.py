@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Robustness integration tests (issue 9): short host-in-the-loop runs over real
+"""Robustness integration tests: short host-in-the-loop runs over real
 LCM (ggins-run -> hal_sim -> firmware) with injected faults.
 
   replay          a run with every transport fault injected and sensor faults that

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Programmed anomaly grid over LCM (issue 6, column b of docs/comparison.md).
+"""Programmed anomaly grid over LCM (column b of docs/comparison.md).
 
 Truth: a spherical point-mass Earth. Onboard model: the same GM plus a J2 term
 the truth does not have, so the model is wrong by the J2 part, whose

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Host-in-the-loop check of the 3-D system over real LCM (issue 7):
+"""Host-in-the-loop check of the 3-D system over real LCM:
 `ggins run3d` (truth3d) -> hal_sim in 3-D mode (gg_nav3d_task_cycle) -> back.
 
   hil      a short run over LCM: every step answered (no loss, no rejection),

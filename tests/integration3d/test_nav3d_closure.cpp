@@ -1,4 +1,4 @@
-// Direct-call closure test of the 3-D system (issue 7 item 5): the 3-D truth
+// Direct-call closure test of the 3-D system: the 3-D truth
 // generator (host_tools/truth3d) feeds the firmware's gg_nav3d_step in
 // process, no LCM; errors against the truth (run3d/compare3d.hpp). The bounds
 // are the issue's acceptance figures, given on the command line by CTest:

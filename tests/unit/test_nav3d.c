@@ -76,7 +76,7 @@ static void test_stabilized_parked_1h(void **state)
     const run_result_t r = fly(&T, GG_PLATFORM_STABILIZED, 0, 10000, 360000);
     print_message("stabilized parked 1 h: |dr| %.3Lg m, |dv| %.3Lg m/s, |dG| %.3Lg m/s^2, att %.3Lg rad\n",
                   r.pos_err, r.vel_err, r.g_err, r.att_err);
-    assert_true(r.pos_err < 0.01L); /* issue 7: better than 1 cm */
+    assert_true(r.pos_err < 0.01L); /* better than 1 cm */
     assert_true(r.g_err < 1e-11L);
     assert_true(r.att_err < 1e-15L);
 }

@@ -4,8 +4,8 @@
  *        tensor on a geodetic latitude/longitude grid at one altitude, and its
  *        interpolation (value and gradient w.r.t. position).
  *
- * Shared by the map-matching UKF (issue 10, Gao et al.) and the cold-atom
- * particle filter (issue 11, which needs Gamma_DD at candidate positions).
+ * Shared by the map-matching UKF (Gao et al.) and the cold-atom
+ * particle filter (Phillips et al., which needs Gamma_DD at candidate positions).
  *
  * Conventions (docs/design.md): Gamma_jk = dG_j/dx_k (s^-2), G the
  * gravitation (no centrifugal term), frame NED (north, east, down) at the
@@ -14,7 +14,7 @@
  *   0 NN, 1 EE, 2 DD, 3 NE, 4 ND, 5 ED   (GG_GMAP_C_*).
  * A tile holds either the total gravitation gradient (flags = 0) or the
  * anomaly, i.e. total minus the WGS-84 normal gravitation (GG_GMAP_ANOMALY);
- * the filter of issue 10 uses the TOTAL field (the gradiometer measures it).
+ * the filter uses the TOTAL field (the gradiometer measures it).
  *
  * Nodes: i = 0..nlat-1 (north), j = 0..nlon-1 (east), at
  *   lat_i = lat0 + i dlat,  lon_j = lon0 + j dlon,  height h0,

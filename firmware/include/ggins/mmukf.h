@@ -1,7 +1,7 @@
 /**
  * @file mmukf.h
  * @brief Gravity-gradient map matching with an unscented Kalman filter
- *        (issue 10; Gao, Hu, Chang, Qin & Lyu, "An Aided Navigation Method
+ *        (Gao, Hu, Chang, Qin & Lyu, "An Aided Navigation Method
  *        Based on Strapdown Gravity Gradiometer", Sensors 21, 829, 2021).
  *
  * The filter runs its OWN double-precision strapdown mechanization in the

@@ -2,7 +2,7 @@
  * @file nav3d.h
  * @brief Navigation task of the 3-D gravity-gradiometer INS: six tri-axis
  *        accelerometers, a rotating WGS-84 Earth, a space-stabilized or a
- *        strapdown platform (issue 7; Welker, Pachter & Huffman section III,
+ *        strapdown platform (Welker, Pachter & Huffman section III,
  *        Fig. 1; Gao et al. section 3, eqs. 15-30).
  *
  * Frames (docs/design.md suffixes):
@@ -17,7 +17,7 @@
  * Quaternions are scalar first, q = (w, x, y, z); q_b_e rotates body vectors
  * into ECEF (v_e = q_b_e (x) v_b (x) q_b_e*), i.e. C_b_e.
  *
- * Mechanization (why these frames: issue 7 item 2). In an inertial frame
+ * Mechanization (why these frames). In an inertial frame
  * r''_i = f_i + G_i is free of Coriolis and centrifugal terms, so the third-
  * order fixed-step integrator of mech.h is used as it is. The gravitation,
  * however, is dead-reckoned in ECEF, where the field is static and

@@ -3,7 +3,7 @@
  * @brief Unscented Kalman filter core: fixed-size (compile-time maximum state
  *        and measurement dimensions), no heap, robust square roots.
  *
- * Used by the map-matching filter of issue 10 (Gao et al., "An Aided
+ * Used by the map-matching filter (Gao et al., "An Aided
  * Navigation Method Based on Strapdown Gravity Gradiometer", Sensors 21, 829,
  * 2021, section 4) but independent of it: the process and measurement models
  * are supplied by the caller.

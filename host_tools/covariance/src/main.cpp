@@ -169,7 +169,7 @@ int main(int argc, char** argv) {
   std::shared_ptr<const LinearErrorModel> model = base;
   MatrixXd P0 = initial_covariance(sc);
   std::shared_ptr<const Welker2DBaroModel> baro;
-  if (sc.baro_loop) {  // issue 5: the barometric vertical loop (welker2d_baro.hpp)
+  if (sc.baro_loop) {  // the barometric vertical loop (welker2d_baro.hpp)
     BaroLoopParams bp;
     for (int i = 0; i < 3; ++i) bp.poles_radps[size_t(i)] = sc.baro_poles_radps[size_t(i)];
     const double r0 = base->trajectory().at(0).r.norm();

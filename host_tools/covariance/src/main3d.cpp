@@ -1,5 +1,5 @@
 // ggins-covariance3d: covariance analysis of the 3-D gradiometer-integrated
-// INS on a rotating Earth (issue 7 item 5; model: nav3d_model.hpp), along an
+// INS on a rotating Earth (model: nav3d_model.hpp), along an
 // analytic great-circle flight, for the space-stabilized and the strapdown
 // platform, with the eigenvalues of the 3-D error dynamics along the flight.
 // See docs/error-analysis.md, section "3-D".

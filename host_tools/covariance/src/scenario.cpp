@@ -115,7 +115,7 @@ CovScenario load_scenario_toml(const std::string& path) {
   // Inputs of the truth generator that the linear model does not contain.
   if (node("accel.bias_mps2")) s.unmodelled.emplace_back("accel.bias_mps2 (deterministic biases)");
   if (node("accel.scale")) s.unmodelled.emplace_back("accel.scale (deterministic scale factors)");
-  {  // barometric vertical loop (issue 5): the loop is on when [navigation.baro] enable says so,
+  {  // barometric vertical loop: the loop is on when [navigation.baro] enable says so,
      // else when there is a [baro] table that does not disable the barometer (truth generator rules)
     const bool baro_sensor = node("baro") && tbl.at_path("baro.enable").value_or(true);
     s.baro_loop = tbl.at_path("navigation.baro.enable").value_or(baro_sensor);

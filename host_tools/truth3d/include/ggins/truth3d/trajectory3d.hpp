@@ -1,6 +1,6 @@
 // 3-D truth trajectories over the rotating WGS-84 Earth, analytic end to end.
 //
-// Frames (issue 7 design, firmware/include/ggins/nav3d.h): ECEF _e = WGS-84
+// Frames (firmware/include/ggins/nav3d.h): ECEF _e = WGS-84
 // (z to the north pole, x to Greenwich); ECI _i coincides with ECEF at t = 0
 // and the Earth turns about z at omega_ie = 7.292115e-5 rad/s:
 //   r_i = R3(theta) r_e,  theta = omega_ie t,  R3(theta) = [[c,-s,0],[s,c,0],[0,0,1]].
