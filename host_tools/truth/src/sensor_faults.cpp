@@ -106,21 +106,27 @@ SensorFaultParams parse_sensor_faults(const toml::table& t, const std::string& s
   return p;
 }
 
-int64_t sensor_fault_first_step(const SensorFault& f, int64_t dt_us) {
-  // first k with k dt >= start_s (to the microsecond)
-  const auto start_us = static_cast<int64_t>(std::llround(f.start_s * 1e6));
+int64_t fault_window_first_step(double start_s, int64_t dt_us) {
+  const auto start_us = static_cast<int64_t>(std::llround(start_s * 1e6));
   return (start_us + dt_us - 1) / dt_us;
 }
 
-bool sensor_fault_active(const SensorFaultParams& p, size_t idx, int64_t k, int64_t dt_us) {
-  const SensorFault& f = p.faults[idx];
-  const auto start_us = static_cast<int64_t>(std::llround(f.start_s * 1e6));
-  const auto dur_us = static_cast<int64_t>(std::llround(f.duration_s * 1e6));
-  const int64_t t_us = k * dt_us;  // integer microseconds: no rounding at the window edges
+bool fault_window_active(double start_s, double duration_s, double prob, uint64_t seed, uint64_t stream, size_t idx,
+                         int64_t k, int64_t dt_us) {
+  const auto start_us = static_cast<int64_t>(std::llround(start_s * 1e6));
+  const auto dur_us = static_cast<int64_t>(std::llround(duration_s * 1e6));
+  const int64_t t_us = k * dt_us;
   if (t_us < start_us) return false;
   if (dur_us > 0 && t_us >= start_us + dur_us) return false;
-  if (f.prob >= 1.0) return true;
-  return counter_uniform(p.seed, kStreamFault, static_cast<uint64_t>(k), idx, 0) < f.prob;
+  if (prob >= 1.0) return true;
+  return counter_uniform(seed, stream, static_cast<uint64_t>(k), idx, 0) < prob;
+}
+
+int64_t sensor_fault_first_step(const SensorFault& f, int64_t dt_us) { return fault_window_first_step(f.start_s, dt_us); }
+
+bool sensor_fault_active(const SensorFaultParams& p, size_t idx, int64_t k, int64_t dt_us) {
+  const SensorFault& f = p.faults[idx];
+  return fault_window_active(f.start_s, f.duration_s, f.prob, p.seed, kStreamFault, idx, k, dt_us);
 }
 
 void apply_one_sensor_fault(const SensorFault& f, int64_t k, int64_t dt_us, gg_frame_t& fr) {

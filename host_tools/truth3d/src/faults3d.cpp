@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "ggins/truth/generator.hpp"
+#include "ggins/truth/sensor_faults.hpp"
 #include "ggins/truth3d/generator3d.hpp"
 
 namespace ggins::truth3d {
@@ -115,19 +116,12 @@ SensorFaults3 parse_sensor_faults3(const toml::table& t, const std::string& sour
 }
 
 int64_t sensor_fault3_first_step(const SensorFault3& f, int64_t dt_us) {
-  const auto start_us = static_cast<int64_t>(std::llround(f.start_s * 1e6));
-  return (start_us + dt_us - 1) / dt_us;
+  return truth::fault_window_first_step(f.start_s, dt_us);
 }
 
 bool sensor_fault3_active(const SensorFaults3& p, size_t idx, int64_t k, int64_t dt_us) {
   const SensorFault3& f = p.faults[idx];
-  const auto start_us = static_cast<int64_t>(std::llround(f.start_s * 1e6));
-  const auto dur_us = static_cast<int64_t>(std::llround(f.duration_s * 1e6));
-  const int64_t t_us = k * dt_us;  // integer microseconds: no rounding at the window edges
-  if (t_us < start_us) return false;
-  if (dur_us > 0 && t_us >= start_us + dur_us) return false;
-  if (f.prob >= 1.0) return true;
-  return truth::counter_uniform(p.seed, kStreamFaultProb, static_cast<uint64_t>(k), idx, 0) < f.prob;
+  return truth::fault_window_active(f.start_s, f.duration_s, f.prob, p.seed, kStreamFaultProb, idx, k, dt_us);
 }
 
 void apply_sensor_faults3(const SensorFaults3& p, const Generator3& g, int64_t k, gg_frame_t& fr) {

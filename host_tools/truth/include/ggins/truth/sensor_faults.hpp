@@ -57,6 +57,14 @@ struct SensorFaultParams {
 
 // (The [sensor_faults] table is parsed by scenario.cpp through src/sensor_faults_parse.hpp.)
 
+// The time window of an injected fault, shared by the 2-D and 3-D fault models, in integer
+// microseconds (no rounding at the window edges): the first step k with k dt >= start_s, and
+// whether step k lies in [start_s, start_s + duration_s) (duration 0: to the end of the run)
+// and is drawn with probability prob from counter_uniform(seed, stream, k, idx).
+int64_t fault_window_first_step(double start_s, int64_t dt_us);
+bool fault_window_active(double start_s, double duration_s, double prob, uint64_t seed, uint64_t stream, size_t idx,
+                         int64_t k, int64_t dt_us);
+
 // Whether fault `f` (index `idx`) acts on step k (time t_s), seeded.
 bool sensor_fault_active(const SensorFaultParams& p, size_t idx, int64_t k, int64_t dt_us);
 
