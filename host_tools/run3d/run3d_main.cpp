@@ -317,7 +317,7 @@ json Runner3::run() {
           "err_gamma_e_E,err_gamma_b_E,err_h_m,parity_x,parity_y,parity_z,parity_trace,baro_innov_m,a_c_mps2,status,"
           "health\n";
   const ggins::nav3d_config_t cfg = build_config();
-  const auto aid = ggins::run3d::parse_aid_ukf(sc_.text, sc_.source);
+  const auto& aid = sc_.aid_ukf;
   std::vector<std::string> maps;  // the onboard map tiles of the map aid: the computer's map storage
   if (aid.enabled)
     for (const auto& p : ggins::run3d::aid_ukf_map_paths(aid, sc_.source)) maps.push_back(fs::absolute(p).string());

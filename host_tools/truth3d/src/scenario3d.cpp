@@ -181,7 +181,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   s.gravity.model = "wgs84-normal";
   p.keys(root, "", {"name", "description", "trajectory", "platform", "gravity", "time", "accel", "gyro", "baro",
                     "navigation", "firmware", "output", "sensor_faults",
-                    "aid_ukf"});  // [aid_ukf]: the aiding sources, read by run3d/aids3d.hpp
+                    "aid_ukf"});  // [aid_ukf]: the aiding sources (aids3d.hpp)
   s.name = p.str(root, "", "name", fallback_name);
   s.description = p.str(root, "", "description", "");
   if (const auto* t = p.sub(root, "trajectory")) {
@@ -394,6 +394,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
     s.fdi_parity_f_max_mps2 = 7.0 * sp + fixed + GG_FDI3D_FLOOR_MPS2;
   }
   if (const auto* t = p.sub(root, "sensor_faults")) s.sensor_faults = parse_sensor_faults3(*t, source);
+  s.aid_ukf = parse_aid_ukf(root["aid_ukf"].as_table(), source);
   if (const auto* t = p.sub(root, "output")) {
     p.keys(*t, "output", {"csv_rate_hz"});
     s.csv_rate_hz = p.num(*t, "output", "csv_rate_hz", s.csv_rate_hz);

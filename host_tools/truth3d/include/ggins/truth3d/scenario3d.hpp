@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "ggins/truth/scenario.hpp"
+#include "ggins/truth3d/aids3d.hpp"
 #include "ggins/truth3d/faults3d.hpp"
 
 namespace ggins::truth3d {
@@ -117,6 +118,7 @@ struct Scenario3 {
   double fdi_parity_f_max_mps2 = 0;
   double csv_rate_hz = 1;
   SensorFaults3 sensor_faults;  // [sensor_faults] (faults3d.hpp)
+  AidUkf3 aid_ukf;              // [aid_ukf]: the gradient-map aid (aids3d.hpp)
 
   bool strapdown() const { return platform == "strapdown"; }
   int64_t dt_us() const;
