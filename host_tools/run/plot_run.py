@@ -55,8 +55,8 @@ def plot_vertical(out, d, s, t, tl, title):
     if s.get("vertical", {}).get("baro_loop"):
         mgal = 1e5  # 1 mGal = 1e-5 m/s^2
         fig, axs = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
-        if "h_true_m" in d.dtype.names and "true_r_x" in d.dtype.names:
-            lat = np.degrees(np.arctan2(d["true_r_z"], d["true_r_x"]))
+        if "h_true_m" in d.dtype.names and "true_r_x_m" in d.dtype.names:
+            lat = np.degrees(np.arctan2(d["true_r_z_m"], d["true_r_x_m"]))
         ax = axs[0]
         ax.plot(t, d["gd_true_up_mps2"] * mgal, "k", lw=1.2, label="true (field - onboard model) . up")
         if g.get("poles_radps"):  # the truth through the loop's H_g = p1 p2 p3 / prod (s + p_i) (lag shown)
@@ -78,7 +78,7 @@ def plot_vertical(out, d, s, t, tl, title):
         ax.axvline(g.get("settle_s", 0) / (t[-1] and (d["t_s"][-1] / t[-1]) or 1.0), color="0.5", ls=":")
         ax.set_ylabel("estimate - true [mGal]")
         ax.grid(True, alpha=0.3)
-        axs[-1].set_xlabel(tl + ("   (latitude %.2f .. %.2f deg)" % (lat[0], lat[-1]) if "true_r_x" in d.dtype.names else ""))
+        axs[-1].set_xlabel(tl + ("   (latitude %.2f .. %.2f deg)" % (lat[0], lat[-1]) if "true_r_x_m" in d.dtype.names else ""))
         fig.suptitle(title + "\ngravimeter (%s mode): rms error %.3g mGal after %.0f s, true rms %.3g mGal" % (
             g.get("mode", "?"), g.get("rms_error_mps2", float("nan")) * mgal, g.get("settle_s", 0),
             g.get("rms_true_disturbance_mps2", float("nan")) * mgal), fontsize=9)

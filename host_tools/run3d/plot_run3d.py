@@ -59,8 +59,8 @@ def main(out):
         ax.legend(fontsize=7, loc="upper left", ncol=4)
     axs[-1].set_xlabel(tl)
     fig.suptitle("%s (%s, %s): final |dr| %.3g m, |psi| %.3g rad, |dG| %.3g m/s^2, max |dGamma| %.3g E" % (
-        s["scenario"], s["platform"], s["mode"].split(" ")[0], s["position_error_m"]["final"],
-        s["attitude_error_rad"]["final"], s["gravity_error_mps2"]["final"], s["gamma_error_ecef_E"]["max"]), fontsize=9)
+        s["scenario"], s["platform"], s["mode"].split(" ")[0], s["errors"]["position_error_m"]["final"],
+        s["errors"]["attitude_error_rad"]["final"], s["errors"]["gravity_error_mps2"]["final"], s["errors"]["gradient_error_ecef_E"]["max"]), fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "errors.png"), dpi=100)
     plt.close(fig)
