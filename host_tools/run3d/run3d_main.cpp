@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
   o.python = GGINS_PLOT_PYTHON;
   o.logger = GGINS_LCM_LOGGER;
   std::string scenario = "3d-stabilized-1h";
-  bool list = false, print_scenario = false;
+  bool list = false, print_scenario = false, no_aids = false;
   CLI::App app{
       "ggins run3d: fly one 3-D scenario (six tri-axis accelerometers, rotating WGS-84 Earth,\n"
       "stabilized or strapdown platform) against the 3-D firmware (nav3d.h).\n\n"
@@ -414,6 +414,9 @@ int main(int argc, char** argv) {
   app.add_option("-s,--scenario", scenario, "3-D scenario: built-in name (--list-scenarios) or TOML path")
       ->capture_default_str();
   ggins::hil::add_run_options(app, o);
+  app.add_flag("--no-aids", no_aids,
+               "fly the scenario without its aids ([aid_ukf] off): the unaided reference of an aided flight\n"
+               "(plot both on one figure: plot_run3d.py AIDED_DIR --unaided THIS_DIR)");
   app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
   app.add_flag("--print-scenario", print_scenario, "print the resolved scenario and exit");
   try {
@@ -435,6 +438,7 @@ int main(int argc, char** argv) {
     if (o.duration_s) sc.duration_s = *o.duration_s;
     if (o.seed) sc.accel.seed = *o.seed;
     if (o.csv_rate) sc.csv_rate_hz = *o.csv_rate;
+    if (no_aids) sc.aid_ukf.enabled = false;
     if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
     if (sc.n_steps() > 100000000)
       throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +
@@ -474,7 +478,8 @@ int main(int argc, char** argv) {
                                          {{"time.duration_s", sc.duration_s},
                                           {"time.rate_hz", sc.rate_hz},
                                           {"accel.seed", sc.accel.seed},
-                                          {"output.csv_rate_hz", sc.csv_rate_hz}});
+                                          {"output.csv_rate_hz", sc.csv_rate_hz},
+                                          {"aid_ukf.enabled", sc.aid_ukf.enabled}});
     Model3D model(o, sc);
     ggins::hil::Flight<Model3D> flight(o, model, out);
     summary = flight.fly();
