@@ -21,13 +21,15 @@
 //   void take(const typename Task::Out& m, bool latest);   evaluation of one output
 //   void end();                                     close the CSV
 //   void report(nlohmann::json& s);                 errors, aids and the task's blocks
+//   std::string truth_channel(); int64_t truth_published();   the truth messages on the bus
 //   double progress_error_m();                      the latest |dr| for the progress line
-//   std::string final_line(const nlohmann::json& s);   the one-line result
+//   static std::string final_line(const nlohmann::json& s);   the one-line result
 #pragma once
 
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>

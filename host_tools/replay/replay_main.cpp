@@ -44,6 +44,7 @@
 
 #include "fields.hpp"
 #include "ggins/cli_checks.hpp"
+#include "frame_names.hpp"
 #include "ggins_hal_status_t.h"
 #include "ggins_nav2d_config_t.h"
 #include "ggins_nav3d_config_t.h"
@@ -497,11 +498,13 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   std::vector<int64_t> missing, beyond, twice, no_frame, frames_beyond;
   int64_t n_missing = 0;
   int64_t rejected = 0;
+  uint32_t health_or = 0;  // of the recorded outputs (the report's health_seen)
   for (const auto& [seq, oc] : outs) {
     if (n_steps && (seq < 0 || seq >= *n_steps)) beyond.push_back(seq);
     if (oc.firsts > 1) twice.push_back(seq);
     if (!c.frames.count(seq)) no_frame.push_back(seq);
     if (oc.rec.status != 0) ++rejected;
+    health_or |= static_cast<uint32_t>(oc.rec.health);
   }
   if (n_steps) n_missing = missing_seqs(outs, *n_steps, missing);
   for (const auto& [seq, fc] : c.frames) {
@@ -634,6 +637,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
                   {"undecodable", nav_undecodable},
                   {"other_run", nav_foreign},
                   {"rejected_steps", rejected}};
+  r["health_seen"] = ggins::hil::health_word(health_or);  // raw and named bits, as in the run's report
   r["configuration_copies_differ"] = config_copies_differ;
   r["hal_frames_lost"] = frames_lost;
   r["hal_final"] = c.hal_last && c.hal_last->state == GGINS_HAL_STATUS_T_STOPPED;
