@@ -3,7 +3,7 @@
 //
 //   report, report_version, tool, task ("2-D" | "3-D"), scenario, scenario_source, description
 //   status             "completed" | "degraded" | "failed" | "interrupted"
-//   completed, degraded, interrupted (booleans), error (text, when not completed)
+//   completed, degraded, interrupted (booleans); error, error_code (text and exit status, when not completed)
 //   mode               "lockstep" | "realtime" | "direct"
 //   rate_hz, dt_s, duration_s (the scenario as flown), flown_s (time of the last step flown)
 //   steps_expected, steps_flown, steps_unflown, steps_rejected, frames_lost, frames_recovered, final_seq

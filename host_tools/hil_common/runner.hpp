@@ -399,4 +399,51 @@ inline int finish_run(const RunOptions& o, const nlohmann::json& s, const std::s
   return exit_status(s);
 }
 
+// The front-end's flight, once the scenario is loaded and its overrides applied:
+// the checks of the options that depend on each other, the output folder, the
+// scenario as flown (the file's text with `effective` set: report.hpp), the
+// model (make_model(), which may throw), the flight, the report, the plots.
+template <class Model, class MakeModel>
+int fly_scenario(RunOptions& o, const std::string& name, const std::string& source, const std::string& text,
+                 const nlohmann::json& effective, const std::string& plot_script, MakeModel&& make_model) {
+  namespace fs = std::filesystem;
+  const char* tool = o.tool.c_str();
+  if (o.no_log) o.log_mode = "none";
+  if (o.direct && o.realtime) {
+    std::fprintf(stderr, "%s: --direct and --realtime exclude each other\n", tool);
+    return ggins::cli::kExitBadArgs;
+  }
+  if (!o.direct) {
+    if (o.hal_sim.empty()) o.hal_sim = (self_dir() / "hal_sim").string();
+    if (access(o.hal_sim.c_str(), X_OK) != 0) {
+      std::fprintf(stderr, "%s: hal_sim not found at %s (build it, give --hal-sim, or --direct)\n", tool,
+                   o.hal_sim.c_str());
+      return ggins::cli::kExitBadArgs;
+    }
+  }
+  std::error_code ec;
+  fs::path out = create_output_dir(o.out, name, ec);
+  if (ec) {
+    std::fprintf(stderr, "%s: cannot create %s: %s\n", tool, out.c_str(), ec.message().c_str());
+    return ggins::cli::kExitBadArgs;
+  }
+  out = fs::absolute(out);
+  install_interrupt_handlers();
+  nlohmann::json summary;
+  try {
+    write_effective_scenario(out / "scenario.toml", name, source, text, effective);
+    auto model = make_model();
+    Flight<Model> flight(o, *model, out);
+    summary = flight.fly();
+    write_json(out / "summary.json", summary);
+  } catch (const Fail& e) {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+    return e.code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+    return ggins::cli::kExitFailed;
+  }
+  return finish_run(o, summary, plot_script, Model::final_line(summary));
+}
+
 }  // namespace ggins::hil

@@ -125,13 +125,13 @@ def log_line(ax, t, y, label, color, lw=0.9, ls="-"):
 
 
 def envelope(ax, t, sigma, label="1σ envelope", color="0.6", k=1.0, log=False):
-    """The covariance envelope ±k sigma (or 0..k sigma on a log axis) around an error."""
+    """The covariance envelope ±k sigma around an error (on a log axis of |error|:
+    the k sigma line)."""
     import numpy as np
 
     sg = k * np.asarray(sigma, dtype=float)
     if log:
-        ax.fill_between(t, np.where(sg > 0, sg * 1e-3, np.nan), np.where(sg > 0, sg, np.nan), color=color, alpha=0.3,
-                        lw=0, label=label)
-        ax.semilogy(t, np.where(sg > 0, sg, np.nan), color=color, lw=0.8)
+        pos = np.where(sg > 0, sg, np.nan)
+        ax.semilogy(t, pos, color=color, lw=1.2, ls="--", label=label)
     else:
         ax.fill_between(t, -sg, sg, color=color, alpha=0.3, lw=0, label=label)

@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -530,48 +531,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins run: %s\n", e.what());
     return 2;
   }
-  if (o.no_log) o.log_mode = "none";
   if (print_scenario) {
     std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
     return 0;
   }
-  if (o.direct && o.realtime) {
-    std::fprintf(stderr, "ggins run: --direct and --realtime exclude each other\n");
-    return 2;
-  }
-  if (o.hal_sim.empty()) o.hal_sim = (ggins::hil::self_dir() / "hal_sim").string();
-  if (!o.direct && access(o.hal_sim.c_str(), X_OK) != 0) {
-    std::fprintf(stderr, "ggins run: hal_sim not found at %s (build it, or give --hal-sim)\n", o.hal_sim.c_str());
-    return 2;
-  }
-  std::error_code ec;
-  fs::path out = ggins::hil::create_output_dir(o.out, sc.name, ec);
-  if (ec) {
-    std::fprintf(stderr, "ggins run: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
-    return 2;
-  }
-  out = fs::absolute(out);
-  ggins::hil::install_interrupt_handlers();
-  json summary;
-  try {
-    const auto& tp = sc.transport;
-    ggins::hil::write_effective_scenario(
-        out / "scenario.toml", sc.name, sc.source, sc.text,
-        {{"time.duration_s", sc.duration_s}, {"time.rate_hz", sc.rate_hz}, {"accel.seed", sc.accel.seed},
-         {"output.csv_rate_hz", sc.output.csv_rate_hz}, {"output.truth_rate_hz", sc.output.truth_rate_hz},
-         {"transport.seed", tp.seed}, {"transport.drop_prob", tp.drop_prob}, {"transport.duplicate_prob", tp.duplicate_prob},
-         {"transport.reorder_prob", tp.reorder_prob}, {"transport.output_drop_prob", tp.output_drop_prob},
-         {"transport.garbage_prob", tp.garbage_prob}});
-    Model2D model(o, sc);
-    ggins::hil::Flight<Model2D> flight(o, model, out);
-    summary = flight.fly();
-    ggins::hil::write_json(out / "summary.json", summary);
-  } catch (const Fail& e) {
-    std::fprintf(stderr, "ggins run: %s\n", e.what());
-    return e.code;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ggins run: %s\n", e.what());
-    return 1;
-  }
-  return ggins::hil::finish_run(o, summary, GGINS_PLOT_SCRIPT, Model2D::final_line(summary));
+  const auto& tp = sc.transport;
+  const json effective = {
+      {"time.duration_s", sc.duration_s},         {"time.rate_hz", sc.rate_hz},
+      {"accel.seed", sc.accel.seed},              {"output.csv_rate_hz", sc.output.csv_rate_hz},
+      {"output.truth_rate_hz", sc.output.truth_rate_hz}, {"transport.seed", tp.seed},
+      {"transport.drop_prob", tp.drop_prob},      {"transport.duplicate_prob", tp.duplicate_prob},
+      {"transport.reorder_prob", tp.reorder_prob}, {"transport.output_drop_prob", tp.output_drop_prob},
+      {"transport.garbage_prob", tp.garbage_prob}};
+  return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, sc.text, effective, GGINS_PLOT_SCRIPT,
+                                           [&] { return std::make_unique<Model2D>(o, sc); });
 }

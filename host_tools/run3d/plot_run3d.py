@@ -38,7 +38,8 @@ def main():
     fig, axs = plt.subplots(4, 1, figsize=(9, 12), sharex=True)
     ax = axs[0]
     if "aid_sig_r_rss_m" in d.dtype.names:
-        envelope(ax, t, d["aid_sig_r_rss_m"], label="aid 1σ (RSS of its position sigmas)", log=True)
+        envelope(ax, t, d["aid_sig_r_rss_m"], label="aid 1σ envelope (RSS of its position sigmas)", color="0.4",
+                 log=True)
     for c, (k, lab) in enumerate(NED):
         log_line(ax, t, d["err_%s_m" % k], "|%s|" % lab, "C%d" % c)
     log_line(ax, t, d["err_r_m"], "|dr| " + ("aided (%s)" % ", ".join(aids) if aids else ""), "k", lw=1.2)
@@ -73,7 +74,7 @@ def main():
     def fin(k):
         return e.get(k, {}).get("final", float("nan"))
 
-    fig.suptitle("%s\n%s platform; navigation - truth, %s; final |dr| %.3g m, |psi| %.3g rad, |dG| %.3g m/s², "
+    fig.suptitle("%s\n%s platform; navigation - truth, %s\nfinal |dr| %.3g m, |psi| %.3g rad, |dG| %.3g m/s², "
                  "max |dGamma| %.3g E" % (run_title(s, "ggins run3d: " + os.path.basename(a.out)), s.get("platform", "?"),
                                           FRAME_3D, fin("position_error_m"), fin("attitude_error_rad"),
                                           fin("gravity_error_mps2"), e.get("gradient_error_ecef_E", {}).get("max", 0)),

@@ -447,49 +447,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins run3d: %s\n", e.what());
     return 2;
   }
-  if (o.no_log) o.log_mode = "none";
   if (print_scenario) {
     std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
     return 0;
   }
-  if (o.direct && o.realtime) {
-    std::fprintf(stderr, "ggins run3d: --direct and --realtime exclude each other\n");
-    return 2;
-  }
-  if (!o.direct) {
-    if (o.hal_sim.empty()) o.hal_sim = (ggins::hil::self_dir() / "hal_sim").string();
-    if (access(o.hal_sim.c_str(), X_OK) != 0) {
-      std::fprintf(stderr, "ggins run3d: hal_sim not found at %s (build it, give --hal-sim, or --direct)\n",
-                   o.hal_sim.c_str());
-      return 2;
-    }
-  }
-  std::error_code ec;
-  fs::path out = ggins::hil::create_output_dir(o.out, sc.name, ec);
-  if (ec) {
-    std::fprintf(stderr, "ggins run3d: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
-    return 2;
-  }
-  out = fs::absolute(out);
-  ggins::hil::install_interrupt_handlers();
-  json summary;
-  try {
-    ggins::hil::write_effective_scenario(out / "scenario.toml", sc.name, sc.source, sc.text,
-                                         {{"time.duration_s", sc.duration_s},
-                                          {"time.rate_hz", sc.rate_hz},
-                                          {"accel.seed", sc.accel.seed},
-                                          {"output.csv_rate_hz", sc.csv_rate_hz},
-                                          {"aid_ukf.enabled", sc.aid_ukf.enabled}});
-    Model3D model(o, sc);
-    ggins::hil::Flight<Model3D> flight(o, model, out);
-    summary = flight.fly();
-    ggins::hil::write_json(out / "summary.json", summary);
-  } catch (const Fail& e) {
-    std::fprintf(stderr, "ggins run3d: %s\n", e.what());
-    return e.code;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ggins run3d: %s\n", e.what());
-    return 1;
-  }
-  return ggins::hil::finish_run(o, summary, GGINS_PLOT3D_SCRIPT, Model3D::final_line(summary));
+  const json effective = {{"time.duration_s", sc.duration_s},
+                          {"time.rate_hz", sc.rate_hz},
+                          {"accel.seed", sc.accel.seed},
+                          {"output.csv_rate_hz", sc.csv_rate_hz},
+                          {"aid_ukf.enabled", sc.aid_ukf.enabled}};
+  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, sc.text, effective, GGINS_PLOT3D_SCRIPT,
+                                           [&] { return std::make_unique<Model3D>(o, sc); });
 }

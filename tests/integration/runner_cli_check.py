@@ -3,11 +3,15 @@
 is not finite, out of its range or not an integer is refused before anything
 flies, exit 2, with a message naming the option, the value and the allowed
 range (ggins/cli_checks.hpp). Each case also must not create the output folder.
+And a flight shorter than the barometer loop's settling time: no settled statistics
+(null, not 0), the scenario written as flown with the duration flown.
 
 usage: runner_cli_check.py --ggins-run PATH --ggins-run3d PATH --ggins-replay PATH --workdir DIR
 """
 import argparse
+import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -77,6 +81,26 @@ def main():
                        timeout=60)
     check(p.returncode == 2 and "--json" in p.stderr and "not a folder" in p.stderr,
           "ggins-replay --json under a file: exit %d, named (%r)" % (p.returncode, p.stderr.strip()[:120]))
+    # a short flight of a barometer-loop scenario (shorter than the loop's settling time):
+    # no settled statistics (null, not 0), and the scenario written as flown says the
+    # duration flown and parses again to the same flight length
+    short = os.path.join(a.workdir, "short")
+    p = subprocess.run([a.ggins_run, "--direct", "--no-plots", "-q", "-s", "welker-baro-10h", "--duration", "20",
+                        "-o", short], capture_output=True, text=True, timeout=120)
+    check(p.returncode == 0, "short flight of welker-baro-10h (20 s) completes (exit %d)" % p.returncode)
+    if p.returncode == 0:
+        s = json.load(open(os.path.join(short, "summary.json")))
+        v, g = s["vertical"], s["gravimeter"]
+        check(v["settle_s"] > 20 and v["samples_after_settle"] == 0 and v["rms_error_after_settle_m"] is None
+              and v["max_abs_error_after_settle_m"] is None,
+              "vertical: settle_s %.0f s > 20 s, no settled rms (null, not 0)" % v["settle_s"])
+        check(g["samples"] == 0 and g["rms_error_mps2"] is None, "gravimeter: no settled rms (null, not 0)")
+        p = subprocess.run([a.ggins_run, "-s", os.path.join(short, "scenario.toml"), "--print-scenario"],
+                           capture_output=True, text=True, timeout=60)
+        check(p.returncode == 0 and re.search(r"^duration_s = 20(\.0)?$", p.stdout, re.M) is not None,
+              "scenario.toml as flown parses again and says duration_s = 20")
+        check(s["duration_s"] == 20 and s["steps_expected"] == int(round(20 * s["rate_hz"])) + 1,
+              "the report's duration and steps are those flown (%s s, %d steps)" % (s["duration_s"], s["steps_expected"]))
     print("%d failure(s)" % len(FAILS))
     return 1 if FAILS else 0
 
