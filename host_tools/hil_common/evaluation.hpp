@@ -28,7 +28,7 @@ struct MaxFinal {
   void add(double x, bool latest = true) {
     if (latest) final = x;
     const double a = std::fabs(x);
-    if (!(a <= max)) max = a;
+    if (!(a <= max) && !std::isnan(max)) max = a;  // once NaN, max stays NaN
   }
   nlohmann::json json(double scale = 1.0) const { return {{"final", final * scale}, {"max", max * scale}}; }
 };
