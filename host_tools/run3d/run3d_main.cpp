@@ -362,6 +362,8 @@ void Model3D::report(json& s) {
   e["omega_dot_error_radps2"] = wdot_.json();
   s["parity"] = {{"antisym_radps2", par_asym_.json()}, {"trace_ps2", par_trace_.json()}};
   s["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
+  // one block per aid of the flight, each named ({"name": ..., its counters}); a further aid
+  // (the cold-atom particle filter) adds its own block here
   if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
 }
 
