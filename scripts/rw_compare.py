@@ -36,7 +36,7 @@ def metrics(folder):
     f = lambda r, k: float(r[k])
     last = rows[-1]
     vert = [abs(f(r, "err_h_m")) for r in rows if f(r, "t_s") >= 600.0]
-    gpl = [math.hypot(f(r, "err_g_x"), f(r, "err_g_z")) for r in rows]
+    gpl = [math.hypot(f(r, "err_g_x_mps2"), f(r, "err_g_z_mps2")) for r in rows]
     summ = json.load(open(os.path.join(folder, "summary.json")))
     return {
         "along_track_final_m": f(last, "err_along_m"),
@@ -44,7 +44,7 @@ def metrics(folder):
         "vertical_max_abs_after_600s_m": max(vert),
         "gravitation_in_plane_final_mps2": gpl[-1],
         "gravitation_in_plane_rms_mps2": math.sqrt(sum(x * x for x in gpl) / len(gpl)),
-        "position_error_final_m": summ["final"]["position_error_m"],
+        "position_error_final_m": summ["errors"]["position_error_m"]["final"],
         "survey_grid": summ.get("survey_grid"),
         "t": [f(r, "t_s") for r in rows],
         "along": [f(r, "err_along_m") for r in rows],

@@ -69,7 +69,7 @@ int64_t new_run_id() {
 }
 
 pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path,
-            const std::vector<std::pair<int, int>>& inherit) {
+            const std::vector<std::pair<int, int>>& inherit, bool own_group) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   for (const auto& [from, to] : inherit) posix_spawn_file_actions_adddup2(&fa, from, to);  // dup2 clears FD_CLOEXEC
@@ -80,7 +80,14 @@ pid_t spawn(const std::vector<std::string>& argv, const fs::path& log_path,
   for (const auto& a : argv) av.push_back(const_cast<char*>(a.c_str()));
   av.push_back(nullptr);
   pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, av[0], &fa, nullptr, av.data(), environ);
+  posix_spawnattr_t at;
+  posix_spawnattr_init(&at);
+  if (own_group) {
+    posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&at, 0);
+  }
+  const int rc = posix_spawnp(&pid, av[0], &fa, &at, av.data(), environ);
+  posix_spawnattr_destroy(&at);
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw Fail("cannot start " + argv[0] + ": " + std::strerror(rc));
   return pid;
@@ -165,7 +172,7 @@ pid_t BusAuth::spawn_hal_sim(const std::vector<std::string>& argv, const fs::pat
   }
   if (fd < 0) throw Fail(std::string("cannot make the key pipe for hal_sim: ") + std::strerror(errno));
   try {
-    const pid_t pid = spawn(argv, log_path, {{fd, kHalKeyFd}});
+    const pid_t pid = spawn(argv, log_path, {{fd, kHalKeyFd}}, true);
     close(fd);
     return pid;
   } catch (...) {

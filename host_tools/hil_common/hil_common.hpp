@@ -54,10 +54,12 @@ std::vector<int> free_udp_ports(int n);
 int64_t new_run_id();
 
 // Start argv[0] (PATH lookup) with stdout and stderr to log_path, stdin from
-// /dev/null; throws Fail if it cannot be started. inherit: descriptors of this
+// /dev/null; throws Fail if it cannot be started. own_group: the child leads a
+// process group of its own (a terminal's SIGINT to this process's group does
+// not reach it; this process stops it in order). inherit: descriptors of this
 // process given to the child, as (fd here, fd number in the child).
 pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& log_path,
-            const std::vector<std::pair<int, int>>& inherit = {});
+            const std::vector<std::pair<int, int>>& inherit = {}, bool own_group = false);
 
 // Wait up to timeout_s for a child; returns its status or -1 if still running.
 int wait_child(pid_t pid, double timeout_s);

@@ -36,7 +36,7 @@ using namespace ggins::covariance;
 namespace {
 
 const char* kKeys[6] = {"x_m", "z_m", "vx_mps", "vz_mps", "gx_mps2", "gz_mps2"};
-const char* kCols[6] = {"err_r_x", "err_r_z", "err_v_x", "err_v_z", "err_g_x", "err_g_z"};
+const char* kCols[6] = {"err_r_x_m", "err_r_z_m", "err_v_x_mps", "err_v_z_mps", "err_g_x_mps2", "err_g_z_mps2"};
 
 struct RunData {
   std::vector<double> t;

@@ -66,3 +66,72 @@ def save(fig, title, png):
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
+
+
+# ---- flight reports (ggins run, ggins run3d: summary.json + timeseries.csv) ----------
+
+FRAME_2D = "flight's inertial frame: x equatorial, z polar"
+FRAME_3D = "NED at the true position"
+
+
+def read_run(out):
+    """A flight's output folder: (columns of timeseries.csv as a numpy record
+    array, summary.json as a dict, {} if missing)."""
+    import json
+    import os
+
+    import numpy as np
+
+    d = np.atleast_1d(np.genfromtxt(os.path.join(out, "timeseries.csv"), delimiter=",", names=True, dtype=None,
+                                    encoding="utf-8"))
+    try:
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+    except (OSError, ValueError):
+        s = {}
+    return d, s
+
+
+def time_axis(t_s):
+    """Time in the unit that suits the flight's length: (values, axis label)."""
+    import numpy as np
+
+    t_s = np.asarray(t_s, dtype=float)
+    end = t_s[-1] if len(t_s) else 0.0
+    if end > 3 * 3600:
+        return t_s / 3600.0, "time since start [h]"
+    if end > 600:
+        return t_s / 60.0, "time since start [min]"
+    return t_s, "time since start [s]"
+
+
+def run_title(s, fallback):
+    """Scenario, status and how much of it was flown, from a flight report."""
+    if not s:
+        return fallback
+    t = "%s %s: %s" % (s.get("tool", "ggins"), s.get("scenario", fallback), s.get("status", "?"))
+    t += " (%s, %s of %s steps" % (s.get("mode", "?"), s.get("steps_flown", "?"), s.get("steps_expected", "?"))
+    if s.get("steps_unflown"):
+        t += ", %d unflown" % s["steps_unflown"]
+    return t + ", frames lost %s)" % s.get("frames_lost", "?")
+
+
+def log_line(ax, t, y, label, color, lw=0.9, ls="-"):
+    """|y| on a log axis, zeros left out."""
+    import numpy as np
+
+    y = np.abs(np.asarray(y, dtype=float))
+    ax.semilogy(t, np.where(y > 0, y, np.nan), color=color, lw=lw, ls=ls, label=label)
+
+
+def envelope(ax, t, sigma, label="1σ envelope", color="0.6", k=1.0, log=False):
+    """The covariance envelope ±k sigma around an error (on a log axis of |error|:
+    the k sigma line)."""
+    import numpy as np
+
+    sg = k * np.asarray(sigma, dtype=float)
+    if log:
+        pos = np.where(sg > 0, sg, np.nan)
+        ax.semilogy(t, pos, color=color, lw=1.2, ls="--", label=label)
+    else:
+        ax.fill_between(t, -sg, sg, color=color, alpha=0.3, lw=0, label=label)

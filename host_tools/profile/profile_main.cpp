@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
   struct utsname u {};
   uname(&u);
   std::printf("firmware step time, scenario %s, %lld steps, %s; machine %s %s (%ld cores)\n",
-              scenario.c_str(), static_cast<long long>(s.value("steps", 0)),
+              scenario.c_str(), static_cast<long long>(s.value("steps_flown", 0)),
               realtime ? "realtime" : "lockstep", u.sysname, u.machine, sysconf(_SC_NPROCESSORS_ONLN));
   std::printf("%-10s %10s %10s %10s\n", "module", "median ns", "p99 ns", "max ns");
   const char* order[] = {"diff", "gravdr", "mech", "vchan", "total"};

@@ -33,6 +33,7 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -42,6 +43,8 @@
 #include <vector>
 
 #include "fields.hpp"
+#include "ggins/cli_checks.hpp"
+#include "frame_names.hpp"
 #include "ggins_hal_status_t.h"
 #include "ggins_nav2d_config_t.h"
 #include "ggins_nav3d_config_t.h"
@@ -426,9 +429,14 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     r["exit"] = code;
     r["verdict"] = verdict_name(static_cast<Exit>(code));
     r["bit_exact"] = code == kExact;
-    if (!o.json_out.empty()) {
+    if (!o.json_out.empty()) {  // an output that cannot be written is an error (exit 2)
       std::ofstream jf(o.json_out);
       jf << r.dump(2, ' ', false, json::error_handler_t::replace) << "\n";  // a path need not be UTF-8
+      jf.close();
+      if (!jf) {
+        std::fprintf(stderr, "ggins replay: cannot write %s\n", o.json_out.c_str());
+        return static_cast<int>(kUnreadable);
+      }
     }
     return code;
   };
@@ -490,11 +498,13 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   std::vector<int64_t> missing, beyond, twice, no_frame, frames_beyond;
   int64_t n_missing = 0;
   int64_t rejected = 0;
+  uint32_t health_or = 0;  // of the recorded outputs (the report's health_seen)
   for (const auto& [seq, oc] : outs) {
     if (n_steps && (seq < 0 || seq >= *n_steps)) beyond.push_back(seq);
     if (oc.firsts > 1) twice.push_back(seq);
     if (!c.frames.count(seq)) no_frame.push_back(seq);
     if (oc.rec.status != 0) ++rejected;
+    health_or |= static_cast<uint32_t>(oc.rec.health);
   }
   if (n_steps) n_missing = missing_seqs(outs, *n_steps, missing);
   for (const auto& [seq, fc] : c.frames) {
@@ -627,6 +637,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
                   {"undecodable", nav_undecodable},
                   {"other_run", nav_foreign},
                   {"rejected_steps", rejected}};
+  r["health_seen"] = ggins::hil::health_word(health_or);  // raw and named bits, as in the run's report
   r["configuration_copies_differ"] = config_copies_differ;
   r["hal_frames_lost"] = frames_lost;
   r["hal_final"] = c.hal_last && c.hal_last->state == GGINS_HAL_STATUS_T_STOPPED;
@@ -726,9 +737,17 @@ int main(int argc, char** argv) {
       "ggins replay"};
   app.add_option("log", o.log, "LCM log of the run (run.lcmlog)")->required()->check(CLI::ExistingFile);
   app.add_option("--prefix", o.prefix, "channel prefix of the run")->capture_default_str();
-  app.add_option("--run-id", o.run_id, "run id to replay (default: the run id of the first configuration message)");
-  app.add_option("--json", o.json_out, "also write the result as JSON to this file");
-  app.add_option("--show", o.show, "mismatches listed in full")->capture_default_str();
+  app.add_option("--run-id", o.run_id, "run id to replay (default: the run id of the first configuration message)")
+      ->check(ggins::cli::IntRange(0, INT64_MAX));
+  app.add_option("--json", o.json_out, "also write the result as JSON to this file")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            const std::string dir = std::filesystem::path(v).parent_path().string();
+            const std::string why = ggins::cli::output_dir_problem(dir.empty() ? "." : dir);
+            return why.empty() ? why : "cannot write '" + v + "': " + why;
+          },
+          "FILE (writable)", "WritableFile"));
+  app.add_option("--show", o.show, "mismatches listed in full")->capture_default_str()->check(ggins::cli::IntRange(0, 1000000));
   app.add_flag("-q,--quiet", o.quiet, "print only the problems and the verdict line");
   try {
     app.parse(argc, argv);

@@ -10,8 +10,8 @@ import sys
 
 import util
 
-COLS = {"err_r_x": "x_m", "err_r_z": "z_m", "err_v_x": "vx_mps", "err_v_z": "vz_mps", "err_g_x": "gx_mps2",
-        "err_g_z": "gz_mps2"}
+COLS = {"err_r_x_m": "x_m", "err_r_z_m": "z_m", "err_v_x_mps": "vx_mps", "err_v_z_mps": "vz_mps", "err_g_x_mps2": "gx_mps2",
+        "err_g_z_mps2": "gz_mps2"}
 
 
 def compare(camp_out, mc_out, C, rel_cov=1e-9):

@@ -104,17 +104,17 @@ try:
     C.ok(same, "every run's final values and time series identical to the LocalCluster campaign")
 
     # and to the plain command, outside the engine, on the unmodified scenario file
-    cols = {"err_r_x": "x_m", "err_r_z": "z_m", "err_v_x": "vx_mps", "err_v_z": "vz_mps", "err_g_x": "gx_mps2",
-            "err_g_z": "gz_mps2"}
+    cols = {"err_r_x_m": "x_m", "err_r_z_m": "z_m", "err_v_x_mps": "vx_mps", "err_v_z_mps": "vz_mps", "err_g_x_mps2": "gx_mps2",
+            "err_g_z_mps2": "gz_mps2"}
     for meta, _ in list(st.values())[:2]:
         d = os.path.join(tmp, "direct-%d" % meta["seed"])
         subprocess.run([os.path.join(util.BIN, "ggins-run"), "-s", "welker-table1", "--seed", str(meta["seed"]),
                         "--duration", repr(meta["params"]["time.duration_s"]), "--no-log", "--no-plots", "-q",
                         "--csv-rate", "1", "--out", d], check=True, capture_output=True)
         ref = util.last_row(os.path.join(d, "timeseries.csv"), cols)
-        C.ok(all(ref[c] == meta["final"][n] for c, n in cols.items()) and ref["err_r_x"] != 0,
+        C.ok(all(ref[c] == meta["final"][n] for c, n in cols.items()) and ref["err_r_x_m"] != 0,
              "seed %d, %g s: campaign = ggins-run -s welker-table1 --seed %d (dx %.6g m)"
-             % (meta["seed"], meta["params"]["time.duration_s"], meta["seed"], ref["err_r_x"]))
+             % (meta["seed"], meta["params"]["time.duration_s"], meta["seed"], ref["err_r_x_m"]))
 finally:
     for p in procs:
         if p.poll() is None:

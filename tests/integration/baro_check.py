@@ -198,7 +198,7 @@ def sigma_filtered(p, sig_m, tau, sig_n, T):
 def nav_err_h(row):
     """Vertical error from the navigation columns against the closed form
     (|r_true| = R + h exactly on the north flight), independent of the run tool."""
-    x, z = float(row["nav_r_x"]), float(row["nav_r_z"])
+    x, z = float(row["nav_r_x_m"]), float(row["nav_r_z_m"])
     return math.hypot(x, z) - R_E
 
 

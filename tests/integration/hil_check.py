@@ -171,11 +171,11 @@ def nav_errors(row):
     def D(k):  # the exact value of the double the CSV printed with 17 digits
         return Decimal(float(row[k]))
 
-    er = [D("nav_r_x") - r[0], D("nav_r_z") - r[1]]
-    ev = [D("nav_v_x") - v[0], D("nav_v_z") - v[1]]
-    eg = [D("nav_g_x") - g[0], D("nav_g_z") - g[1]]
-    tr = [Decimal(row["true_r_x"]) - r[0], Decimal(row["true_r_z"]) - r[1]]
-    tg = [Decimal(row["true_g_x"]) - g[0], Decimal(row["true_g_z"]) - g[1]]
+    er = [D("nav_r_x_m") - r[0], D("nav_r_z_m") - r[1]]
+    ev = [D("nav_v_x_mps") - v[0], D("nav_v_z_mps") - v[1]]
+    eg = [D("nav_g_x_mps2") - g[0], D("nav_g_z_mps2") - g[1]]
+    tr = [Decimal(row["true_r_x_m"]) - r[0], Decimal(row["true_r_z_m"]) - r[1]]
+    tg = [Decimal(row["true_g_x_mps2"]) - g[0], Decimal(row["true_g_z_mps2"]) - g[1]]
     return er, ev, eg, tr, tg
 
 
@@ -192,7 +192,7 @@ def test_perfect(a):
     s, rows = load(out)
     n = 12001
     check(s["completed"] is True, "run completed")
-    check(s["steps"] == n, "steps == %d (got %s)" % (n, s["steps"]))
+    check(s["steps_flown"] == n, "steps == %d (got %s)" % (n, s["steps_flown"]))
     check(s["frames_lost"] == 0, "frames_lost == 0")
     check(s["steps_rejected"] == 0, "no step rejected by the firmware")
     check(len(rows) == 121, "121 CSV rows at 1 Hz (got %d)" % len(rows))
@@ -205,13 +205,15 @@ def test_perfect(a):
     check(norm(ev) < 1e-9, "final velocity error < 1e-9 m/s (%.2e m/s)" % norm(ev))
     check(norm(eg) < 1e-13, "final gravity error < 1e-13 m/s^2 (%.2e m/s^2)" % norm(eg))
     # the summary's own numbers agree with the independent ones
-    fs = s["final"]
+    fs = {k: v["final"] for k, v in s["errors"].items() if isinstance(v, dict) and "final" in v}
     check(abs(fs["position_error_m"] - norm(er)) <= 1e-3 * norm(er) + 1e-12,
           "summary final position error matches (%.3e vs %.3e)" % (fs["position_error_m"], norm(er)))
     check(abs(fs["gravity_error_mps2"] - norm(eg)) <= 1e-2 * norm(eg) + 2e-16,
           "summary final gravity error matches (%.3e vs %.3e)" % (fs["gravity_error_mps2"], norm(eg)))
     for k in ("position_error_m", "velocity_error_mps", "gravity_error_mps2"):
-        check(k in s["max"] and s["max"][k] >= fs[k], "summary max.%s present and >= final" % k)
+        check("max" in s["errors"][k] and s["errors"][k]["max"] >= fs[k], "summary errors.%s.max present and >= final" % k)
+    check(s["status"] == "completed" and s["steps_unflown"] == 0 and s["steps_expected"] == n,
+          "report: status completed, %d steps expected, none unflown" % n)
     for k in ("wall_s", "realtime_factor", "frames_recovered"):
         check(k in s, "summary has %s" % k)
     st = s["firmware_step_ns"]
@@ -265,7 +267,7 @@ def test_bias(a):
     check(abs(float(er[0]) - dx) < 0.02 * abs(dx), "x error %.5e m vs predicted %.5e m (2%%)" % (float(er[0]), dx))
     check(abs(float(eg[0]) - dgx) < 0.02 * abs(dgx), "G_x error %.5e vs predicted %.5e m/s^2 (2%%)" % (float(eg[0]), dgx))
     check(abs(float(er[1])) < 0.05 * abs(dx), "z error small (%.2e m)" % float(er[1]))
-    fs = s["final"]["position_error_axes_m"]
+    fs = s["errors"]["position_error_final_m"]
     check(abs(fs["x"] - float(er[0])) < 1e-6 * abs(dx), "summary per-axis x error agrees")
 
 
@@ -285,7 +287,7 @@ def test_faults(a):
     tr = sf["transport"]
     inj = tr["injected"]
     print(json.dumps(tr, indent=1))
-    check(sf["completed"] is True and sf["steps"] == 3001, "faulty run completed all 3001 steps")
+    check(sf["completed"] is True and sf["steps_flown"] == 3001, "faulty run completed all 3001 steps")
     check(sf["frames_lost"] == 0, "no frame lost")
     check(inj["dropped"] > 50 and inj["duplicated"] > 50 and inj["reordered"] > 50,
           "faults were injected (%s)" % inj)
@@ -307,7 +309,7 @@ def test_faults(a):
     cols = [c for c in rc[0] if c.startswith("nav_")]
     same = len(rc) == len(rf) and all(x[c] == y[c] for x, y in zip(rc, rf) for c in cols)
     check(same, "navigation outputs identical to the clean run (%d rows x %d columns)" % (len(rc), len(cols)))
-    check(sf["final"]["position_error_m"] == sc["final"]["position_error_m"], "final error identical")
+    check(sf["errors"]["position_error_m"]["final"] == sc["errors"]["position_error_m"]["final"], "final error identical")
     check(sf["log"]["complete"] is True, "the log of the faulty run is complete")
 
 
@@ -331,22 +333,24 @@ def test_direct(a):
     sl, sd, sx = runs["lcm"][0], runs["direct"][0], runs["lossy"][0]
     check(sd["mode"] == "direct" and "transport" not in sd, "--direct: no transport")
     check(sl["completed"] and sd["completed"] and sx["completed"], "all three runs completed")
-    check(sl["steps"] == sd["steps"] == sx["steps"] == n, "%d steps each" % n)
+    check(sl["steps_flown"] == sd["steps_flown"] == sx["steps_flown"] == n, "%d steps each" % n)
     # DEADLINE (bit 9 of health) flags a step that overran its period on this machine's
     # clock: timing, not navigation. Every other byte of the timeseries must be the same.
     def nav_only(raw):
         lines = raw.decode().splitlines()
         col = lines[0].split(",").index("health")
+        cb = lines[0].split(",").index("health_bits")  # the same word decoded
         out = [lines[0]]
         for ln in lines[1:]:
             f = ln.split(",")
             f[col] = str(int(f[col]) & ~(1 << 9))
+            f[cb] = "|".join(b for b in f[cb].split("|") if b != "DEADLINE")
             out.append(",".join(f))
         return out
     dl = [nav_only(runs[k][1]) for k in ("lcm", "direct", "lossy")]
     check(dl[0] == dl[1], "timeseries.csv: LCM and --direct byte for byte the same (but for DEADLINE)")
     check(dl[2] == dl[1], "timeseries.csv: lossy LCM and --direct byte for byte the same (but for DEADLINE)")
-    for k in ("final", "max", "vertical", "horizontal", "steps_rejected"):
+    for k in ("errors", "vertical", "horizontal", "steps_rejected"):
         check(sl[k] == sd[k] == sx[k], "summary %s the same to the last digit in all three" % k)
     tr = sl["transport"]
     check(tr["frame_messages"] * 4 < n and tr["output_messages"] * 4 < n,
@@ -367,7 +371,7 @@ def test_realtime(a):
     run(a.ggins_run, out, "--scenario", "welker-perfect", "--duration", "3", "--realtime", "--no-plots",
         "--drop-prob", "0.03", "--reorder-prob", "0.03")
     s, rows = load(out)
-    check(s["completed"] is True and s["steps"] == 301 and s["frames_lost"] == 0, "301 steps, none lost")
+    check(s["completed"] is True and s["steps_flown"] == 301 and s["frames_lost"] == 0, "301 steps, none lost")
     hs = s["transport"]["hal_sim"]
     check(hs["resend_requests"] >= 1 and s["frames_recovered"] >= 1,
           "gaps re-requested by hal_sim and recovered (%d requests, %d recovered, %d drops)"
@@ -419,14 +423,14 @@ def test_shared_url(a):
         check(p.returncode == 0, "parallel run exit status 0")
     ss = [load(o)[0] for o in outs]
     for i, s in enumerate(ss):
-        check(s["completed"] is True and s["steps"] == 2001 and s["frames_lost"] == 0, "run %d complete" % i)
+        check(s["completed"] is True and s["steps_flown"] == 2001 and s["frames_lost"] == 0, "run %d complete" % i)
     foreign = sum(s["transport"]["outputs_foreign"] + s["transport"]["hal_sim"]["foreign_messages"] for s in ss)
     check(foreign > 0, "the runs did see each other's messages (%d) and ignored them" % foreign)
     # each equals the same seed flown alone
     alone = os.path.join(a.workdir, "alone")
     run(a.ggins_run, alone, "--scenario", "welker-table1", "--seed", "10", "--duration", "20", "--no-plots", "--no-log")
     s_alone = load(alone)[0]
-    check(s_alone["final"] == ss[0]["final"], "shared-URL run 0 identical to the same seed flown alone")
+    check(s_alone["errors"] == ss[0]["errors"], "shared-URL run 0 identical to the same seed flown alone")
 
 
 def test_cli(a):

@@ -174,7 +174,7 @@ def test_fault(a, case):
     check(p.returncode == want_rc and s.get("degraded") == (want_rc == 4),
           "exit status %d with %d frames rejected (got %d, degraded %s)"
           % (want_rc, s.get("steps_rejected", 0), p.returncode, s.get("degraded")))
-    check(s["completed"] is True and s["steps"] == n, "run completed, %d steps (got %s)" % (n, s["steps"]))
+    check(s["completed"] is True and s["steps_flown"] == n, "run completed, %d steps (got %s)" % (n, s["steps_flown"]))
     check(len(rows) == n, "a CSV row per step (%d)" % len(rows))
     health = {int(r["seq"]): int(r["health"]) for r in rows}
     before = [k for k in range(K_FAULT) if health.get(k, 0) & ~HEALTH["NOT_INIT"] & ~HEALTH["DEADLINE"]]
@@ -289,7 +289,7 @@ def test_replay(a):
     n = 1001
     check(p.returncode == 4 and s["degraded"] is True and s["steps_rejected"] > 0,
           "the time-stamp fault's rejected frame: completed, degraded, exit 4 (got %d)" % p.returncode)
-    check(s["completed"] is True and s["steps"] == n, "run completed (%s steps)" % s["steps"])
+    check(s["completed"] is True and s["steps_flown"] == n, "run completed (%s steps)" % s["steps_flown"])
     inj = s["transport"]["injected"]
     hs = s["transport"]["hal_sim"]
     check(all(inj[k] > 0 for k in ("dropped", "duplicated", "reordered", "garbage")),
@@ -298,9 +298,9 @@ def test_replay(a):
           and hs["outputs_republished"] > 0, "hal_sim saw duplicates, reordering, undecodable payloads, "
           "and republished outputs: %s" % {k: hs[k] for k in ("frames_duplicate", "frames_out_of_order",
                                                               "decode_errors", "outputs_republished")})
-    seen = s["health_bits_seen"]
+    seen = s["health_seen"]["raw"]
     check(seen & HEALTH["ACC_NONFINITE"] and seen & HEALTH["ACC_FAULT"] and seen & HEALTH["TIME_JUMP"],
-          "the run went through the fault handling (health seen: %s)" % s["health_seen"])
+          "the run went through the fault handling (health seen: %s)" % s["health_seen"]["bits"])
     log = os.path.join(out, "run.lcmlog")
     jpath = os.path.join(a.workdir, "replay.json")
     cmd = [a.ggins_replay, log, "--json", jpath]

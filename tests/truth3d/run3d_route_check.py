@@ -71,20 +71,20 @@ def main():
     if a.case == "route":
         s, _ = run(a, "3d-route-45n")
         check(s["trajectory"] == "route", "trajectory type route")
-        check(s["steps"] == 66001 and s["steps_rejected"] == 0, "66001 steps, none rejected")
-        check((s["health_or"] & FAULT_BITS) == 0, "no fault bit (health_or 0x%x)" % s["health_or"])
-        pe = s["position_error_m"]
+        check(s["steps_flown"] == 66001 and s["steps_rejected"] == 0, "66001 steps, none rejected")
+        check((s["health_seen"]["raw"] & FAULT_BITS) == 0, "no fault bit (health_or 0x%x)" % s["health_seen"]["raw"])
+        pe = s["errors"]["position_error_m"]
         check(pe["max"] < 0.01, "position error max %.3e m < 1 cm (final %.3e m)" % (pe["max"], pe["final"]))
     elif a.case == "bias":
         sc = with_faults(a, "route-bias", '[sensor_faults]\n[[sensor_faults.fault]]\nkind = "step"\nsensor = 1\n'
                          'axis = "x"\nstart_s = 5.0\nsize = 1e-8\n')
         s, rows = run(a, sc, "--duration", "60", "--csv-rate", "100")
         check(s["steps_rejected"] == 0, "no step rejected")
-        h = s["health_or"]
+        h = s["health_seen"]["raw"]
         check(h & ACC_FAULT and h & ACC_REBUILT, "ACC_FAULT and ACC_REBUILT raised (health_or 0x%x)" % h)
         first = min((float(r["t_s"]) for r in rows if int(r["health"]) & ACC_FAULT), default=None)
         check(first is not None and 5.0 <= first <= 5.011, "flagged at %s s (fault from 5 s)" % first)
-        pe = s["position_error_m"]
+        pe = s["errors"]["position_error_m"]
         check(pe["max"] < 0.01, "position error max %.3e m < 1 cm" % pe["max"])
     else:
         sc = with_faults(a, "route-nanpair", '[sensor_faults]\n'
@@ -97,10 +97,10 @@ def main():
         check(flagged and abs(min(flagged) - 10.0) < 1e-9 and abs(max(flagged) - 11.49) < 1e-9,
               "ACC_NONFINITE from 10 s to 11.49 s only (%s .. %s)" % (flagged[:1], flagged[-1:]))
         check(s["steps_rejected"] <= 150, "at most the 150 NaN frames unused (%d)" % s["steps_rejected"])
-        check(s["steps"] == 6001, "the run completes (6001 steps)")
+        check(s["steps_flown"] == 6001, "the run completes (6001 steps)")
         after = [r for r in rows if float(r["t_s"]) > 11.5]
         check(all((int(r["health"]) & 0x100) == 0 for r in after), "no frame rejected after the NaN pair")
-        pe = s["position_error_m"]
+        pe = s["errors"]["position_error_m"]
         check(pe["final"] < 0.01, "navigating after it: final position error %.3e m < 1 cm" % pe["final"])
     print("%d passed, %d failed" % (CHECKS[0] - len(FAILS), len(FAILS)))
     return 1 if FAILS else 0

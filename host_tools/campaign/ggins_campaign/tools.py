@@ -10,8 +10,8 @@ from . import tomlw
 
 # the six error states of the 2-D system (Welker et al. eq. 7), firmware minus truth,
 # with the names of ggins montecarlo / ggins covariance
-RUN2D_STATES = {"err_r_x": "x_m", "err_r_z": "z_m", "err_v_x": "vx_mps", "err_v_z": "vz_mps",
-                "err_g_x": "gx_mps2", "err_g_z": "gz_mps2"}
+RUN2D_STATES = {"err_r_x_m": "x_m", "err_r_z_m": "z_m", "err_v_x_mps": "vx_mps", "err_v_z_mps": "vz_mps",
+                "err_g_x_mps2": "gx_mps2", "err_g_z_mps2": "gz_mps2"}
 
 RUN3D_STATES = {"err_n_m": "rn_m", "err_e_m": "re_m", "err_d_m": "rd_m", "err_vn_mps": "vn_mps",
                 "err_ve_mps": "ve_mps", "err_vd_mps": "vd_mps", "att_err_n_rad": "att_n_rad",
