@@ -810,7 +810,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_real_t w_now[3];
         gg_real_t wd_ref[3];
         const gg_real_t *wd_p = NULL;
-        gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0.0L};
+        gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0U, 0U, 0.0L};
         size_t j;
         fixed = *frame;
         for (j = 0U; j < 3U; ++j) {
@@ -827,8 +827,14 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         if ((fo.flags & GG_FDI3D_DETECTED) != 0U) {
             health |= GG_HEALTH_ACC_FAULT;
         }
-        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_PAIR) != 0U)) {
+        if ((st_read == GG_OK) && ((fo.flags & (GG_FDI3D_PAIR | GG_FDI3D_HOLD_GRAD)) != 0U)) {
             health |= GG_HEALTH_GRAD_COAST;
+        }
+        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_DEGRADED) != 0U)) {
+            health |= GG_HEALTH_ACC_DEGRADED;
+        }
+        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_FORCE) != 0U)) {
+            health |= GG_HEALTH_FORCE_COAST;
         }
         if (st_read != GG_OK) {
             /* the readings' own fault, as the health word says */

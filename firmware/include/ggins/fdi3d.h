@@ -63,6 +63,10 @@
 #define GG_FDI3D_REBUILT   0x02u /**< one or more readings rebuilt (degraded) */
 #define GG_FDI3D_NEW_EXCL  0x04u /**< a reading or a pair-axis was newly excluded this step */
 #define GG_FDI3D_PAIR      0x08u /**< a pair-axis is excluded: its gradient entry from symmetry/trace */
+#define GG_FDI3D_DEGRADED  0x10u /**< readings lost beyond one per pair-axis: the degraded rebuild */
+#define GG_FDI3D_HOLD_GRAD 0x20u /**< a column entry M[j][p] held (last value, or the prior) */
+#define GG_FDI3D_HOLD_FORCE 0x40u /**< no reading of an axis usable: its centre force held */
+#define GG_FDI3D_SUSPECT   0x80u /**< a fault no single reading or pair explains: readings set aside */
 
 typedef struct {
     gg_real_t half_base_m[3]; /**< h_0, h_1, h_2, m (> 0) */
@@ -76,6 +80,10 @@ typedef struct {
                                     the difference of its last whole frame), m/s^2 */
     uint32_t excluded;         /**< readings isolated as faulty, latched (GG_FDI3D_BIT) */
     uint32_t excluded_pairs;   /**< pair-axes (p, j) excluded as pairs, latched (bit GG_FDI3D_BIT(p, j)) */
+    gg_real_t m_good[3][3];    /**< column entries M[j][p] of the last frame used, s^-2 (what a
+                                    degraded rebuild holds) */
+    gg_real_t m_prior[3][3];   /**< column entries from an onboard model (have_prior), s^-2 */
+    int have_prior;            /**< 1: a held column entry takes m_prior (gg_fdi3d_set_prior) */
     int have_good;             /**< a frame has been used */
     int initialized;
 } gg_fdi3d_t;
@@ -85,6 +93,8 @@ typedef struct {
     uint32_t rebuilt;          /**< readings rebuilt this step */
     uint32_t excluded;         /**< latched exclusions after this step */
     uint32_t excluded_pairs;
+    uint32_t held_m;           /**< column entries M[j][p] held this step, bit GG_FDI3D_BIT(p, j) */
+    uint32_t held_force;       /**< axes whose centre force is held this step, bit j */
     gg_real_t parity_max;      /**< largest |m_p,j - m_q,j| over the whole pairs, m/s^2 */
 } gg_fdi3d_output_t;
 
@@ -101,6 +111,11 @@ gg_status_t gg_fdi3d_init(gg_fdi3d_t *st, const gg_fdi3d_config_t *cfg);
  *  (f, f_lo and the state untouched; out->flags still says whether a parity
  *  check fired); GG_ERR_NONFINITE when a reading not marked bad is not
  *  finite (out untouched). */
+/** Column entries M = W - Gamma (diff3d.h) an onboard model predicts for
+ *  the next step, s^-2 (NULL: none; a held entry then keeps its last
+ *  value). GG_ERR_NONFINITE when one is not finite (nothing set). */
+gg_status_t gg_fdi3d_set_prior(gg_fdi3d_t *st, const gg_real_t m_prior[3][3]);
+
 gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
                           const gg_real_t omega_dot_ref[3], double f[6][3], double f_lo[6][3],
                           gg_fdi3d_output_t *out);
