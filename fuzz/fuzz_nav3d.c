@@ -45,7 +45,7 @@
 #define R0 6378137.0
 #define DT_US 10000
 #define MAX_OPS 64
-#define MAX_FRAMES 512
+#define MAX_FRAMES 256
 #define TAIL_FRAMES (2 * GG_TASK_RESYNC_FRAMES + 2)
 
 #define FAIL(...)                                                   \
