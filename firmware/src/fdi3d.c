@@ -700,22 +700,29 @@ static gg_status_t verify(const gg_fdi3d_t *st, const gg_real_t w[3], const gg_r
     return res;
 }
 
-/* The readings an isolation that verify refused read: the pair of each
- * newly excluded reading or pair-axis (p, j) on its axis, and the readings
- * of the residual it read - the mirror pair (j on axis p) for a cross-axis
- * reading, every diagonal pair for the trace. */
+/* The readings an isolation that verify refused read. A pair-axis (p, j)
+ * excluded as ambiguous may be the one good pair of axis j (equal faults on
+ * the other two): every reading of axis j. A reading (s, j): its pair on
+ * axis j and the readings of the residual it read - the mirror pair (j on
+ * axis p) for a cross-axis reading, every diagonal pair for the trace. */
 static uint32_t verify_suspects(uint32_t new_bad, uint32_t new_pairs)
 {
     uint32_t r = 0U;
     size_t s;
     size_t j;
+    for (s = 0U; s < 3U; ++s) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((new_pairs & rbit(s, j)) != 0U) {
+                size_t q;
+                for (q = 0U; q < 3U; ++q) {
+                    r |= rbit(q, j) | rbit(q + 3U, j);
+                }
+            }
+        }
+    }
     for (s = 0U; s < 6U; ++s) {
         for (j = 0U; j < 3U; ++j) {
-            uint32_t pb = 0U;
-            if (s < 3U) {
-                pb = new_pairs & rbit(s, j);
-            }
-            if (((new_bad & rbit(s, j)) != 0U) || (pb != 0U)) {
+            if ((new_bad & rbit(s, j)) != 0U) {
                 const size_t p = s % 3U;
                 r |= rbit(p, j) | rbit(p + 3U, j);
                 if (j != p) {
@@ -862,6 +869,10 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
                     break;
                 }
                 aside |= vs;
+                for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
+                    aside &= ~rescue(st, bad | pair_readings(pairs), aside, j, omega_b, wd, wd_ok,
+                                     f, f_lo);
+                }
                 new_bad = 0U;
                 new_pairs = 0U;
                 o.flags |= GG_FDI3D_SUSPECT;
