@@ -931,7 +931,7 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     return GG_OK;
 }
 
-gg_status_t gg_fdi3d_set_prior(gg_fdi3d_t *st, const gg_real_t m_prior[3][3])
+gg_status_t gg_fdi3d_set_prior(gg_fdi3d_t *st, gg_real_t m_prior[3][3])
 {
     size_t p;
     size_t j;

@@ -114,7 +114,7 @@ gg_status_t gg_fdi3d_init(gg_fdi3d_t *st, const gg_fdi3d_config_t *cfg);
 /** Column entries M = W - Gamma (diff3d.h) an onboard model predicts for
  *  the next step, s^-2 (NULL: none; a held entry then keeps its last
  *  value). GG_ERR_NONFINITE when one is not finite (nothing set). */
-gg_status_t gg_fdi3d_set_prior(gg_fdi3d_t *st, const gg_real_t m_prior[3][3]);
+gg_status_t gg_fdi3d_set_prior(gg_fdi3d_t *st, gg_real_t m_prior[3][3]);
 
 gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
                           const gg_real_t omega_dot_ref[3], double f[6][3], double f_lo[6][3],
