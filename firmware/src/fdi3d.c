@@ -742,7 +742,7 @@ static uint32_t verify_suspects(uint32_t new_bad, uint32_t new_pairs)
 /* Copy the frame's readings into nf/nlo and rebuild the unusable ones: one
  * per pair-axis and excluded pair-axes as accommodate does, else the
  * degraded rebuild (GG_FDI3D_DEGRADED). */
-static void rebuild(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, const gg_real_t w[3],
+static void rebuild_set(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, const gg_real_t w[3],
                     const gg_real_t wd[3], int wd_ok, double f[6][3], double f_lo[6][3],
                     double nf[6][3], double nlo[6][3], gg_fdi3d_output_t *o, uint32_t *held_m,
                     uint32_t *held_force)
@@ -789,6 +789,7 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     uint32_t held_m = 0U;
     uint32_t held_force = 0U;
     int iter;
+    int done = 0;
     gg_real_t expect[3][3];
     size_t s;
     size_t p;
@@ -824,7 +825,7 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
         return GG_ERR_SENSOR; /* no curvature differences known yet */
     }
     status = GG_OK;
-    for (iter = 0; iter < FDI3D_MAX_ROUNDS; ++iter) {
+    for (iter = 0; (iter < FDI3D_MAX_ROUNDS) && (done == 0); ++iter) {
         uint32_t suspect = 0U;
         gg_status_t st_det;
         new_bad = 0U;
@@ -834,8 +835,8 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
                 expect[p][j] = 0.0L;
             }
         }
-        rebuild(st, bad | aside, pairs, omega_b, wd, wd_ok, f, f_lo, nf, nlo, &o, &held_m,
-                &held_force);
+        rebuild_set(st, bad | aside, pairs, omega_b, wd, wd_ok, f, f_lo, nf, nlo, &o, &held_m,
+                    &held_force);
         st_det = detect(st, bad | aside, pairs, omega_b, wd, wd_ok, nf, nlo, &new_bad, &new_pairs,
                         &o.parity_max, &o.flags, expect, &suspect);
         if (st_det != GG_OK) {
@@ -843,46 +844,49 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
             const uint32_t unus = bad | pair_readings(pairs);
             if ((st->have_good == 0) || ((suspect & ~aside) == 0U)) {
                 status = GG_ERR_SENSOR;
-                break;
+                done = 1;
+            } else {
+                aside |= suspect;
+                for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
+                    aside &= ~rescue(st, unus, aside, j, omega_b, wd, wd_ok, f, f_lo);
+                }
+                o.flags |= GG_FDI3D_SUSPECT;
             }
-            aside |= suspect;
-            for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
-                aside &= ~rescue(st, unus, aside, j, omega_b, wd, wd_ok, f, f_lo);
-            }
-            o.flags |= GG_FDI3D_SUSPECT;
-            continue;
-        }
-        if ((new_bad != 0U) || (new_pairs != 0U)) {
+        } else if ((new_bad != 0U) || (new_pairs != 0U)) {
             if (st->have_good == 0) {
                 status = GG_ERR_SENSOR;
-                break;
-            }
-            /* start again from the frame's readings with the new exclusions */
-            rebuild(st, bad | aside | new_bad, pairs | new_pairs, omega_b, wd, wd_ok, f, f_lo, nf,
-                    nlo, &o, &held_m, &held_force);
-            if (verify(st, omega_b, wd, wd_ok, nf, nlo, expect) != GG_OK) {
-                /* the isolation did not explain the residual (two faults):
-                 * set aside what it read instead of excluding anything */
-                const uint32_t vs = verify_suspects(new_bad, new_pairs);
-                if ((vs & ~aside) == 0U) {
-                    status = GG_ERR_SENSOR;
-                    break;
+                done = 1;
+            } else {
+                /* start again from the frame's readings with the new exclusions */
+                rebuild_set(st, bad | aside | new_bad, pairs | new_pairs, omega_b, wd, wd_ok, f,
+                            f_lo, nf, nlo, &o, &held_m, &held_force);
+                if (verify(st, omega_b, wd, wd_ok, nf, nlo, expect) != GG_OK) {
+                    /* the isolation did not explain the residual (two faults):
+                     * set aside what it read instead of excluding anything */
+                    const uint32_t vs = verify_suspects(new_bad, new_pairs);
+                    if ((vs & ~aside) == 0U) {
+                        status = GG_ERR_SENSOR;
+                        done = 1;
+                    } else {
+                        aside |= vs;
+                        for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
+                            aside &= ~rescue(st, bad | pair_readings(pairs), aside, j, omega_b,
+                                             wd, wd_ok, f, f_lo);
+                        }
+                        o.flags |= GG_FDI3D_SUSPECT;
+                    }
+                    new_bad = 0U;
+                    new_pairs = 0U;
+                } else {
+                    o.flags |= GG_FDI3D_NEW_EXCL;
+                    done = 1;
                 }
-                aside |= vs;
-                for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
-                    aside &= ~rescue(st, bad | pair_readings(pairs), aside, j, omega_b, wd, wd_ok,
-                                     f, f_lo);
-                }
-                new_bad = 0U;
-                new_pairs = 0U;
-                o.flags |= GG_FDI3D_SUSPECT;
-                continue;
             }
-            o.flags |= GG_FDI3D_NEW_EXCL;
+        } else {
+            done = 1;
         }
-        break;
     }
-    if (iter >= FDI3D_MAX_ROUNDS) {
+    if (done == 0) {
         status = GG_ERR_SENSOR; /* not reached: each round sets more readings aside */
     }
     if (status != GG_OK) {

@@ -761,11 +761,6 @@ static gg_status_t n3_model_prior(const gg_nav3d_t *nav, const gg_real_t w[3],
     gg_real_t v_i[3];
     gg_real_t r_e[3];
     gg_real_t ge[3][3];
-    gg_real_t gi[3][3];
-    gg_real_t gb[3][3];
-    gg_real_t rm[3][3];
-    gg_real_t cb[3][3];
-    gg_real_t ct[3][3];
     gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
     gg_real_t s1 = 0.0L;
     gg_real_t c1 = 1.0L;
@@ -773,7 +768,8 @@ static gg_status_t n3_model_prior(const gg_nav3d_t *nav, const gg_real_t w[3],
     size_t k;
     if (st == GG_OK) {
         /* at the frame's time, one step on: r_i + v_i dt, theta_{k+1} */
-        st = gg_sincos(nav->omega_ie * ((gg_real_t)(nav->n_steps + 1) * nav->dt_s), &s1, &c1);
+        const int64_t n1 = nav->n_steps + 1;
+        st = gg_sincos(nav->omega_ie * ((gg_real_t)n1 * nav->dt_s), &s1, &c1);
     }
     if (st == GG_OK) {
         for (j = 0U; j < 3U; ++j) {
@@ -803,6 +799,11 @@ static gg_status_t n3_model_prior(const gg_nav3d_t *nav, const gg_real_t w[3],
         }
     }
     if (st == GG_OK) {
+        gg_real_t gi[3][3];
+        gg_real_t gb[3][3];
+        gg_real_t rm[3][3];
+        gg_real_t cb[3][3];
+        gg_real_t ct[3][3];
         for (j = 0U; j < 3U; ++j) {
             for (k = 0U; k < j; ++k) {
                 const gg_real_t a = 0.5L * (ge[j][k] + ge[k][j]);
