@@ -87,7 +87,8 @@ def main():
              "closed-form truth, and the largest ratio to the case's own bound, computed from what its health "
              "says was held and which faulty readings stayed in use (test_fault_matrix.c, case_bound). "
              "The reduced matrix (3 s flights, the same cases) is CTest `unit.test_fault_matrix` and fails on "
-             "any freeze, unflagged visible fault or error above its bound." % (a.build, "0" if matrix_ok else "NON-ZERO"))
+             "any freeze, any rejected frame (only the readings are faulty: a group that loses more than it can "
+             "rebuild must degrade), unflagged visible fault or error above its bound." % (a.build, "0" if matrix_ok else "NON-ZERO"))
     L.append("")
     L.extend(matrix)
     L.append("")
