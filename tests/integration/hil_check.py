@@ -392,8 +392,10 @@ def test_realtime(a):
           "overruns counted (%s; max latency %.0f us)" % (rt.get("deadline_overruns"), lt["max"]))
     # outputs lost on the way in real time (recovered late, out of order): the final
     # errors are those of the last step flown, not of the last output received
+    # (welker-table1: the sensor errors make the position error grow by ~0.7 % a step
+    # at 3 s, above the 0.1 % the summary's truth and this test's closed form differ by)
     out3 = os.path.join(a.workdir, "realtime-lost-outputs")
-    run(a.ggins_run, out3, "--scenario", "welker-perfect", "--duration", "3", "--realtime", "--no-plots",
+    run(a.ggins_run, out3, "--scenario", "welker-table1", "--duration", "3", "--realtime", "--no-plots",
         "--no-log", "--csv-rate", "100", "--drop-output-prob", "0.2", check_rc=False)
     s3, rows3 = load(out3)
     last = max(rows3, key=lambda r: float(r["t_s"]))
