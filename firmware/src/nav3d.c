@@ -650,6 +650,13 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
                                                                       : 0.0L;
     }
     st = gg_diff3d_step(&nav->diff, &di, &d);
+    for (i = 0U; (i < 3U) && (st == GG_OK); ++i) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((d.gamma[i][j] > GG_LIM_GAMMA_MAX_S2) || (d.gamma[i][j] < -GG_LIM_GAMMA_MAX_S2)) {
+                st = GG_ERR_RANGE; /* no gradient: readings no parity check caught */
+            }
+        }
+    }
     if (st == GG_OK) {
         for (j = 0U; j < 3U; ++j) {
             size_t k;
@@ -978,6 +985,9 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
                 health |= GG_HEALTH_ACC_REBUILT;
             }
             st_read = difference(nav, &fixed, &in);
+            if (st_read == GG_ERR_RANGE) {
+                health |= GG_HEALTH_ACC_RANGE;
+            }
         }
         cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
     }

@@ -654,6 +654,44 @@ static void check_model_prior(void)
     }
 }
 
+/* Found by fuzz_nav3d: with fault detection off, one frame whose reading
+ * 1x reads 0 differences to Gamma_xx ~ 9.8 s^-2; used, then held through a
+ * long outage, such a gradient made the gravity dead reckoning diverge
+ * (e^(3.1 t)) until the position left the geodetic range, after which every
+ * coast step failed and the task stayed frozen. Now the frame is rejected
+ * (ACC_RANGE: |Gamma| above GG_LIM_GAMMA_MAX_S2) and, after the stream jumps
+ * 141 s ahead, the task coasts on the last good inputs and uses frames again. */
+static void check_absurd_gradient(void)
+{
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t o;
+    gg_frame_t fr;
+    config3(&cfg);
+    cfg.fdi_parity_f_max = 0.0;
+    if (gg_nav3d_init(&nav, &cfg) != GG_OK) abort();
+    int ok = 1, used_after = 0;
+    uint32_t h_bad = 0U;
+    for (int64_t k = 0; k < 2000; ++k) {
+        const int64_t kf = (k <= 10) ? k : k + 14100; /* the stream jumps 141 s ahead */
+        frame3(kf, &fr);
+        if (k == 10) fr.f[0][0] = 0.0, fr.f_lo[0][0] = 0.0;
+        const gg_status_t st = gg_nav3d_step(&nav, &fr, NULL, &o);
+        if (k == 10) {
+            h_bad = o.health;
+            if (st != GG_ERR_RANGE || !(o.health & GG_HEALTH_ACC_RANGE) || !(o.health & GG_HEALTH_FRAME_REJECTED)) ok = 0;
+        }
+        if (!finite_out(3, &o)) ok = 0;
+        if (k > 10 && st == GG_OK) used_after++;
+    }
+    printf("3-D absurd gradient (1x reads 0, detection off): health 0x%08x; then a 141 s jump: %d frames used "
+           "after it, state lag at the end %.2f s\n", h_bad, used_after, o.state_lag_s);
+    if (!ok || used_after == 0 || o.state_lag_s != 0.0) {
+        printf("FAIL absurd gradient: rejected %d, frames used after %d, final lag %g s\n", ok, used_after, o.state_lag_s);
+        g_fail++;
+    }
+}
+
 int main(int argc, char **argv)
 {
     int md = 0;
@@ -664,6 +702,7 @@ int main(int argc, char **argv)
     run_matrix(2);
     run_matrix(3);
     check_model_prior();
+    check_absurd_gradient();
     int total = 0;
     for (int d = 2; d <= 3; ++d)
         for (int c = 0; c < C_COUNT; ++c)
