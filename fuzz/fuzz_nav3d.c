@@ -10,7 +10,16 @@
  *   frames    up to 64 ops of 1 byte each and their operands: 0 the
  *             reference frame of the next step; 1 that frame with readings,
  *             statuses, gyro or barometer changed; 2 raw bytes over the whole
- *             gg_frame_t; 3 seq and utime replaced; 4 a lost frame (skip)
+ *             gg_frame_t; 3 seq and utime replaced; 4 a lost frame (skip);
+ *             5 repeat: a count n (1 byte, 1..256) and one op 0-4 with its
+ *             operands, applied to each of the next n frames (the same
+ *             change each time: a long run of rejected or lost frames, a
+ *             stuck reading, in a few bytes); 6 a lasting offset from here
+ *             on: seq (int16) and utime (int32, us) added to every later
+ *             frame (a clock step, a restarted or jumping counter)
+ *             At most MAX_FRAMES frames in all, so runs of rejected frames
+ *             longer than the bridge (GG_NAV3D_MAX_BRIDGE = 100) and outages
+ *             that coast are reachable.
  * The reference is a platform at rest relative to inertial space at the
  * equator (point-mass field, body = ECEF axes), so unchanged frames are
  * accepted and mutations start from plausible input.
@@ -19,7 +28,9 @@
  * navigation state byte for byte as it was (apart from the stream follower
  * and, during an outage longer than the bridge, the coasting), and is flagged
  * FRAME_REJECTED; no NaN/Inf in any output or in the state's position,
- * velocity, G, gradient and specific force. */
+ * velocity, G, gradient and specific force; no freeze: with the reference
+ * configuration, TAIL_FRAMES consistent reference frames after the fuzzed
+ * ones end with a frame used (or the outage being coasted through). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -27,11 +38,15 @@
 #include <string.h>
 
 #include "ggins/nav3d.h"
+#include "ggins/navtask.h"
 #include "fuzz_bytes.h"
 
 #define GM 3.986004418e14
 #define R0 6378137.0
 #define DT_US 10000
+#define MAX_OPS 64
+#define MAX_FRAMES 256
+#define TAIL_FRAMES (2 * GG_TASK_RESYNC_FRAMES + 2)
 
 #define FAIL(...)                                                   \
     do {                                                            \
@@ -192,38 +207,83 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (unsigned i = 0; i < nchg; ++i) change_config(&cfg, &cur);
     const gg_status_t st_init = gg_nav3d_init(&nav, &cfg);
     int64_t k = 0;
-    for (int op_i = 0; op_i < 64 && fz_left(&cur); ++op_i) {
-        const uint8_t op = fz_u8(&cur) % 5u;
-        gg_frame_t f;
-        gg_nav3d_output_t out;
-        ref_frame(k, &f);
-        if (op == 1u) {
-            change_frame(&f, &cur);
-        } else if (op == 2u) {
-            for (size_t b = 0; b < sizeof f; ++b) ((uint8_t *)&f)[b] = fz_u8(&cur);
-        } else if (op == 3u) {
-            f.seq = fz_i64(&cur);
-            f.utime = fz_i64(&cur);
-        } else if (op == 4u) {
+    int64_t seq_off = 0;
+    int64_t ut_off = 0;
+    int frames = 0;
+    for (int op_i = 0; op_i < MAX_OPS && fz_left(&cur) && frames < MAX_FRAMES; ++op_i) {
+        uint8_t op = fz_u8(&cur) % 7u;
+        int rep = 1;
+        if (op == 6u) {
+            seq_off += (int16_t)(fz_u8(&cur) | (fz_u8(&cur) << 8));
+            ut_off += (int32_t)((uint32_t)fz_u8(&cur) | ((uint32_t)fz_u8(&cur) << 8) |
+                                ((uint32_t)fz_u8(&cur) << 16) | ((uint32_t)fz_u8(&cur) << 24));
+            continue;
+        }
+        if (op == 5u) {
+            rep = 1 + (int)fz_u8(&cur);
+            op = fz_u8(&cur) % 5u;
+        }
+        const size_t operands = cur.off;
+        for (int r = 0; r < rep && frames < MAX_FRAMES; ++r) {
+            gg_frame_t f;
+            gg_nav3d_output_t out;
+            cur.off = operands; /* a repeated op reads the same operands */
+            ++frames;
+            ref_frame(k, &f);
+            f.seq += seq_off;
+            f.utime += ut_off;
+            f.baro_utime += ut_off;
+            if (op == 1u) {
+                change_frame(&f, &cur);
+            } else if (op == 2u) {
+                for (size_t b = 0; b < sizeof f; ++b) ((uint8_t *)&f)[b] = fz_u8(&cur);
+            } else if (op == 3u) {
+                f.seq = fz_i64(&cur);
+                f.utime = fz_i64(&cur);
+            } else if (op == 4u) {
+                ++k;
+                continue;
+            }
             ++k;
-            continue;
+            memcpy(&saved, &nav, sizeof nav);
+            const gg_status_t st = gg_nav3d_step(&nav, &f, NULL, &out);
+            if (st_init != GG_OK) {
+                if (st != GG_ERR_NOT_INIT) FAIL("refused configuration (status %d), but a step ran (status %d)", (int)st_init, (int)st);
+                continue;
+            }
+            if (st != GG_OK) {
+                memcpy(&cmp, &nav, sizeof nav);
+                memcpy(&cmp.seq, &saved.seq, sizeof saved.seq);
+                if (!(out.health & GG_HEALTH_COAST) && memcmp(&saved, &cmp, sizeof cmp) != 0)
+                    FAIL("3-D frame seq %lld rejected (status %d) but the state changed", (long long)f.seq, (int)st);
+                if (!(out.health & GG_HEALTH_FRAME_REJECTED)) FAIL("rejected 3-D frame not flagged FRAME_REJECTED");
+            }
+            check_state(&nav);
+            check_output(&out);
         }
-        ++k;
-        memcpy(&saved, &nav, sizeof nav);
-        const gg_status_t st = gg_nav3d_step(&nav, &f, NULL, &out);
-        if (st_init != GG_OK) {
-            if (st != GG_ERR_NOT_INIT) FAIL("refused configuration (status %d), but a step ran (status %d)", (int)st_init, (int)st);
-            continue;
+    }
+    /* No freeze: whatever came before, a reference configuration that then
+     * gets TAIL_FRAMES consistent reference frames uses the last one (or is
+     * still coasting through an outage it re-synchronised to). */
+    if ((st_init == GG_OK) && (nchg == 0U)) {
+        if ((k + seq_off < 0) || ((k * DT_US) + ut_off < 0)) {
+            seq_off = 0;
+            ut_off = 0;
         }
-        if (st != GG_OK) {
-            memcpy(&cmp, &nav, sizeof nav);
-            memcpy(&cmp.seq, &saved.seq, sizeof saved.seq);
-            if (!(out.health & GG_HEALTH_COAST) && memcmp(&saved, &cmp, sizeof cmp) != 0)
-                FAIL("3-D frame seq %lld rejected (status %d) but the state changed", (long long)f.seq, (int)st);
-            if (!(out.health & GG_HEALTH_FRAME_REJECTED)) FAIL("rejected 3-D frame not flagged FRAME_REJECTED");
+        gg_nav3d_output_t out;
+        for (int r = 0; r < TAIL_FRAMES; ++r, ++k) {
+            gg_frame_t f;
+            ref_frame(k, &f);
+            f.seq += seq_off;
+            f.utime += ut_off;
+            f.baro_utime += ut_off;
+            (void)gg_nav3d_step(&nav, &f, NULL, &out);
+            check_state(&nav);
+            check_output(&out);
         }
-        check_state(&nav);
-        check_output(&out);
+        if ((out.health & GG_HEALTH_FRAME_REJECTED) && !(out.health & GG_HEALTH_COAST))
+            FAIL("the task stays frozen: %d consistent reference frames, the last rejected (status %d, health 0x%x)",
+                 TAIL_FRAMES, (int)out.status, (unsigned)out.health);
     }
     return 0;
 }

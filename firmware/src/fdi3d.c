@@ -4,6 +4,12 @@
 
 #include <stddef.h>
 
+/* Rounds of detection and setting aside in one step: each round sets aside
+ * at least one more of the 18 readings (after at most FDI3D_RESCUE_ROUNDS
+ * in which consistent pairs are given back), so 24 is never reached. */
+#define FDI3D_MAX_ROUNDS 24
+#define FDI3D_RESCUE_ROUNDS 3
+
 /* mask bit of reading (s, j) or pair-axis (p, j), the shift's range evident */
 static uint32_t rbit(size_t s, size_t j)
 {
@@ -81,6 +87,13 @@ gg_status_t gg_fdi3d_init(gg_fdi3d_t *st, const gg_fdi3d_config_t *cfg)
             st->mean_good[p][j] = 0.0L;
         }
     }
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            st->m_good[j][p] = 0.0L;
+            st->m_prior[j][p] = 0.0L;
+        }
+    }
+    st->have_prior = 0;
     st->excluded = 0U;
     st->excluded_pairs = 0U;
     st->have_good = 0;
@@ -196,12 +209,334 @@ static gg_status_t accommodate(const gg_fdi3d_t *st, uint32_t bad, uint32_t pair
     return GG_OK;
 }
 
+/* What a degraded rebuild knows: pair means mean[p][j], column entries
+ * m[j][p] (bits rbit(p, j) in km / kM). */
+typedef struct {
+    gg_real_t mean[3][3];
+    gg_real_t m[3][3];
+    uint32_t km;
+    uint32_t kM;
+    uint32_t held_m;     /* column entries held (or from the prior), bit rbit(p, j) */
+    uint32_t held_force; /* axes whose centre force is held, bit j */
+} solve_t;
+
+/* reading s of axis j usable in the degraded rebuild */
+static int usable(uint32_t unus, size_t s, size_t j)
+{
+    int u = 0;
+    if ((unus & rbit(s, j)) == 0U) {
+        u = 1;
+    }
+    return u;
+}
+
+/* readings of the pair-axes in pairs, as reading bits */
+static uint32_t pair_readings(uint32_t pairs)
+{
+    uint32_t r = 0U;
+    size_t p;
+    size_t j;
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((pairs & rbit(p, j)) != 0U) {
+                r |= rbit(p, j) | rbit(p + 3U, j);
+            }
+        }
+    }
+    return r;
+}
+
+/* One pass of the rules: an axis with a known pair mean gives the others
+ * (keeping the last curvature differences); a pair with one usable reading
+ * gives its mean from its column entry or the entry from its mean; the
+ * symmetry (M - M^T)/2 = [w' x] gives an entry from its mirror; the trace
+ * (-2|w|^2 - tr M = 0) the last diagonal entry. 1 when anything was learnt. */
+static int solve_pass(const gg_fdi3d_t *st, solve_t *sv, uint32_t unus, const gg_real_t w[3],
+                      const gg_real_t wd[3], int wd_ok, double nf[6][3], double nlo[6][3])
+{
+    int learnt = 0;
+    size_t p;
+    size_t j;
+    for (j = 0U; j < 3U; ++j) {
+        int n = 0;
+        gg_real_t sum = 0.0L;
+        gg_real_t sum_good = 0.0L;
+        for (p = 0U; p < 3U; ++p) {
+            if ((sv->km & rbit(p, j)) != 0U) {
+                sum += sv->mean[p][j];
+                sum_good += st->mean_good[p][j];
+                n += 1;
+            }
+        }
+        for (p = 0U; (p < 3U) && (n > 0); ++p) {
+            if ((sv->km & rbit(p, j)) == 0U) {
+                sv->mean[p][j] =
+                    (sum + (((gg_real_t)n * st->mean_good[p][j]) - sum_good)) / (gg_real_t)n;
+                sv->km |= rbit(p, j);
+                learnt = 1;
+            }
+        }
+    }
+    for (p = 0U; p < 3U; ++p) {
+        const gg_real_t h = st->cfg.half_base_m[p];
+        for (j = 0U; j < 3U; ++j) {
+            const int u0 = usable(unus, p, j);
+            const int u1 = usable(unus, p + 3U, j);
+            if ((u0 + u1) == 1) {
+                size_t s = p + 3U;
+                gg_real_t sg = -1.0L;
+                if (u0 != 0) {
+                    s = p;
+                    sg = 1.0L;
+                }
+                /* f_s = mean + sg h M[j][p] */
+                if (((sv->km & rbit(p, j)) != 0U) && ((sv->kM & rbit(p, j)) == 0U)) {
+                    sv->m[j][p] = sg * (rd3(nf, nlo, s, j) - sv->mean[p][j]) / h;
+                    sv->kM |= rbit(p, j);
+                    learnt = 1;
+                } else if (((sv->kM & rbit(p, j)) != 0U) && ((sv->km & rbit(p, j)) == 0U)) {
+                    sv->mean[p][j] = rd3(nf, nlo, s, j) - (sg * h * sv->m[j][p]);
+                    sv->km |= rbit(p, j);
+                    learnt = 1;
+                } else {
+                    /* nothing to learn from it yet */
+                }
+            }
+        }
+    }
+    for (p = 0U; (p < 3U) && (wd_ok != 0); ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            /* M[j][p] = M[p][j] + 2 [w' x][j][p]; M[p][j] is bit rbit(j, p) */
+            if ((j != p) && ((sv->kM & rbit(p, j)) == 0U) && ((sv->kM & rbit(j, p)) != 0U)) {
+                sv->m[j][p] = sv->m[p][j] + (2.0L * cross_entry(wd, j, p));
+                sv->kM |= rbit(p, j);
+                learnt = 1;
+            }
+        }
+    }
+    {
+        int n_unknown = 0;
+        size_t last = 0U;
+        gg_real_t t = -2.0L * ((w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]));
+        for (p = 0U; p < 3U; ++p) {
+            if ((sv->kM & rbit(p, p)) == 0U) {
+                n_unknown += 1;
+                last = p;
+            } else {
+                t -= sv->m[p][p];
+            }
+        }
+        if (n_unknown == 1) {
+            sv->m[last][last] = t;
+            sv->kM |= rbit(last, last);
+            learnt = 1;
+        }
+    }
+    return learnt;
+}
+
+static void solve_fix(const gg_fdi3d_t *st, solve_t *sv, uint32_t unus, const gg_real_t w[3],
+                      const gg_real_t wd[3], int wd_ok, double nf[6][3], double nlo[6][3])
+{
+    int pass;
+    for (pass = 0; pass < 24; ++pass) {
+        if (solve_pass(st, sv, unus, w, wd, wd_ok, nf, nlo) == 0) {
+            break;
+        }
+    }
+}
+
+/* the value a column entry holds: the prior (onboard model) when one is set,
+ * else the last frame used */
+static gg_real_t held_entry(const gg_fdi3d_t *st, size_t j, size_t p)
+{
+    gg_real_t v = st->m_good[j][p];
+    if (st->have_prior != 0) {
+        v = st->m_prior[j][p];
+    }
+    return v;
+}
+
+/* One last resort when the rules are stuck (1 if one was taken): an axis
+ * with no pair mean but a usable reading holds that pair's column entry;
+ * an axis with no usable reading at all holds its centre force; otherwise
+ * the first unknown column entry is held. */
+static int solve_hold(const gg_fdi3d_t *st, solve_t *sv, uint32_t unus)
+{
+    size_t p;
+    size_t j;
+    for (j = 0U; j < 3U; ++j) {
+        if ((sv->km & (rbit(0U, j) | rbit(1U, j) | rbit(2U, j))) == 0U) {
+            for (p = 0U; p < 3U; ++p) {
+                if (((usable(unus, p, j) + usable(unus, p + 3U, j)) > 0) &&
+                    ((sv->kM & rbit(p, j)) == 0U)) {
+                    sv->m[j][p] = held_entry(st, j, p);
+                    sv->kM |= rbit(p, j);
+                    sv->held_m |= rbit(p, j);
+                    return 1;
+                }
+            }
+            for (p = 0U; p < 3U; ++p) {
+                sv->mean[p][j] = st->mean_good[p][j];
+                sv->km |= rbit(p, j);
+            }
+            sv->held_force |= (uint32_t)1U << j;
+            return 1;
+        }
+    }
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((sv->kM & rbit(p, j)) == 0U) {
+                sv->m[j][p] = held_entry(st, j, p);
+                sv->kM |= rbit(p, j);
+                sv->held_m |= rbit(p, j);
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Degraded rebuild: when readings are lost beyond what one per pair-axis
+ * rebuilds (both of a pair, every pair of an axis touched, excluded
+ * pair-axes whose symmetry or trace partner is lost too, readings set aside
+ * for a fault no single reading fits). Each pair mean and column entry M[j][p]
+ * comes from what is left - a whole pair, a single reading with the other
+ * one known, the axis' other pair means, symmetry, trace - else it is held
+ * (an axis without any usable reading: its centre force; a column entry:
+ * its last value, or the prior); the unusable readings are then synthesised
+ * f_p = mean + h_p M[j][p], f_p+3 = mean - h_p M[j][p]. */
+static void degrade(const gg_fdi3d_t *st, uint32_t unus, const gg_real_t w[3],
+                    const gg_real_t wd[3], int wd_ok, double nf[6][3], double nlo[6][3],
+                    uint32_t *rebuilt, uint32_t *held_m, uint32_t *held_force)
+{
+    solve_t sv;
+    uint32_t rb = 0U;
+    size_t p;
+    size_t j;
+    int round;
+    sv.km = 0U;
+    sv.kM = 0U;
+    sv.held_m = 0U;
+    sv.held_force = 0U;
+    for (p = 0U; p < 3U; ++p) {
+        for (j = 0U; j < 3U; ++j) {
+            sv.mean[p][j] = 0.0L;
+            sv.m[j][p] = 0.0L;
+            if ((usable(unus, p, j) != 0) && (usable(unus, p + 3U, j) != 0)) {
+                sv.mean[p][j] = 0.5L * (rd3(nf, nlo, p, j) + rd3(nf, nlo, p + 3U, j));
+                sv.m[j][p] = m_entry(st, nf, nlo, j, p);
+                sv.km |= rbit(p, j);
+                sv.kM |= rbit(p, j);
+            }
+        }
+    }
+    for (round = 0; round < 16; ++round) {
+        solve_fix(st, &sv, unus, w, wd, wd_ok, nf, nlo);
+        if (solve_hold(st, &sv, unus) == 0) {
+            break;
+        }
+    }
+    for (p = 0U; p < 3U; ++p) {
+        const gg_real_t h = st->cfg.half_base_m[p];
+        for (j = 0U; j < 3U; ++j) {
+            if (usable(unus, p, j) == 0) {
+                wr3(nf, nlo, p, j, sv.mean[p][j] + (h * sv.m[j][p]));
+                rb |= rbit(p, j);
+            }
+            if (usable(unus, p + 3U, j) == 0) {
+                wr3(nf, nlo, p + 3U, j, sv.mean[p][j] - (h * sv.m[j][p]));
+                rb |= rbit(p + 3U, j);
+            }
+        }
+    }
+    *rebuilt = rb;
+    *held_m = sv.held_m;
+    *held_force = sv.held_force;
+}
+
+/* The readings of axis j set aside as suspects whose pair agrees, reading
+ * against reading, with its column entry from symmetry or trace of the
+ * usable readings of the other axes (|2 h_p (M[j][p] - M_sym)| <= tau: one
+ * faulty reading of a pair moves it by its whole size), and whose mean
+ * agrees with the other such pairs': given back (two faulty pairs on one
+ * axis leave the third). */
+static uint32_t rescue(const gg_fdi3d_t *st, uint32_t unus, uint32_t aside, size_t j,
+                       const gg_real_t w[3], const gg_real_t wd[3], int wd_ok, double f[6][3],
+                       double f_lo[6][3])
+{
+    const gg_real_t tau = (gg_real_t)st->cfg.parity_f_max;
+    uint32_t back = 0U;
+    gg_real_t mu[3] = {0.0L, 0.0L, 0.0L};
+    int n_ok = 0;
+    size_t p;
+    for (p = 0U; p < 3U; ++p) {
+        const uint32_t both = rbit(p, j) | rbit(p + 3U, j);
+        gg_real_t msym = 0.0L;
+        int known = 0;
+        if (((aside & both) == both) && ((unus & both) == 0U)) {
+            if (p != j) {
+                if ((wd_ok != 0) && (usable(unus | aside, j, p) != 0) &&
+                    (usable(unus | aside, j + 3U, p) != 0)) {
+                    msym = m_entry(st, f, f_lo, p, j) + (2.0L * cross_entry(wd, j, p));
+                    known = 1;
+                }
+            } else {
+                size_t k;
+                known = 1;
+                msym = -2.0L * ((w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]));
+                for (k = 0U; k < 3U; ++k) {
+                    if (k != p) {
+                        if ((usable(unus | aside, k, k) == 0) ||
+                            (usable(unus | aside, k + 3U, k) == 0)) {
+                            known = 0;
+                        }
+                        msym -= m_entry(st, f, f_lo, k, k);
+                    }
+                }
+            }
+        }
+        if ((known != 0) &&
+            (absr(2.0L * st->cfg.half_base_m[p] * (m_entry(st, f, f_lo, j, p) - msym)) <= tau)) {
+            const gg_real_t m_p = 0.5L * (rd3(f, f_lo, p, j) + rd3(f, f_lo, p + 3U, j));
+            size_t q;
+            int agree = 1;
+            for (q = 0U; q < p; ++q) {
+                if ((back & rbit(q, j)) != 0U) {
+                    /* as detect compares them */
+                    if (absr(m_p - mu[q]) > tau) {
+                        agree = 0;
+                    }
+                }
+            }
+            if (agree == 0) {
+                return 0U;
+            }
+            mu[p] = m_p;
+            back |= rbit(p, j);
+            n_ok += 1;
+        }
+    }
+    if (n_ok == 0) {
+        return 0U;
+    }
+    {
+        uint32_t r = 0U;
+        for (p = 0U; p < 3U; ++p) {
+            if ((back & rbit(p, j)) != 0U) {
+                r |= rbit(p, j) | rbit(p + 3U, j);
+            }
+        }
+        return r;
+    }
+}
+
 /* Detection and isolation on the whole pairs; new exclusions into *new_bad,
  * *new_pairs. GG_ERR_SENSOR on a fault that fits no single reading or pair. */
 static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, const gg_real_t w[3],
                           const gg_real_t wd[3], int wd_ok, double nf[6][3], double nlo[6][3],
                           uint32_t *new_bad, uint32_t *new_pairs, gg_real_t *pmax,
-                          uint32_t *flags, gg_real_t expect_out[3][3])
+                          uint32_t *flags, gg_real_t expect_out[3][3], uint32_t *suspect)
 {
     const gg_real_t tau = (gg_real_t)st->cfg.parity_f_max;
     size_t j;
@@ -237,7 +572,13 @@ static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, co
             size_t sensor = 6U;
             *flags |= GG_FDI3D_DETECTED;
             if (n_whole < 3) {
-                return GG_ERR_SENSOR; /* detected, nothing left to isolate with */
+                /* detected, nothing left to isolate with: the compared pairs are suspect */
+                for (p = 0U; p < 3U; ++p) {
+                    if (whole[p] != 0) {
+                        *suspect |= rbit(p, j) | rbit(p + 3U, j);
+                    }
+                }
+                return GG_ERR_SENSOR;
             }
             for (p = 0U; p < 3U; ++p) {
                 const gg_real_t others = 0.5L * ((mu[0] + mu[1] + mu[2]) - mu[p]);
@@ -250,7 +591,11 @@ static gg_status_t detect(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, co
                 const size_t q = (fp + 1U) % 3U;
                 const size_t r = (fp + 2U) % 3U;
                 if (absr(mu[q] - mu[r]) > tau) {
-                    return GG_ERR_SENSOR; /* the other two disagree: a double fault */
+                    /* the other two disagree: a double fault; the whole axis is suspect */
+                    for (p = 0U; p < 3U; ++p) {
+                        *suspect |= rbit(p, j) | rbit(p + 3U, j);
+                    }
+                    return GG_ERR_SENSOR;
                 }
                 d = 2.0L * (mu[fp] - (0.5L * (mu[q] + mu[r])));
             }
@@ -355,6 +700,77 @@ static gg_status_t verify(const gg_fdi3d_t *st, const gg_real_t w[3], const gg_r
     return res;
 }
 
+/* The readings an isolation that verify refused read. A pair-axis (p, j)
+ * excluded as ambiguous may be the one good pair of axis j (equal faults on
+ * the other two): every reading of axis j. A reading (s, j): its pair on
+ * axis j and the readings of the residual it read - the mirror pair (j on
+ * axis p) for a cross-axis reading, every diagonal pair for the trace. */
+static uint32_t verify_suspects(uint32_t new_bad, uint32_t new_pairs)
+{
+    uint32_t r = 0U;
+    size_t s;
+    size_t j;
+    for (s = 0U; s < 3U; ++s) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((new_pairs & rbit(s, j)) != 0U) {
+                size_t q;
+                for (q = 0U; q < 3U; ++q) {
+                    r |= rbit(q, j) | rbit(q + 3U, j);
+                }
+            }
+        }
+    }
+    for (s = 0U; s < 6U; ++s) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((new_bad & rbit(s, j)) != 0U) {
+                const size_t p = s % 3U;
+                r |= rbit(p, j) | rbit(p + 3U, j);
+                if (j != p) {
+                    r |= rbit(j, p) | rbit(j + 3U, p);
+                } else {
+                    size_t k;
+                    for (k = 0U; k < 3U; ++k) {
+                        r |= rbit(k, k) | rbit(k + 3U, k);
+                    }
+                }
+            }
+        }
+    }
+    return r;
+}
+
+/* Copy the frame's readings into nf/nlo and rebuild the unusable ones: one
+ * per pair-axis and excluded pair-axes as accommodate does, else the
+ * degraded rebuild (GG_FDI3D_DEGRADED). */
+static void rebuild_set(const gg_fdi3d_t *st, uint32_t bad, uint32_t pairs, const gg_real_t w[3],
+                    const gg_real_t wd[3], int wd_ok, double f[6][3], double f_lo[6][3],
+                    double nf[6][3], double nlo[6][3], gg_fdi3d_output_t *o, uint32_t *held_m,
+                    uint32_t *held_force)
+{
+    size_t s;
+    size_t j;
+    for (s = 0U; s < 6U; ++s) {
+        for (j = 0U; j < 3U; ++j) {
+            nf[s][j] = f[s][j];
+            nlo[s][j] = f_lo[s][j];
+        }
+    }
+    *held_m = 0U;
+    *held_force = 0U;
+    o->flags &= ~GG_FDI3D_DEGRADED;
+    if (accommodate(st, bad, pairs, w, wd, wd_ok, nf, nlo, &o->rebuilt) != GG_OK) {
+        for (s = 0U; s < 6U; ++s) {
+            for (j = 0U; j < 3U; ++j) {
+                nf[s][j] = f[s][j];
+                nlo[s][j] = f_lo[s][j];
+            }
+        }
+        degrade(st, bad | pair_readings(pairs), w, wd, wd_ok, nf, nlo, &o->rebuilt, held_m,
+                held_force);
+        o->flags |= GG_FDI3D_DEGRADED;
+    }
+}
+
 gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t omega_b[3],
                           const gg_real_t omega_dot_ref[3], double f[6][3], double f_lo[6][3],
                           gg_fdi3d_output_t *out)
@@ -369,7 +785,12 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     uint32_t new_pairs = 0U;
     int wd_ok;
     gg_status_t status;
-    gg_real_t expect[3][3] = {{0.0L, 0.0L, 0.0L}, {0.0L, 0.0L, 0.0L}, {0.0L, 0.0L, 0.0L}};
+    uint32_t aside = 0U;
+    uint32_t held_m = 0U;
+    uint32_t held_force = 0U;
+    int iter;
+    int done = 0;
+    gg_real_t expect[3][3];
     size_t s;
     size_t p;
     size_t j;
@@ -391,6 +812,8 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     }
     o.flags = 0U;
     o.rebuilt = 0U;
+    o.held_m = 0U;
+    o.held_force = 0U;
     o.parity_max = 0.0L;
     o.excluded = st->excluded;
     o.excluded_pairs = st->excluded_pairs;
@@ -401,34 +824,77 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     if (((bad != 0U) || (pairs != 0U)) && (st->have_good == 0)) {
         return GG_ERR_SENSOR; /* no curvature differences known yet */
     }
-    status = accommodate(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &o.rebuilt);
-    if (status == GG_OK) {
-        status = detect(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &new_bad, &new_pairs,
-                        &o.parity_max, &o.flags, expect);
-    }
-    if ((status == GG_OK) && ((new_bad != 0U) || (new_pairs != 0U))) {
-        if (st->have_good == 0) {
-            status = GG_ERR_SENSOR;
-        } else {
-            /* start again from the frame's readings with the new exclusions */
-            for (s = 0U; s < 6U; ++s) {
-                for (j = 0U; j < 3U; ++j) {
-                    nf[s][j] = f[s][j];
-                    nlo[s][j] = f_lo[s][j];
-                }
-            }
-            bad |= new_bad;
-            pairs |= new_pairs;
-            o.flags |= GG_FDI3D_NEW_EXCL;
-            status = accommodate(st, bad, pairs, omega_b, wd, wd_ok, nf, nlo, &o.rebuilt);
-            if (status == GG_OK) {
-                status = verify(st, omega_b, wd, wd_ok, nf, nlo, expect);
+    status = GG_OK;
+    for (iter = 0; (iter < FDI3D_MAX_ROUNDS) && (done == 0); ++iter) {
+        uint32_t suspect = 0U;
+        gg_status_t st_det;
+        new_bad = 0U;
+        new_pairs = 0U;
+        for (p = 0U; p < 3U; ++p) {
+            for (j = 0U; j < 3U; ++j) {
+                expect[p][j] = 0.0L;
             }
         }
+        rebuild_set(st, bad | aside, pairs, omega_b, wd, wd_ok, f, f_lo, nf, nlo, &o, &held_m,
+                    &held_force);
+        st_det = detect(st, bad | aside, pairs, omega_b, wd, wd_ok, nf, nlo, &new_bad, &new_pairs,
+                        &o.parity_max, &o.flags, expect, &suspect);
+        if (st_det != GG_OK) {
+            /* a fault no single reading or pair explains */
+            const uint32_t unus = bad | pair_readings(pairs);
+            if ((st->have_good == 0) || ((suspect & ~aside) == 0U)) {
+                status = GG_ERR_SENSOR;
+                done = 1;
+            } else {
+                aside |= suspect;
+                for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
+                    aside &= ~rescue(st, unus, aside, j, omega_b, wd, wd_ok, f, f_lo);
+                }
+                o.flags |= GG_FDI3D_SUSPECT;
+            }
+        } else if ((new_bad != 0U) || (new_pairs != 0U)) {
+            if (st->have_good == 0) {
+                status = GG_ERR_SENSOR;
+                done = 1;
+            } else {
+                /* start again from the frame's readings with the new exclusions */
+                rebuild_set(st, bad | aside | new_bad, pairs | new_pairs, omega_b, wd, wd_ok, f,
+                            f_lo, nf, nlo, &o, &held_m, &held_force);
+                if (verify(st, omega_b, wd, wd_ok, nf, nlo, expect) != GG_OK) {
+                    /* the isolation did not explain the residual (two faults):
+                     * set aside what it read instead of excluding anything */
+                    const uint32_t vs = verify_suspects(new_bad, new_pairs);
+                    if ((vs & ~aside) == 0U) {
+                        status = GG_ERR_SENSOR;
+                        done = 1;
+                    } else {
+                        aside |= vs;
+                        for (j = 0U; (j < 3U) && (iter < FDI3D_RESCUE_ROUNDS); ++j) {
+                            aside &= ~rescue(st, bad | pair_readings(pairs), aside, j, omega_b,
+                                             wd, wd_ok, f, f_lo);
+                        }
+                        o.flags |= GG_FDI3D_SUSPECT;
+                    }
+                    new_bad = 0U;
+                    new_pairs = 0U;
+                } else {
+                    o.flags |= GG_FDI3D_NEW_EXCL;
+                    done = 1;
+                }
+            }
+        } else {
+            done = 1;
+        }
+    }
+    if (done == 0) {
+        status = GG_ERR_SENSOR; /* not reached: each round sets more readings aside */
     }
     if (status != GG_OK) {
         /* what the checks saw, for the health word; nothing else changes */
         o.rebuilt = 0U;
+        o.held_m = 0U;
+        o.held_force = 0U;
+        o.flags &= ~(GG_FDI3D_DEGRADED | GG_FDI3D_REBUILT);
         o.excluded = st->excluded;
         o.excluded_pairs = st->excluded_pairs;
         *out = o;
@@ -437,6 +903,7 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     for (p = 0U; p < 3U; ++p) {
         for (j = 0U; j < 3U; ++j) {
             st->mean_good[p][j] = 0.5L * (rd3(nf, nlo, p, j) + rd3(nf, nlo, p + 3U, j));
+            st->m_good[j][p] = m_entry(st, nf, nlo, j, p);
         }
     }
     st->excluded |= new_bad;
@@ -454,8 +921,43 @@ gg_status_t gg_fdi3d_step(gg_fdi3d_t *st, uint32_t known_bad, const gg_real_t om
     if (st->excluded_pairs != 0U) {
         o.flags |= GG_FDI3D_PAIR;
     }
+    o.held_m = held_m;
+    o.held_force = held_force;
+    if (held_m != 0U) {
+        o.flags |= GG_FDI3D_HOLD_GRAD;
+    }
+    if (held_force != 0U) {
+        o.flags |= GG_FDI3D_HOLD_FORCE;
+    }
     o.excluded = st->excluded;
     o.excluded_pairs = st->excluded_pairs;
     *out = o;
+    return GG_OK;
+}
+
+gg_status_t gg_fdi3d_set_prior(gg_fdi3d_t *st, gg_real_t m_prior[3][3])
+{
+    size_t p;
+    size_t j;
+    if (st == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (m_prior == NULL) {
+        st->have_prior = 0;
+        return GG_OK;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        for (p = 0U; p < 3U; ++p) {
+            if (!GG_ISFINITE(m_prior[j][p])) {
+                return GG_ERR_NONFINITE;
+            }
+        }
+    }
+    for (j = 0U; j < 3U; ++j) {
+        for (p = 0U; p < 3U; ++p) {
+            st->m_prior[j][p] = m_prior[j][p];
+        }
+    }
+    st->have_prior = 1;
     return GG_OK;
 }

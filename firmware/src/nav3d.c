@@ -17,6 +17,8 @@
 /* a residual below double resolution can never exceed ulp(f_max)/2 (nav2d.c) */
 /* |q0| must be 1 to this tolerance */
 #define Q_NORM_TOL 1.0e-6L
+/* half step of the onboard model's central differences (n3_model_prior), m */
+#define GG_NAV3D_MODEL_DX_M 10.0L
 
 /* ---------------------------------------------------------------- config */
 
@@ -648,6 +650,13 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
                                                                       : 0.0L;
     }
     st = gg_diff3d_step(&nav->diff, &di, &d);
+    for (i = 0U; (i < 3U) && (st == GG_OK); ++i) {
+        for (j = 0U; j < 3U; ++j) {
+            if ((d.gamma[i][j] > GG_LIM_GAMMA_MAX_S2) || (d.gamma[i][j] < -GG_LIM_GAMMA_MAX_S2)) {
+                st = GG_ERR_RANGE; /* no gradient: readings no parity check caught */
+            }
+        }
+    }
     if (st == GG_OK) {
         for (j = 0U; j < 3U; ++j) {
             size_t k;
@@ -745,6 +754,115 @@ static gg_status_t n3_coast(gg_nav3d_t *nav, const gg_frame_t *fr, int64_t n, co
     return st;
 }
 
+/* Column entries M = W - Gamma_b (diff3d.h) of the onboard model at the
+ * state's position carried one step on (the frame's), for the entries a degraded rebuild cannot rebuild
+ * (gravity-model mode): Gamma_e by central differences of the model over
+ * +-GG_NAV3D_MODEL_DX_M on each ECEF axis (truncation (dx^2/6) |d3G| ~ 1e-17
+ * s^-2, rounding eps |G| / dx), symmetrised, into body axes with the state's
+ * attitude; W = [w x]^2 + [w' x] with the frame's rate and angular
+ * acceleration (0 when unknown). */
+static gg_status_t n3_model_prior(const gg_nav3d_t *nav, const gg_real_t w[3],
+                                  const gg_real_t *wd, gg_real_t m[3][3])
+{
+    gg_real_t r_i[3];
+    gg_real_t v_i[3];
+    gg_real_t r_e[3];
+    gg_real_t ge[3][3];
+    gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
+    gg_real_t s1 = 0.0L;
+    gg_real_t c1 = 1.0L;
+    size_t j;
+    size_t k;
+    if (st == GG_OK) {
+        /* at the frame's time, one step on: r_i + v_i dt, theta_{k+1} */
+        const int64_t n1 = nav->n_steps + 1;
+        st = gg_sincos(nav->omega_ie * ((gg_real_t)n1 * nav->dt_s), &s1, &c1);
+    }
+    if (st == GG_OK) {
+        for (j = 0U; j < 3U; ++j) {
+            r_i[j] += v_i[j] * nav->dt_s;
+        }
+        gg_rot3(s1, c1, -1, r_i, r_e);
+    }
+    for (k = 0U; (k < 3U) && (st == GG_OK); ++k) {
+        gg_real_t rp[3];
+        gg_real_t rn[3];
+        gg_real_t gp[3];
+        gg_real_t gn[3];
+        for (j = 0U; j < 3U; ++j) {
+            rp[j] = r_e[j];
+            rn[j] = r_e[j];
+        }
+        rp[k] += GG_NAV3D_MODEL_DX_M;
+        rn[k] -= GG_NAV3D_MODEL_DX_M;
+        st = gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, rp, gp, NULL);
+        if (st == GG_OK) {
+            st = gg_gmodel_eval(&nav->gmodel, &nav->cfg.model, rn, gn, NULL);
+        }
+        if (st == GG_OK) {
+            for (j = 0U; j < 3U; ++j) {
+                ge[j][k] = (gp[j] - gn[j]) / (2.0L * GG_NAV3D_MODEL_DX_M);
+            }
+        }
+    }
+    if (st == GG_OK) {
+        gg_real_t gi[3][3];
+        gg_real_t gb[3][3];
+        gg_real_t rm[3][3];
+        gg_real_t cb[3][3];
+        gg_real_t ct[3][3];
+        for (j = 0U; j < 3U; ++j) {
+            for (k = 0U; k < j; ++k) {
+                const gg_real_t a = 0.5L * (ge[j][k] + ge[k][j]);
+                ge[j][k] = a;
+                ge[k][j] = a;
+            }
+        }
+        gg_mat3_t tm;
+        const gg_mat3_t *tmp = &tm;
+        gg_rot3_mat(s1, c1, +1, rm);
+        gg_mat3_copy(ge, &tm);
+        gg_mat3_similarity(rm, tmp->m, gi);
+        gg_quat_to_dcm(nav->q_b_i, cb);
+        for (j = 0U; j < 3U; ++j) {
+            for (k = 0U; k < 3U; ++k) {
+                ct[j][k] = cb[k][j];
+            }
+        }
+        gg_mat3_copy(gi, &tm);
+        gg_mat3_similarity(ct, tmp->m, gb);
+        {
+            const gg_real_t w2 = (w[0] * w[0]) + (w[1] * w[1]) + (w[2] * w[2]);
+            gg_real_t a[3] = {0.0L, 0.0L, 0.0L};
+            if (wd != NULL) {
+                for (j = 0U; j < 3U; ++j) {
+                    a[j] = wd[j];
+                }
+            }
+            for (j = 0U; j < 3U; ++j) {
+                for (k = 0U; k < 3U; ++k) {
+                    gg_real_t wv = w[j] * w[k];
+                    if (j == k) {
+                        wv -= w2;
+                    }
+                    m[j][k] = wv - gb[j][k];
+                }
+            }
+            /* [w' x] */
+            m[0][1] -= a[2];
+            m[0][2] += a[1];
+            m[1][0] += a[2];
+            m[1][2] -= a[0];
+            m[2][0] -= a[1];
+            m[2][1] += a[0];
+        }
+        if ((gg_finite3(m[0]) == 0) || (gg_finite3(m[1]) == 0) || (gg_finite3(m[2]) == 0)) {
+            st = GG_ERR_NONFINITE;
+        }
+    }
+    return st;
+}
+
 /* Parity residuals: antisymmetric part against 0 (stabilized) or against the
  * gyro-derived angular acceleration (strapdown), and the trace. */
 static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4])
@@ -810,7 +928,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_real_t w_now[3];
         gg_real_t wd_ref[3];
         const gg_real_t *wd_p = NULL;
-        gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0.0L};
+        gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0U, 0U, 0.0L};
         size_t j;
         fixed = *frame;
         for (j = 0U; j < 3U; ++j) {
@@ -823,12 +941,35 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
             wd_p = wd_ref;
         }
         st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed.f, fixed.f_lo, &fo);
+        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_GRAD) != 0U) &&
+            (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) && (nav->started != 0)) {
+            /* gravity-model mode: what cannot be rebuilt comes from the model */
+            gg_real_t mp[3][3];
+            if ((n3_model_prior(nav, w_now, wd_p, mp) == GG_OK) &&
+                (gg_fdi3d_set_prior(&fdi_saved, mp) == GG_OK)) {
+                nav->fdi = fdi_saved;
+                fixed = *frame;
+                st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed.f, fixed.f_lo, &fo);
+                if (gg_fdi3d_set_prior(&nav->fdi, NULL) != GG_OK) {
+                    st_read = GG_ERR_NULL; /* not reached: the state is there */
+                }
+                if (gg_fdi3d_set_prior(&fdi_saved, NULL) != GG_OK) {
+                    st_read = GG_ERR_NULL;
+                }
+            }
+        }
         rebuilt = fo.rebuilt;
         if ((fo.flags & GG_FDI3D_DETECTED) != 0U) {
             health |= GG_HEALTH_ACC_FAULT;
         }
-        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_PAIR) != 0U)) {
+        if ((st_read == GG_OK) && ((fo.flags & (GG_FDI3D_PAIR | GG_FDI3D_HOLD_GRAD)) != 0U)) {
             health |= GG_HEALTH_GRAD_COAST;
+        }
+        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_DEGRADED) != 0U)) {
+            health |= GG_HEALTH_ACC_DEGRADED;
+        }
+        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_FORCE) != 0U)) {
+            health |= GG_HEALTH_FORCE_COAST;
         }
         if (st_read != GG_OK) {
             /* the readings' own fault, as the health word says */
@@ -844,6 +985,9 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
                 health |= GG_HEALTH_ACC_REBUILT;
             }
             st_read = difference(nav, &fixed, &in);
+            if (st_read == GG_ERR_RANGE) {
+                health |= GG_HEALTH_ACC_RANGE;
+            }
         }
         cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
     }

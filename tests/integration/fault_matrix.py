@@ -87,7 +87,8 @@ def main():
              "closed-form truth, and the largest ratio to the case's own bound, computed from what its health "
              "says was held and which faulty readings stayed in use (test_fault_matrix.c, case_bound). "
              "The reduced matrix (3 s flights, the same cases) is CTest `unit.test_fault_matrix` and fails on "
-             "any freeze, unflagged visible fault or error above its bound." % (a.build, "0" if matrix_ok else "NON-ZERO"))
+             "any freeze, any rejected frame (only the readings are faulty: a group that loses more than it can "
+             "rebuild must degrade), unflagged visible fault or error above its bound." % (a.build, "0" if matrix_ok else "NON-ZERO"))
     L.append("")
     L.extend(matrix)
     L.append("")
@@ -102,9 +103,21 @@ def main():
              "contains: a fault on the partner is invisible while the other is lost. Two faults that no single "
              "reading explains are detected; the 2-D task then sets aside every reading they may hide in and "
              "holds what it must (DEGRADED, GRAD_COAST, FORCE_COAST: the error is that of the held components, "
-             "about (df/dt) T^3/6 for a held force: 1.9 m after 29 s on this flight), the 3-D task rejects the "
-             "frames and coasts (the same order). A stuck pair is the hardest case: 2-D and 3-D both end on held "
-             "inputs.")
+             "about (df/dt) T^3/6 for a held force: 1.9 m after 29 s on this flight). The 3-D task degrades the "
+             "same way and never rejects a frame for its readings once one was used (no row rejects a frame): "
+             "with 18 readings for 12 quantities (nine pair means, nine column entries, tied by the symmetry of "
+             "the gradient and its trace) it rebuilds what a pair mean, a single reading with its pair's other "
+             "quantity, symmetry or trace still gives, and holds only what none of them reaches (an axis with no "
+             "usable reading: its centre force; a column entry: its last value, or the onboard model's in "
+             "gravity-model mode). For two faulty pairs of one axis it sets the axis aside and keeps the pair "
+             "whose two readings agree with symmetry/trace, so even a stuck pair costs nothing measurable. What "
+             "3-D cannot isolate, by class: common mode on an axis (invisible: its own error); the partner of a "
+             "lost reading (checked by no relation: known-bad + step rows, up to 3e-3 m); two faults moving one "
+             "residual (two diagonal readings in the trace, two readings of one antisymmetric entry: isolated to "
+             "their pairs, the rebuilt entry then rests on the corrupted residual: pair rows, up to 2e-3 m). "
+             "Every bound in the last-but-one column is computed before the error is compared with it "
+             "(case_bound in test_fault_matrix.c, which derives each term); in particular a faulty reading "
+             "set aside from some step on is bounded by the fault it had on the last frame that used it.")
     L.append("")
     L.append("## Host-in-the-loop (ggins-run -> LCM -> hal_sim -> firmware)")
     L.append("")

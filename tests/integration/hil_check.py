@@ -394,6 +394,20 @@ def test_realtime(a):
     check(isinstance(rt.get("deadline_overruns"), int) and (rt["deadline_overruns"] > 0) == (over > 0)
           and rt.get("outputs_never_received") == 0,
           "overruns counted (%s; max latency %.0f us)" % (rt.get("deadline_overruns"), lt["max"]))
+    # outputs lost on the way in real time (recovered late, out of order): the final
+    # errors are those of the last step flown, not of the last output received
+    # (welker-table1: the sensor errors make the position error grow by ~0.7 % a step
+    # at 3 s, above the 0.1 % the summary's truth and this test's closed form differ by)
+    out3 = os.path.join(a.workdir, "realtime-lost-outputs")
+    run(a.ggins_run, out3, "--scenario", "welker-table1", "--duration", "3", "--realtime", "--no-plots",
+        "--no-log", "--csv-rate", "100", "--drop-output-prob", "0.2", check_rc=False)
+    s3, rows3 = load(out3)
+    last = max(rows3, key=lambda r: float(r["t_s"]))
+    er3 = norm(nav_errors(last)[0])
+    check(s3.get("final_seq") == round(float(last["t_s"]) * 100) and
+          abs(s3["final"]["position_error_m"] - er3) <= 1e-3 * er3 + 1e-12,
+          "lost outputs: final error from the last step flown (seq %s, %.4e m vs %.4e m at t = %s s)"
+          % (s3.get("final_seq"), s3["final"]["position_error_m"], er3, last["t_s"]))
     # a deadline every output misses: every step is an overrun
     out2 = os.path.join(a.workdir, "realtime-deadline")
     run(a.ggins_run, out2, "--scenario", "welker-perfect", "--duration", "1", "--realtime", "--no-plots",

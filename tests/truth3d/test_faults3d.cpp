@@ -274,7 +274,7 @@ duration_s = 1.5
     Scenario3 sc = parse_scenario3(kBase + f, "nanpair", "test");
     const Run r = fly(sc, 1000, GG_HEALTH_ACC_NONFINITE);
     std::printf("FAULTMATRIX3D | NaN on 2z and 5z (a whole pair-axis), 10-11.5 s | flagged after %lld steps | last NONFINITE "
-                "step %lld | rejected %lld (coast) | health 0x%08x | final |dr| %.3e m (max %.3e m while rejected)\n",
+                "step %lld | rejected %lld | health 0x%08x | final |dr| %.3e m (max %.3e m)\n",
                 static_cast<long long>(r.first_flag), static_cast<long long>(r.last_nonfinite),
                 static_cast<long long>(r.rejected), r.health_or, r.dr_final, r.dr_max);
     check(r.first_flag == 0, "NaN pair: flagged on its first step");

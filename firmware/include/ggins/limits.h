@@ -32,6 +32,10 @@
 #define GG_LIM_OMEGA_IE_MAX_RPS 1.0e-3L
 /** Parity flag threshold asym_max, s^-2. */
 #define GG_LIM_ASYM_MAX 1.0
+/** |differenced gradient component| of a frame, s^-2 (1e5 E; the Earth's is ~3e-6): beyond it
+ *  the readings are no gradient, the frame is rejected (held, such a gradient would make the
+ *  gravity dead reckoning diverge at e^(sqrt|Gamma| t)). */
+#define GG_LIM_GAMMA_MAX_S2 1.0e-4L
 
 /* ---- gravity model (gmodel.h): array sizes ---- */
 #define GG_GMODEL_MAX_DEGREE 8   /**< zonal degree */

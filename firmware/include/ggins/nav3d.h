@@ -73,10 +73,14 @@
  *
  * Validation: a reading NaN/Inf, out of range or flagged bad is flagged and
  * rebuilt from the opposite pairs (fdi3d.h: one per pair and axis, GG_HEALTH_ACC_REBUILT,
- * acc_rebuilt); a frame with fewer than 6 accelerometers, readings that
- * cannot be rebuilt, or (strapdown) a gyro sample NaN/Inf, above
- * GG_LIM_W_MAX_RPS or flagged bad, is rejected and flagged; its readings
- * never reach the state. Seq/utime rules, bridging of up to GG_NAV3D_MAX_BRIDGE lost
+ * acc_rebuilt); more readings lost, or a fault no single reading explains,
+ * degrade the frame instead of rejecting it (fdi3d.h: GG_HEALTH_ACC_DEGRADED;
+ * GG_HEALTH_GRAD_COAST for a gradient entry held on its last value - in
+ * gravity-model mode taken from the onboard model -, GG_HEALTH_FORCE_COAST
+ * for an axis' centre force held); a frame with fewer than 6 accelerometers,
+ * bad readings before the first frame was used, or (strapdown) a gyro
+ * sample NaN/Inf, above GG_LIM_W_MAX_RPS or flagged bad, is rejected and
+ * flagged; its readings never reach the state. Seq/utime rules, bridging of up to GG_NAV3D_MAX_BRIDGE lost
  * frames (the bridged steps interpolate f_b, Gamma_b and w), re-synchronisation
  * and coasting through longer outages (f_b, Gamma_b and w held) as in nav2d.h
  * and navtask.h.
