@@ -405,9 +405,9 @@ def test_realtime(a):
     last = max(rows3, key=lambda r: float(r["t_s"]))
     er3 = norm(nav_errors(last)[0])
     check(s3.get("final_seq") == round(float(last["t_s"]) * 100) and
-          abs(s3["final"]["position_error_m"] - er3) <= 1e-3 * er3 + 1e-12,
+          abs(s3["errors"]["position_error_m"]["final"] - er3) <= 1e-3 * er3 + 1e-12,
           "lost outputs: final error from the last step flown (seq %s, %.4e m vs %.4e m at t = %s s)"
-          % (s3.get("final_seq"), s3["final"]["position_error_m"], er3, last["t_s"]))
+          % (s3.get("final_seq"), s3["errors"]["position_error_m"]["final"], er3, last["t_s"]))
     # a deadline every output misses: every step is an overrun
     out2 = os.path.join(a.workdir, "realtime-deadline")
     run(a.ggins_run, out2, "--scenario", "welker-perfect", "--duration", "1", "--realtime", "--no-plots",
