@@ -338,7 +338,7 @@ class Link : public LinkBase {
           "the firmware steps there (scripts/bench-rig)";
       tr["cpu_us_per_step"] = c;
     }
-    tr["injected"] = {{"dropped", dropped_inj_},     {"dropped_copies", dropped_copies_inj_}, {"duplicated", dup_inj_},       {"reordered", reordered_inj_},
+    tr["injected"] = {{"dropped", dropped_inj_},     {"dropped_copies", dropped_copies_inj_}, {"duplicated", dup_inj_}, {"duplicated_copies", dup_copies_inj_},       {"reordered", reordered_inj_},
                       {"garbage", garbage_inj_},     {"conflicting", conflict_inj_}, {"output_drop_prob", opt_.faults.drop_output}};
     if (hal_) tr["hal_sim"] = hal_sim_summary();
     return tr;
@@ -634,6 +634,7 @@ class Link : public LinkBase {
     if (f.dup > 0 && fault_uniform(f.seed, 11, uk, ua) < f.dup) {
       batch_msgs_.push_back(m);
       ++dup_inj_;
+      if (copy) ++dup_copies_inj_;
     }
     if (f.conflict > 0 && fault_uniform(f.seed, 14, uk, ua) < f.conflict) {
       ggins::sensor_frame_t other = m;  // a sender contradicting itself: a different frame, correctly signed
@@ -912,7 +913,7 @@ class Link : public LinkBase {
   double cpu_start_ = 0, cpu_loop_ = 0, hal_cpu_s_ = -1, fw_ns_ = 0;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_recovered_ = 0, outputs_foreign_ = 0, outputs_conflict_ = 0;
   int64_t output_messages_ = 0, resend_timeouts_ = 0, resend_on_request_ = 0, resend_on_gap_ = 0, naks_ = 0;
-  int64_t dropped_copies_inj_ = 0, dropped_inj_ = 0, dup_inj_ = 0, reordered_inj_ = 0, conflict_inj_ = 0;
+  int64_t dropped_copies_inj_ = 0, dup_copies_inj_ = 0, dropped_inj_ = 0, dup_inj_ = 0, reordered_inj_ = 0, conflict_inj_ = 0;
   std::vector<double> latency_, lateness_;
 };
 
