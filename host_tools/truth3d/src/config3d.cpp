@@ -51,7 +51,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   c.baro.alt_max_m = l.alt_max_m;
   c.baro.gate_m = l.gate_m;
   c.baro.max_rejects = static_cast<int32_t>(l.max_rejects);
-  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, c);  // [aid_ukf], aids3d.hpp
+  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
   return c;
 }
 
