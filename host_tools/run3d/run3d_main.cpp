@@ -26,7 +26,8 @@
 #include <vector>
 
 #include "compare3d.hpp"
-#include "config3d.hpp"
+#include "aids3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
@@ -221,8 +222,7 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
 }
 
 ggins::nav3d_config_t Model3D::config() {
-  gg_nav3d_config_t c;
-  ggins::truth3d::nav3d_config(sc_, gen_, c);
+  const gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
   m.seq = 0;
@@ -270,6 +270,9 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
   m.aid_mm_lambda = c.aid_mm.lambda;
   m.aid_mm_gate_nis = c.aid_mm.gate_nis;
+  m.aid_mm_average_steps = c.aid_mm.average_steps;
+  m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
+  m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
   return m;
 }
 

@@ -258,6 +258,9 @@ inline std::string dump(const ggins::truth3d::Scenario3& s) {
   d.v("aid_ukf.q_g_mps2_rts", a.q_g_mps2_rts);
   d.v("aid_ukf.lambda", a.lambda);
   d.v("aid_ukf.gate_nis", a.gate_nis);
+  d.v("aid_ukf.average_s", a.average_s);
+  d.v("aid_ukf.sigma_gyro_rps", a.sigma_gyro_rps);
+  d.v("aid_ukf.sigma_gyro_bias_rps", a.sigma_gyro_bias_rps);
   return d.str();
 }
 

@@ -383,6 +383,9 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
     c.fail_key(root, "baro.rate_hz", "baro.rate_hz must not exceed time.rate_hz");
   if (!(s.nav_baro.alt_max_m > s.nav_baro.alt_min_m))
     c.fail_key(root, "navigation.baro.alt_max_m", "navigation.baro: alt_max_m must be > alt_min_m");
+  if (s.aid_ukf.average_s > s.aid_ukf.update_period_s)
+    c.fail_key(root, "aid_ukf.average_s", "aid_ukf.average_s = " + sch::num_text(s.aid_ukf.average_s) +
+                                              ": must be <= aid_ukf.update_period_s");
   if (s.aid_ukf.enabled && s.aid_ukf.maps.empty())
     c.fail_key(root, "aid_ukf.enabled", "aid_ukf.enabled needs aid_ukf.map (the onboard tiles)");
   if (!sch::detail::node_at(root, "firmware.fdi_parity_f_max_mps2")) {

@@ -14,6 +14,12 @@
 //   sig0_pos_m, sig0_vel_mps, sig0_att_rad, sig0_g_mps2   # initial one-sigma
 //   q_vel_mps_rts, q_att_rad_rts, q_g_mps2_rts           # process noise
 //   gate_nis = 0.0             # NIS gate (chi-square, 6 dof); 0: none
+//   average_s = 0.0            # tensors averaged into an epoch's measurement over this long
+//                              # before it (0: the epoch's own sample), <= update_period_s
+//   sigma_gyro_rps             # gyro white noise of one navigation step's rate, rad/s: its
+//                              # share of R ([w x]^2 removal) and of Q; default [gyro] noise_sigma_radps
+//   sigma_gyro_bias_rps        # gyro bias one-sigma, rad/s: its share of R; default [gyro]
+//                              # bias_sigma_radps (+ the largest |bias_radps| entry)
 #pragma once
 
 #include <string>
@@ -41,6 +47,9 @@ struct AidUkf3 {
   double q_g_mps2_rts = 1.0e-9;
   double lambda = 0.0;
   double gate_nis = 0.0;
+  double average_s = 0.0;
+  double sigma_gyro_rps = -1.0;       // < 0: from the scenario's [gyro] (run3d/aids3d.hpp)
+  double sigma_gyro_bias_rps = -1.0;  // < 0: from the scenario's [gyro]
 };
 
 // The [aid_ukf] table of a scenario (scenario_schema.hpp): absent, the defaults (aid off).
@@ -86,7 +95,15 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
       .num("q_att_rad_rts", &A::q_att_rad_rts, "rad/sqrt(s)", sch::in(0, 10), "attitude process noise")
       .num("q_g_mps2_rts", &A::q_g_mps2_rts, "m/s^2/sqrt(s)", sch::in(0, 100), "gravity process noise")
       .num("lambda", &A::lambda, "1", sch::in(-1e3, 1e3), "UKF sigma-point spread parameter")
-      .num("gate_nis", &A::gate_nis, "1", sch::in(0, 1e9), "NIS gate (chi-square, 6 dof); 0: none");
+      .num("gate_nis", &A::gate_nis, "1", sch::in(0, 1e9), "NIS gate (chi-square, 6 dof); 0: none")
+      .num("average_s", &A::average_s, "s", sch::in(0, 1e6),
+           "tensors averaged into an epoch's measurement over this long before it (0: the epoch's own sample; "
+           "<= update_period_s)")
+      .num("sigma_gyro_rps", &A::sigma_gyro_rps, "rad/s", sch::in(0, 1),
+           "gyro white noise of one navigation step's rate: its share of R ([w x]^2 removal) and of Q", -1.0,
+           "gyro.noise_sigma_radps")
+      .num("sigma_gyro_bias_rps", &A::sigma_gyro_bias_rps, "rad/s", sch::in(0, 1),
+           "gyro bias one-sigma: its share of R", -1.0, "gyro.bias_sigma_radps + the largest |gyro.bias_radps| entry");
   return t;
 }
 
