@@ -423,7 +423,12 @@ int main(int argc, char** argv) {
                "fly the scenario without its aids ([aid_ukf] off): the unaided reference of an aided flight\n"
                "(plot both on one figure: plot_run3d.py AIDED_DIR --unaided THIS_DIR)");
   app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
-  app.add_flag("--print-scenario", print_scenario, "print the resolved scenario and exit");
+  bool print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -435,6 +440,14 @@ int main(int argc, char** argv) {
       auto s = ggins::truth3d::load_scenario3(n, {GGINS_SCENARIO_DIR});
       std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
     }
+    return 0;
+  }
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "%s: --defaults goes with --print-scenario\n", o.tool.c_str());
+    return 2;
+  }
+  if (print_scenario && print_defaults) {
+    std::fputs(ggins::truth3d::scenario3_to_toml(ggins::truth3d::Scenario3{}, true).c_str(), stdout);
     return 0;
   }
   ggins::truth3d::Scenario3 sc;
@@ -453,14 +466,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (print_scenario) {
-    std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
+    std::fputs(ggins::truth3d::scenario3_to_toml(sc).c_str(), stdout);
     return 0;
   }
-  const json effective = {{"time.duration_s", sc.duration_s},
-                          {"time.rate_hz", sc.rate_hz},
-                          {"accel.seed", sc.accel.seed},
-                          {"output.csv_rate_hz", sc.csv_rate_hz},
-                          {"aid_ukf.enabled", sc.aid_ukf.enabled}};
-  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, sc.text, effective, GGINS_PLOT3D_SCRIPT,
+  // scenario.toml as flown: every key, the effective values (overrides applied)
+  const std::string as_flown = ggins::truth3d::scenario3_to_toml(sc);
+  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
                                            [&] { return std::make_unique<Model3D>(o, sc); });
 }
