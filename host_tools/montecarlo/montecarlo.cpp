@@ -28,6 +28,7 @@
 #include "ggins/covariance/scenario.hpp"
 #include "ggins/covariance/welker2d.hpp"
 #include "ggins/gravity/field.hpp"
+#include "ggins/truth/stats.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -83,11 +84,6 @@ RunData read_run(const fs::path& csv) {
   return r;
 }
 
-double chi2_quantile_wh(double n, double z) {  // Wilson-Hilferty
-  const double a = 2.0 / (9.0 * n);
-  const double c = 1.0 - a + z * std::sqrt(a);
-  return n * c * c * c;
-}
 
 std::string self_dir() {
   std::error_code ec;
@@ -204,7 +200,8 @@ int main(int argc, char** argv) {
     return sigmas(cov[k].P, 6);
   };
 
-  const double lo = std::sqrt(chi2_quantile_wh(n, -z) / n), hi = std::sqrt(chi2_quantile_wh(n, z) / n);
+  const ggins::truth::Chi2Band band = ggins::truth::chi2_band(n, z);  // truth/stats.hpp
+  const double lo = band.rms_lo, hi = band.rms_hi;
   {
     std::ofstream f(outp / "montecarlo.csv");
     f << "t_s";

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "ggins/covariance/propagate.hpp"
+#include "ggins/truth/stats.hpp"
 #include "sim3d.hpp"
 #ifdef GGINS_HAVE_TRUTH3D
 #include "ggins/covariance/cov3d_truth3d.hpp"
@@ -168,7 +169,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins-montecarlo3d: %zu covariance samples vs %zu run samples\n", cov.size(), nt);
     return 1;
   }
-  const auto band = chi_band(runs);
+  const ggins::truth::Chi2Band b3 = ggins::truth::chi2_band(runs, 3.0);  // truth/stats.hpp
+  const std::pair<double, double> band{b3.rms_lo, b3.rms_hi};
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   std::ofstream csv(fs::path(out_dir) / "montecarlo3d.csv");

@@ -194,10 +194,4 @@ std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, doub
   return out;
 }
 
-std::pair<double, double> chi_band(int n, double z) {
-  const double a = 2.0 / (9.0 * n);
-  const double lo = n * std::pow(1 - a - z * std::sqrt(a), 3), hi = n * std::pow(1 - a + z * std::sqrt(a), 3);
-  return {std::sqrt(lo / n), std::sqrt(hi / n)};
-}
-
 }  // namespace ggins::montecarlo3d

@@ -67,8 +67,4 @@ class Sim3D {
   int64_t dt_us_;
 };
 
-// Two-sided chi-square band for s/sigma with N degrees of freedom at +-z
-// standard-normal quantiles (Wilson-Hilferty).
-std::pair<double, double> chi_band(int n, double z = 3.0);
-
 }  // namespace ggins::montecarlo3d

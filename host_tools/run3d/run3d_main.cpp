@@ -28,7 +28,8 @@
 #include <vector>
 
 #include "compare3d.hpp"
-#include "config3d.hpp"
+#include "aids3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
@@ -288,8 +289,7 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
 }
 
 ggins::nav3d_config_t Model3D::config() {
-  gg_nav3d_config_t c;
-  ggins::truth3d::nav3d_config(sc_, gen_, c);
+  const gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
   m.seq = 0;

@@ -42,6 +42,7 @@
 
 #include "ggins/gravity/point_anomaly.hpp"
 #include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth/stats.hpp"
 extern "C" {
 #include "ggins/nav2d.h"
 }
@@ -72,35 +73,6 @@ struct Opts {
   bool check = false;   // exit 1 when a checkpoint falls outside the band
   double check_from_s = 600.0;
 };
-
-// Standard normal quantile (Acklam's rational approximation, |rel err| < 1.2e-9).
-double norm_quantile(double p) {
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
-  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                             6.680131188771972e+01,  -1.328068155288572e+01};
-  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
-  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                             3.754408661907416e+00};
-  const double pl = 0.02425;
-  if (p < pl) {
-    const double q = std::sqrt(-2 * std::log(p));
-    return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-           ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  }
-  if (p > 1 - pl) return -norm_quantile(1 - p);
-  const double q = p - 0.5, r = q * q;
-  return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
-         (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
-}
-
-// chi-square quantile, Wilson-Hilferty: chi2_p ~ n (1 - 2/(9n) + z_p sqrt(2/(9n)))^3.
-double chi2_quantile(double p, double n) {
-  const double z = norm_quantile(p), k = 2.0 / (9.0 * n);
-  const double t = 1.0 - k + z * std::sqrt(k);
-  return n * t * t * t;
-}
 
 // R&W eq. (8), as printed.
 double eq8_ms(double t, double delta, double R, double g, double alpha, double ws) {
@@ -327,8 +299,9 @@ int main(int argc, char** argv) {
       break;
     }
 
-  const double N = o.runs, p_lo = 0.5 * (1 - o.band), p_hi = 1 - p_lo;
-  const double b_lo = chi2_quantile(p_lo, N) / N, b_hi = chi2_quantile(p_hi, N) / N;
+  const double N = o.runs;
+  const ggins::truth::Chi2Band band = ggins::truth::chi2_band_coverage(N, o.band);  // truth/stats.hpp
+  const double b_lo = band.ms_lo, b_hi = band.ms_hi;
   json res;
   res["command"] = [&] { std::string s; for (int i = 0; i < argc; ++i) s += (i ? " " : "") + std::string(argv[i]); return s; }();
   res["field"] = o.field;

@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "ggins/truth/scenario.hpp"
+#include "ggins/truth/sensors.hpp"
 #include "ggins/truth3d/aids3d.hpp"
 #include "ggins/truth3d/faults3d.hpp"
 
@@ -80,12 +81,7 @@ struct Trajectory3Params {
          psi0_deg = 0, phi0_deg = 0;
 };
 
-struct GyroErrorParams {
-  uint64_t seed = 2;
-  double bias_sigma_radps = 0, noise_sigma_radps = 0, scale_sigma = 0;
-  std::array<double, 3> bias_radps{0, 0, 0};
-  std::array<double, 3> scale{0, 0, 0};
-};
+using GyroErrorParams = truth::GyroErrorParams;  // the gyro error model's parameters (truth/sensors.hpp)
 
 struct ShFieldParams {  // [gravity.sh], model = "egm96"
   std::string path;      // empty: GGINS_DATA_DIR/egm96_to360.ascii.txt
