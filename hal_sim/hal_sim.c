@@ -693,7 +693,7 @@ static void usage(FILE *out)
             "                         output for the same seq with probability P (a conflict)\n"
             "  --inject-seed N        seed of the fault injection (default 1)\n"
             "  --map FILE             a gradient map tile (gmap format) for the computer's map storage,\n"
-            "                         read by the 3-D task's map aid; repeat for more tiles (up to 16)\n"
+            "                         read by the 3-D task's map aid; repeat for more tiles (up to 256)\n"
             "  --quiet                no diagnostics on stderr\n"
             "  --help                 this text\n\n"
             "exit status: 0 after STOP, 1 bad usage, no key or LCM failure, 3 idle timeout, 4 signal\n");

@@ -167,4 +167,6 @@ void n3_pf_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     out->pf_corr_m[0] = a->last.corr[0];
     out->pf_corr_m[1] = a->last.corr[1];
     out->pf_gzz_s2 = a->last.gzz_mean;
+    out->pf_mean_m[0] = a->last.mean[0] - a->last.corr[0];
+    out->pf_mean_m[1] = a->last.mean[1] - a->last.corr[1];
 }

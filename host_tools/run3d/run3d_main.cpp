@@ -32,6 +32,7 @@
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
 #include "runner.hpp"
+#include "pf3d.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -55,6 +56,8 @@ class Model3D {
     if (sc_.aid_ukf.enabled)  // the onboard map tiles of the map aid: the computer's map storage
       for (const auto& p : ggins::run3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         maps_.push_back(fs::absolute(p).string());
+    if (sc_.aid_pf.enabled)  // the Gamma_zz tiles of the cold-atom aid (pf3d.hpp)
+      for (const auto& p : ggins::truth3d::aid_pf_map_paths(sc_.aid_pf, sc_.source)) maps_.push_back(fs::absolute(p).string());
   }
 
   int64_t n_steps() const { return gen_.n_steps(); }
@@ -104,6 +107,8 @@ class Model3D {
   int64_t aid_closed_ = 0;           // map-aid epochs closed (updated or rejected)
   double aid_nis_sum_ = 0;           // sum of their NIS
   ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
+  ggins::run3d::PfReport3 pf_;        // the cold-atom aid's counters and consistency (pf3d.hpp)
+  bool pf_on_ = false;
   static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
   std::vector<ggins::truth3d::Truth3> truth_ring_;
   // statistics
@@ -165,6 +170,7 @@ void Model3D::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
   o.g_up_corr = m.g_up_corr;
   o.t_s = m.t_s;
   for (int i = 0; i < GG_MOD_COUNT && i < m.n_cycles && i < 8; ++i) o.cycles[i] = static_cast<uint32_t>(m.cycles[i]);
+  ggins::run3d::aid_pf_output_from_lcm(m, o);
 }
 
 void Model3D::take(const ggins::nav3d_output_t& m, bool latest) {
@@ -223,6 +229,7 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
 ggins::nav3d_config_t Model3D::config() {
   gg_nav3d_config_t c;
   ggins::truth3d::nav3d_config(sc_, gen_, c);
+  ggins::run3d::apply_aid_pf(sc_.aid_pf, sc_.coldatom, c);
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
   m.seq = 0;
@@ -270,11 +277,14 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
   m.aid_mm_lambda = c.aid_mm.lambda;
   m.aid_mm_gate_nis = c.aid_mm.gate_nis;
+  ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
+  pf_on_ = c.aid_pf.enable != 0;
   return m;
 }
 
 void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos) {
   const ggins::run3d::Errors3 e = ggins::run3d::compare(t, o);
+  if (pf_on_) pf_.take(o, static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)));
   pos_.add(static_cast<double>(e.dr));
   vel_.add(static_cast<double>(e.dv));
   att_.add(static_cast<double>(e.psi));
@@ -362,9 +372,9 @@ void Model3D::report(json& s) {
   e["omega_dot_error_radps2"] = wdot_.json();
   s["parity"] = {{"antisym_radps2", par_asym_.json()}, {"trace_ps2", par_trace_.json()}};
   s["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
-  // one block per aid of the flight, each named ({"name": ..., its counters}); a further aid
-  // (the cold-atom particle filter) adds its own block here
+  // one block per aid of the flight, each named ({"name": ..., its counters})
   if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
+  if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
 }
 
 std::string Model3D::final_line(const json& s) {
@@ -441,6 +451,7 @@ int main(int argc, char** argv) {
     if (o.seed) sc.accel.seed = *o.seed;
     if (o.csv_rate) sc.csv_rate_hz = *o.csv_rate;
     if (no_aids) sc.aid_ukf.enabled = false;
+    if (no_aids) sc.aid_pf.enabled = false;
     if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
     if (sc.n_steps() > 100000000)
       throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +

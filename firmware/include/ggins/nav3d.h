@@ -260,6 +260,8 @@ typedef struct gg_nav3d_output_s {
     double pf_ess;               /**< effective sample size of the last shot */
     double pf_spread_m[2];       /**< the cloud's spread (weighted sd of dN, dE) after the last shot, m */
     double pf_corr_m[2];         /**< last correction fed back, north, east, m */
+    double pf_mean_m[2];         /**< the particles' mean after the last shot relative to the corrected
+                                      state, north, east, m (the filter's estimate: state + pf_mean_m) */
     double pf_gzz_s2;            /**< weighted Gamma_zz of the last shot's candidates, s^-2 (0: not weighed) */
 } gg_nav3d_output_t;
 

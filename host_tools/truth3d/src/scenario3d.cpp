@@ -181,7 +181,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   s.gravity.model = "wgs84-normal";
   p.keys(root, "", {"name", "description", "trajectory", "platform", "gravity", "time", "accel", "gyro", "baro",
                     "navigation", "firmware", "output", "sensor_faults",
-                    "aid_ukf"});  // [aid_ukf]: the aiding sources (aids3d.hpp)
+                    "aid_ukf", "coldatom", "aid_pf"});  // the aiding sources (aids3d.hpp, coldatom3d.hpp)
   s.name = p.str(root, "", "name", fallback_name);
   s.description = p.str(root, "", "description", "");
   if (const auto* t = p.sub(root, "trajectory")) {
@@ -395,6 +395,9 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   }
   if (const auto* t = p.sub(root, "sensor_faults")) s.sensor_faults = parse_sensor_faults3(*t, source);
   s.aid_ukf = parse_aid_ukf(root["aid_ukf"].as_table(), source);
+  s.coldatom = parse_coldatom3(root["coldatom"].as_table(), source);
+  s.aid_pf = parse_aid_pf3(root["aid_pf"].as_table(), source);
+  if (s.aid_pf.enabled && !s.coldatom.enabled) scenario_toml::fail(source, "aid_pf.enabled needs [coldatom] enabled (its sensor)");
   if (const auto* t = p.sub(root, "output")) {
     p.keys(*t, "output", {"csv_rate_hz"});
     s.csv_rate_hz = p.num(*t, "output", "csv_rate_hz", s.csv_rate_hz);

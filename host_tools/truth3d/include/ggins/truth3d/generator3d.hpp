@@ -33,6 +33,7 @@ extern "C" {
 }
 #include "ggins/gravity/field.hpp"
 #include "ggins/truth/generator.hpp"
+#include "ggins/truth3d/coldatom3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
 #include "ggins/truth3d/trajectory3d.hpp"
 
@@ -93,6 +94,8 @@ class Generator3 {
   double accel_bias(int j, int ax) const { return abias_[static_cast<size_t>(j)][static_cast<size_t>(ax)]; }
   double gyro_bias(int ax) const { return gbias_[static_cast<size_t>(ax)]; }
   double gyro_scale(int ax) const { return gscale_[static_cast<size_t>(ax)]; }
+  // The cold-atom gradiometer ([coldatom]; nullptr when off).
+  const ColdAtomSensor3* coldatom() const { return ca_.get(); }
 
  private:
   void init_errors();
@@ -112,6 +115,7 @@ class Generator3 {
   std::array<double, 3> gbias_{}, gscale_{};
   std::vector<double> baro_gm_;
   int64_t baro_every_ = 1;
+  std::shared_ptr<const ColdAtomSensor3> ca_;
 };
 
 
