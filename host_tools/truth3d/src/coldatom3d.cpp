@@ -22,6 +22,16 @@ namespace {
 constexpr uint64_t kStreamCa = 61;  // the shots' draws (streams of generator3d.cpp: 20-43)
 }
 
+namespace {
+// A relative file name of the scenario, from the scenario file's directory.
+std::string from_scenario_dir(const std::string& name, const std::string& source) {
+  namespace fs = std::filesystem;
+  if (name.empty()) return name;
+  const fs::path p(name), dir = fs::path(source).parent_path();
+  return (p.is_absolute() || dir.empty() ? p : dir / p).string();
+}
+}  // namespace
+
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   ColdAtom3 c;
   if (!t) return c;
@@ -33,8 +43,8 @@ ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   auto& g = c.grad;
   c.enabled = st::get_bool(*t, w, "enabled", c.enabled, source);
   c.gzz_map = st::get_str(*t, w, "gzz_map", c.gzz_map, source);
-  c.egm96 = st::get_str(*t, w, "egm96", c.egm96, source);
-  c.cache = st::get_str(*t, w, "cache", c.cache, source);
+  c.egm96 = from_scenario_dir(st::get_str(*t, w, "egm96", c.egm96, source), source);
+  c.cache = from_scenario_dir(st::get_str(*t, w, "cache", c.cache, source), source);
   g.rate_hz = st::get_num(*t, w, "rate_hz", g.rate_hz, source);
   g.dz = st::get_num(*t, w, "dz_m", g.dz, source);
   g.T = st::get_num(*t, w, "T_s", g.T, source);

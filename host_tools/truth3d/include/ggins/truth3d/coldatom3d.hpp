@@ -8,6 +8,7 @@
 //                               # "phillips-route-normal" (its WGS-84 normal part alone)
 //   egm96 = "..."               # EGM96 coefficients (default: the data directory's)
 //   cache = "..."               # directory caching the map's EGM96 grid (default: none)
+//                               # (relative names of both: from the scenario file's directory)
 //   rate_hz = 1.0, dz_m = 1.0, T_s = 0.16, n_atoms = 1e5, contrast = 0.5,
 //   phase_noise_mrad = 0.0, shot_noise = true, p_fail = 0.0, cloud_rw_m_rts = 0.0,
 //   beam_radius_m = 6e-3, seed = 1
