@@ -51,6 +51,7 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_pf.enable = m->aid_pf_enable;
     c->aid_pf.chunk = m->aid_pf_chunk;
     c->aid_pf.end_chunk = m->aid_pf_end_chunk;
+    c->aid_pf.feedback = m->aid_pf_feedback;
     c->aid_pf.pf.n = m->aid_pf_n;
     c->aid_pf.pf.seed = (uint64_t)m->aid_pf_seed;
     c->aid_pf.pf.model = m->aid_pf_model;

@@ -57,7 +57,8 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
         return GG_OK;
     }
     if ((cfg->enable != 1) || (cfg->chunk < 1) || (cfg->chunk > GG_PF_MAX) || (cfg->end_chunk < 1) ||
-        (cfg->end_chunk > (8 * GG_PF_MAX))) {
+        (cfg->end_chunk > (8 * GG_PF_MAX)) ||
+        ((cfg->feedback != GG_AID_PF_FB_POS) && (cfg->feedback != GG_AID_PF_FB_POS_VEL))) {
         return GG_ERR_CONFIG;
     }
     pc = cfg->pf;
@@ -171,6 +172,8 @@ gg_status_t gg_aid_pf_step(gg_aid_pf_t *a, const gg_aid_pf_in_t *in, const gg_ha
     corr->valid = 0;
     corr->dn_m = 0.0;
     corr->de_m = 0.0;
+    corr->dvn_mps = 0.0;
+    corr->dve_mps = 0.0;
     if (a->initialized == 0) {
         return GG_ERR_NOT_INIT;
     }
@@ -225,6 +228,12 @@ gg_status_t gg_aid_pf_step(gg_aid_pf_t *a, const gg_aid_pf_in_t *in, const gg_ha
             corr->valid = 1;
             corr->dn_m = o.corr[0];
             corr->de_m = o.corr[1];
+            if (a->cfg.feedback == GG_AID_PF_FB_POS_VEL) {
+                /* the velocity's smoothed correction, reset to 0 by every feedback:
+                 * gain x the particles' mean (paper eqs. 9-10 applied to the velocity) */
+                corr->dvn_mps = a->cfg.pf.gain * o.mean[2];
+                corr->dve_mps = a->cfg.pf.gain * o.mean[3];
+            }
         }
     }
     if (st != GG_OK) {
@@ -249,7 +258,7 @@ gg_status_t gg_aid_pf_applied(gg_aid_pf_t *a, const gg_aid_pf_corr_t *corr, int3
         return GG_ERR_NOT_INIT;
     }
     if ((corr->valid != 0) && (applied != 0)) {
-        st = gg_pf_shift(&a->pf, corr->dn_m, corr->de_m);
+        st = gg_pf_shift(&a->pf, corr->dn_m, corr->de_m, corr->dvn_mps, corr->dve_mps);
         if (st == GG_OK) {
             a->n_corrections++;
             a->corr_total_m[0] += corr->dn_m;

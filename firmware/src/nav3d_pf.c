@@ -63,31 +63,37 @@ static uint32_t n3_pf_health(uint32_t ah)
 }
 
 /* The horizontal correction (north, east) as an ECI correction of the state:
- * dr_i = R3(theta) C_n_e (dn, de, 0), dv_i = omega x dr_i (Earth-relative
- * velocity unchanged), no attitude or gravitation term (the task moves the
- * gravitation with Gamma dr). */
+ * dr_i = R3(theta) C_n_e (dn, de, 0), dv_i = R3(theta) C_n_e (dvn, dve, 0) +
+ * omega x dr_i (the Earth-relative velocity moves by (dvn, dve) only), no
+ * attitude or gravitation term (the task moves the gravitation with Gamma dr). */
 static gg_status_t n3_pf_apply(gg_nav3d_t *nav, const gg_aid_pf_corr_t *pc, gg_real_t cen[3][3])
 {
     gg_aid_corr_t c;
     gg_real_t dr_e[3];
     gg_real_t dr_i[3];
+    gg_real_t dv_e[3];
+    gg_real_t dv_i[3];
     const gg_real_t dn = (gg_real_t)pc->dn_m;
     const gg_real_t de = (gg_real_t)pc->de_m;
+    const gg_real_t dvn = (gg_real_t)pc->dvn_mps;
+    const gg_real_t dve = (gg_real_t)pc->dve_mps;
     const gg_real_t w = nav->omega_ie;
     size_t j;
     for (j = 0U; j < 3U; ++j) {
         dr_e[j] = (dn * cen[0][j]) + (de * cen[1][j]);
+        dv_e[j] = (dvn * cen[0][j]) + (dve * cen[1][j]);
     }
     gg_rot3(nav->sin_th, nav->cos_th, 1, dr_e, dr_i);
+    gg_rot3(nav->sin_th, nav->cos_th, 1, dv_e, dv_i);
     c.valid = 1;
     for (j = 0U; j < 3U; ++j) {
         c.dr_i[j] = (double)dr_i[j];
         c.psi_i[j] = 0.0;
         c.dg_i[j] = 0.0;
     }
-    c.dv_i[0] = (double)(-w * dr_i[1]);
-    c.dv_i[1] = (double)(w * dr_i[0]);
-    c.dv_i[2] = 0.0;
+    c.dv_i[0] = (double)(dv_i[0] - (w * dr_i[1]));
+    c.dv_i[1] = (double)(dv_i[1] + (w * dr_i[0]));
+    c.dv_i[2] = (double)dv_i[2];
     return n3_aid_apply(nav, &c);
 }
 

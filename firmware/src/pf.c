@@ -652,9 +652,10 @@ gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out)
     return s;
 }
 
-/* Closed loop: the correction (dn, de) was added to the INS position, so the
- * particles (corrections to the INS) and the smoothed correction move by -(dn, de). */
-gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m)
+/* Closed loop: the correction (dn, de) was added to the INS position and (dvn, dve)
+ * to its velocity, so the particles (corrections to the INS) and the smoothed
+ * correction move by minus them. */
+gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m, double dvn_mps, double dve_mps)
 {
     int i;
     if (st == NULL) {
@@ -666,12 +667,14 @@ gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m)
     if (st->shot_open != 0) {
         return GG_ERR_SEQUENCE;
     }
-    if (!GG_ISFINITE(dn_m) || !GG_ISFINITE(de_m)) {
+    if (!GG_ISFINITE(dn_m) || !GG_ISFINITE(de_m) || !GG_ISFINITE(dvn_mps) || !GG_ISFINITE(dve_mps)) {
         return GG_ERR_NONFINITE;
     }
     for (i = 0; i < st->cfg.n; ++i) {
         st->x[i][0] -= dn_m;
         st->x[i][1] -= de_m;
+        st->x[i][2] -= dvn_mps;
+        st->x[i][3] -= dve_mps;
     }
     st->corr[0] -= dn_m;
     st->corr[1] -= de_m;

@@ -32,6 +32,7 @@ inline void apply_aid_pf(const truth3d::AidPf3& a, const truth3d::ColdAtom3& ca,
   if (!a.enabled) return;
   m.chunk = a.chunk;
   m.end_chunk = a.end_chunk;
+  m.feedback = a.feedback == "position" ? GG_AID_PF_FB_POS : GG_AID_PF_FB_POS_VEL;
   gg_pf_config_t& p = m.pf;
   const coldatom::GradiometerParams& g = ca.grad;
   p.n = a.particles;
@@ -65,6 +66,7 @@ inline void aid_pf_config_to_lcm(const gg_aid_pf_config_t& a, ggins::nav3d_confi
   m.aid_pf_enable = static_cast<int8_t>(a.enable);
   m.aid_pf_chunk = a.chunk;
   m.aid_pf_end_chunk = a.end_chunk;
+  m.aid_pf_feedback = a.feedback;
   m.aid_pf_n = p.n;
   m.aid_pf_seed = static_cast<int64_t>(p.seed);
   m.aid_pf_model = p.model;

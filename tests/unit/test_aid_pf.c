@@ -7,7 +7,8 @@
  *    the north error given the shots, computed on a grid with brute-force
  *    ellipse distances (libm), and the state must have moved by exactly that
  *    sum; the unobserved east keeps its prior; the correction leaves the
- *    Earth-relative velocity as it was;
+ *    Earth-relative velocity as it was, and with the velocity fed back too it
+ *    moves by exactly the filter's velocity correction;
  *  - the schedule: a shot takes 1 + ceil(N / chunk) + ceil(passes / end_chunk)
  *    steps, a shot arriving while one is in progress waits, a third is dropped;
  *  - bad input: a NaN pair is a failed shot (the filter predicted only, bit
@@ -125,7 +126,7 @@ static void make_pair(double g, double s[2])
 /* brute force: dense sampling of the parameter, then golden-section refinement */
 static double brute_dist(double s0, double s1, double dphi)
 {
-    const int m = 2000;
+    const int m = 1000;
     double best = 1e300, bt = 0;
     for (int i = 0; i < m; ++i) {
         const double t = 2 * M_PI * i / m;
@@ -171,6 +172,7 @@ typedef struct {
     double spread_n, spread_e;   /* the cloud after the last shot */
     double ess;
     double err_n_end;            /* truth - state, north, after the last correction, m */
+    double dv_applied;           /* largest velocity correction component applied, m/s */
     double dv_jump;              /* largest change of the Earth-relative velocity (ECEF axes) at a correction step beyond the reference's, m/s */
     double s[N_SHOTS][2];        /* the shots */
     double e_ins[N_SHOTS];       /* open-loop north position of the INS relative to the truth at each shot, m */
@@ -189,7 +191,7 @@ static void north_east_err(const truth3_t *T, long long k, const gg_nav3d_output
     *ee = (double)((lon_t - (long double)o->lon_rad) * rn * cosl(T->lat0));
 }
 
-static pf_flight_t fly(uint64_t seed)
+static pf_flight_t fly(uint64_t seed, int feed_vel)
 {
     truth3_t T;
     gg_nav3d_config_t cfg, cref;
@@ -210,6 +212,10 @@ static pf_flight_t fly(uint64_t seed)
     }
     cref = cfg;
     pf_config(&cfg.aid_pf, seed);
+    if (feed_vel != 0) { /* velocity corrections too: a velocity spread to correct */
+        cfg.aid_pf.feedback = GG_AID_PF_FB_POS_VEL;
+        cfg.aid_pf.pf.sigma0_vel = 0.1;
+    }
     assert_int_equal(gg_nav3d_init(&g_nav, &cfg), GG_OK);
     assert_int_equal(gg_nav3d_init(&g_ref, &cref), GG_OK);
     memset(&hal, 0, sizeof hal);
@@ -240,9 +246,16 @@ static pf_flight_t fly(uint64_t seed)
         if (out.pf_corrected != 0) {
             if (f.steps_to_corr == 0) f.steps_to_corr = (int)k - k_first;
             a_sum += out.pf_corr_m[0];
+            /* the Earth-relative velocity moves by the velocity correction (ECEF axes), nothing else */
+            const double sl = sin(out.lat_rad), cl = cos(out.lat_rad), so = sin(out.lon_rad), co = cos(out.lon_rad);
+            const double nrow[3] = {-sl * co, -sl * so, cl}, erow[3] = {-so, co, 0.0};
+            const double dvn = g_nav.aid_pf.last.mean[2] * (feed_vel != 0 ? 1.0 : 0.0);
+            const double dve = g_nav.aid_pf.last.mean[3] * (feed_vel != 0 ? 1.0 : 0.0);
             for (int j = 0; j < 3; ++j) {
-                const double jump = fabs((out.v_e[j] - prev.v_e[j]) - (oref.v_e[j] - prevref.v_e[j]));
+                const double want = dvn * nrow[j] + dve * erow[j];
+                const double jump = fabs((out.v_e[j] - prev.v_e[j]) - (oref.v_e[j] - prevref.v_e[j]) - want);
                 if (jump > f.dv_jump) f.dv_jump = jump;
+                if (fabs(want) > f.dv_applied) f.dv_applied = fabs(want);
             }
         }
         prev = out;
@@ -268,11 +281,11 @@ static pf_flight_t fly(uint64_t seed)
  * prior N(0, 100^2), shot k at the candidate's Gamma_zz G0 + GE (e_k + C). */
 static void grid_posterior(const pf_flight_t *f, double *mean, double *sd)
 {
-    enum { NG = 2001 };
+    enum { NG = 801 };
     static double lp[NG];
     double lmax = -1e300;
     for (int i = 0; i < NG; ++i) {
-        const double c = -400.0 + 0.4 * i;
+        const double c = -400.0 + 1.0 * i;
         lp[i] = -0.5 * c * c / (100.0 * 100.0);
         for (int k = 0; k < N_SHOTS; ++k) {
             const double d = brute_dist(f->s[k][0], f->s[k][1], scale_of() * (G0_S2 + GE_M * (f->e_ins[k] + c)));
@@ -282,7 +295,7 @@ static void grid_posterior(const pf_flight_t *f, double *mean, double *sd)
     }
     double z = 0, m = 0, m2 = 0;
     for (int i = 0; i < NG; ++i) {
-        const double c = -400.0 + 0.4 * i, p = exp(lp[i] - lmax);
+        const double c = -400.0 + 1.0 * i, p = exp(lp[i] - lmax);
         z += p; m += p * c; m2 += p * c * c;
     }
     *mean = m / z;
@@ -301,7 +314,7 @@ static void test_closed_loop_posterior(void **state)
     int steps = 0;
     for (int r = 0; r < runs; ++r) {
         g_rng = 0x9E3779B97F4A7C15ull + 7919u * (uint64_t)r;
-        const pf_flight_t f = fly(100u + (uint64_t)r);
+        const pf_flight_t f = fly(100u + (uint64_t)r, 0);
         double gm, gsd;
         grid_posterior(&f, &gm, &gsd);
         assert_int_equal(f.shots, N_SHOTS);
@@ -335,6 +348,13 @@ static void test_closed_loop_posterior(void **state)
     assert_true(worst_dv < 1e-5); /* omega x dr would be ~3e-3 m/s per 60 m */
     /* begin + ceil(200 / 50) predict chunks + ceil(3 x 200 / 100) end steps (no resampling) */
     assert_int_equal(steps, 1 + 4 + 6 - 1);
+    /* position and velocity fed back: the state's velocity moves by gain x the particles' mean velocity */
+    g_rng = 0x9E3779B97F4A7C15ull;
+    const pf_flight_t fv = fly(300u, 1);
+    print_message("position and velocity fed back: largest velocity correction %.3e m/s, velocity change beyond it "
+                  "%.2e m/s; sum of north corrections %.1f m\n", fv.dv_applied, fv.dv_jump, fv.corr_n);
+    assert_true(fv.dv_applied > 1e-3);
+    assert_true(fv.dv_jump < 1e-5);
 }
 
 /* Aid-level schedule and bad input, with a store of one tile. */
@@ -468,17 +488,20 @@ static void test_shift(void **state)
     pf_config(&cfg, 9u);
     assert_int_equal(gg_aid_pf_init(&g_aid, &cfg), GG_OK);
     g_aid2 = g_aid;
-    assert_int_equal(gg_pf_shift(&g_aid.pf, 12.5, -3.0), GG_OK);
+    assert_int_equal(gg_pf_shift(&g_aid.pf, 12.5, -3.0, 0.25, -0.5), GG_OK);
     for (int i = 0; i < N_PART; ++i) {
         assert_true(g_aid.pf.x[i][0] == g_aid2.pf.x[i][0] - 12.5);
         assert_true(g_aid.pf.x[i][1] == g_aid2.pf.x[i][1] + 3.0);
-        for (int k = 2; k < GG_PF_NX; ++k) assert_true(g_aid.pf.x[i][k] == g_aid2.pf.x[i][k]);
+        assert_true(g_aid.pf.x[i][2] == g_aid2.pf.x[i][2] - 0.25);
+        assert_true(g_aid.pf.x[i][3] == g_aid2.pf.x[i][3] + 0.5);
+        for (int k = 4; k < GG_PF_NX; ++k) assert_true(g_aid.pf.x[i][k] == g_aid2.pf.x[i][k]);
     }
     assert_true(g_aid.pf.corr[0] == -12.5 && g_aid.pf.corr[1] == 3.0);
-    assert_int_equal(gg_pf_shift(&g_aid.pf, NAN, 0.0), GG_ERR_NONFINITE);
+    assert_int_equal(gg_pf_shift(&g_aid.pf, NAN, 0.0, 0.0, 0.0), GG_ERR_NONFINITE);
+    assert_int_equal(gg_pf_shift(&g_aid.pf, 0.0, 0.0, 0.0, INFINITY), GG_ERR_NONFINITE);
     gg_pf_input_t pin = {0.7, 0.2, 3000.0, 0, 0.0, 0.0, 0.0, 100.0};
     assert_int_equal(gg_pf_step_begin(&g_aid.pf, &pin), GG_OK);
-    assert_int_equal(gg_pf_shift(&g_aid.pf, 1.0, 0.0), GG_ERR_SEQUENCE);
+    assert_int_equal(gg_pf_shift(&g_aid.pf, 1.0, 0.0, 0.0, 0.0), GG_ERR_SEQUENCE);
 }
 
 int main(void)

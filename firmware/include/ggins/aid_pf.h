@@ -16,14 +16,16 @@
  * Kalman mean of the horizontal velocity, tilt, gyro-bias and
  * accelerometer-error states each).
  *
- * Closed loop on the horizontal position only. After each shot the smoothed
- * correction c (paper eqs. 9-10) is added to the task's position along north
- * and east (the inertial velocity by omega_ie x dr, so the Earth-relative
- * velocity is unchanged; with gravity dead reckoning the gravitation by
- * Gamma dr, as the map aid does), and every particle and c move by -c
- * (gg_pf_shift): the filter's error model is linear, so this is the open-loop
- * filter exactly, with the INS kept at the estimate. Why closed, and why only
- * the position:
+ * Closed loop on the horizontal position, and (feedback = GG_AID_PF_FB_POS_VEL)
+ * the horizontal velocity. After each shot the smoothed correction c (paper eqs.
+ * 9-10) is added to the task's position along north and east (the inertial
+ * velocity by omega_ie x dr, so the Earth-relative velocity is unchanged; with
+ * gravity dead reckoning the gravitation by Gamma dr, as the map aid does) and,
+ * with POS_VEL, gain x the particles' mean velocity correction to its
+ * Earth-relative velocity; every particle (RBPF: its linear mean; P unchanged)
+ * and c move by minus what was applied (gg_pf_shift): the filter's error model
+ * is linear, so this is the open-loop filter exactly, with the INS kept at the
+ * estimate. Why closed, and why these states:
  *  - closed: the candidates are INS + r with the radii and the map page at
  *    the INS position; an open-loop INS drifts by kilometres (4.6 km after
  *    3 h in Phillips' flight) and the map page around it loses the candidates
@@ -33,14 +35,16 @@
  *    linearised error model sees errors of the cloud's size, not of the drift.
  *    The other aids (barometer, map UKF) then work about the same corrected
  *    solution.
- *  - position only: a pair measures Gamma_zz at the horizontal position and
- *    nothing else; the particles' velocity and tilt means are inferred through
- *    the Schuler coupling, weakly and (before the cloud has converged) from a
- *    multimodal cloud whose mean is no estimate of any mode. Feeding them back
- *    would inject that into the attitude and velocity the task (and the map
- *    UKF, which owns attitude and velocity corrections with its own
- *    covariance) integrate, while the position reset is exact and keeps the
- *    filter's estimate of them intact. The vertical is the barometer's.
+ *  - position and velocity: resetting the position alone removes the Schuler
+ *    loop's restoring term from the INS (its velocity error then grows with
+ *    the tilt and the accelerometer error instead of oscillating: 3.9 m/s mean
+ *    on Phillips' route against 0.6 m/s unaided, docs/cold-atom-pf.md); with
+ *    the velocity fed back as well the loop is closed on both states the
+ *    Schuler oscillation exchanges. Not the tilt, gyro-bias and accelerometer
+ *    states: a pair measures Gamma_zz at the horizontal position only, those
+ *    are inferred weakly through two integrations, and the attitude is what
+ *    the map UKF (which owns attitude corrections with its own covariance)
+ *    corrects; the vertical is the barometer's.
  *
  * Real-time schedule: a shot is split over navigation steps so that no step
  * does more than one bounded unit of work:
@@ -77,6 +81,10 @@
 #define GG_AID_PF_H_DEGENERATE 0x08u   /**< every candidate off the map: weights reset */
 #define GG_AID_PF_H_FAIL 0x10u         /**< an operation of the filter was rejected */
 
+/** What the closed loop feeds back (gg_aid_pf_config_t.feedback). */
+#define GG_AID_PF_FB_POS 0     /**< the horizontal position */
+#define GG_AID_PF_FB_POS_VEL 1 /**< the horizontal position and velocity */
+
 /** Schedule phases. */
 #define GG_AID_PF_PH_IDLE 0
 #define GG_AID_PF_PH_PREDICT 1
@@ -86,6 +94,7 @@ typedef struct {
     int32_t enable;      /**< 1: aid on (the rest is validated only then) */
     int32_t chunk;       /**< particles predicted and weighed per navigation step, 1..GG_PF_MAX */
     int32_t end_chunk;   /**< particle passes of the shot's end per navigation step, 1..8 GG_PF_MAX */
+    int32_t feedback;    /**< GG_AID_PF_FB_POS or GG_AID_PF_FB_POS_VEL */
     gg_pf_config_t pf;   /**< the filter (pf.h); pf.map is set by the aid (the HAL's map storage),
                               pf.dt is the shot period */
 } gg_aid_pf_config_t;
@@ -104,11 +113,14 @@ typedef struct {
                               dropped (counted, GG_AID_PF_H_DROPPED) */
 } gg_aid_pf_in_t;
 
-/** A horizontal position correction to the task's state (m, north and east). */
+/** A horizontal correction to the task's state: position (m) and Earth-relative
+ *  velocity (m/s, 0 with GG_AID_PF_FB_POS), north and east. */
 typedef struct {
     int32_t valid;
     double dn_m;
     double de_m;
+    double dvn_mps;
+    double dve_mps;
 } gg_aid_pf_corr_t;
 
 typedef struct {

@@ -257,10 +257,12 @@ gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out);
 gg_status_t gg_pf_step_end_chunk(gg_pf_t *st, int max_particles, gg_pf_output_t *out, int *done);
 
 /** Closed loop: the correction (dn_m, de_m), m north and east, was added to the
- *  INS position; the particles and the smoothed correction move by minus it
- *  (the INS error model is linear, so this is exact). GG_ERR_SEQUENCE while a
- *  shot is open, GG_ERR_NONFINITE (state untouched). */
-gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m);
+ *  INS position and (dvn_mps, dve_mps), m/s, to its velocity; the particles'
+ *  position and velocity (RBPF: the linear means of dvN, dvE; P unchanged) and
+ *  the smoothed correction move by minus it (the INS error model is linear, so
+ *  this is exact). GG_ERR_SEQUENCE while a shot is open, GG_ERR_NONFINITE
+ *  (state untouched). */
+gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m, double dvn_mps, double dve_mps);
 
 /** Replace the map ops (a map paged between shots or chunks; map->gzz != NULL). */
 gg_status_t gg_pf_set_map(gg_pf_t *st, const gg_pf_map_t *map);

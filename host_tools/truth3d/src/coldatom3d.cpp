@@ -70,7 +70,7 @@ AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
   if (!t) return a;
   const std::string w = "aid_pf";
   st::check_keys(*t, w,
-                 {"enabled", "map_dir", "particles", "chunk", "end_chunk", "model", "seed", "sigma", "sigma0_pos_m",
+                 {"enabled", "map_dir", "particles", "chunk", "end_chunk", "model", "feedback", "seed", "sigma", "sigma0_pos_m",
                   "sigma0_vel_mps", "sigma0_tilt_mps2", "sigma0_gyro_mps3", "sigma0_accel_mps2", "q_pos_m",
                   "q_vel_mps", "q_tilt_mps2", "q_gyro_mps3", "q_accel_mps2", "reg_bw", "gain", "ess_frac"},
                  source);
@@ -80,6 +80,9 @@ AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
   a.chunk = static_cast<int>(st::get_int(*t, w, "chunk", a.chunk, source));
   a.end_chunk = static_cast<int>(st::get_int(*t, w, "end_chunk", a.end_chunk, source));
   a.model = st::get_str(*t, w, "model", a.model, source);
+  a.feedback = st::get_str(*t, w, "feedback", a.feedback, source);
+  if (a.feedback != "position" && a.feedback != "position-velocity")
+    st::fail(source, "aid_pf.feedback must be \"position\" or \"position-velocity\"");
   a.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(a.seed), source));
   a.sigma = st::get_num(*t, w, "sigma", a.sigma, source);
   a.sigma0_pos_m = st::get_num(*t, w, "sigma0_pos_m", a.sigma0_pos_m, source);

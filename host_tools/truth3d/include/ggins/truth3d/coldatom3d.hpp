@@ -18,6 +18,7 @@
 //   map_dir = "..."             # the Gamma_zz tiles (ggins coldatom --write-tiles) for the
 //                               # computer's map storage; relative: from the scenario's directory
 //   particles = 500, chunk = 50, end_chunk = 250, model = "rbpf" ("rw", "ins"), seed = 1,
+//   feedback = "position-velocity" (or "position": what the closed loop feeds back),
 //   sigma = 0 (likelihood sigma, signal units; 0: the sensor's expected scatter, at least 1e-3),
 //   sigma0_pos_m = 50, sigma0_vel_mps = 0, sigma0_tilt_mps2 = 0, sigma0_gyro_mps3 = 4.9e-7,
 //   sigma0_accel_mps2 = 3.1e-4, q_pos_m = 0, q_vel_mps = 1.47e-4, q_tilt_mps2 = 1.96e-5,
@@ -59,6 +60,7 @@ struct AidPf3 {
   std::string map_dir;  // as written in the scenario
   int particles = 500, chunk = 50, end_chunk = 250;
   std::string model = "rbpf";
+  std::string feedback = "position-velocity";  // or "position"
   std::uint64_t seed = 1;
   double sigma = 0.0;
   double sigma0_pos_m = 50.0, sigma0_vel_mps = 0.0, sigma0_tilt_mps2 = 0.0, sigma0_gyro_mps3 = 4.9e-7,
