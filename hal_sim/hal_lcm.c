@@ -21,6 +21,10 @@ void ggins_frame_from_lcm(const ggins_sensor_frame_t *m, gg_frame_t *f)
     f->baro_alt_m = m->baro_alt_m;
     f->baro_utime = m->baro_utime;
     f->baro_status = m->baro_status;
+    f->ca_s[0] = m->ca_s[0];
+    f->ca_s[1] = m->ca_s[1];
+    f->ca_utime = m->ca_utime;
+    f->ca_status = m->ca_status;
 }
 
 _Static_assert(GG_GMODEL_MAX_DEGREE + 1 == 9, "ggins_nav2d_config_t.model_j holds J_0..J_8");

@@ -51,6 +51,34 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_mm.average_steps = m->aid_mm_average_steps;
     c->aid_mm.sigma_gyro_rps = m->aid_mm_sigma_gyro_rps;
     c->aid_mm.sigma_gyro_bias_rps = m->aid_mm_sigma_gyro_bias_rps;
+    c->aid_pf.enable = m->aid_pf_enable;
+    c->aid_pf.chunk = m->aid_pf_chunk;
+    c->aid_pf.end_chunk = m->aid_pf_end_chunk;
+    c->aid_pf.feedback = m->aid_pf_feedback;
+    c->aid_pf.pf.n = m->aid_pf_n;
+    c->aid_pf.pf.seed = (uint64_t)m->aid_pf_seed;
+    c->aid_pf.pf.model = m->aid_pf_model;
+    c->aid_pf.pf.k_eff = m->aid_pf_k_eff;
+    c->aid_pf.pf.T = m->aid_pf_T;
+    c->aid_pf.pf.dz = m->aid_pf_dz;
+    c->aid_pf.pf.contrast = m->aid_pf_contrast;
+    c->aid_pf.pf.c0 = m->aid_pf_c0;
+    c->aid_pf.pf.c1 = m->aid_pf_c1;
+    c->aid_pf.pf.sigma = m->aid_pf_sigma;
+    c->aid_pf.pf.sigma0_pos = m->aid_pf_sigma0_pos;
+    c->aid_pf.pf.sigma0_vel = m->aid_pf_sigma0_vel;
+    c->aid_pf.pf.sigma0_acc = m->aid_pf_sigma0_acc;
+    c->aid_pf.pf.sigma0_jerk = m->aid_pf_sigma0_jerk;
+    c->aid_pf.pf.sigma0_bias = m->aid_pf_sigma0_bias;
+    c->aid_pf.pf.q_pos = m->aid_pf_q_pos;
+    c->aid_pf.pf.q_vel = m->aid_pf_q_vel;
+    c->aid_pf.pf.q_acc = m->aid_pf_q_acc;
+    c->aid_pf.pf.q_jerk = m->aid_pf_q_jerk;
+    c->aid_pf.pf.q_bias = m->aid_pf_q_bias;
+    c->aid_pf.pf.reg_bw = m->aid_pf_reg_bw;
+    c->aid_pf.pf.dt = m->aid_pf_dt;
+    c->aid_pf.pf.gain = m->aid_pf_gain;
+    c->aid_pf.pf.ess_frac = m->aid_pf_ess_frac;
 }
 
 void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav3d_output_t *m)
@@ -109,4 +137,20 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     for (int i = 0; i < 6; ++i) m->mm_innov[i] = o->mm_innov[i];
     for (int i = 0; i < 18; ++i) m->mm_pcov[i] = o->mm_pcov[i];
     m->mm_n_avg = o->mm_n_avg;
+    m->pf_phase = o->pf_phase;
+    m->pf_corrected = (int8_t)o->pf_corrected;
+    m->pf_shots = (int64_t)o->pf_shots;
+    m->pf_updates = (int64_t)o->pf_updates;
+    m->pf_failed = (int64_t)o->pf_failed;
+    m->pf_invalid = (int64_t)o->pf_invalid;
+    m->pf_dropped = (int64_t)o->pf_dropped;
+    m->pf_no_map = (int64_t)o->pf_no_map;
+    m->pf_map_miss = (int64_t)o->pf_map_miss;
+    m->pf_degenerate = (int64_t)o->pf_degenerate;
+    m->pf_resampled = (int64_t)o->pf_resampled;
+    m->pf_ess = o->pf_ess;
+    for (int i = 0; i < 2; ++i) m->pf_spread_m[i] = o->pf_spread_m[i];
+    for (int i = 0; i < 2; ++i) m->pf_corr_m[i] = o->pf_corr_m[i];
+    for (int i = 0; i < 2; ++i) m->pf_mean_m[i] = o->pf_mean_m[i];
+    m->pf_gzz_s2 = o->pf_gzz_s2;
 }

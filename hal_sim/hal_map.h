@@ -18,7 +18,7 @@ extern "C" {
 #include "ggins/hal.h"
 
 /** Tiles the storage holds. */
-#define HAL_MAP_MAX_TILES 16
+#define HAL_MAP_MAX_TILES 256
 
 typedef struct {
     gg_gmap_t *tiles[HAL_MAP_MAX_TILES]; /* heap (the host side of the HAL) */

@@ -791,7 +791,7 @@ static void usage(FILE *out)
             "  --output-redundancy-steps N  after a lost output (a request for it), re-carry each output\n"
             "                         batch's outputs in the next one for N steps (default 8192; 0: never)\n"
             "  --map FILE             a gradient map tile (gmap format) for the computer's map storage,\n"
-            "                         read by the 3-D task's map aid; repeat for more tiles (up to 16)\n"
+            "                         read by the 3-D task's map aid; repeat for more tiles (up to 256)\n"
             "  --quiet                no diagnostics on stderr\n"
             "  --help                 this text\n\n"
             "exit status: 0 after STOP, 1 bad usage, no key or LCM failure, 3 idle timeout, 4 signal\n");

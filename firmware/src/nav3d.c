@@ -113,6 +113,12 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
             return st;
         }
     }
+    st = gg_aid_pf_init(&nav->aid_pf, &cfg->aid_pf);
+    if (st != GG_OK) {
+        return st;
+    }
+    nav->pf_last_utime = 0;
+    nav->pf_have_shot = 0;
     nav->aid_step = -1;
     nav->aid_corr_m[0] = 0.0;
     nav->aid_corr_m[1] = 0.0;
@@ -889,9 +895,10 @@ static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4]
 gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav3d_output_t *out)
 {
-    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U, 0U};
+    uint32_t cyc[GG_MOD_COUNT] = {0U, 0U, 0U, 0U, 0U, 0U, 0U};
     const uint32_t t_start = gg_task_cycles(hal);
     int32_t mm_corrected = 0;
+    int32_t pf_corrected = 0;
     uint32_t health;
     gg_status_t st = GG_OK;
     gg_status_t st_read = GG_OK;
@@ -1088,10 +1095,17 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         } else {
             /* the state did not advance: nothing for the aid */
         }
-        cyc[GG_MOD_AID] = gg_task_cycles(hal) - ta;
+        cyc[GG_MOD_AID_MM] = gg_task_cycles(hal) - ta;
+    }
+    if ((nav->aid_pf.initialized != 0) && (nav->started != 0)) {
+        const uint32_t ta = gg_task_cycles(hal);
+        n3_pf_step(nav, frame, used, hal, &health, &pf_corrected);
+        cyc[GG_MOD_AID_PF] = gg_task_cycles(hal) - ta;
     }
     n3_fill_output(nav, frame, st, health, out);
     n3_aid_output(nav, out);
+    n3_pf_output(nav, out);
+    out->pf_corrected = pf_corrected;
     out->mm_corrected = mm_corrected;
     out->acc_rebuilt = rebuilt;
     out->acc_excluded = nav->fdi.excluded;

@@ -61,7 +61,7 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
  * Gamma_i dr + dg + psi x f_i), the gravitation (dead reckoning) by
  * Gamma_e dr_e + dg_e so it stays the value at the corrected position, the
  * attitude by q_b_i <- q(psi) (x) q_b_i. */
-static gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
+gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
 {
     gg_real_t dr[3];
     gg_real_t dv[3];

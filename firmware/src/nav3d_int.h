@@ -32,6 +32,20 @@ void n3_aid_step(gg_nav3d_t *nav, int64_t n_adv, int z_valid, const gg_hal_t *ha
 /* The aids' start with the state's first step (aid_mmukf.h, gg_aid_mm_start). */
 void n3_aid_start(const gg_nav3d_t *nav, gg_aid_mm_t *aid, uint32_t *health);
 
+/* Closed loop: an aid's correction x = true - estimate (ECI, aid_mmukf.h's
+ * gg_aid_corr_t) added to the state (nav3d_aid.c). */
+gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr);
+
+/* The cold-atom aid after a step (nav3d_pf.c): the frame's shot with the
+ * task's solution handed to the particle filter, its horizontal correction
+ * fed back; health bits added to *health, *corrected = 1 when applied.
+ * used: the frame advanced the state to its own time. */
+void n3_pf_step(gg_nav3d_t *nav, const gg_frame_t *fr, int used, const gg_hal_t *hal, uint32_t *health,
+                int32_t *corrected);
+
+/* The cold-atom aid's counters into the output. */
+void n3_pf_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out);
+
 /* The aid's counters and one-sigma into the output. */
 void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out);
 

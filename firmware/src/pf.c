@@ -131,171 +131,98 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     st->n_degenerate = 0u;
     st->shot_open = 0;
     st->sh_next = 0;
+    st->sh_stage = -1;
     st->initialized = 1;
     return GG_OK;
 }
 
-/* Systematic resampling (one uniform; particle i gets floor or ceil of N w_i copies). */
-static gg_status_t pf_resample(gg_pf_t *st)
+/* Lower Cholesky factor of the cloud's covariance (kn.cv, lower triangle) into kn.el;
+ * a pivot below 1e-12 of its variance (no spread, or linearly dependent on the
+ * previous dimensions) leaves the column zero: no kernel along it. */
+static void pf_kernel_chol(gg_pf_kernel_t *kn, int nx)
 {
-    const int n = st->cfg.n;
-    double u0 = 0.0;
-    double cum;
-    int i = 0;
-    int j;
-    int k;
-    gg_status_t s = gg_rng_uniform(&st->rng, &u0);
-    if (s != GG_OK) {
-        return s;
-    }
-    cum = st->w[0];
-    for (j = 0; j < n; ++j) {
-        const double target = (u0 + (double)j) / (double)n;
-        /* MISRA 14.1: the loop counter is the integer i; the float term only ends the loop early */
-        /* cppcheck-suppress misra-c2012-14.1 */
-        for (; (i < (n - 1)) && (cum < target); ++i) {
-            cum += st->w[i + 1];
-        }
-        for (k = 0; k < GG_PF_NX; ++k) {
-            st->xs[j][k] = st->x[i][k];
-        }
-    }
-    for (j = 0; j < n; ++j) {
-        for (k = 0; k < GG_PF_NX; ++k) {
-            st->x[j][k] = st->xs[j][k];
-        }
-        st->w[j] = 1.0 / (double)n;
-    }
-    return GG_OK;
-}
-
-
-/* Kernel of the regularisation: weighted mean and lower Cholesky factor of the covariance. */
-typedef struct {
-    double m[GG_PF_NX];
-    double el[GG_PF_NX][GG_PF_NX];
-} pf_kernel_t;
-
-/* Weighted mean m and covariance of the first nx states, and the lower Cholesky
- * factor L of the covariance (columns of dimensions without spread left zero).
- * Called before resampling, with the weights of the update. */
-static void pf_moments(const gg_pf_t *st, int nx, pf_kernel_t *kn)
-{
-    double cv[GG_PF_NX][GG_PF_NX];
-    int i;
     int j;
     int k;
     int q;
-    for (j = 0; j < GG_PF_NX; ++j) {
-        kn->m[j] = 0.0;
-        for (k = 0; k < GG_PF_NX; ++k) {
-            cv[j][k] = 0.0;
-            kn->el[j][k] = 0.0;
-        }
-    }
-    for (i = 0; i < st->cfg.n; ++i) {
-        for (j = 0; j < nx; ++j) {
-            kn->m[j] += st->w[i] * st->x[i][j];
-        }
-    }
-    for (i = 0; i < st->cfg.n; ++i) {
-        double dx[GG_PF_NX];
-        for (j = 0; j < nx; ++j) {
-            dx[j] = st->x[i][j] - kn->m[j];
-        }
-        for (j = 0; j < nx; ++j) {
-            for (k = 0; k <= j; ++k) {
-                cv[j][k] += st->w[i] * dx[j] * dx[k];
-            }
-        }
-    }
-    /* Cholesky; a pivot below 1e-12 of its variance (no spread, or linearly dependent
-     * on the previous dimensions) leaves the column zero: no kernel along it */
     for (j = 0; j < nx; ++j) {
-        double p = cv[j][j];
+        double p = kn->cv[j][j];
         for (q = 0; q < j; ++q) {
             p -= kn->el[j][q] * kn->el[j][q];
         }
-        if ((cv[j][j] > 0.0) && (p > (1e-12 * cv[j][j]))) {
+        if ((kn->cv[j][j] > 0.0) && (p > (1e-12 * kn->cv[j][j]))) {
             const double d = gg_sqrt_d(p);
             kn->el[j][j] = d;
             for (k = j + 1; k < nx; ++k) {
-                double a = cv[k][j];
+                double t = kn->cv[k][j];
                 for (q = 0; q < j; ++q) {
-                    a -= kn->el[k][q] * kn->el[j][q];
+                    t -= kn->el[k][q] * kn->el[j][q];
                 }
-                kn->el[k][j] = a / d;
+                kn->el[k][j] = t / d;
             }
         }
     }
 }
 
-/* Regularisation after resampling (Liu & West 2001 shrinkage kernel):
+/* Regularisation of particle i after resampling (Liu & West 2001 shrinkage kernel):
  * x_i <- a x_i + (1 - a) m + h L z_i, a = sqrt(1 - h^2); keeps mean and covariance. */
-static gg_status_t pf_regularise(gg_pf_t *st, int nx, const pf_kernel_t *kn)
+static gg_status_t pf_regularise_one(gg_pf_t *st, int i, int nx, const gg_pf_kernel_t *kn)
 {
     const double h = st->reg_h;
     const double a = gg_sqrt_d(1.0 - (h * h));
-    int i;
+    double z[GG_PF_NX];
     int j;
     int k;
-    for (i = 0; i < st->cfg.n; ++i) {
-        double z[GG_PF_NX];
-        for (j = 0; j < nx; ++j) {
-            const gg_status_t s = gg_rng_normal(&st->rng, &z[j]);
-            if (s != GG_OK) {
-                return s;
-            }
+    for (j = 0; j < nx; ++j) {
+        const gg_status_t s = gg_rng_normal(&st->rng, &z[j]);
+        if (s != GG_OK) {
+            return s;
         }
-        for (j = 0; j < nx; ++j) {
-            double e = 0.0;
-            for (k = 0; k <= j; ++k) {
-                e += kn->el[j][k] * z[k];
-            }
-            st->x[i][j] = (a * st->x[i][j]) + ((1.0 - a) * kn->m[j]) + (h * e);
+    }
+    for (j = 0; j < nx; ++j) {
+        double e = 0.0;
+        for (k = 0; k <= j; ++k) {
+            e += kn->el[j][k] * z[k];
         }
+        st->x[i][j] = (a * st->x[i][j]) + ((1.0 - a) * kn->m[j]) + (h * e);
     }
     return GG_OK;
 }
 
-/* RBPF regularisation after resampling: Liu-West kernel on the position (d = 2),
+/* RBPF regularisation of particle i after resampling: Liu-West kernel on the position (d = 2),
  * the linear means shifted along the cloud's regression on the position:
  * with L the Cholesky factor of the cloud's covariance (columns 0, 1: L_rr, L_mr),
  * w = (a - 1) L_rr^-1 (r - r_bar) + h z, x += L_(.,0:1) w, i.e.
  * r <- a r + (1 - a) r_bar + h L_rr z and m += L_mr L_rr^-1 (r_new - r). */
-static gg_status_t pf_regularise_rb(gg_pf_t *st, const pf_kernel_t *kn)
+static gg_status_t pf_regularise_rb_one(gg_pf_t *st, int i, const gg_pf_kernel_t *kn)
 {
     const double h = st->reg_h;
     const double a = gg_sqrt_d(1.0 - (h * h));
     const double l00 = kn->el[0][0];
     const double l10 = kn->el[1][0];
     const double l11 = kn->el[1][1];
-    int i;
+    double z0 = 0.0;
+    double z1 = 0.0;
+    double y0 = 0.0;
+    double y1 = 0.0;
     int k;
-    for (i = 0; i < st->cfg.n; ++i) {
-        double z0 = 0.0;
-        double z1 = 0.0;
-        double y0 = 0.0;
-        double y1 = 0.0;
-        gg_status_t s = gg_rng_normal(&st->rng, &z0);
-        if (s == GG_OK) {
-            s = gg_rng_normal(&st->rng, &z1);
-        }
-        if (s != GG_OK) {
-            return s;
-        }
-        if (l00 > 0.0) {
-            y0 = (st->x[i][0] - kn->m[0]) / l00;
-        }
-        if (l11 > 0.0) {
-            y1 = ((st->x[i][1] - kn->m[1]) - (l10 * y0)) / l11;
-        }
-        {
-            const double w0 = (l00 > 0.0) ? (((a - 1.0) * y0) + (h * z0)) : 0.0;
-            const double w1 = (l11 > 0.0) ? (((a - 1.0) * y1) + (h * z1)) : 0.0;
-            for (k = 0; k < GG_PF_NX; ++k) {
-                st->x[i][k] += (kn->el[k][0] * w0) + (kn->el[k][1] * w1);
-            }
+    gg_status_t s = gg_rng_normal(&st->rng, &z0);
+    if (s == GG_OK) {
+        s = gg_rng_normal(&st->rng, &z1);
+    }
+    if (s != GG_OK) {
+        return s;
+    }
+    if (l00 > 0.0) {
+        y0 = (st->x[i][0] - kn->m[0]) / l00;
+    }
+    if (l11 > 0.0) {
+        y1 = ((st->x[i][1] - kn->m[1]) - (l10 * y0)) / l11;
+    }
+    {
+        const double w0 = (l00 > 0.0) ? (((a - 1.0) * y0) + (h * z0)) : 0.0;
+        const double w1 = (l11 > 0.0) ? (((a - 1.0) * y1) + (h * z1)) : 0.0;
+        for (k = 0; k < GG_PF_NX; ++k) {
+            st->x[i][k] += (kn->el[k][0] * w0) + (kn->el[k][1] * w1);
         }
     }
     return GG_OK;
@@ -351,6 +278,7 @@ gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in)
     st->sh_llmax = 0.0;
     st->sh_have = 0;
     st->sh_health = 0u;
+    st->sh_stage = -1;
     if (in->shot_ok == 0) {
         st->sh_health = GG_PF_H_SKIPPED;
     }
@@ -470,95 +398,298 @@ gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done)
     return GG_OK;
 }
 
-gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out)
+/* Stages of the end of a shot (gg_pf_step_end_chunk), each a pass over the particles. */
+#define PF_E_WEIGH 0    /* w_i <- w_i exp(ll_i - ll_max), sum (measured shots only) */
+#define PF_E_NORM 1     /* w_i / sum (or uniform when degenerate), Gamma_zz mean, sum w^2 */
+#define PF_E_MOM_MEAN 2 /* regularisation kernel: weighted mean */
+#define PF_E_MOM_COV 3  /* weighted covariance (then its Cholesky factor) */
+#define PF_E_PICK 4     /* systematic resampling: ancestors into the scratch */
+#define PF_E_COPY 5     /* scratch back, weights 1/N */
+#define PF_E_REG 6      /* regularisation kernel draw */
+#define PF_E_MEAN 7     /* particle mean, position spread */
+#define PF_E_DONE 8
+
+/* The end's bookkeeping after the normalisation: ESS, whether to resample. */
+static int pf_end_after_norm(gg_pf_t *st)
 {
-    const gg_pf_config_t *c;
-    double mean[GG_PF_NX];
-    double ess;
-    double sw2;
-    double gzz_mean = 0.0;
-    uint32_t health;
-    int i;
+    const gg_pf_config_t *c = &st->cfg;
+    int next = PF_E_MEAN;
+    st->sh_ess = 1.0 / st->sh_sw2;
+    if (st->sh_ess < (c->ess_frac * (double)c->n)) {
+        st->sh_health |= GG_PF_H_RESAMPLED;
+        st->n_resampled++;
+        next = (st->reg_h > 0.0) ? PF_E_MOM_MEAN : PF_E_PICK;
+    }
+    return next;
+}
+
+/* One particle (index st->sh_i) of the current end stage. */
+static gg_status_t pf_end_particle(gg_pf_t *st, int nx)
+{
+    const int n = st->cfg.n;
+    const int i = st->sh_i;
+    gg_pf_kernel_t *kn = &st->kn;
+    int j;
     int k;
-    int n;
     gg_status_t s = GG_OK;
-    if ((st == NULL) || (out == NULL)) {
+    switch (st->sh_stage) {
+    case PF_E_WEIGH: {
+        double e = 0.0;
+        if (st->ll[i] <= 0.0) {
+            (void)gg_exp_d(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
+        }
+        st->w[i] *= e;
+        st->sh_sw += st->w[i];
+        break;
+    }
+    case PF_E_NORM:
+        if (st->sh_degen != 0) {
+            st->w[i] = 1.0 / (double)n;
+        } else if (st->sh_in.shot_ok != 0) {
+            st->w[i] /= st->sh_sw;
+            st->sh_gzz += st->w[i] * st->xs[i][0];
+        } else {
+            /* failed shot: the weights stay */
+        }
+        st->sh_sw2 += st->w[i] * st->w[i];
+        break;
+    case PF_E_MOM_MEAN:
+        for (j = 0; j < nx; ++j) {
+            kn->m[j] += st->w[i] * st->x[i][j];
+        }
+        break;
+    case PF_E_MOM_COV: {
+        double dx[GG_PF_NX];
+        for (j = 0; j < nx; ++j) {
+            dx[j] = st->x[i][j] - kn->m[j];
+        }
+        for (j = 0; j < nx; ++j) {
+            for (k = 0; k <= j; ++k) {
+                kn->cv[j][k] += st->w[i] * dx[j] * dx[k];
+            }
+        }
+        break;
+    }
+    case PF_E_PICK: {
+        /* systematic resampling: one uniform; particle r gets floor or ceil of N w_r copies */
+        const double target = (st->sh_u0 + (double)i) / (double)n;
+        int r = st->sh_ri;
+        /* MISRA 14.1: the loop counter is the integer r; the float term only ends the loop early */
+        /* cppcheck-suppress misra-c2012-14.1 */
+        for (; (r < (n - 1)) && (st->sh_cum < target); ++r) {
+            st->sh_cum += st->w[r + 1];
+        }
+        st->sh_ri = r;
+        for (k = 0; k < GG_PF_NX; ++k) {
+            st->xs[i][k] = st->x[r][k];
+        }
+        break;
+    }
+    case PF_E_COPY:
+        for (k = 0; k < GG_PF_NX; ++k) {
+            st->x[i][k] = st->xs[i][k];
+        }
+        st->w[i] = 1.0 / (double)n;
+        break;
+    case PF_E_REG:
+        s = (st->cfg.model == GG_PF_MODEL_RBPF) ? pf_regularise_rb_one(st, i, kn)
+                                                : pf_regularise_one(st, i, nx, kn);
+        break;
+    default: /* PF_E_MEAN */
+        for (k = 0; k < GG_PF_NX; ++k) {
+            st->sh_mean[k] += st->w[i] * st->x[i][k];
+        }
+        st->sh_m2[0] += st->w[i] * st->x[i][0] * st->x[i][0];
+        st->sh_m2[1] += st->w[i] * st->x[i][1] * st->x[i][1];
+        break;
+    }
+    return s;
+}
+
+/* The next stage once every particle of the current one is done. */
+static gg_status_t pf_end_stage_done(gg_pf_t *st, int nx, gg_pf_output_t *out)
+{
+    const gg_pf_config_t *c = &st->cfg;
+    int j;
+    int k;
+    gg_status_t s = GG_OK;
+    int next = PF_E_DONE;
+    switch (st->sh_stage) {
+    case PF_E_WEIGH:
+        if ((st->sh_have == 0) || !(st->sh_sw > 0.0) || !GG_ISFINITE(st->sh_sw)) {
+            st->sh_degen = 1;
+            st->sh_health |= GG_PF_H_DEGENERATE;
+            st->n_degenerate++;
+        }
+        st->n_updates++;
+        next = PF_E_NORM;
+        break;
+    case PF_E_NORM:
+        next = pf_end_after_norm(st);
+        break;
+    case PF_E_MOM_MEAN:
+        next = PF_E_MOM_COV;
+        break;
+    case PF_E_MOM_COV:
+        pf_kernel_chol(&st->kn, nx);
+        next = PF_E_PICK;
+        break;
+    case PF_E_PICK:
+        next = PF_E_COPY;
+        break;
+    case PF_E_COPY:
+        next = (st->reg_h > 0.0) ? PF_E_REG : PF_E_MEAN;
+        break;
+    case PF_E_REG:
+        next = PF_E_MEAN;
+        break;
+    default: { /* PF_E_MEAN: fixed-gain smoothing (paper eqs. 9-10) and the output */
+        double v0;
+        double v1;
+        st->corr[0] += c->gain * (st->sh_mean[0] - st->corr[0]);
+        st->corr[1] += c->gain * (st->sh_mean[1] - st->corr[1]);
+        out->corr[0] = st->corr[0];
+        out->corr[1] = st->corr[1];
+        for (k = 0; k < GG_PF_NX; ++k) {
+            out->mean[k] = st->sh_mean[k];
+        }
+        v0 = st->sh_m2[0] - (st->sh_mean[0] * st->sh_mean[0]);
+        v1 = st->sh_m2[1] - (st->sh_mean[1] * st->sh_mean[1]);
+        out->spread[0] = (v0 > 0.0) ? gg_sqrt_d(v0) : 0.0;
+        out->spread[1] = (v1 > 0.0) ? gg_sqrt_d(v1) : 0.0;
+        out->ess = st->sh_ess;
+        out->gzz_mean = st->sh_gzz;
+        out->health = st->sh_health;
+        next = PF_E_DONE;
+        break;
+    }
+    }
+    if (next == PF_E_PICK) {
+        s = gg_rng_uniform(&st->rng, &st->sh_u0);
+        st->sh_cum = st->w[0];
+        st->sh_ri = 0;
+    }
+    if ((next == PF_E_MOM_MEAN) || (next == PF_E_MEAN)) {
+        for (j = 0; j < GG_PF_NX; ++j) {
+            st->kn.m[j] = 0.0;
+            st->sh_mean[j] = 0.0;
+            for (k = 0; k < GG_PF_NX; ++k) {
+                st->kn.cv[j][k] = 0.0;
+                st->kn.el[j][k] = 0.0;
+            }
+        }
+        st->sh_m2[0] = 0.0;
+        st->sh_m2[1] = 0.0;
+    }
+    st->sh_stage = next;
+    st->sh_i = 0;
+    return s;
+}
+
+gg_status_t gg_pf_step_end_chunk(gg_pf_t *st, int max_particles, gg_pf_output_t *out, int *done)
+{
+    int budget;
+    int nx;
+    gg_status_t s = GG_OK;
+    if ((st == NULL) || (out == NULL) || (done == NULL)) {
         return GG_ERR_NULL;
     }
     if ((st->shot_open == 0) || (st->sh_next < st->cfg.n)) {
-        return GG_ERR_SEQUENCE; /* not begun, or particles left */
+        return GG_ERR_SEQUENCE; /* not begun, or particles left to predict and weigh */
     }
-    c = &st->cfg;
-    n = c->n;
-    health = st->sh_health;
-    if (st->sh_in.shot_ok == 0) {
-        st->n_skipped++;
-    } else {
-        double sw = 0.0;
-        for (i = 0; (i < n) && (st->sh_have != 0); ++i) {
-            double e = 0.0;
-            if (st->ll[i] <= 0.0) {
-                (void)gg_exp_d(st->ll[i] - st->sh_llmax, &e); /* argument <= 0: always GG_OK */
-            }
-            st->w[i] *= e;
-            sw += st->w[i];
-        }
-        if ((st->sh_have == 0) || !(sw > 0.0) || !GG_ISFINITE(sw)) {
-            for (i = 0; i < n; ++i) {
-                st->w[i] = 1.0 / (double)n;
-            }
-            health |= GG_PF_H_DEGENERATE;
+    if (max_particles < 1) {
+        return GG_ERR_RANGE;
+    }
+    nx = pf_nx(&st->cfg);
+    if (st->sh_stage < 0) { /* first call of this shot's end */
+        st->sh_stage = (st->sh_in.shot_ok != 0) ? PF_E_WEIGH : PF_E_NORM;
+        st->sh_i = 0;
+        st->sh_sw = 0.0;
+        st->sh_sw2 = 0.0;
+        st->sh_gzz = 0.0;
+        st->sh_degen = 0;
+        if (st->sh_in.shot_ok == 0) {
+            st->n_skipped++;
+        } else if (st->sh_have == 0) {
+            st->sh_stage = PF_E_NORM; /* no candidate on the map: degenerate, weights reset */
+            st->sh_degen = 1;
+            st->sh_health |= GG_PF_H_DEGENERATE;
             st->n_degenerate++;
+            st->n_updates++;
         } else {
-            for (i = 0; i < n; ++i) {
-                st->w[i] /= sw;
-                gzz_mean += st->w[i] * st->xs[i][0];
-            }
-        }
-        st->n_updates++;
-    }
-    /* 4. effective sample size, systematic resampling */
-    sw2 = 0.0;
-    for (i = 0; i < n; ++i) {
-        sw2 += st->w[i] * st->w[i];
-    }
-    ess = 1.0 / sw2;
-    if (ess < (c->ess_frac * (double)n)) {
-        pf_kernel_t kn;
-        const int nx = pf_nx(c);
-        if (st->reg_h > 0.0) {
-            pf_moments(st, nx, &kn);
-        }
-        s = pf_resample(st);
-        if ((s == GG_OK) && (st->reg_h > 0.0)) {
-            s = (c->model == GG_PF_MODEL_RBPF) ? pf_regularise_rb(st, &kn) : pf_regularise(st, nx, &kn);
-        }
-        health |= GG_PF_H_RESAMPLED;
-        st->n_resampled++;
-    }
-    st->shot_open = 0;
-    if (s != GG_OK) {
-        return s; /* cannot happen: the generator has no failure mode */
-    }
-    /* 5. mean (paper eq. 7) and fixed-gain smoothing (eqs. 9-10) */
-    for (k = 0; k < GG_PF_NX; ++k) {
-        mean[k] = 0.0;
-    }
-    for (i = 0; i < n; ++i) {
-        for (k = 0; k < GG_PF_NX; ++k) {
-            mean[k] += st->w[i] * st->x[i][k];
+            /* weighed below */
         }
     }
-    st->corr[0] += c->gain * (mean[0] - st->corr[0]);
-    st->corr[1] += c->gain * (mean[1] - st->corr[1]);
-    out->corr[0] = st->corr[0];
-    out->corr[1] = st->corr[1];
-    for (k = 0; k < GG_PF_NX; ++k) {
-        out->mean[k] = mean[k];
+    budget = max_particles;
+    /* bounded: at most max_particles particle passes plus one hand-over per stage */
+    while ((s == GG_OK) && (st->sh_stage != PF_E_DONE) && (budget > 0)) {
+        if (st->sh_i < st->cfg.n) {
+            s = pf_end_particle(st, nx);
+            st->sh_i++;
+            budget--;
+        }
+        if ((s == GG_OK) && (st->sh_i >= st->cfg.n)) {
+            s = pf_end_stage_done(st, nx, out);
+        }
     }
-    out->ess = ess;
-    out->gzz_mean = gzz_mean;
-    out->health = health;
+    *done = 0;
+    if ((s != GG_OK) || (st->sh_stage == PF_E_DONE)) {
+        st->shot_open = 0; /* an error cannot happen: the generator has no failure mode */
+        st->sh_stage = -1;
+        *done = (s == GG_OK) ? 1 : 0;
+    }
+    return s;
+}
+
+gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out)
+{
+    int done = 0;
+    /* every stage in one call: eight passes over at most GG_PF_MAX particles */
+    gg_status_t s = gg_pf_step_end_chunk(st, 8 * GG_PF_MAX, out, &done);
+    if ((s == GG_OK) && (done == 0)) {
+        s = GG_ERR_SEQUENCE; /* not reached: eight passes cover every stage */
+    }
+    return s;
+}
+
+/* Closed loop: the correction (dn, de) was added to the INS position and (dvn, dve)
+ * to its velocity, so the particles (corrections to the INS) and the smoothed
+ * correction move by minus them. */
+gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m, double dvn_mps, double dve_mps)
+{
+    int i;
+    if (st == NULL) {
+        return GG_ERR_NULL;
+    }
+    if (!st->initialized) {
+        return GG_ERR_NOT_INIT;
+    }
+    if (st->shot_open != 0) {
+        return GG_ERR_SEQUENCE;
+    }
+    if (!GG_ISFINITE(dn_m) || !GG_ISFINITE(de_m) || !GG_ISFINITE(dvn_mps) || !GG_ISFINITE(dve_mps)) {
+        return GG_ERR_NONFINITE;
+    }
+    for (i = 0; i < st->cfg.n; ++i) {
+        st->x[i][0] -= dn_m;
+        st->x[i][1] -= de_m;
+        st->x[i][2] -= dvn_mps;
+        st->x[i][3] -= dve_mps;
+    }
+    st->corr[0] -= dn_m;
+    st->corr[1] -= de_m;
+    return GG_OK;
+}
+
+gg_status_t gg_pf_set_map(gg_pf_t *st, const gg_pf_map_t *map)
+{
+    if ((st == NULL) || (map == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (map->gzz == NULL) {
+        return GG_ERR_CONFIG;
+    }
+    st->cfg.map = *map;
     return GG_OK;
 }
 

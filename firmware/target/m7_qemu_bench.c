@@ -60,7 +60,9 @@ int main(void)
  * gg_nav3d_step. The readings need not be mutually consistent for counting
  * instructions, only accepted. Built with -DAID the gradient-map UKF aid is
  * on (aid_mmukf.h: 12 error states, an epoch every AID_EPOCH steps, two
- * progressive passes), with one 50 x 50 tile (build_map) as the map storage: the images for
+ * progressive passes), with one 50 x 50 tile (build_map) as the map storage (with -DPF also
+ * the cold-atom aid, aid_pf.h, reading its Gamma_zz from the same tile, its shot at step
+ * PF_SHOT): the images for
  * STEPS = AID_EPOCH - 1 ... AID_EPOCH + 6 isolate the propagation-only step
  * and each step of the schedule (epoch, spread, update, spread, update,
  * finish). */
@@ -164,6 +166,32 @@ int main(void)
     cfg.aid_mm.sigma_gyro_rps = 2.9e-6;
     cfg.aid_mm.sigma_gyro_bias_rps = 4.85e-8;
 #endif
+#ifdef PF
+    /* the cold-atom aid (aid_pf.h) with the flights' filter: 500 particles, Rao-Blackwellised,
+     * 50 particles a step, 250 end passes a step; a shot at step PF_SHOT (and every 100 after) */
+    cfg.aid_pf.enable = 1;
+    cfg.aid_pf.chunk = 50;
+    cfg.aid_pf.end_chunk = 250;
+    cfg.aid_pf.pf.n = 500;
+    cfg.aid_pf.pf.seed = 1U;
+    cfg.aid_pf.pf.model = GG_PF_MODEL_RBPF;
+    cfg.aid_pf.pf.k_eff = 1.4743e7;
+    cfg.aid_pf.pf.T = 0.16;
+    cfg.aid_pf.pf.dz = 1.0;
+    cfg.aid_pf.pf.contrast = 0.5;
+    cfg.aid_pf.pf.c0 = 0.5;
+    cfg.aid_pf.pf.c1 = 0.5;
+    cfg.aid_pf.pf.sigma = 1.68e-3;
+    cfg.aid_pf.pf.sigma0_pos = 50.0;
+    cfg.aid_pf.pf.sigma0_jerk = 4.9e-7;
+    cfg.aid_pf.pf.sigma0_bias = 3.1e-4;
+    cfg.aid_pf.pf.q_vel = 1.47e-4;
+    cfg.aid_pf.pf.q_acc = 1.96e-5;
+    cfg.aid_pf.pf.reg_bw = 1.0;
+    cfg.aid_pf.pf.dt = 1.0;
+    cfg.aid_pf.pf.gain = 0.05;
+    cfg.aid_pf.pf.ess_frac = 1.0; /* every shot resamples and regularises: the end's worst case */
+#endif
     if (gg_nav3d_init(&g_nav3, &cfg) != GG_OK) {
         m7_qemu_exit();
     }
@@ -185,6 +213,12 @@ int main(void)
         g_frame.baro_status = ((k % 100) == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
         g_frame.baro_utime = g_frame.utime;
         g_frame.baro_alt_m = 0.0;
+#ifdef PF
+        g_frame.ca_status = (((k - PF_SHOT) % 100) == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
+        g_frame.ca_utime = g_frame.utime;
+        g_frame.ca_s[0] = 0.5 - (0.25 * (double)((k / 100) % 3));
+        g_frame.ca_s[1] = 0.4 + (0.1 * (double)((k / 100) % 2));
+#endif
 #ifdef AID
         (void)gg_nav3d_step(&g_nav3, &g_frame, &hal, &g_out3);
         if ((k == 0) && (build_map((const double(*)[3])g_out3.gamma_b) == 0)) {

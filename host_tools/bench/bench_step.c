@@ -33,7 +33,7 @@ static int cmp_u32(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static const char *g_names[GG_MOD_COUNT] = {"diff", "gravdr/model", "mech", "vchan", "total", "aid"};
+static const char *g_names[GG_MOD_COUNT] = {"diff", "gravdr/model", "mech", "vchan", "total", "aid_mm", "aid_pf"};
 
 static void print_table(uint32_t *cyc[GG_MOD_COUNT], long steps)
 {

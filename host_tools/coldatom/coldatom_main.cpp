@@ -26,6 +26,7 @@ extern "C" {
 #include "ggins/cli_checks.hpp"
 #include "ggins/coldatom/flight.hpp"
 #include "ggins/coldatom/route_map.hpp"
+#include "ggins/gmap_gen.hpp"
 
 using namespace ggins::coldatom;
 using json = nlohmann::json;
@@ -110,6 +111,15 @@ int main(int argc, char** argv) {
   app.add_option("--topo-rms", topo_rms, "rms height of the synthetic terrain, m (a sensitivity check; the runs use 150)")
       ->check(C::FiniteRange(1.0, 2000.0))->capture_default_str();
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
+  std::string write_tiles;
+  double tile_spacing = 5000.0;
+  app.add_option("--write-tiles", write_tiles,
+                 "write the map's Gamma_zz as gmap tiles along the route into this folder (tile_NNNN.gmap: 50 x 50 "
+                 "nodes at --tile-step, one every --tile-spacing along track) for the 3-D task's map storage "
+                 "(scenario [aid_pf].map_dir), then stop")
+      ->check(C::OutputDir());
+  app.add_option("--tile-spacing", tile_spacing, "along-track distance between the written tiles' centres, m")
+      ->check(C::FiniteRange(100.0, 1e6))->capture_default_str();
   return C::run("ggins coldatom", app, argc, argv, [&]() -> int {
   if (duration > 0 && duration < 10)
     throw C::BadArgument("--duration: value " + std::to_string(duration) + " is not allowed (0: the whole route, else >= 10 s)");
@@ -149,6 +159,31 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (!write_tiles.empty()) {  // the onboard map of the 3-D task's cold-atom aid
+    std::filesystem::create_directories(write_tiles);
+    static gg_gmap_tile_t tile;
+    int n = 0;
+    for (double s = 0; s <= map.length() + 0.5 * tile_spacing; s += tile_spacing, ++n) {
+      double lat, lon;
+      map.route_point(std::min(s, map.length()), 0, &lat, &lon);
+      if (!ggins::coldatom::build_tile(map, lat, lon, mp.h, tile_step, &tile)) {
+        std::fprintf(stderr, "ggins-coldatom: tile %d at %.1f km leaves the map's corridor\n", n, s / 1e3);
+        return 1;
+      }
+      const std::vector<std::uint8_t> b = ggins::gmap::encode(tile);
+      char name[32];
+      std::snprintf(name, sizeof name, "/tile_%04d.gmap", n);
+      std::ofstream f(write_tiles + name, std::ios::binary);
+      f.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+      if (!f) {
+        std::fprintf(stderr, "ggins-coldatom: cannot write %s%s\n", write_tiles.c_str(), name);
+        return 1;
+      }
+    }
+    std::printf("%d tiles (50 x 50 nodes at %.0f m, every %.0f m along the route) in %s\n", n, tile_step, tile_spacing,
+                write_tiles.c_str());
+    return 0;
+  }
   std::vector<Setting> settings;
   if (sweep == "none") settings.push_back({"base", phase_mrad, p_fail});
   if (sweep == "phase")

@@ -43,6 +43,8 @@ inline constexpr HealthBitName kHealthBits[] = {
     {GG_HEALTH_GYRO_INVALID, "GYRO_INVALID"},
     {GG_HEALTH_RESYNC, "RESYNC"},
     {GG_HEALTH_COAST, "COAST"},
+    {GG_HEALTH_PF_SHOT_INVALID, "PF_SHOT_INVALID"},
+    {GG_HEALTH_PF_FAIL, "PF_FAIL"},
     {GG_HEALTH_ACC_DEGRADED, "ACC_DEGRADED"},
     {GG_HEALTH_FORCE_COAST, "FORCE_COAST"},
     {GG_HEALTH_MM_BAD_MEAS, "MM_BAD_MEAS"},
@@ -88,8 +90,9 @@ inline std::string health_csv(uint32_t word) {
 
 // The cycle-accounting modules (frame.h GG_MOD_*), by index up to GG_MOD_COUNT.
 inline std::string module_name(int j) {
-  static const char* const kNames[] = {"diff", "gravdr", "mech", "vchan", "total", "aid"};
-  static_assert(GG_MOD_DIFF == 0 && GG_MOD_GRAVDR == 1 && GG_MOD_MECH == 2 && GG_MOD_VCHAN == 3 && GG_MOD_TOTAL == 4,
+  static const char* const kNames[] = {"diff", "gravdr", "mech", "vchan", "total", "aid_mm", "aid_pf"};
+  static_assert(GG_MOD_DIFF == 0 && GG_MOD_GRAVDR == 1 && GG_MOD_MECH == 2 && GG_MOD_VCHAN == 3 && GG_MOD_TOTAL == 4 &&
+                    GG_MOD_AID_MM == 5 && GG_MOD_AID_PF == 6 && GG_MOD_COUNT == 7,
                 "module names follow frame.h's GG_MOD_* order");
   if (j >= 0 && j < static_cast<int>(sizeof kNames / sizeof kNames[0])) return kNames[j];
   return "module" + std::to_string(j);

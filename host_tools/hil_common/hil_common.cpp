@@ -129,6 +129,10 @@ ggins::sensor_frame_t sensor_frame_msg(const gg_frame_t& f, int64_t run_id, int 
   m.baro_alt_m = f.baro_alt_m;
   m.baro_utime = f.baro_utime;
   m.baro_status = f.baro_status;
+  m.ca_s[0] = f.ca_s[0];
+  m.ca_s[1] = f.ca_s[1];
+  m.ca_utime = f.ca_utime;
+  m.ca_status = f.ca_status;
   m.resent = static_cast<int8_t>(std::min<int>(attempts, 127));
   return m;
 }

@@ -36,6 +36,7 @@
 #include "ggins/truth3d_t.hpp"
 #include "runner.hpp"
 #include "tile_digest.hpp"
+#include "pf3d.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -59,6 +60,8 @@ class Model3D {
     if (sc_.aid_ukf.enabled)  // the onboard map tiles of the map aid: the computer's map storage
       for (const auto& p : ggins::run3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         maps_.push_back(fs::absolute(p).string());
+    if (sc_.aid_pf.enabled)  // the Gamma_zz tiles of the cold-atom aid (pf3d.hpp)
+      for (const auto& p : ggins::truth3d::aid_pf_map_paths(sc_.aid_pf, sc_.source)) maps_.push_back(fs::absolute(p).string());
   }
 
   int64_t n_steps() const { return gen_.n_steps(); }
@@ -112,6 +115,8 @@ class Model3D {
   int64_t aid_closed_ = 0;           // map-aid epochs closed (updated or rejected)
   double aid_nis_sum_ = 0;           // sum of their NIS
   ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
+  ggins::run3d::PfReport3 pf_;        // the cold-atom aid's counters and consistency (pf3d.hpp)
+  bool pf_on_ = false;
   static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
   std::vector<ggins::truth3d::Truth3> truth_ring_;
   // statistics
@@ -231,6 +236,7 @@ void Model3D::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
   o.g_up_corr = m.g_up_corr;
   o.t_s = m.t_s;
   for (int i = 0; i < GG_MOD_COUNT && i < m.n_cycles && i < 8; ++i) o.cycles[i] = static_cast<uint32_t>(m.cycles[i]);
+  ggins::run3d::aid_pf_output_from_lcm(m, o);
 }
 
 void Model3D::take(const ggins::nav3d_output_t& m, bool latest) {
@@ -289,7 +295,8 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
 }
 
 ggins::nav3d_config_t Model3D::config() {
-  const gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
+  gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
+  ggins::run3d::apply_aid_pf(sc_.aid_pf, sc_.coldatom, c);
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
   m.seq = 0;
@@ -341,9 +348,14 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
   m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
   // the tiles of the map storage, for a replay to load the same ones
-  if (maps_.size() > 16) throw Fail("more than 16 map tiles (the map storage's capacity)");
-  m.aid_mm_n_tiles = static_cast<int8_t>(maps_.size());
-  for (size_t i = 0; i < maps_.size(); ++i) {
+  // (the configuration records at most 16; a larger storage, as the cold-atom aid's Gamma_zz
+  // tiles, is not recorded and a replay of the run reports the difference)
+  const size_t n_rec = maps_.size() <= 16 ? maps_.size() : 0;
+  if (n_rec < maps_.size())
+    std::fprintf(stderr, "run3d: %zu map tiles: more than the 16 the configuration records; a replay will not load them\n",
+                 maps_.size());
+  m.aid_mm_n_tiles = static_cast<int8_t>(n_rec);
+  for (size_t i = 0; i < n_rec; ++i) {
     if (maps_[i].size() > 255) throw Fail("map tile path longer than 255 bytes: " + maps_[i]);
     std::memcpy(m.aid_mm_tile_path[i], maps_[i].data(), maps_[i].size());
     const auto d = ggins::run3d::tile_digest(maps_[i]);
@@ -351,11 +363,14 @@ ggins::nav3d_config_t Model3D::config() {
     m.aid_mm_tile_bytes[i] = d->bytes;
     std::memcpy(m.aid_mm_tile_blake2b[i], d->blake2b.data(), 32);
   }
+  ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
+  pf_on_ = c.aid_pf.enable != 0;
   return m;
 }
 
 void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos) {
   const ggins::run3d::Errors3 e = ggins::run3d::compare(t, o);
+  if (pf_on_) pf_.take(o, static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)));
   pos_.add(static_cast<double>(e.dr));
   vel_.add(static_cast<double>(e.dv));
   att_.add(static_cast<double>(e.psi));
@@ -469,9 +484,9 @@ void Model3D::report(json& s) {
   e["omega_dot_error_radps2"] = wdot_.json();
   s["parity"] = {{"antisym_radps2", par_asym_.json()}, {"trace_ps2", par_trace_.json()}};
   s["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
-  // one block per aid of the flight, each named ({"name": ..., its counters}); a further aid
-  // (the cold-atom particle filter) adds its own block here
+  // one block per aid of the flight, each named ({"name": ..., its counters})
   if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
+  if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
 }
 
 std::string Model3D::final_line(const json& s) {
@@ -561,6 +576,7 @@ int main(int argc, char** argv) {
     if (o.seed) sc.accel.seed = *o.seed;
     if (o.csv_rate) sc.csv_rate_hz = *o.csv_rate;
     if (no_aids) sc.aid_ukf.enabled = false;
+    if (no_aids) sc.aid_pf.enabled = false;
     if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
     if (sc.n_steps() > 100000000)
       throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +

@@ -845,7 +845,7 @@ static void test_chunked_step(void **state)
         if (models[mi] != GG_PF_MODEL_RBPF) { c.q_pos = 0.5; c.q_vel = 2e-3; c.q_acc = 2e-5; c.sigma0_acc = 3e-4; }
         assert_int_equal(gg_pf_init(&a, &c), GG_OK);
         assert_int_equal(gg_pf_init(&b, &c), GG_OK);
-        int resampled = 0, chunks = 0;
+        int resampled = 0, chunks = 0, end_splits = 0, resampled_split = 0;
         for (int k = 0; k < 60; ++k) {
             gg_pf_input_t in = {LAT0, LON0, H0, (k % 7) != 3, 0.5 - 0.25 * cos(0.7 * k), 0.5 - 0.25 * cos(0.7 * k + 1.16),
                                 -90.0, 30.0};
@@ -860,20 +860,34 @@ static void test_chunked_step(void **state)
                 assert_int_equal(gg_pf_step_chunk(&b, m, &done), GG_OK);
                 ++chunks;
             }
-            assert_int_equal(gg_pf_step_end(&b, &ob), GG_OK);
+            if ((k % 2) == 0) {
+                assert_int_equal(gg_pf_step_end(&b, &ob), GG_OK);
+            } else { /* the end split too: 1..211 particle passes a call */
+                const int me = 1 + (k * 53) % 211;
+                int edone = 0, calls = 0;
+                assert_int_equal(gg_pf_step_end_chunk(&b, 0, &ob, &edone), GG_ERR_RANGE);
+                while (!edone) {
+                    assert_int_equal(gg_pf_step_end_chunk(&b, me, &ob, &edone), GG_OK);
+                    ++calls;
+                }
+                assert_true(calls >= (2 * c.n) / me); /* at least the normalisation and the mean */
+                ++end_splits;
+            }
             assert_int_equal(memcmp(&oa, &ob, sizeof oa), 0);
             resampled += (oa.health & GG_PF_H_RESAMPLED) != 0;
+            resampled_split += ((k % 2) != 0) && ((oa.health & GG_PF_H_RESAMPLED) != 0);
         }
         assert_int_equal(memcmp(a.x, b.x, sizeof a.x), 0);
         assert_int_equal(memcmp(a.w, b.w, sizeof a.w), 0);
         assert_int_equal(memcmp(&a.rng, &b.rng, sizeof a.rng), 0);
-        printf("chunked step, model %d: 60 shots in %d chunks, %d resamplings, bit-identical\n", models[mi], chunks,
-               resampled);
-        assert_true(resampled > 0);
+        printf("chunked step, model %d: 60 shots in %d chunks (%d ends split), %d resamplings (%d in a split end), bit-identical\n",
+               models[mi], chunks, end_splits, resampled, resampled_split);
+        assert_true(resampled_split > 0);
         int done = 0;
         gg_pf_output_t o;
         assert_int_equal(gg_pf_step_chunk(&b, 10, &done), GG_ERR_SEQUENCE); /* no shot open */
         assert_int_equal(gg_pf_step_end(&b, &o), GG_ERR_SEQUENCE);
+        assert_int_equal(gg_pf_step_end_chunk(&b, 10, &o, &done), GG_ERR_SEQUENCE);
         gg_pf_input_t in = {LAT0, LON0, H0, 1, 0.5, 0.5, 0, 0};
         assert_int_equal(gg_pf_step_begin(&b, &in), GG_OK);
         assert_int_equal(gg_pf_step_chunk(&b, 0, &done), GG_ERR_RANGE);

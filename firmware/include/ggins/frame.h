@@ -45,6 +45,12 @@ typedef struct {
     double baro_alt_m;              /**< barometric (pressure) altitude, m */
     int64_t baro_utime;             /**< time of the barometer sample, microseconds */
     int32_t baro_status;            /**< GG_SENSOR_*; ABSENT when no new sample this step */
+    /* cold-atom vertical gradiometer (aid_pf.h; Phillips et al.): one shot a period */
+    double ca_s[2];                 /**< fringe pair of the shot: upper (s_0) and lower (s_1)
+                                         interferometer, populations normalised by the atom number */
+    int64_t ca_utime;               /**< time of the shot, microseconds */
+    int32_t ca_status;              /**< GG_SENSOR_OK: a new shot; GG_SENSOR_BAD: a failed shot (no
+                                         pair); GG_SENSOR_ABSENT: no new shot this step */
 } gg_frame_t;
 
 /** Health bits of the navigation output (a bit set = condition present this step). */
@@ -70,6 +76,10 @@ typedef struct {
 #define GG_HEALTH_GYRO_INVALID    0x00080000u /**< 3-D strapdown: gyro sample NaN/Inf, out of range or flagged bad */
 #define GG_HEALTH_RESYNC          0x00100000u /**< the task re-synchronised to the frame stream (seq/clock) at this frame */
 #define GG_HEALTH_COAST           0x00200000u /**< degraded: steps propagated on the last usable inputs (outage) */
+#define GG_HEALTH_PF_SHOT_INVALID 0x00400000u /**< cold-atom aid: shot NaN/Inf or out of range (used as a failed shot)
+                                                   or dropped (filter busy, frame not used) */
+#define GG_HEALTH_PF_FAIL         0x00800000u /**< cold-atom aid: no map tile at the position, every candidate
+                                                   off the map (weights reset) or an operation rejected */
 #define GG_HEALTH_ACC_DEGRADED    0x01000000u /**< degraded: an accelerometer axis group lost more readings
                                                    than parity rebuilds; its gradient components from
                                                    symmetry or held (GRAD_COAST), see fdi2d.h */
@@ -88,8 +98,9 @@ enum {
     GG_MOD_MECH = 2,    /**< mechanization (and the onboard gravity model in model mode) */
     GG_MOD_VCHAN = 3,   /**< barometric vertical channel */
     GG_MOD_TOTAL = 4,   /**< whole navigation step */
-    GG_MOD_AID = 5,     /**< aiding sources of the 3-D task (map-matching UKF); 0 in 2-D */
-    GG_MOD_COUNT = 6
+    GG_MOD_AID_MM = 5,  /**< gradient-map UKF aid of the 3-D task (aid_mmukf.h); 0 in 2-D */
+    GG_MOD_AID_PF = 6,  /**< cold-atom particle-filter aid of the 3-D task (aid_pf.h); 0 in 2-D */
+    GG_MOD_COUNT = 7
 };
 
 /** Navigation output of one step. */

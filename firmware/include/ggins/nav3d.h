@@ -91,11 +91,14 @@
  * Aiding: the gradient-map UKF (aid_mmukf.h, cfg.aid_mm) runs after each
  * step that advanced the state, on the task's own solution and measured
  * gradient, with tiles from the HAL's map storage (hal.h), and corrects the
- * state in closed loop at the end of each epoch (docs/nav3d.md).
+ * state in closed loop at the end of each epoch (docs/nav3d.md). The
+ * cold-atom particle filter (aid_pf.h, cfg.aid_pf) takes the frame's shot
+ * with the task's solution, scores it against the storage's Gamma_zz tiles
+ * and feeds its horizontal position correction back after each shot.
  *
  * Source files: nav3d.c (configuration, frame validation and sequencing,
  * bridging, the step), nav3d_att.c (strapdown attitude), nav3d_out.c
- * (output), nav3d_aid.c (the aiding sources); the algebra in quat.h, the
+ * (output), nav3d_aid.c (the aiding sources), nav3d_pf.c (the cold-atom aid's hand-over); the algebra in quat.h, the
  * geodesy in geo.h.
  */
 #ifndef GGINS_NAV3D_H
@@ -103,6 +106,7 @@
 
 #include <stdint.h>
 #include "ggins/aid_mmukf.h"
+#include "ggins/aid_pf.h"
 #include "ggins/diff3d.h"
 #include "ggins/fdi3d.h"
 #include "ggins/frame.h"
@@ -147,6 +151,9 @@ typedef struct {
     gg_vchan_config_t baro;      /**< vertical loop (baro_enable only) */
     gg_aid_mm_config_t aid_mm;   /**< gradient-map UKF aid (aid_mmukf.h; aid_mm.enable = 1: on; the
                                       tiles come from the HAL's map storage, hal.h) */
+    gg_aid_pf_config_t aid_pf;   /**< cold-atom particle-filter aid (aid_pf.h; aid_pf.enable = 1: on; the
+                                      fringe pairs from the frame's ca_* fields, the Gamma_zz tiles from
+                                      the HAL's map storage) */
 } gg_nav3d_config_t;
 
 typedef struct {
@@ -186,6 +193,9 @@ typedef struct {
     gg_aid_mm_t aid_mm;          /**< gradient-map aid (cfg.aid_mm.enable) */
     int64_t aid_step;            /**< state_step the aid has propagated to (-1: not yet) */
     double aid_corr_m[3];        /**< position correction of the aid's last epoch, ECI, m */
+    gg_aid_pf_t aid_pf;          /**< cold-atom particle-filter aid (cfg.aid_pf.enable) */
+    int64_t pf_last_utime;       /**< ca_utime of the last shot taken */
+    int32_t pf_have_shot;        /**< a shot was taken (pf_last_utime valid) */
     int configured;
     int started;
 } gg_nav3d_t;
@@ -239,6 +249,24 @@ typedef struct gg_nav3d_output_s {
     double mm_pcov[18];          /**< covariance after this step, upper triangles (xx yy zz xy xz yz)
                                       of the dr_i (m^2), dv_i ((m/s)^2), psi_i (rad^2) blocks */
     int32_t mm_n_avg;            /**< samples averaged into the last epoch's measurement */
+    /* cold-atom particle-filter aid (aid_pf.h); all 0 when it is off */
+    int32_t pf_phase;            /**< schedule phase after this step (GG_AID_PF_PH_*) */
+    int32_t pf_corrected;        /**< 1: this step fed the filter's correction back into the state */
+    uint32_t pf_shots;           /**< shots taken so far */
+    uint32_t pf_updates;         /**< shots weighed (a pair on the map) so far */
+    uint32_t pf_failed;          /**< shots predicted only (failed, invalid or without a tile) so far */
+    uint32_t pf_invalid;         /**< shots with a NaN/Inf or out-of-range pair so far */
+    uint32_t pf_dropped;         /**< shots dropped (filter busy, or the frame's state not current) so far */
+    uint32_t pf_no_map;          /**< shots without a covering map tile so far */
+    uint32_t pf_map_miss;        /**< shots with candidates off the tile so far */
+    uint32_t pf_degenerate;      /**< shots whose weights were reset so far */
+    uint32_t pf_resampled;       /**< resamplings so far */
+    double pf_ess;               /**< effective sample size of the last shot */
+    double pf_spread_m[2];       /**< the cloud's spread (weighted sd of dN, dE) after the last shot, m */
+    double pf_corr_m[2];         /**< last correction fed back, north, east, m */
+    double pf_mean_m[2];         /**< the particles' mean after the last shot relative to the corrected
+                                      state, north, east, m (the filter's estimate: state + pf_mean_m) */
+    double pf_gzz_s2;            /**< weighted Gamma_zz of the last shot's candidates, s^-2 (0: not weighed) */
 } gg_nav3d_output_t;
 
 /** Validate and store the configuration. GG_ERR_CONFIG on a non-finite or

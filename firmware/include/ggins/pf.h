@@ -163,10 +163,19 @@ typedef struct {
 typedef struct {
     double corr[2];       /**< smoothed correction (dN, dE), m: corrected = INS + corr */
     double mean[GG_PF_NX]; /**< particle mean (dN, dE, dvN, dvE, daN, daE; RBPF: all 12) */
+    double spread[2];     /**< weighted standard deviation of the particles' dN, dE, m (the cloud's spread) */
     double ess;           /**< effective sample size after the update */
     double gzz_mean;      /**< weighted mean of the candidates' Gamma_zz (s^-2; 0 when skipped) */
     uint32_t health;      /**< GG_PF_H_* of this step */
 } gg_pf_output_t;
+
+/** Regularisation kernel of a shot: weighted mean, covariance (lower triangle)
+ *  and its lower Cholesky factor of the cloud before resampling. */
+typedef struct {
+    double m[GG_PF_NX];
+    double cv[GG_PF_NX][GG_PF_NX];
+    double el[GG_PF_NX][GG_PF_NX];
+} gg_pf_kernel_t;
 
 typedef struct {
     double x[GG_PF_MAX][GG_PF_NX];
@@ -189,6 +198,20 @@ typedef struct {
     double sh_llmax;
     int sh_have;
     int sh_next;                 /**< next particle to predict and weigh */
+    /* the end of the shot in progress (gg_pf_step_end_chunk) */
+    int sh_stage;                /**< end stage (-1: not begun) */
+    int sh_i;                    /**< next particle of the stage */
+    int sh_degen;                /**< all weights 0: reset to uniform */
+    int sh_ri;                   /**< resampling: current ancestor */
+    double sh_sw;                /**< sum of the weights */
+    double sh_sw2;               /**< sum of the squared normalised weights */
+    double sh_gzz;               /**< weighted Gamma_zz of the candidates */
+    double sh_ess;
+    double sh_u0;                /**< resampling: the one uniform */
+    double sh_cum;               /**< resampling: cumulative weight */
+    double sh_mean[GG_PF_NX];
+    double sh_m2[2];             /**< weighted second moments of dN, dE */
+    gg_pf_kernel_t kn;
     uint32_t sh_health;
     int shot_open;
     gg_pf_config_t cfg;
@@ -224,6 +247,25 @@ gg_status_t gg_pf_step(gg_pf_t *st, const gg_pf_input_t *in, gg_pf_output_t *out
 gg_status_t gg_pf_step_begin(gg_pf_t *st, const gg_pf_input_t *in);
 gg_status_t gg_pf_step_chunk(gg_pf_t *st, int max_particles, int *done);
 gg_status_t gg_pf_step_end(gg_pf_t *st, gg_pf_output_t *out);
+
+/** The end of the shot split the same way: each call does at most max_particles
+ *  particle passes of the end's stages (weigh, normalise, kernel mean and
+ *  covariance, systematic resampling into the scratch and back, regularisation,
+ *  mean: at most eight passes of N); *done = 1 and *out filled after the last.
+ *  Bit-identical to gg_pf_step_end for any split. GG_ERR_SEQUENCE before the last
+ *  chunk of the shot, GG_ERR_RANGE for max_particles < 1. */
+gg_status_t gg_pf_step_end_chunk(gg_pf_t *st, int max_particles, gg_pf_output_t *out, int *done);
+
+/** Closed loop: the correction (dn_m, de_m), m north and east, was added to the
+ *  INS position and (dvn_mps, dve_mps), m/s, to its velocity; the particles'
+ *  position and velocity (RBPF: the linear means of dvN, dvE; P unchanged) and
+ *  the smoothed correction move by minus it (the INS error model is linear, so
+ *  this is exact). GG_ERR_SEQUENCE while a shot is open, GG_ERR_NONFINITE
+ *  (state untouched). */
+gg_status_t gg_pf_shift(gg_pf_t *st, double dn_m, double de_m, double dvn_mps, double dve_mps);
+
+/** Replace the map ops (a map paged between shots or chunks; map->gzz != NULL). */
+gg_status_t gg_pf_set_map(gg_pf_t *st, const gg_pf_map_t *map);
 
 /* Building blocks, exposed for tests. */
 /** RBPF model of one step: F = exp(A dt), Q = int e^(As) Qc e^(A^T s) ds for the state

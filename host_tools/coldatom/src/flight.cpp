@@ -35,6 +35,8 @@ M3 skew_offdiag(std::mt19937_64& rng, double sd) {
       if (i != j) m(i, j) = n(rng);
   return m;
 }
+}  // namespace
+
 // Fill a gmap tile (DD and its height derivative) from the route map around (lat_c, lon_c).
 bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile) {
   const int n = 50;
@@ -57,7 +59,6 @@ bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, doubl
     }
   return true;
 }
-}  // namespace
 
 FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   FlightResult res;

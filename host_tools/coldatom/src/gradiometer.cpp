@@ -17,33 +17,45 @@ double Gradiometer::expected_sigma() const {
 }
 
 Shot Gradiometer::shot(double gamma_zz) {
-  Shot s;
-  s.dphi_true = p_.scale() * gamma_zz;
   // Draw everything every shot, whatever the outcome, so that a change of
   // p_fail does not shift the random stream of the others.
-  s.phi_laser = 2.0 * kPi * u01_(rng_);
-  const double eps1 = p_.phase_noise * n01_(rng_);
-  const double dn0 = n01_(rng_), dn1 = n01_(rng_);
-  const double u_fail = u01_(rng_);
-  double x = 0, y = 0, rmax = 0;
+  ShotDraws d;
+  d.u_laser = u01_(rng_);
+  d.z_phase = n01_(rng_);
+  d.z_n0 = n01_(rng_);
+  d.z_n1 = n01_(rng_);
+  d.u_fail = u01_(rng_);
   if (p_.cloud_rw > 0) {
-    const double dt = 2.0 * p_.T / p_.rw_substeps;
-    const double sd = p_.cloud_rw * std::sqrt(dt);
-    for (int k = 0; k < p_.rw_substeps; ++k) {
-      x += sd * n01_(rng_);
-      y += sd * n01_(rng_);
+    d.z_walk.resize(2 * static_cast<size_t>(p_.rw_substeps));
+    for (auto& z : d.z_walk) z = n01_(rng_);
+  }
+  return shot_from(p_, gamma_zz, d);
+}
+
+Shot shot_from(const GradiometerParams& p, double gamma_zz, const ShotDraws& d) {
+  Shot s;
+  s.dphi_true = p.scale() * gamma_zz;
+  s.phi_laser = 2.0 * kPi * d.u_laser;
+  const double eps1 = p.phase_noise * d.z_phase;
+  double x = 0, y = 0, rmax = 0;
+  if (p.cloud_rw > 0) {
+    const double dt = 2.0 * p.T / p.rw_substeps;
+    const double sd = p.cloud_rw * std::sqrt(dt);
+    for (int k = 0; k < p.rw_substeps && 2 * static_cast<size_t>(k) + 1 < d.z_walk.size(); ++k) {
+      x += sd * d.z_walk[2 * static_cast<size_t>(k)];
+      y += sd * d.z_walk[2 * static_cast<size_t>(k) + 1];
       rmax = std::fmax(rmax, std::hypot(x, y));
     }
   }
   s.cloud_excursion = rmax;
-  const double rel = p_.shot_noise ? 1.0 / std::sqrt(p_.n_atoms) : 0.0;
-  const double p0 = 0.5 * (1.0 - p_.contrast * std::cos(s.phi_laser));
-  const double p1 = 0.5 * (1.0 - p_.contrast * std::cos(s.phi_laser + s.dphi_true + eps1));
-  s.s0 = (1.0 + rel * dn0) * p0 + p_.bias0;
-  s.s1 = (1.0 + rel * dn1) * p1 + p_.bias1;
-  if (u_fail < p_.p_fail) {
+  const double rel = p.shot_noise ? 1.0 / std::sqrt(p.n_atoms) : 0.0;
+  const double p0 = 0.5 * (1.0 - p.contrast * std::cos(s.phi_laser));
+  const double p1 = 0.5 * (1.0 - p.contrast * std::cos(s.phi_laser + s.dphi_true + eps1));
+  s.s0 = (1.0 + rel * d.z_n0) * p0 + p.bias0;
+  s.s1 = (1.0 + rel * d.z_n1) * p1 + p.bias1;
+  if (d.u_fail < p.p_fail) {
     s.status = ShotStatus::kFailedRandom;
-  } else if (p_.cloud_rw > 0 && rmax > p_.beam_radius) {
+  } else if (p.cloud_rw > 0 && rmax > p.beam_radius) {
     s.status = ShotStatus::kFailedBeam;
   }
   return s;

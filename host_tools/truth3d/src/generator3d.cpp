@@ -125,6 +125,7 @@ Generator3::Generator3(const Scenario3& s) : traj_(make_trajectory3(s)), field_(
   opt_.gyro = s.gyro;
   opt_.baro = s.baro;
   opt_.faults = s.sensor_faults;
+  if (s.coldatom.enabled) ca_ = std::make_shared<const ColdAtomSensor3>(s.coldatom, opt_.dt_us);
   init_errors();
 }
 
@@ -237,6 +238,8 @@ void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
       out.baro_status = GG_SENSOR_OK;
     }
   }
+  out.ca_status = GG_SENSOR_ABSENT;
+  if (ca_) ca_->frame(k, static_cast<double>(t.s.lat), static_cast<double>(t.s.lon), static_cast<double>(t.s.h), out);
   apply_sensor_faults3(opt_.faults, *this, k, out);
   if (truth_out) *truth_out = t;
 }

@@ -140,6 +140,80 @@ sch::Key<T3> maneuver_key() {
   return k;
 }
 
+// [coldatom] and [aid_pf] (coldatom3d.hpp): their readers check their own keys and ranges.
+std::vector<sch::Row> coldatom3_rows() {
+  const ColdAtom3 d;
+  const auto& g = d.grad;
+  return {{"enabled", "boolean", "", "false", "", "the cold-atom gradiometer is carried (a shot per 1/rate_hz)"},
+          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\"",
+           "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only)"},
+          {"egm96", "string", "", "data/egm96_to360.ascii.txt", "file name", "EGM96 coefficients (scenario-relative)"},
+          {"cache", "string", "", "\"\" (none)", "file name", "cache of the route map grid (scenario-relative)"},
+          {"rate_hz", "number", "Hz", sch::num_text(g.rate_hz), "> 0", "shot rate (fringe pairs)"},
+          {"dz_m", "number", "m", sch::num_text(g.dz), "> 0", "vertical separation of the two interferometers"},
+          {"T_s", "number", "s", sch::num_text(g.T), "> 0", "pulse separation"},
+          {"n_atoms", "number", "1", sch::num_text(g.n_atoms), "> 0", "atoms per cloud (shot noise)"},
+          {"contrast", "number", "1", sch::num_text(g.contrast), "(0, 1]", "fringe contrast"},
+          {"phase_noise_mrad", "number", "mrad", sch::num_text(1e3 * g.phase_noise), ">= 0", "phase noise per shot"},
+          {"shot_noise", "boolean", "", g.shot_noise ? "true" : "false", "", "atom shot noise on the fringe"},
+          {"p_fail", "number", "1", sch::num_text(g.p_fail), "[0, 1]", "probability of a failed shot"},
+          {"cloud_rw_m_rts", "number", "m/sqrt(s)", sch::num_text(g.cloud_rw), ">= 0", "cloud position random walk"},
+          {"beam_radius_m", "number", "m", sch::num_text(g.beam_radius), "> 0", "beam radius"},
+          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "seed of the shots' draws"}};
+}
+
+std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(const ColdAtom3& c) {
+  const auto& g = c.grad;
+  return {{"enabled", c.enabled ? "true" : "false"}, {"gzz_map", sch::str_text(c.gzz_map)},
+          {"egm96", sch::str_text(c.egm96)}, {"cache", sch::str_text(c.cache)},
+          {"rate_hz", sch::num_text(g.rate_hz)}, {"dz_m", sch::num_text(g.dz)}, {"T_s", sch::num_text(g.T)},
+          {"n_atoms", sch::num_text(g.n_atoms)}, {"contrast", sch::num_text(g.contrast)},
+          {"phase_noise_mrad", sch::num_text(1e3 * g.phase_noise)}, {"shot_noise", g.shot_noise ? "true" : "false"},
+          {"p_fail", sch::num_text(g.p_fail)}, {"cloud_rw_m_rts", sch::num_text(g.cloud_rw)},
+          {"beam_radius_m", sch::num_text(g.beam_radius)}, {"seed", std::to_string(c.seed)}};
+}
+
+std::vector<sch::Row> aid_pf3_rows() {
+  const AidPf3 d;
+  auto n = [](double v) { return sch::num_text(v); };
+  return {{"enabled", "boolean", "", "false", "", "the particle-filter aid runs (needs [coldatom] and map_dir)"},
+          {"map_dir", "string", "", "\"\" (none)", "directory", "Gamma_zz tiles (*.gmap) for the map storage"},
+          {"particles", "integer", "", std::to_string(d.particles), ">= 1", "particles"},
+          {"chunk", "integer", "", std::to_string(d.chunk), ">= 1", "particles predicted and weighed per step"},
+          {"end_chunk", "integer", "", std::to_string(d.end_chunk), ">= 1", "particle passes of a shot's end per step"},
+          {"model", "string", "", sch::str_text(d.model), "\"rbpf\", \"ins\", \"rw\"", "process model (pf.h)"},
+          {"feedback", "string", "", sch::str_text(d.feedback), "\"position\", \"position-velocity\"",
+           "what the closed loop corrects"},
+          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "generator seed"},
+          {"sigma", "number", "1", n(d.sigma), ">= 0 (0: from the sensor)", "likelihood sd, signal units"},
+          {"sigma0_pos_m", "number", "m", n(d.sigma0_pos_m), ">= 0", "initial spread of position"},
+          {"sigma0_vel_mps", "number", "m/s", n(d.sigma0_vel_mps), ">= 0", "initial spread of velocity"},
+          {"sigma0_tilt_mps2", "number", "m/s^2", n(d.sigma0_tilt_mps2), ">= 0", "initial spread of tilt"},
+          {"sigma0_gyro_mps3", "number", "m/s^3", n(d.sigma0_gyro_mps3), ">= 0", "initial spread of g x gyro bias"},
+          {"sigma0_accel_mps2", "number", "m/s^2", n(d.sigma0_accel_mps2), ">= 0", "initial spread of acc error"},
+          {"q_pos_m", "number", "m", n(d.q_pos_m), ">= 0", "process noise per shot: position"},
+          {"q_vel_mps", "number", "m/s", n(d.q_vel_mps), ">= 0", "process noise per shot: velocity"},
+          {"q_tilt_mps2", "number", "m/s^2", n(d.q_tilt_mps2), ">= 0", "process noise per shot: tilt"},
+          {"q_gyro_mps3", "number", "m/s^3", n(d.q_gyro_mps3), ">= 0", "process noise per shot: g x gyro bias"},
+          {"q_accel_mps2", "number", "m/s^2", n(d.q_accel_mps2), ">= 0", "process noise per shot: acc error"},
+          {"reg_bw", "number", "1", n(d.reg_bw), ">= 0", "regularisation bandwidth, x Silverman"},
+          {"gain", "number", "1", n(d.gain), "[0, 1]", "smoothing gain of the fed-back correction"},
+          {"ess_frac", "number", "1", n(d.ess_frac), "[0, 1]", "resample when N_eff < ess_frac N"}};
+}
+
+std::vector<std::pair<std::string, std::optional<std::string>>> write_aid_pf3(const AidPf3& a) {
+  auto n = [](double v) { return sch::num_text(v); };
+  return {{"enabled", a.enabled ? "true" : "false"}, {"map_dir", sch::str_text(a.map_dir)},
+          {"particles", std::to_string(a.particles)}, {"chunk", std::to_string(a.chunk)},
+          {"end_chunk", std::to_string(a.end_chunk)}, {"model", sch::str_text(a.model)},
+          {"feedback", sch::str_text(a.feedback)}, {"seed", std::to_string(a.seed)}, {"sigma", n(a.sigma)},
+          {"sigma0_pos_m", n(a.sigma0_pos_m)}, {"sigma0_vel_mps", n(a.sigma0_vel_mps)},
+          {"sigma0_tilt_mps2", n(a.sigma0_tilt_mps2)}, {"sigma0_gyro_mps3", n(a.sigma0_gyro_mps3)},
+          {"sigma0_accel_mps2", n(a.sigma0_accel_mps2)}, {"q_pos_m", n(a.q_pos_m)}, {"q_vel_mps", n(a.q_vel_mps)},
+          {"q_tilt_mps2", n(a.q_tilt_mps2)}, {"q_gyro_mps3", n(a.q_gyro_mps3)}, {"q_accel_mps2", n(a.q_accel_mps2)},
+          {"reg_bw", n(a.reg_bw)}, {"gain", n(a.gain)}, {"ess_frac", n(a.ess_frac)}};
+}
+
 std::vector<sch::Row> sensor_fault3_rows() {
   return {{"seed", "integer", "", "1", ">= 0", "seed of the faults' random occurrence (prob < 1)"},
           {"fault", "array of tables", "", "none", "[[sensor_faults.fault]]", "one entry per injected fault:"},
@@ -312,6 +386,14 @@ sch::Schema<S> build_schema3() {
       [](const S& s) { return write_sensor_faults3(s.sensor_faults); },
       [](const S& s) { return !s.sensor_faults.faults.empty(); }));
   secs.push_back(sch::section<S>(aid_ukf_table(), &S::aid_ukf, [](const S& s) { return s.aid_ukf.enabled; }));
+  secs.push_back(sch::delegated_section<S>(
+      "coldatom", "The cold-atom gradiometer (coldatom3d.hpp): two interferometers, fringe pairs.", coldatom3_rows(),
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.coldatom = parse_coldatom3(&t, c.source); },
+      [](const S& s) { return write_coldatom3(s.coldatom); }, [](const S& s) { return s.coldatom.enabled; }));
+  secs.push_back(sch::delegated_section<S>(
+      "aid_pf", "The cold-atom particle-filter aid (aid_pf.h) on the gradiometer's shots.", aid_pf3_rows(),
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.aid_pf = parse_aid_pf3(&t, c.source); },
+      [](const S& s) { return write_aid_pf3(s.aid_pf); }, [](const S& s) { return s.aid_pf.enabled; }));
   return sc;
 }
 
@@ -386,6 +468,8 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   if (s.aid_ukf.average_s > s.aid_ukf.update_period_s)
     c.fail_key(root, "aid_ukf.average_s", "aid_ukf.average_s = " + sch::num_text(s.aid_ukf.average_s) +
                                               ": must be <= aid_ukf.update_period_s");
+  if (s.aid_pf.enabled && !s.coldatom.enabled)
+    c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs [coldatom] enabled (its sensor)");
   if (s.aid_ukf.enabled && s.aid_ukf.maps.empty())
     c.fail_key(root, "aid_ukf.enabled", "aid_ukf.enabled needs aid_ukf.map (the onboard tiles)");
   if (!sch::detail::node_at(root, "firmware.fdi_parity_f_max_mps2")) {

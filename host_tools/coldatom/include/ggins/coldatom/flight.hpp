@@ -23,6 +23,10 @@
 #include "ggins/coldatom/gradiometer.hpp"
 #include "ggins/coldatom/route_map.hpp"
 
+extern "C" {
+#include "ggins/gmap.h"
+}
+
 namespace ggins::coldatom {
 
 // Table I of Phillips et al. (1 sigma). The units the text lost: gyro bias read as
@@ -98,5 +102,10 @@ struct FlightResult {
 };
 
 FlightResult fly(const RouteMap& map, const FlightConfig& cfg);
+
+// Fill a gmap tile (50 x 50 nodes at step m: Gamma_zz, flags 0 = the total gradient, and its
+// height derivative -3 Gamma_zz / r) from the route map around (lat_c, lon_c); false when a
+// node is off the map's corridor.
+bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile);
 
 }  // namespace ggins::coldatom

@@ -30,6 +30,7 @@
 
 #include <cstdint>
 #include <random>
+#include <vector>
 
 namespace ggins::coldatom {
 
@@ -65,6 +66,19 @@ struct Shot {
   double dphi_true = 0;        // k_eff Gamma_zz dz T^2, rad
   double cloud_excursion = 0;  // max horizontal distance of the cloud from the beam axis, m
 };
+
+// The random draws of one shot, in the order Gradiometer::shot takes them from its
+// generator: the laser phase's uniform, the phase noise's normal, the two shot-noise
+// normals, the failure uniform, then (cloud_rw > 0) rw_substeps pairs of normals of the
+// cloud's walk. A generator of its own (e.g. counter-based, so that shot n is a pure
+// function of (seed, n)) fills them and calls shot_from.
+struct ShotDraws {
+  double u_laser = 0, z_phase = 0, z_n0 = 0, z_n1 = 0, u_fail = 1;
+  std::vector<double> z_walk;  // 2 * rw_substeps normals (x, y per sub-step), when cloud_rw > 0
+};
+
+// Paper eqs. 1-2 for one shot at the true vertical gradient gamma_zz (s^-2) with the given draws.
+Shot shot_from(const GradiometerParams& p, double gamma_zz, const ShotDraws& d);
 
 class Gradiometer {
  public:

@@ -33,6 +33,7 @@ extern "C" {
 }
 #include "ggins/gravity/field.hpp"
 #include "ggins/truth/generator.hpp"
+#include "ggins/truth3d/coldatom3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
 #include "ggins/truth3d/trajectory3d.hpp"
 
@@ -93,6 +94,8 @@ class Generator3 {
   double accel_bias(int j, int ax) const { return accel_.bias(j, ax); }
   double gyro_bias(int ax) const { return gyro_.bias(ax); }
   double gyro_scale(int ax) const { return gyro_.scale(ax); }
+  // The cold-atom gradiometer ([coldatom]; nullptr when off).
+  const ColdAtomSensor3* coldatom() const { return ca_.get(); }
 
  private:
   void init_errors();
@@ -111,6 +114,7 @@ class Generator3 {
   truth::AccelModel accel_;  // sensor error models (truth/sensors.hpp)
   truth::GyroModel gyro_;
   truth::BaroModel baro_;
+  std::shared_ptr<const ColdAtomSensor3> ca_;
 };
 
 

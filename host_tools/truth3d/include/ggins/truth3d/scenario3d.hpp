@@ -17,6 +17,7 @@
 #include "ggins/truth/scenario.hpp"
 #include "ggins/truth/sensors.hpp"
 #include "ggins/truth3d/aids3d.hpp"
+#include "ggins/truth3d/coldatom3d.hpp"
 #include "ggins/truth3d/faults3d.hpp"
 
 namespace ggins::truth3d {
@@ -89,6 +90,8 @@ struct Scenario3 {
   double csv_rate_hz = 1;
   SensorFaults3 sensor_faults;  // [sensor_faults] (faults3d.hpp)
   AidUkf3 aid_ukf;              // [aid_ukf]: the gradient-map aid (aids3d.hpp)
+  ColdAtom3 coldatom;           // [coldatom]: the cold-atom gradiometer (coldatom3d.hpp)
+  AidPf3 aid_pf;                // [aid_pf]: the cold-atom particle-filter aid (coldatom3d.hpp)
 
   bool strapdown() const { return platform == "strapdown"; }
   int64_t dt_us() const;

@@ -1,0 +1,166 @@
+// The cold-atom particle-filter aid of a 3-D flight (aid_pf.h) on the host side of
+// run3d: its configuration onto the LCM message, its output fields from it, and the
+// report block: counters and the filter's consistency (err / spread)^2 per shot, err
+// the horizontal error of the filter's estimate (state + pf_mean_m) and spread^2 the
+// sum of the cloud's variances along north and east (1 = consistent; Gaussian: the
+// mean of a chi-square with 2 dof over 2).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <nlohmann/json.hpp>
+
+extern "C" {
+#include "ggins/nav3d.h"
+}
+#include "ggins/nav3d_config_t.hpp"
+#include "ggins/nav3d_output_t.hpp"
+#include "ggins/coldatom/gradiometer.hpp"
+#include "ggins/truth3d/coldatom3d.hpp"
+
+namespace ggins::run3d {
+
+// [aid_pf] with the sensor's [coldatom] parameters onto the firmware configuration (the
+// filter's ellipse model is the sensor's: k_eff, T, dz, contrast, centre 1/2 + bias;
+// likelihood sigma 0 = the sensor's expected scatter, at least 1e-3); the firmware
+// validates the values (gg_nav3d_init).
+inline void apply_aid_pf(const truth3d::AidPf3& a, const truth3d::ColdAtom3& ca, gg_nav3d_config_t& c) {
+  gg_aid_pf_config_t& m = c.aid_pf;
+  m = gg_aid_pf_config_t{};
+  m.enable = a.enabled ? 1 : 0;
+  if (!a.enabled) return;
+  m.chunk = a.chunk;
+  m.end_chunk = a.end_chunk;
+  m.feedback = a.feedback == "position" ? GG_AID_PF_FB_POS : GG_AID_PF_FB_POS_VEL;
+  gg_pf_config_t& p = m.pf;
+  const coldatom::GradiometerParams& g = ca.grad;
+  p.n = a.particles;
+  p.seed = a.seed;
+  p.model = a.model == "rw" ? GG_PF_MODEL_RW : (a.model == "ins" ? GG_PF_MODEL_INS : GG_PF_MODEL_RBPF);
+  p.k_eff = g.k_eff();
+  p.T = g.T;
+  p.dz = g.dz;
+  p.contrast = g.contrast;
+  p.c0 = 0.5 + g.bias0;
+  p.c1 = 0.5 + g.bias1;
+  p.sigma = a.sigma > 0 ? a.sigma : std::fmax(1e-3, coldatom::Gradiometer(g, 0).expected_sigma());
+  p.sigma0_pos = a.sigma0_pos_m;
+  p.sigma0_vel = a.sigma0_vel_mps;
+  p.sigma0_acc = a.sigma0_tilt_mps2;
+  p.sigma0_jerk = a.sigma0_gyro_mps3;
+  p.sigma0_bias = a.sigma0_accel_mps2;
+  p.q_pos = a.q_pos_m;
+  p.q_vel = a.q_vel_mps;
+  p.q_acc = a.q_tilt_mps2;
+  p.q_jerk = a.q_gyro_mps3;
+  p.q_bias = a.q_accel_mps2;
+  p.reg_bw = a.reg_bw;
+  p.dt = 1.0 / g.rate_hz;
+  p.gain = a.gain;
+  p.ess_frac = a.ess_frac;
+}
+
+inline void aid_pf_config_to_lcm(const gg_aid_pf_config_t& a, ggins::nav3d_config_t& m) {
+  const gg_pf_config_t& p = a.pf;
+  m.aid_pf_enable = static_cast<int8_t>(a.enable);
+  m.aid_pf_chunk = a.chunk;
+  m.aid_pf_end_chunk = a.end_chunk;
+  m.aid_pf_feedback = a.feedback;
+  m.aid_pf_n = p.n;
+  m.aid_pf_seed = static_cast<int64_t>(p.seed);
+  m.aid_pf_model = p.model;
+  m.aid_pf_k_eff = p.k_eff;
+  m.aid_pf_T = p.T;
+  m.aid_pf_dz = p.dz;
+  m.aid_pf_contrast = p.contrast;
+  m.aid_pf_c0 = p.c0;
+  m.aid_pf_c1 = p.c1;
+  m.aid_pf_sigma = p.sigma;
+  m.aid_pf_sigma0_pos = p.sigma0_pos;
+  m.aid_pf_sigma0_vel = p.sigma0_vel;
+  m.aid_pf_sigma0_acc = p.sigma0_acc;
+  m.aid_pf_sigma0_jerk = p.sigma0_jerk;
+  m.aid_pf_sigma0_bias = p.sigma0_bias;
+  m.aid_pf_q_pos = p.q_pos;
+  m.aid_pf_q_vel = p.q_vel;
+  m.aid_pf_q_acc = p.q_acc;
+  m.aid_pf_q_jerk = p.q_jerk;
+  m.aid_pf_q_bias = p.q_bias;
+  m.aid_pf_reg_bw = p.reg_bw;
+  m.aid_pf_dt = p.dt;
+  m.aid_pf_gain = p.gain;
+  m.aid_pf_ess_frac = p.ess_frac;
+}
+
+inline void aid_pf_output_from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
+  o.pf_phase = m.pf_phase;
+  o.pf_corrected = m.pf_corrected;
+  o.pf_shots = static_cast<uint32_t>(m.pf_shots);
+  o.pf_updates = static_cast<uint32_t>(m.pf_updates);
+  o.pf_failed = static_cast<uint32_t>(m.pf_failed);
+  o.pf_invalid = static_cast<uint32_t>(m.pf_invalid);
+  o.pf_dropped = static_cast<uint32_t>(m.pf_dropped);
+  o.pf_no_map = static_cast<uint32_t>(m.pf_no_map);
+  o.pf_map_miss = static_cast<uint32_t>(m.pf_map_miss);
+  o.pf_degenerate = static_cast<uint32_t>(m.pf_degenerate);
+  o.pf_resampled = static_cast<uint32_t>(m.pf_resampled);
+  o.pf_ess = m.pf_ess;
+  for (int i = 0; i < 2; ++i) {
+    o.pf_spread_m[i] = m.pf_spread_m[i];
+    o.pf_corr_m[i] = m.pf_corr_m[i];
+    o.pf_mean_m[i] = m.pf_mean_m[i];
+  }
+  o.pf_gzz_s2 = m.pf_gzz_s2;
+}
+
+// Accumulates the filter's consistency over the shots of a flight.
+class PfReport3 {
+ public:
+  // One output; err_n_m, err_e_m = nav - truth (NED at the true position), m.
+  void take(const gg_nav3d_output_t& o, double err_n_m, double err_e_m) {
+    last_ = o;
+    if (o.pf_corrected == 0) return;  // a shot ended at this step
+    const double en = err_n_m + o.pf_mean_m[0], ee = err_e_m + o.pf_mean_m[1];
+    const double e2 = en * en + ee * ee;
+    const double s2 = o.pf_spread_m[0] * o.pf_spread_m[0] + o.pf_spread_m[1] * o.pf_spread_m[1];
+    ++n_;
+    err_sum_ += std::sqrt(e2);
+    if (s2 > 0) {
+      nees_sum_ += e2 / s2;
+      ++n_nees_;
+      if (e2 > 4.0 * s2) ++beyond2_;
+    }
+  }
+  nlohmann::json block(size_t tiles) const {
+    nlohmann::json a;
+    a["name"] = "aid_pf";
+    a["description"] = "cold-atom particle filter (aid_pf.h), closed loop on the horizontal position";
+    a["shots"] = last_.pf_shots;
+    a["updates"] = last_.pf_updates;
+    a["failed"] = last_.pf_failed;
+    a["invalid"] = last_.pf_invalid;
+    a["dropped"] = last_.pf_dropped;
+    a["no_map"] = last_.pf_no_map;
+    a["map_miss"] = last_.pf_map_miss;
+    a["degenerate"] = last_.pf_degenerate;
+    a["resampled"] = last_.pf_resampled;
+    a["corrections"] = n_;
+    a["estimate_error_mean_m"] = n_ > 0 ? err_sum_ / static_cast<double>(n_) : 0.0;
+    a["err_over_spread_sq_mean"] = n_nees_ > 0 ? nees_sum_ / static_cast<double>(n_nees_) : 0.0;
+    a["err_over_spread_sq_definition"] =
+        "mean over the shots of |horizontal error of state + pf_mean|^2 / (sd_N^2 + sd_E^2) (1 = consistent)";
+    a["share_beyond_2_spread"] = n_nees_ > 0 ? static_cast<double>(beyond2_) / static_cast<double>(n_nees_) : 0.0;
+    a["ess_last"] = last_.pf_ess;
+    a["spread_final_m"] = {{"n", last_.pf_spread_m[0]}, {"e", last_.pf_spread_m[1]}};
+    a["tiles"] = tiles;
+    return a;
+  }
+
+ private:
+  gg_nav3d_output_t last_{};
+  int64_t n_ = 0, n_nees_ = 0, beyond2_ = 0;
+  double err_sum_ = 0, nees_sum_ = 0;
+};
+
+}  // namespace ggins::run3d

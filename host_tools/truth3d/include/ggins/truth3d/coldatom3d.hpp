@@ -1,0 +1,101 @@
+// The cold-atom vertical gradiometer of a 3-D flight (Phillips et al. section II) as a
+// sensor of the frame, and the scenario tables of it and of its aid:
+//
+//   [coldatom]                  # the sensor (frame.h ca_*): one shot every 1 / rate_hz s
+//   enabled = true
+//   gzz_map = "phillips-route"  # the TRUE Gamma_zz: "phillips-route" (EGM96 + synthetic terrain
+//                               # along Liverpool -> Toulouse, coldatom/route_map.hpp) or
+//                               # "phillips-route-normal" (its WGS-84 normal part alone)
+//   egm96 = "..."               # EGM96 coefficients (default: the data directory's)
+//   cache = "..."               # directory caching the map's EGM96 grid (default: none)
+//                               # (relative names of both: from the scenario file's directory)
+//   rate_hz = 1.0, dz_m = 1.0, T_s = 0.16, n_atoms = 1e5, contrast = 0.5,
+//   phase_noise_mrad = 0.0, shot_noise = true, p_fail = 0.0, cloud_rw_m_rts = 0.0,
+//   beam_radius_m = 6e-3, seed = 1
+//
+//   [aid_pf]                    # the particle filter of the 3-D task (aid_pf.h)
+//   enabled = true
+//   map_dir = "..."             # the Gamma_zz tiles (ggins coldatom --write-tiles) for the
+//                               # computer's map storage; relative: from the scenario's directory
+//   particles = 500, chunk = 50, end_chunk = 250, model = "rbpf" ("rw", "ins"), seed = 1,
+//   feedback = "position-velocity" (or "position": what the closed loop feeds back),
+//   sigma = 0 (likelihood sigma, signal units; 0: the sensor's expected scatter, at least 1e-3),
+//   sigma0_pos_m = 50, sigma0_vel_mps = 0, sigma0_tilt_mps2 = 0, sigma0_gyro_mps3 = 4.9e-7,
+//   sigma0_accel_mps2 = 3.1e-4, q_pos_m = 0, q_vel_mps = 1.47e-4, q_tilt_mps2 = 1.96e-5,
+//   q_gyro_mps3 = 0, q_accel_mps2 = 0, reg_bw = 1.0, gain = 0.05, ess_frac = 0.5
+//   (the flights' settings, docs/cold-atom-pf.md: from the INS specification of Table I).
+//
+// Shot n (at step k = n * steps per shot, n >= 1) is a pure function of (seed, n): its
+// draws are counter-based (truth/generator.hpp) and go through coldatom::shot_from, the
+// one copy of paper eqs. 1-2. Its Gamma_zz is the map's at the true position of the
+// step; a position off the map's corridor gives a failed shot.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+#include <toml++/toml.h>
+
+extern "C" {
+#include "ggins/frame.h"
+}
+#include "ggins/coldatom/gradiometer.hpp"
+#include "ggins/coldatom/route_map.hpp"
+
+namespace ggins::truth3d {
+
+struct ColdAtom3 {
+  bool enabled = false;
+  std::string gzz_map = "phillips-route";
+  std::string egm96;
+  std::string cache;
+  coldatom::GradiometerParams grad;
+  std::uint64_t seed = 1;
+};
+
+struct AidPf3 {
+  bool enabled = false;
+  std::string map_dir;  // as written in the scenario
+  int particles = 500, chunk = 50, end_chunk = 250;
+  std::string model = "rbpf";
+  std::string feedback = "position-velocity";  // or "position"
+  std::uint64_t seed = 1;
+  double sigma = 0.0;
+  double sigma0_pos_m = 50.0, sigma0_vel_mps = 0.0, sigma0_tilt_mps2 = 0.0, sigma0_gyro_mps3 = 4.9e-7,
+         sigma0_accel_mps2 = 3.1e-4;
+  double q_pos_m = 0.0, q_vel_mps = 1.47e-4, q_tilt_mps2 = 1.96e-5, q_gyro_mps3 = 0.0, q_accel_mps2 = 0.0;
+  double reg_bw = 1.0, gain = 0.05, ess_frac = 0.5;
+};
+
+ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source);
+AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source);
+
+// The tile files of [aid_pf].map_dir (*.gmap, sorted), relative names from the scenario's directory.
+std::vector<std::string> aid_pf_map_paths(const AidPf3& a, const std::string& scenario_source);
+
+// The map of the true Gamma_zz the sensor samples.
+std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c);
+
+class ColdAtomSensor3 {
+ public:
+  ColdAtomSensor3(const ColdAtom3& c, int64_t dt_us);
+  // The frame's ca_* for step k with the true geodetic position (rad, rad, m): a shot at
+  // the steps of the shots, ABSENT between them.
+  void frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out) const;
+  // Shot n at the true Gamma_zz gzz (the draws of (seed, n)).
+  coldatom::Shot shot(int64_t n, double gzz) const;
+  // The map, built at its first use (the EGM96 grid takes seconds even when cached).
+  const coldatom::RouteMap& map() const;
+  int64_t steps_per_shot() const { return every_; }
+  const ColdAtom3& params() const { return c_; }
+
+ private:
+  ColdAtom3 c_;
+  mutable std::once_flag once_;
+  mutable std::shared_ptr<const coldatom::RouteMap> map_;
+  int64_t every_ = 100;
+};
+
+}  // namespace ggins::truth3d

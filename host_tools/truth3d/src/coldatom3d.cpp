@@ -1,0 +1,185 @@
+// The cold-atom gradiometer of a 3-D flight and its scenario tables (coldatom3d.hpp).
+#include "ggins/truth3d/coldatom3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+
+#include "ggins/truth/generator.hpp"
+#include "ggins/truth/scenario_toml.hpp"
+
+#ifndef GGINS_DATA_DIR
+#define GGINS_DATA_DIR "data"
+#endif
+
+namespace ggins::truth3d {
+
+namespace st = ggins::truth::scenario_toml;
+
+namespace {
+constexpr uint64_t kStreamCa = 61;  // the shots' draws (streams of generator3d.cpp: 20-43)
+}
+
+namespace {
+// A relative file name of the scenario, from the scenario file's directory.
+std::string from_scenario_dir(const std::string& name, const std::string& source) {
+  namespace fs = std::filesystem;
+  if (name.empty()) return name;
+  const fs::path p(name), dir = fs::path(source).parent_path();
+  return (p.is_absolute() || dir.empty() ? p : dir / p).string();
+}
+}  // namespace
+
+ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
+  ColdAtom3 c;
+  if (!t) return c;
+  const std::string w = "coldatom";
+  st::check_keys(*t, w,
+                 {"enabled", "gzz_map", "egm96", "cache", "rate_hz", "dz_m", "T_s", "n_atoms", "contrast",
+                  "phase_noise_mrad", "shot_noise", "p_fail", "cloud_rw_m_rts", "beam_radius_m", "seed"},
+                 source);
+  auto& g = c.grad;
+  c.enabled = st::get_bool(*t, w, "enabled", c.enabled, source);
+  c.gzz_map = st::get_str(*t, w, "gzz_map", c.gzz_map, source);
+  c.egm96 = from_scenario_dir(st::get_str(*t, w, "egm96", c.egm96, source), source);
+  c.cache = from_scenario_dir(st::get_str(*t, w, "cache", c.cache, source), source);
+  g.rate_hz = st::get_num(*t, w, "rate_hz", g.rate_hz, source);
+  g.dz = st::get_num(*t, w, "dz_m", g.dz, source);
+  g.T = st::get_num(*t, w, "T_s", g.T, source);
+  g.n_atoms = st::get_num(*t, w, "n_atoms", g.n_atoms, source);
+  g.contrast = st::get_num(*t, w, "contrast", g.contrast, source);
+  g.phase_noise = 1e-3 * st::get_num(*t, w, "phase_noise_mrad", 0.0, source);
+  g.shot_noise = st::get_bool(*t, w, "shot_noise", g.shot_noise, source);
+  g.p_fail = st::get_num(*t, w, "p_fail", g.p_fail, source);
+  g.cloud_rw = st::get_num(*t, w, "cloud_rw_m_rts", g.cloud_rw, source);
+  g.beam_radius = st::get_num(*t, w, "beam_radius_m", g.beam_radius, source);
+  c.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(c.seed), source));
+  if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal")
+    st::fail(source, "coldatom.gzz_map must be \"phillips-route\" or \"phillips-route-normal\"");
+  if (!(g.rate_hz > 0) || !(g.dz > 0) || !(g.T > 0) || !(g.n_atoms > 0) || !(g.contrast > 0) || g.contrast > 1 ||
+      g.phase_noise < 0 || g.p_fail < 0 || g.p_fail > 1 || g.cloud_rw < 0 || !(g.beam_radius > 0))
+    st::fail(source, "coldatom: rate_hz, dz_m, T_s, n_atoms, beam_radius_m > 0, contrast in (0, 1], p_fail in [0, 1], "
+                     "phase_noise_mrad, cloud_rw_m_rts >= 0");
+  return c;
+}
+
+AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
+  AidPf3 a;
+  if (!t) return a;
+  const std::string w = "aid_pf";
+  st::check_keys(*t, w,
+                 {"enabled", "map_dir", "particles", "chunk", "end_chunk", "model", "feedback", "seed", "sigma", "sigma0_pos_m",
+                  "sigma0_vel_mps", "sigma0_tilt_mps2", "sigma0_gyro_mps3", "sigma0_accel_mps2", "q_pos_m",
+                  "q_vel_mps", "q_tilt_mps2", "q_gyro_mps3", "q_accel_mps2", "reg_bw", "gain", "ess_frac"},
+                 source);
+  a.enabled = st::get_bool(*t, w, "enabled", a.enabled, source);
+  a.map_dir = st::get_str(*t, w, "map_dir", a.map_dir, source);
+  a.particles = static_cast<int>(st::get_int(*t, w, "particles", a.particles, source));
+  a.chunk = static_cast<int>(st::get_int(*t, w, "chunk", a.chunk, source));
+  a.end_chunk = static_cast<int>(st::get_int(*t, w, "end_chunk", a.end_chunk, source));
+  a.model = st::get_str(*t, w, "model", a.model, source);
+  a.feedback = st::get_str(*t, w, "feedback", a.feedback, source);
+  if (a.feedback != "position" && a.feedback != "position-velocity")
+    st::fail(source, "aid_pf.feedback must be \"position\" or \"position-velocity\"");
+  a.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(a.seed), source));
+  a.sigma = st::get_num(*t, w, "sigma", a.sigma, source);
+  a.sigma0_pos_m = st::get_num(*t, w, "sigma0_pos_m", a.sigma0_pos_m, source);
+  a.sigma0_vel_mps = st::get_num(*t, w, "sigma0_vel_mps", a.sigma0_vel_mps, source);
+  a.sigma0_tilt_mps2 = st::get_num(*t, w, "sigma0_tilt_mps2", a.sigma0_tilt_mps2, source);
+  a.sigma0_gyro_mps3 = st::get_num(*t, w, "sigma0_gyro_mps3", a.sigma0_gyro_mps3, source);
+  a.sigma0_accel_mps2 = st::get_num(*t, w, "sigma0_accel_mps2", a.sigma0_accel_mps2, source);
+  a.q_pos_m = st::get_num(*t, w, "q_pos_m", a.q_pos_m, source);
+  a.q_vel_mps = st::get_num(*t, w, "q_vel_mps", a.q_vel_mps, source);
+  a.q_tilt_mps2 = st::get_num(*t, w, "q_tilt_mps2", a.q_tilt_mps2, source);
+  a.q_gyro_mps3 = st::get_num(*t, w, "q_gyro_mps3", a.q_gyro_mps3, source);
+  a.q_accel_mps2 = st::get_num(*t, w, "q_accel_mps2", a.q_accel_mps2, source);
+  a.reg_bw = st::get_num(*t, w, "reg_bw", a.reg_bw, source);
+  a.gain = st::get_num(*t, w, "gain", a.gain, source);
+  a.ess_frac = st::get_num(*t, w, "ess_frac", a.ess_frac, source);
+  if (a.model != "rbpf" && a.model != "ins" && a.model != "rw") st::fail(source, "aid_pf.model must be rbpf, ins or rw");
+  if (a.enabled && a.map_dir.empty()) st::fail(source, "aid_pf.enabled needs aid_pf.map_dir (the onboard Gamma_zz tiles)");
+  return a;
+}
+
+std::vector<std::string> aid_pf_map_paths(const AidPf3& a, const std::string& scenario_source) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> out;
+  if (a.map_dir.empty()) return out;
+  const fs::path dir = fs::path(scenario_source).parent_path();
+  const fs::path p(a.map_dir);
+  const fs::path d = p.is_absolute() || dir.empty() ? p : dir / p;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(d, ec))
+    if (e.is_regular_file() && e.path().extension() == ".gmap") out.push_back(e.path().string());
+  if (ec) throw std::runtime_error("aid_pf.map_dir " + d.string() + ": " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c) {
+  // one map per parameter set and process (the EGM96 grid takes seconds even when cached)
+  static std::mutex mu;
+  static std::shared_ptr<const coldatom::RouteMap> cached;
+  static std::string cached_key;
+  const std::string egm = c.egm96.empty() ? std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt" : c.egm96;
+  const std::string key = c.gzz_map + "|" + egm + "|" + c.cache;
+  std::lock_guard<std::mutex> lock(mu);
+  if (cached && cached_key == key) return cached;
+  coldatom::RouteMapParams p;
+  if (c.gzz_map == "phillips-route-normal") {
+    p.with_egm96 = false;
+    p.with_topo = false;
+  }
+  cached = std::make_shared<const coldatom::RouteMap>(p, egm, c.cache);
+  cached_key = key;
+  return cached;
+}
+
+ColdAtomSensor3::ColdAtomSensor3(const ColdAtom3& c, int64_t dt_us) : c_(c) {
+  every_ = std::max<int64_t>(1, std::llround(1e6 / (c.grad.rate_hz * static_cast<double>(dt_us))));
+}
+
+const coldatom::RouteMap& ColdAtomSensor3::map() const {
+  std::call_once(once_, [this] { map_ = make_gzz_map3(c_); });
+  return *map_;
+}
+
+coldatom::Shot ColdAtomSensor3::shot(int64_t n, double gzz) const {
+  coldatom::ShotDraws d;
+  const auto un = static_cast<uint64_t>(n);
+  d.u_laser = truth::counter_uniform(c_.seed, kStreamCa, un, 0, 0);
+  d.z_phase = truth::counter_normal(c_.seed, kStreamCa, un, 1, 0);
+  d.z_n0 = truth::counter_normal(c_.seed, kStreamCa, un, 2, 0);
+  d.z_n1 = truth::counter_normal(c_.seed, kStreamCa, un, 3, 0);
+  d.u_fail = truth::counter_uniform(c_.seed, kStreamCa, un, 4, 0);
+  if (c_.grad.cloud_rw > 0) {
+    d.z_walk.resize(2 * static_cast<size_t>(c_.grad.rw_substeps));
+    for (size_t j = 0; j < d.z_walk.size(); ++j) d.z_walk[j] = truth::counter_normal(c_.seed, kStreamCa, un, 5, j);
+  }
+  return coldatom::shot_from(c_.grad, gzz, d);
+}
+
+void ColdAtomSensor3::frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out) const {
+  out.ca_status = GG_SENSOR_ABSENT;
+  out.ca_s[0] = 0;
+  out.ca_s[1] = 0;
+  if (k < every_ || k % every_ != 0) return;
+  out.ca_utime = out.utime;
+  double g = 0;
+  if (!map().gzz(lat_rad, lon_rad, h_m, &g)) {  // off the map's corridor: no gradient to measure
+    out.ca_status = GG_SENSOR_BAD;
+    return;
+  }
+  const coldatom::Shot s = shot(k / every_, g);
+  if (s.status != coldatom::ShotStatus::kOk) {
+    out.ca_status = GG_SENSOR_BAD;
+    return;
+  }
+  out.ca_s[0] = s.s0;
+  out.ca_s[1] = s.s1;
+  out.ca_status = GG_SENSOR_OK;
+}
+
+}  // namespace ggins::truth3d
