@@ -48,6 +48,9 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_mm.q_g_mps2_rts = m->aid_mm_q_g_mps2_rts;
     c->aid_mm.lambda = m->aid_mm_lambda;
     c->aid_mm.gate_nis = m->aid_mm_gate_nis;
+    c->aid_mm.average_steps = m->aid_mm_average_steps;
+    c->aid_mm.sigma_gyro_rps = m->aid_mm_sigma_gyro_rps;
+    c->aid_mm.sigma_gyro_bias_rps = m->aid_mm_sigma_gyro_bias_rps;
 }
 
 void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav3d_output_t *m)

@@ -160,6 +160,9 @@ int main(void)
     cfg.aid_mm.q_vel_mps_rts = 1.0e-6;
     cfg.aid_mm.q_att_rad_rts = 1.0e-9;
     cfg.aid_mm.q_g_mps2_rts = 1.0e-10;
+    cfg.aid_mm.average_steps = AID_EPOCH; /* the worst case: every step in the window, two map nodes */
+    cfg.aid_mm.sigma_gyro_rps = 2.9e-6;
+    cfg.aid_mm.sigma_gyro_bias_rps = 4.85e-8;
 #endif
     if (gg_nav3d_init(&g_nav3, &cfg) != GG_OK) {
         m7_qemu_exit();

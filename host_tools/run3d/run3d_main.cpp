@@ -270,6 +270,9 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
   m.aid_mm_lambda = c.aid_mm.lambda;
   m.aid_mm_gate_nis = c.aid_mm.gate_nis;
+  m.aid_mm_average_steps = c.aid_mm.average_steps;
+  m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
+  m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
   return m;
 }
 

@@ -291,11 +291,21 @@ def test_faults(a):
     check(sf["frames_lost"] == 0, "no frame lost")
     check(inj["dropped"] > 50 and inj["duplicated"] > 50 and inj["reordered"] > 50,
           "faults were injected (%s)" % inj)
-    # a frame is recovered when the copy that reached the firmware was a retransmission:
-    # one per dropped first transmission (a retransmission may be dropped again)
-    check(0.85 * inj["dropped"] <= sf["frames_recovered"] <= inj["dropped"],
-          "frames_recovered matches the drops (%d recovered, %d drops)" % (sf["frames_recovered"], inj["dropped"]))
-    check(tr["hal_sim"]["frames_duplicate"] >= inj["duplicated"], "hal_sim counted the duplicates")
+    # a frame is recovered when the copy that reached the firmware was a retransmission
+    # or a redundant copy: one per dropped first transmission (a retransmission or a
+    # copy may be dropped again; drops of redundant copies are counted apart)
+    red = tr["redundancy"]
+    rec = sf["frames_recovered"] + red["hal_sim_frames_from_copies"]
+    first = inj["dropped"] - inj["dropped_copies"]
+    check(0.85 * first <= rec <= first,
+          "frames recovered (resend or copy) match the drops (%d recovered, %d of them from copies; %d drops of "
+          "first transmissions or resends)" % (rec, red["hal_sim_frames_from_copies"], first))
+    check(red["hal_sim_frames_from_copies"] > sf["frames_recovered"],
+          "most lost frames came from their redundant copy, without a request (%d from copies, %d resent)"
+          % (red["hal_sim_frames_from_copies"], sf["frames_recovered"]))
+    # (a duplicated redundant copy is one more copy, not counted as a duplicate)
+    check(tr["hal_sim"]["frames_duplicate"] >= inj["duplicated"] - inj["duplicated_copies"],
+          "hal_sim counted the duplicates")
     check(tr["hal_sim"]["frames_out_of_order"] >= 0.8 * inj["reordered"],
           "hal_sim counted the out-of-order frames (%d, %d reordered)" % (tr["hal_sim"]["frames_out_of_order"],
                                                                        inj["reordered"]))
@@ -304,8 +314,10 @@ def test_faults(a):
           "undecodable payloads counted by hal_sim (%d of %d)" % (tr["hal_sim"]["decode_errors"], inj["garbage"]))
     hd = tr["hal_sim"]["outputs_dropped_injected"]
     check(hd > 50 and tr["outputs_recovered"] >= hd - 5,
-          "lost outputs recovered by resending the frame (%d dropped, %d recovered, %d republished)"
-          % (hd, tr["outputs_recovered"], tr["hal_sim"]["outputs_republished"]))
+          "lost outputs recovered from copies or requests (%d dropped, %d recovered: %d from copies, %d answers)"
+          % (hd, tr["outputs_recovered"], red["outputs_from_copies"], red["outputs_from_answers"]))
+    check(red["outputs_from_copies"] > red["outputs_from_answers"],
+          "most lost outputs came from their redundant copy, without a request")
     cols = [c for c in rc[0] if c.startswith("nav_")]
     same = len(rc) == len(rf) and all(x[c] == y[c] for x, y in zip(rc, rf) for c in cols)
     check(same, "navigation outputs identical to the clean run (%d rows x %d columns)" % (len(rc), len(cols)))

@@ -45,7 +45,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   const auto& l = s.nav_baro;
   truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
                       c.baro);
-  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, c);  // [aid_ukf], aids3d.hpp
+  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
   return c;
 }
 

@@ -14,6 +14,12 @@
 //   sig0_pos_m, sig0_vel_mps, sig0_att_rad, sig0_g_mps2   # initial one-sigma
 //   q_vel_mps_rts, q_att_rad_rts, q_g_mps2_rts           # process noise
 //   gate_nis = 0.0             # NIS gate (chi-square, 6 dof); 0: none
+//   average_s = 0.0            # tensors averaged into an epoch's measurement over this long
+//                              # before it (0: the epoch's own sample), <= update_period_s
+//   sigma_gyro_rps             # gyro white noise of one navigation step's rate, rad/s: its
+//                              # share of R ([w x]^2 removal) and of Q; default [gyro] noise_sigma_radps
+//   sigma_gyro_bias_rps        # gyro bias one-sigma, rad/s: its share of R; default [gyro]
+//                              # bias_sigma_radps (+ the largest |bias_radps| entry)
 #pragma once
 
 #include <string>
@@ -41,6 +47,9 @@ struct AidUkf3 {
   double q_g_mps2_rts = 1.0e-9;
   double lambda = 0.0;
   double gate_nis = 0.0;
+  double average_s = 0.0;
+  double sigma_gyro_rps = -1.0;       // < 0: from the scenario's [gyro] (run3d/aids3d.hpp)
+  double sigma_gyro_bias_rps = -1.0;  // < 0: from the scenario's [gyro]
 };
 
 // The [aid_ukf] table of a scenario (t null: absent, the defaults: aid off); throws naming
@@ -53,7 +62,7 @@ inline AidUkf3 parse_aid_ukf(const toml::table* t, const std::string& source) {
   st::check_keys(*t, w,
                  {"enabled", "map", "update_period_s", "max_passes", "sigma_meas_E", "sigma_db_E", "offdiag_ratio",
                   "sig0_pos_m", "sig0_vel_mps", "sig0_att_rad", "sig0_g_mps2", "q_vel_mps_rts", "q_att_rad_rts",
-                  "q_g_mps2_rts", "lambda", "gate_nis"},
+                  "q_g_mps2_rts", "lambda", "gate_nis", "average_s", "sigma_gyro_rps", "sigma_gyro_bias_rps"},
                  source);
   a.enabled = st::get_bool(*t, w, "enabled", a.enabled, source);
   if (const toml::node* n = t->get("map")) {
@@ -82,6 +91,14 @@ inline AidUkf3 parse_aid_ukf(const toml::table* t, const std::string& source) {
   a.q_g_mps2_rts = st::get_num(*t, w, "q_g_mps2_rts", a.q_g_mps2_rts, source);
   a.lambda = st::get_num(*t, w, "lambda", a.lambda, source);
   a.gate_nis = st::get_num(*t, w, "gate_nis", a.gate_nis, source);
+  a.average_s = st::get_num(*t, w, "average_s", a.average_s, source);
+  a.sigma_gyro_rps = st::get_num(*t, w, "sigma_gyro_rps", a.sigma_gyro_rps, source);
+  a.sigma_gyro_bias_rps = st::get_num(*t, w, "sigma_gyro_bias_rps", a.sigma_gyro_bias_rps, source);
+  if (t->get("sigma_gyro_rps") && !(a.sigma_gyro_rps >= 0)) st::fail(source, "aid_ukf.sigma_gyro_rps must be >= 0");
+  if (t->get("sigma_gyro_bias_rps") && !(a.sigma_gyro_bias_rps >= 0))
+    st::fail(source, "aid_ukf.sigma_gyro_bias_rps must be >= 0");
+  if (!(a.average_s >= 0) || a.average_s > a.update_period_s)
+    st::fail(source, "aid_ukf.average_s must be in [0, update_period_s]");
   if (a.enabled && a.maps.empty()) st::fail(source, "aid_ukf.enabled needs aid_ukf.map (the onboard tiles)");
   if (!(a.update_period_s > 0)) st::fail(source, "aid_ukf.update_period_s must be > 0");
   return a;
