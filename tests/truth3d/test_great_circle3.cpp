@@ -12,14 +12,7 @@
 
 using namespace ggins::truth3d;
 
-static int g_fail = 0;
-#define CHECK(c, ...)                          \
-  do {                                         \
-    std::printf("%s ", (c) ? "ok  " : "FAIL"); \
-    std::printf(__VA_ARGS__);                  \
-    std::printf("\n");                         \
-    if (!(c)) ++g_fail;                        \
-  } while (0)
+#include "../truth/check.hpp"
 
 static void run(Attitude att, Real wie) {
   GreatCircleParams p;
