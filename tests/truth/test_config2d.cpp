@@ -13,14 +13,7 @@
 
 using namespace ggins::truth;
 
-static int g_fail = 0;
-#define CHECK(c, ...)                          \
-  do {                                         \
-    std::printf("%s ", (c) ? "ok  " : "FAIL"); \
-    std::printf(__VA_ARGS__);                  \
-    std::printf("\n");                         \
-    if (!(c)) ++g_fail;                        \
-  } while (0)
+#include "check.hpp"
 
 static bool near(long double a, long double b, long double rel) { return fabsl(a - b) <= rel * fabsl(b) + 1e-30L; }
 

@@ -19,14 +19,7 @@
 
 using namespace ggins::truth;
 
-static int g_fail = 0;
-#define CHECK(c, ...)                          \
-  do {                                         \
-    std::printf("%s ", (c) ? "ok  " : "FAIL"); \
-    std::printf(__VA_ARGS__);                  \
-    std::printf("\n");                         \
-    if (!(c)) ++g_fail;                        \
-  } while (0)
+#include "check.hpp"
 
 // sample mean and variance about a known mean (N degrees of freedom)
 struct Moments {

@@ -5,6 +5,18 @@
 
 namespace ggins::truth {
 
+void vchan_config(const BaroLoopParams& l, double period_s, gg_real_t omega_s2, gg_vchan_config_t& c) {
+  for (size_t i = 0; i < 3; ++i) c.poles[i] = static_cast<gg_real_t>(l.poles_radps[i]);
+  c.omega_s2 = omega_s2;
+  c.period_us = std::llround(period_s * 1e6);
+  c.max_age_us = std::llround(l.max_age_s * 1e6);
+  c.coast_us = std::llround(l.coast_s * 1e6);
+  c.alt_min_m = l.alt_min_m;
+  c.alt_max_m = l.alt_max_m;
+  c.gate_m = l.gate_m;
+  c.max_rejects = static_cast<int32_t>(l.max_rejects);
+}
+
 gg_nav2d_config_t config2d(const Generator& g, const SurveyGrid* grid) {
   const Scenario& s = g.scenario();
   const TruthState t0 = g.truth(0);
@@ -34,16 +46,9 @@ gg_nav2d_config_t config2d(const Generator& g, const SurveyGrid* grid) {
   // barometric loop
   c.baro_enable = s.baro_loop_enabled() ? 1 : 0;
   const BaroLoopParams& l = s.navigation.baro;
-  for (size_t i = 0; i < 3; ++i) c.baro.poles[i] = static_cast<gg_real_t>(l.poles_radps[i]);
   // w_s^2 = |G| / |r| at the start (the point-mass vertical gradient is 2 w_s^2), as a double
-  c.baro.omega_s2 = static_cast<gg_real_t>(l.omega_s2 > 0 ? l.omega_s2 : static_cast<double>(t0.g.norm() / t0.kin.r.norm()));
-  c.baro.period_us = std::llround(s.baro_period_s() * 1e6);
-  c.baro.max_age_us = std::llround(l.max_age_s * 1e6);
-  c.baro.coast_us = std::llround(l.coast_s * 1e6);
-  c.baro.alt_min_m = l.alt_min_m;
-  c.baro.alt_max_m = l.alt_max_m;
-  c.baro.gate_m = l.gate_m;
-  c.baro.max_rejects = static_cast<int32_t>(l.max_rejects);
+  const double ws2 = l.omega_s2 > 0 ? l.omega_s2 : static_cast<double>(t0.g.norm() / t0.kin.r.norm());
+  vchan_config(l, s.baro_period_s(), static_cast<gg_real_t>(ws2), c.baro);
   c.r_ref_m = static_cast<gg_real_t>(s.r_ref_m());
   return c;
 }

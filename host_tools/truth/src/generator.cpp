@@ -55,8 +55,10 @@ std::unique_ptr<gravity::Field> make_field(const Scenario& s) {
   throw std::invalid_argument("unknown gravity model " + s.gravity.model);
 }
 
-Generator::Generator(const Scenario& s)
-    : sc_(s), traj_(make_trajectory(s)), field_(make_field(s)), dt_us_(s.dt_us()), n_steps_(s.n_steps()),
+Generator::Generator(const Scenario& s) : Generator(s, std::shared_ptr<const gravity::Field>(make_field(s))) {}
+
+Generator::Generator(const Scenario& s, std::shared_ptr<const gravity::Field> field)
+    : sc_(s), traj_(make_trajectory(s)), field_(std::move(field)), dt_us_(s.dt_us()), n_steps_(s.n_steps()),
       n_acc_(s.n_acc()) {
   const Real a = s.a_m, b = s.b_m;
   offsets_[0] = Vec3(a, 0, 0);
@@ -151,7 +153,7 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
       Scenario clean = sc_;
       clean.sensor_faults.faults.clear();
       gg_frame_t f0;
-      Generator(clean).frame(k0, f0);
+      Generator(clean, field_).frame(k0, f0);
       hi = f0.f[s][j];
       lo = f0.f_lo[s][j];
     });

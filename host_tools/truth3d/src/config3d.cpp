@@ -6,6 +6,7 @@
 #include "aids3d.hpp"  // host_tools/run3d: [aid_ukf] onto gg_nav3d_config_t.aid_mm
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth/config2d.hpp"
 
 namespace ggins::truth3d {
 
@@ -42,15 +43,8 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   }
   c.baro_enable = s.baro_loop_enabled() ? 1 : 0;
   const auto& l = s.nav_baro;
-  for (int i = 0; i < 3; ++i) c.baro.poles[i] = l.poles_radps[static_cast<size_t>(i)];
-  c.baro.omega_s2 = l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm();
-  c.baro.period_us = std::llround(s.baro_period_s() * 1e6);
-  c.baro.max_age_us = std::llround(l.max_age_s * 1e6);
-  c.baro.coast_us = std::llround(l.coast_s * 1e6);
-  c.baro.alt_min_m = l.alt_min_m;
-  c.baro.alt_max_m = l.alt_max_m;
-  c.baro.gate_m = l.gate_m;
-  c.baro.max_rejects = static_cast<int32_t>(l.max_rejects);
+  truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
+                      c.baro);
   run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
   return c;
 }

@@ -22,6 +22,10 @@ extern "C" {
 
 namespace ggins::truth {
 
+// The barometric loop ([navigation.baro], vchan.h) of a 2-D or 3-D scenario, with its
+// sample period and w_s^2 resolved by the caller.
+void vchan_config(const BaroLoopParams& l, double period_s, gg_real_t omega_s2, gg_vchan_config_t& c);
+
 // The configuration of g's scenario; with a survey grid (model mode,
 // [navigation.survey]) the grid is programmed into the onboard model.
 gg_nav2d_config_t config2d(const Generator& g, const SurveyGrid* grid = nullptr);

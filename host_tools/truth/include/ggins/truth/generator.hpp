@@ -50,6 +50,9 @@ std::unique_ptr<gravity::Field> make_field(const Scenario& s);
 class Generator {
  public:
   explicit Generator(const Scenario& s);
+  // The same with another truth gravitation field in place of the scenario's [gravity]
+  // (a tool's own model of the true field, e.g. rw-eq8's deflected point mass).
+  Generator(const Scenario& s, std::shared_ptr<const gravity::Field> field);
 
   const Scenario& scenario() const { return sc_; }
   const Trajectory& trajectory() const { return *traj_; }
@@ -80,7 +83,7 @@ class Generator {
  private:
   Scenario sc_;
   std::unique_ptr<Trajectory> traj_;
-  std::unique_ptr<gravity::Field> field_;
+  std::shared_ptr<const gravity::Field> field_;
   int64_t dt_us_;
   int64_t n_steps_;
   int n_acc_;
