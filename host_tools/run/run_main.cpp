@@ -490,7 +490,12 @@ int main(int argc, char** argv) {
   app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
   ggins::hil::add_run_options(app, o);
   app.add_flag("--list-scenarios", list, "list the built-in scenarios and exit");
-  app.add_flag("--print-scenario", print_scenario, "print the resolved scenario and exit");
+  bool print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -502,6 +507,14 @@ int main(int argc, char** argv) {
       auto s = ggins::truth::load_scenario(n, {GGINS_SCENARIO_DIR});
       std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
     }
+    return 0;
+  }
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "%s: --defaults goes with --print-scenario\n", o.tool.c_str());
+    return 2;
+  }
+  if (print_scenario && print_defaults) {
+    std::fputs(ggins::truth::scenario_to_toml(ggins::truth::Scenario{}, true).c_str(), stdout);
     return 0;
   }
   ggins::truth::Scenario sc;
@@ -526,17 +539,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (print_scenario) {
-    std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
+    std::fputs(ggins::truth::scenario_to_toml(sc).c_str(), stdout);
     return 0;
   }
-  const auto& tp = sc.transport;
-  const json effective = {
-      {"time.duration_s", sc.duration_s},         {"time.rate_hz", sc.rate_hz},
-      {"accel.seed", sc.accel.seed},              {"output.csv_rate_hz", sc.output.csv_rate_hz},
-      {"output.truth_rate_hz", sc.output.truth_rate_hz}, {"transport.seed", tp.seed},
-      {"transport.drop_prob", tp.drop_prob},      {"transport.duplicate_prob", tp.duplicate_prob},
-      {"transport.reorder_prob", tp.reorder_prob}, {"transport.output_drop_prob", tp.output_drop_prob},
-      {"transport.garbage_prob", tp.garbage_prob}};
-  return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, sc.text, effective, GGINS_PLOT_SCRIPT,
+  // scenario.toml as flown: every key, the effective values (overrides applied)
+  const std::string as_flown = ggins::truth::scenario_to_toml(sc);
+  return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT_SCRIPT,
                                            [&] { return std::make_unique<Model2D>(o, sc); });
 }
