@@ -106,4 +106,7 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->mm_nis = o->mm_nis;
     for (int i = 0; i < 12; ++i) m->mm_sigma[i] = o->mm_sigma[i];
     for (int i = 0; i < 3; ++i) m->mm_corr_m[i] = o->mm_corr_m[i];
+    for (int i = 0; i < 6; ++i) m->mm_innov[i] = o->mm_innov[i];
+    for (int i = 0; i < 18; ++i) m->mm_pcov[i] = o->mm_pcov[i];
+    m->mm_n_avg = o->mm_n_avg;
 }

@@ -27,6 +27,15 @@
  * the seq gap and flags it). Frames that reach the firmware as
  * retransmissions (resent > 0) are counted as recovered.
  *
+ * Redundancy after a loss: a sender that knows of a loss re-carries each
+ * batch's frames in its next batch (resent = -1, a copy, not a request); while
+ * it does, the negative acknowledgement of a gap waits until the next batch of
+ * copies has come without the frame. A copy of a frame already used is not
+ * answered. After a request for lost outputs (run_control_t OUTPUT_COPIES on
+ * P+CONTROL: answered from the output ring) or a frame resent for a used seq,
+ * each output batch re-carries the previous batch's outputs (republished = -1)
+ * for --output-redundancy-steps steps. Counted in hal_status_t.
+ *
  * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
  * takes differences modulo 2^32), cycles_per_second = 1e9.
  *
@@ -94,7 +103,7 @@ typedef struct {
     int requested; /* hal_sim asked for it */
     int batched;   /* it came in a frame batch: its output goes into an output batch */
     int from_copy; /* the copy held is a redundant copy (resent < 0): the first transmission was lost */
-    int64_t gap_batch; /* frame batches received when its gap was seen (its NAK waits for the next batch) */
+    int64_t gap_batch; /* copy-carrying batches received when its gap was seen (its NAK waits for the next) */
     int64_t req_seq;  /* seq the request state below belongs to (-1 none) */
     int req_count;    /* requests sent for req_seq */
     double req_time;  /* when the last was sent */
@@ -158,8 +167,10 @@ typedef struct {
     int64_t cur_seqs[OUT_BATCH + 8], prev_seqs[OUT_BATCH + 8];
     int cur_n, prev_n;
     int64_t out_red_until;
+    int64_t out_red_span; /* --output-redundancy-steps */
     int64_t batches_rx;      /* frame batches received */
     int64_t last_copy_batch; /* the last that carried redundant copies (-1 none) */
+    int64_t copy_batches_rx; /* frame batches received that carried redundant copies */
     int cur_batched;  /* the frame being stepped came in a batch */
     int64_t out_batch_seq, nak_seq;
     uint8_t bbuf[BATCH_BUF];
@@ -498,7 +509,7 @@ static void take_frame(hal_sim_t *h, ggins_sensor_frame_t m, int batched)
         h->st.frames_duplicate++;
         /* the sender probably lost our answer; a retransmission says the link loses:
          * the outputs are re-carried for a while */
-        if (m.resent > 0) h->out_red_until = h->next + RED_SPAN;
+        if (m.resent > 0) h->out_red_until = h->next + h->out_red_span;
         republish(h, s, batched);
         return;
     }
@@ -550,8 +561,13 @@ static void on_frame_batch(const lcm_recv_buf_t *rbuf, const char *channel, void
     const int dec = ggins_frame_batch_t_decode(rbuf->data, 0, (int)rbuf->data_size, &b);
     if (accept_msg(h, rbuf, channel, dec, dec >= 0 ? b.run_id : -1, &h->st.auth_failed_frame)) {
         h->batches_rx++;
+        for (int i = 0; i < b.n; ++i)
+            if (b.frames[i].resent < 0) {
+                h->last_copy_batch = h->batches_rx;
+                h->copy_batches_rx++;
+                break;
+            }
         for (int i = 0; i < b.n; ++i) {
-            if (b.frames[i].resent < 0) h->last_copy_batch = h->batches_rx;
             if (b.frames[i].run_id != h->run_id) {
                 h->st.foreign_messages++;
                 continue;
@@ -640,7 +656,7 @@ static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *us
         /* outputs lost on the way: published again, and the following ones
          * re-carried for a while (the link loses) */
         h->st.output_copy_requests++;
-        h->out_red_until = h->next + RED_SPAN;
+        h->out_red_until = h->next + h->out_red_span;
         const int64_t count = m.n_steps < 0 ? 0 : (m.n_steps > WINDOW ? WINDOW : m.n_steps);
         for (int64_t s = m.resend_seq; s < m.resend_seq + count && s < h->next; ++s)
             if (s >= 0 && s + WINDOW > h->next) republish(h, s, 1);
@@ -703,7 +719,7 @@ static void handle_gaps(hal_sim_t *h)
     h->gap_seq = h->next;
     /* the sender re-carries each frame in its next batch (redundancy after a
      * loss): a gap is asked for only when that copy did not come either */
-    const int sender_redundant = h->last_copy_batch >= 0 && h->batches_rx - h->last_copy_batch <= 2;
+    const int sender_redundant = h->last_copy_batch >= 0 && h->batches_rx - h->last_copy_batch <= 8;
     int64_t first[NAK_RANGES];
     int32_t count[NAK_RANGES];
     int n = 0;
@@ -713,14 +729,14 @@ static void handle_gaps(hal_sim_t *h)
         if (sl->req_seq != s) {
             sl->req_seq = s;
             sl->req_count = 0;
-            if (sender_redundant) { /* its copy comes with the next batch: no request yet */
-                sl->gap_batch = h->batches_rx;
+            if (sender_redundant) { /* its copy comes with the next batch of copies: no request yet */
+                sl->gap_batch = h->copy_batches_rx;
                 sl->req_time = t;
                 h->st.naks_deferred++;
                 continue;
             }
-        } else if (sl->req_count == 0 && h->batches_rx > sl->gap_batch) {
-            /* a later batch came without its copy: lost twice, asked for */
+        } else if (sl->req_count == 0 && h->copy_batches_rx > sl->gap_batch) {
+            /* the next batch of copies came without it: lost twice, asked for */
         } else if (t - sl->req_time < backoff(interval, sl->req_count)) {
             continue; /* asked for recently (or its copy is still on the way) */
         }
@@ -772,6 +788,8 @@ static void usage(FILE *out)
             "  --conflict-output-prob P  fault injection: after an output, a second, different, signed\n"
             "                         output for the same seq with probability P (a conflict)\n"
             "  --inject-seed N        seed of the fault injection (default 1)\n"
+            "  --output-redundancy-steps N  after a lost output (a request for it), re-carry each output\n"
+            "                         batch's outputs in the next one for N steps (default 8192; 0: never)\n"
             "  --map FILE             a gradient map tile (gmap format) for the computer's map storage,\n"
             "                         read by the 3-D task's map aid; repeat for more tiles (up to 16)\n"
             "  --quiet                no diagnostics on stderr\n"
@@ -787,6 +805,7 @@ int main(int argc, char **argv)
     h.run_id = -1;
     h.gap_timeout_ms = 20;
     h.max_resend = 50;
+    h.out_red_span = RED_SPAN;
     h.idle_timeout_s = 60.0;
     static const struct option opts[] = {
         {"lcm-url", required_argument, 0, 'u'}, {"lcm-url-out", required_argument, 0, 'o'},
@@ -796,13 +815,13 @@ int main(int argc, char **argv)
         {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
         {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'},
         {"key-fd", required_argument, 0, 'k'}, {"conflict-output-prob", required_argument, 0, 'c'},
-        {"map", required_argument, 0, 'M'}, {0, 0, 0, 0}};
+        {"map", required_argument, 0, 'M'}, {"output-redundancy-steps", required_argument, 0, 'R'}, {0, 0, 0, 0}};
     static hal_map_store_t maps; /* the computer's map storage (hal_map.c) */
     hal_map_init(&maps);
     int c;
     h.inject_seed = 1;
     h.key_fd = -1;
-    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:M:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:M:R:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
@@ -816,6 +835,7 @@ int main(int argc, char **argv)
         case 'd': h.drop_output_prob = strtod(optarg, &end); if (*end || !(h.drop_output_prob >= 0.0 && h.drop_output_prob < 1.0)) goto bad; break;
         case 's': h.inject_seed = strtoull(optarg, &end, 0); if (*end) goto bad; break;
         case 'c': h.conflict_output_prob = strtod(optarg, &end); if (*end || !(h.conflict_output_prob >= 0.0 && h.conflict_output_prob < 1.0)) goto bad; break;
+        case 'R': h.out_red_span = strtoll(optarg, &end, 0); if (*end || h.out_red_span < 0) goto bad; break;
         case 'k': h.key_fd = (int)strtol(optarg, &end, 0); if (*end || h.key_fd < 0) goto bad; break;
         case 'M': {
             char err[512];

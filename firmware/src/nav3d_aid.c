@@ -206,4 +206,18 @@ void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     for (j = 0; j < 3; ++j) {
         out->mm_corr_m[j] = nav->aid_corr_m[j];
     }
+    for (j = 0; j < 6; ++j) {
+        out->mm_innov[j] = a->last_innov[j];
+    }
+    {
+        static const int32_t rj[6] = {0, 1, 2, 0, 0, 1};
+        static const int32_t rk[6] = {0, 1, 2, 1, 2, 2};
+        int32_t b;
+        for (b = 0; b < 3; ++b) {
+            for (j = 0; j < 6; ++j) {
+                out->mm_pcov[(6 * b) + j] = a->ukf.P[(3 * b) + rj[j]][(3 * b) + rk[j]];
+            }
+        }
+    }
+    out->mm_n_avg = a->last_n_avg;
 }
