@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""Command-line fuzzing of the host tools (mapnav, coldatom, covariance, covariance3d):
-random adversarial values (NaN, inf, signs, huge numbers, junk text, paths under a file,
-broken scenario files) on each tool's options, run as a user would run the program.
-Every run must end with exit 0, 1 (the run failed, with a message) or 2 (bad arguments,
-with a message): a signal (abort, segfault), an uncaught exception ('terminate') or any
-other exit code is a finding. Runs over the time limit are killed and counted, not
+"""Command-line fuzzing of the host tools (every ggins command but the GUI `spy`): random
+adversarial values (NaN, inf, signs, huge numbers, junk text, paths under a file, broken
+2-D and 3-D scenario files) on each tool's options, run as a user would run the program.
+run/run3d are fuzzed with --print-scenario (every option and the scenario parsed, checked
+and applied; no flight).
+Every run must end with an exit code of the scheme in `ggins --help` (0 done, 1 failed,
+2 bad arguments, 3 machine lacks a need, 4 degraded or corrupt log, 5 incomplete record),
+with a message when not 0: a signal (abort, segfault), an uncaught exception ('terminate')
+or any other exit code is a finding. Runs over the time limit are killed and counted, not
 findings (a valid command line may start a long computation).
 
   fuzz/cli_fuzz.py --bin build/bin [--runs 200] [--seed 1] [--timeout 5]
@@ -18,6 +21,7 @@ import subprocess
 import sys
 import tempfile
 
+DOCUMENTED = (0, 1, 2, 3, 4, 5)  # the exit codes of `ggins --help` (130: interrupted, not sent here)
 VALUES = ["nan", "-nan", "inf", "-inf", "0", "-0", "-1", "1e308", "-1e308", "1e-320", "2147483648",
           "18446744073709551616", "-9223372036854775809", "abc", "", "1e", "0x10", " 1", "1,5", "--", "-"]
 
@@ -60,7 +64,74 @@ TOOLS = {
                  "--psi0-sigma": ["0"], "--baro": ["true", "false", "maybe"], "--baro-bias-sigma": ["1"],
                  "--dt": ["1"], "--output-dt": ["10"], "--method": ["transition", "lyapunov"], "-o": ["{out}", "{under_file}"]},
     },
+    "ggins-run": {
+        "base": ["--print-scenario"],
+        "opts": {"-s": ["welker-table1", "{scenario}", "{missing}", "{a_file}", "rw-compare-model"],
+                 "--duration": ["20", "1e9"], "--seed": ["3"], "--csv-rate": ["1", "0"], "--truth-rate": ["0", "10"],
+                 "--drop-prob": ["0.1", "1"], "--dup-prob": ["0.1"], "--reorder-prob": ["0.1"],
+                 "--drop-output-prob": ["0.1"], "--garbage-prob": ["0.1"], "--fault-seed": ["2"],
+                 "--batch": ["1", "128"], "--out": ["{out}", "{under_file}"], "--defaults": [""]},
+    },
+    "ggins-run3d": {
+        "base": ["--print-scenario"],
+        "opts": {"-s": ["3d-stabilized-1h", "{scenario3}", "{missing}", "{a_file}", "3d-route-45n"],
+                 "--duration": ["20", "1e9"], "--seed": ["3"], "--csv-rate": ["1", "0"], "--no-aids": [""],
+                 "--out": ["{out}", "{under_file}"], "--defaults": [""]},
+    },
+    "ggins-field": {
+        "base": ["--model", "normal"],
+        "opts": {"--model": ["normal", "point-mass", "kaula", "rw", "x"], "--at": ["45,10,1000", "95,0,0", "1,2"],
+                 "--ecef": ["7e6,0,0", "0,0,0"], "--nmax": ["4", "5401"], "--gm": ["3.986e14"], "--seed": ["1"],
+                 "--route": ["3d-route-45n", "{scenario3}", "{missing}"], "--step": ["600", "0"],
+                 "--format": ["csv", "json", "xml"], "--frame": ["ecef", "ned", "both"], "-o": ["{out}.csv", "{under_file}"],
+                 "--csv": ["{a_file}", "{missing}"]},
+    },
+    "ggins-gmap": {
+        "base": ["--lat-min", "45", "--lat-max", "45.05", "--lon-min", "10", "--lon-max", "10.05", "--degree", "8",
+                 "--egm96", "{missing}", "--out", "{out}.bin"],
+        "opts": {"--lat-min": ["45", "-91"], "--lat-max": ["45.1"], "--lon-min": ["10"], "--lon-max": ["10.1"],
+                 "--spacing": ["0.05", "0"], "--alt": ["1000"], "--h-range": ["500"], "--degree": ["2", "361"],
+                 "--noise-e": ["0.001"], "--seed": ["1"], "--threads": ["1", "0"], "--out": ["{out}.bin", "{under_file}"],
+                 "--json": ["{out}.json", "{under_file}"]},
+    },
+    "ggins-profile": {
+        "base": ["--filters-only", "--pf-shots", "1"],
+        "opts": {"--pf-shots": ["1", "2"], "--pf-chunk": ["1", "50"], "--duration": ["1"], "--keep": ["{out}", "{under_file}"]},
+    },
+    "ggins-replay": {
+        "base": ["{a_file}"],
+        "opts": {"--prefix": ["GG"], "--run-id": ["1", "-1"], "--json": ["{out}.json", "{under_file}"], "--show": ["0", "10"]},
+    },
+    "ggins-scenario-reference": {
+        "base": [],
+        "opts": {"-o": ["{out}.md", "{under_file}"], "--check": ["{a_file}", "{missing}"]},
+    },
+    "ggins-montecarlo": {
+        "base": ["--duration", "10", "-n", "2", "--run-exe", "{missing}", "-o", "{out}"],
+        "opts": {"-s": ["welker-table1", "{scenario}", "{missing}"], "-n": ["2", "1"], "-j": ["1", "0"], "--seed0": ["1"],
+                 "--duration": ["10"], "--z": ["3"], "-o": ["{out}", "{under_file}"]},
+    },
+    "ggins-montecarlo3d": {
+        "base": ["--duration", "10", "-n", "2", "-j", "1", "-o", "{out}"],
+        "opts": {"-s": ["gc3d-stabilized", "{scenario3}", "{missing}"], "-n": ["2"], "--seed": ["1"], "--rate-hz": ["10"],
+                 "--duration": ["10"], "--output-dt": ["5"], "-j": ["1"], "--speed": ["100"], "--lat0-deg": ["45"],
+                 "--acc-bias-sigma": ["1e-9"], "--gyro-bias-sigma": ["1e-8"], "-o": ["{out}", "{under_file}"]},
+    },
+    "ggins-rw-eq8": {
+        "base": ["--runs", "2", "--hours", "0.01", "--rate-hz", "1"],
+        "opts": {"--runs": ["2"], "--hours": ["0.01"], "--rate-hz": ["1"], "--speed-kn": ["330"], "--height-m": ["0"],
+                 "--lat0-deg": ["30"], "--rms-arcsec": ["4.5"], "--corr-nmi": ["33"], "--seed": ["1"],
+                 "--check-every-s": ["10"], "--band": ["0.9"]},
+    },
 }
+
+SCENARIO3_LINES = ["name = \"f3\"", "[trajectory]", "type = \"flight\"", "type = \"route\"", "lat_deg = {v}",
+                   "height_m = {v}", "velocity_ned_mps = [{v}, 0, 0]", "[[trajectory.waypoint]]", "lon_deg = {v}",
+                   "speed_mps = {v}", "[[trajectory.maneuver]]", "t_s = {v}", "duration_s = {v}", "[time]",
+                   "rate_hz = {v}", "[gyro]", "bias_radps = [{v}, 0, 0]", "[aid_ukf]", "enabled = {v}", "map = {v}",
+                   "max_passes = {v}", "average_s = {v}", "[gravity]", "model = \"egm96\"", "[gravity.sh]", "nmax = {v}",
+                   "[sensor_faults]", "[[sensor_faults.fault]]", "kind = \"step\"", "sensor = {v}", "[platform]",
+                   "kind = \"strapdown\"", "c_m = {v}", "[bogus]", "= ="]
 
 SCENARIO_LINES = ["name = \"f\"", "[trajectory]", "type = \"north-flight\"", "speed_mps = {v}", "height_m = {v}",
                   "[time]", "duration_s = {v}", "rate_hz = {v}", "[accel]", "bias_sigma_mps2 = {v}",
@@ -83,19 +154,24 @@ def main():
     a_file = os.path.join(tmp, "a_file")
     open(a_file, "w").write("x\n")
     tools = [t for t in TOOLS if os.path.exists(os.path.join(a.bin, t))]
-    findings, counts, killed = [], {0: 0, 1: 0, 2: 0}, 0
+    findings, counts, killed = [], {c: 0 for c in DOCUMENTED}, 0
     for i in range(a.runs):
         tool = tools[i % len(tools)]
         spec = TOOLS[tool]
         scen = os.path.join(tmp, f"s{i}.toml")
+        vals = VALUES[:12] + ["1", "0.5", "\"s\"", "true", "[]"]
         lines = rng.sample(SCENARIO_LINES, rng.randint(1, len(SCENARIO_LINES)))
-        open(scen, "w").write("\n".join(l.replace("{v}", rng.choice(VALUES[:12] + ["1", "0.5", "\"s\""])) for l in lines) + "\n")
+        open(scen, "w").write("\n".join(l.replace("{v}", rng.choice(vals)) for l in lines) + "\n")
+        scen3 = os.path.join(tmp, f"s3_{i}.toml")
+        lines = rng.sample(SCENARIO3_LINES, rng.randint(1, len(SCENARIO3_LINES)))
+        open(scen3, "w").write("\n".join(l.replace("{v}", rng.choice(vals)) for l in lines) + "\n")
         subst = {"{missing}": os.path.join(tmp, "missing"), "{out}": os.path.join(tmp, f"o{i}"),
-                 "{under_file}": os.path.join(a_file, "sub"), "{a_file}": a_file, "{scenario}": scen}
+                 "{under_file}": os.path.join(a_file, "sub"), "{a_file}": a_file, "{scenario}": scen,
+                 "{scenario3}": scen3}
         args = list(spec["base"])
-        for opt in rng.sample(sorted(spec["opts"]), rng.randint(1, 3)):
+        for opt in rng.sample(sorted(spec["opts"]), rng.randint(1, min(3, len(spec["opts"])))):
             v = rng.choice(VALUES) if rng.random() < 0.6 else rng.choice(spec["opts"][opt])
-            args += [opt, v]
+            args += [opt] if spec["opts"][opt] == [""] else [opt, v]
         for k, v in subst.items():
             args = [x.replace(k, v) for x in args]
         cmd = [os.path.join(a.bin, tool)] + args
@@ -106,17 +182,18 @@ def main():
             continue
         if r.returncode == a.show:
             print(f"exit {r.returncode}: {' '.join(args)[:150]} | {(r.stderr.strip().splitlines() or [''])[-1][:200]}")
-        bad = r.returncode not in (0, 1, 2) or "terminate called" in r.stderr
-        if r.returncode in (1, 2) and not r.stderr.strip():
-            bad = True  # a failure must say why
+        bad = r.returncode not in DOCUMENTED or "terminate called" in r.stderr
+        if r.returncode != 0 and not (r.stderr.strip() or r.stdout.strip()):
+            bad = True  # a failure must say why (replay gives its verdict on stdout)
         if bad:
             findings.append((cmd, r.returncode, r.stderr[-600:]))
         else:
             counts[r.returncode] += 1
     for cmd, rc, err in findings:
         print(f"FINDING exit {rc}: {' '.join(repr(x) for x in cmd)}\n{err}")
-    print(f"cli_fuzz: {a.runs} runs of {', '.join(tools)}: exit 0 {counts[0]}, exit 1 {counts[1]}, exit 2 {counts[2]}, "
-          f"killed at {a.timeout:g} s {killed}, findings {len(findings)}")
+    print(f"cli_fuzz: {a.runs} runs of {', '.join(tools)}: " +
+          ", ".join(f"exit {c} {n}" for c, n in counts.items() if n) +
+          f", killed at {a.timeout:g} s {killed}, findings {len(findings)}")
     print(f"{a.runs - len(findings)} passed, {len(findings)} failed")
     return 1 if findings else 0
 

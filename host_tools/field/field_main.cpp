@@ -1,6 +1,8 @@
 // ggins field: potential, gravitation and its gradient of a chosen model at
 // points (command line, CSV file or a 3-D scenario's route), in ECEF and NED.
 #include <CLI/CLI.hpp>
+
+#include "ggins/cli_checks.hpp"
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -49,6 +51,9 @@ Models (--model):
   sh-anomaly   the same minus the WGS-84 normal field
   rw           Rubenstein & Winter point-mass anomalies (35 N, 80 W region)
   kaula        synthetic Kaula-rule model to --nmax (seed --seed)
+
+Exit status: 0 written; 1 failed (a model or CSV file that does not read, an output not
+written); 2 bad arguments (the option or point, its value and the allowed range are named).
 )";
 
 struct Point { Vec3 r; Real lat, lon, h; std::string label; };
@@ -60,23 +65,23 @@ std::vector<Real> parse_triple(const std::string& s, const char* what) {
   while (std::getline(ss, t, ',')) {
     char* end = nullptr;
     const Real x = std::strtold(t.c_str(), &end);
-    if (end == t.c_str() || *end != '\0' || !std::isfinite(x)) throw std::runtime_error(std::string(what) + " '" + s + "': '" + t + "' is not a finite number");
+    if (end == t.c_str() || *end != '\0' || !std::isfinite(x)) throw ggins::cli::BadArgument(std::string(what) + " '" + s + "': '" + t + "' is not a finite number (allowed: three finite numbers)");
     v.push_back(x);
   }
-  if (v.size() != 3) throw std::runtime_error(std::string(what) + " '" + s + "': expected three comma-separated numbers");
+  if (v.size() != 3) throw ggins::cli::BadArgument(std::string(what) + " '" + s + "': not three numbers (allowed: three comma-separated finite numbers)");
   return v;
 }
 
 Point geodetic(Real lat_deg, Real lon_deg, Real h, const std::string& label) {
-  if (!(lat_deg >= -90 && lat_deg <= 90)) throw std::runtime_error(label + ": latitude " + std::to_string(static_cast<double>(lat_deg)) + " outside [-90, 90] deg");
-  if (!(lon_deg >= -360 && lon_deg <= 360)) throw std::runtime_error(label + ": longitude outside [-360, 360] deg");
-  if (!(h > -1e5L && h < 1e8L)) throw std::runtime_error(label + ": height outside (-100 km, 100000 km)");
+  if (!(lat_deg >= -90 && lat_deg <= 90)) throw ggins::cli::BadArgument(label + ": latitude " + std::to_string(static_cast<double>(lat_deg)) + " not in [-90, 90] deg");
+  if (!(lon_deg >= -360 && lon_deg <= 360)) throw ggins::cli::BadArgument(label + ": longitude not in [-360, 360] deg");
+  if (!(h > -1e5L && h < 1e8L)) throw ggins::cli::BadArgument(label + ": height not in (-100 km, 100000 km)");
   return {wgs84::geodetic_to_ecef(lat_deg * kDeg, lon_deg * kDeg, h), lat_deg * kDeg, lon_deg * kDeg, h, label};
 }
 
 Point ecef(Real x, Real y, Real z, const std::string& label) {
   const Vec3 r(x, y, z);
-  if (!(r.norm() > 1e6L)) throw std::runtime_error(label + ": |r| below 1000 km (the models hold outside the Earth's masses)");
+  if (!(r.norm() > 1e6L)) throw ggins::cli::BadArgument(label + ": |r| below 1000 km (the models hold outside the Earth's masses)");
   Point p{r, 0, 0, 0, label};
   wgs84::ecef_to_geodetic(r, p.lat, p.lon, p.h);
   return p;
@@ -148,23 +153,22 @@ int main(int argc, char** argv) {
   app.add_option("--model", model, "normal | point-mass | sh | sh-anomaly | rw | kaula")
       ->check(CLI::IsMember({"normal", "point-mass", "sh", "sh-anomaly", "rw", "kaula"}))->capture_default_str();
   app.add_option("--file", file, "coefficient file for sh, sh-anomaly (ICGEM .gfc or NASA/NGA ASCII)");
-  app.add_option("--nmax", nmax, "highest degree (sh, sh-anomaly: default all; kaula: required)")->check(CLI::Range(0, 5400));
+  app.add_option("--nmax", nmax, "highest degree (sh, sh-anomaly: default all; kaula: required)")->check(ggins::cli::IntRange(0, 5400));
   app.add_option("--precision", precision, "synthesis: mixed (degrees <= 8 long double, rest double), ld, double")
       ->check(CLI::IsMember({"mixed", "ld", "double"}))->capture_default_str();
   app.add_option("--tide", tide, "convert the model's C20 to tide_free | zero_tide | mean_tide (ICGEM files name theirs)")
       ->check(CLI::IsMember({"tide_free", "zero_tide", "mean_tide"}));
-  app.add_option("--gm", gm, "GM of point-mass, m^3/s^2")->check(CLI::Range(1e10, 1e18))->capture_default_str();
-  app.add_option("--seed", seed, "seed of the kaula model")->capture_default_str();
+  app.add_option("--gm", gm, "GM of point-mass, m^3/s^2")->check(ggins::cli::FiniteRange(1e10, 1e18))->capture_default_str();
+  app.add_option("--seed", seed, "seed of the kaula model")->capture_default_str()->check(ggins::cli::Seed());
   app.add_option("--at", at, "LAT,LON,H: geodetic deg, deg, m (repeatable)");
   app.add_option("--ecef", ecef_pts, "X,Y,Z: ECEF metres (repeatable)");
   app.add_option("--csv", csv, "CSV of points: header lat_deg,lon_deg,h_m or x_m,y_m,z_m")->check(CLI::ExistingFile);
   app.add_option("--route", route, "3-D scenario (name or .toml) whose route is sampled");
-  app.add_option("--step", step, "route sampling interval, s")->check(CLI::Range(1e-3, 1e6))->capture_default_str();
+  app.add_option("--step", step, "route sampling interval, s")->check(ggins::cli::FiniteRange(1e-3, 1e6))->capture_default_str();
   app.add_option("--format", format, "csv | json")->check(CLI::IsMember({"csv", "json"}))->capture_default_str();
   app.add_option("--frame", frame, "ecef | ned | both")->check(CLI::IsMember({"ecef", "ned", "both"}))->capture_default_str();
-  app.add_option("-o,--out", out, "output file (default stdout)");
-  CLI11_PARSE(app, argc, argv);
-  try {
+  app.add_option("-o,--out", out, "output file (default stdout)")->check(ggins::cli::OutputFile());
+  return ggins::cli::run("ggins field", app, argc, argv, [&] {
     std::vector<Point> pts;
     for (const std::string& s : at) {
       const auto v = parse_triple(s, "--at");
@@ -183,7 +187,7 @@ int main(int argc, char** argv) {
         pts.push_back({st.r_e, st.lat, st.lon, st.h, "t=" + std::to_string(static_cast<double>(t))});
       }
     }
-    if (pts.empty()) throw std::runtime_error("no points: give --at, --ecef, --csv or --route (see --help)");
+    if (pts.empty()) throw ggins::cli::BadArgument("no points (allowed: one or more of --at, --ecef, --csv, --route; see --help)");
 
     const ShPrecision prec = precision == "ld" ? ShPrecision::LongDouble : precision == "double" ? ShPrecision::Double : ShPrecision::Mixed;
     std::shared_ptr<const Field> f;
@@ -194,7 +198,7 @@ int main(int argc, char** argv) {
     else {
       ShCoefficients k;
       if (model == "kaula") {
-        if (nmax < 0) throw std::runtime_error("--model kaula needs --nmax");
+        if (nmax < 0) throw ggins::cli::BadArgument("--model kaula needs --nmax");
         k = synthetic_kaula(nmax, seed);
       } else {
         const std::string path = file.empty() ? std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt" : file;
@@ -266,10 +270,8 @@ int main(int argc, char** argv) {
       doc["points"] = js;
       std::fprintf(o, "%s\n", doc.dump(1).c_str());
     }
-    if (o != stdout) std::fclose(o);
-  } catch (const std::exception& ex) {
-    std::fprintf(stderr, "ggins field: %s\n", ex.what());
-    return 1;
-  }
-  return 0;
+    if (std::fflush(o) != 0 || std::ferror(o) || (o != stdout && std::fclose(o) != 0))
+      throw std::runtime_error("cannot write " + (out.empty() ? std::string("standard output") : out));
+    return 0;
+  });
 }

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+
+#include "ggins/cli_checks.hpp"
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -65,15 +67,21 @@ int main(int argc, char** argv) {
   int pf_shots = 200, pf_chunk = 50;
   app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
   app.add_option("--duration", duration, "override the scenario's duration, s")
-      ->check(CLI::PositiveNumber);
+      ->check(ggins::cli::FiniteRange(0, 1e7, ggins::cli::kOpenLow));
   app.add_flag("--realtime", realtime, "pace frames at the sensor rate (caches go cold between steps)");
-  app.add_option("--keep", keep, "keep the run's output folder here (default: a temporary folder, removed)");
+  app.add_option("--keep", keep, "keep the run's output folder here (default: a temporary folder, removed)")
+      ->check(ggins::cli::OutputDir());
   app.add_flag("--no-filters", no_filters, "skip the filter-kernel rows (particle filter, timed in-process)");
   app.add_flag("--filters-only", filters_only, "only the filter-kernel rows (no host-in-the-loop run)");
-  app.add_option("--pf-shots", pf_shots, "particle-filter shots to time")->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_option("--pf-shots", pf_shots, "particle-filter shots to time")->check(ggins::cli::IntRange(1, 100000))->capture_default_str();
   app.add_option("--pf-chunk", pf_chunk, "particles per chunk of the split shot")
-      ->check(CLI::Range(1, GG_PF_MAX))->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+      ->check(ggins::cli::IntRange(1, GG_PF_MAX))->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
+  }
   if (filters_only) return print_filter_rows(pf_shots, pf_chunk);
 
   std::error_code ec;

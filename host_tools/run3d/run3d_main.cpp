@@ -562,7 +562,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (print_defaults && !print_scenario) {
-    std::fprintf(stderr, "%s: --defaults goes with --print-scenario\n", o.tool.c_str());
+    std::fprintf(stderr, "%s: --defaults: allowed only with --print-scenario\n", o.tool.c_str());
     return 2;
   }
   if (print_scenario && print_defaults) {

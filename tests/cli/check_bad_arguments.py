@@ -41,7 +41,10 @@ neg_sigma = scen("neg_sigma", BASE + "[initial]\nvelocity_sigma_mps = -1.0\n")
 nan_axis = scen("nan_axis", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [1e-12, nan, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12]"))
 axes = scen("axes", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [1e-12, 2e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12, 1e-12]"))
 empty = scen("empty", "# nothing\n")
+nan_rate = scen("nan_rate", "[time]\nrate_hz = nan\n")
 good = scen("good", BASE + "[initial]\ngravity_sigma_mps2 = [1e-12, 3e-12]\n")
+
+GMAP = ["--lat-min", "45", "--lat-max", "45.05", "--lon-min", "10", "--lon-max", "10.05"]
 
 # (tool, arguments, expected exit code, text that stderr must contain)
 CASES = [
@@ -92,6 +95,27 @@ CASES = [
     ("ggins-covariance3d", ["--g0-sigma", "1e308"], 2, "--g0-sigma"),
     ("ggins-covariance3d", ["--dt", "1e4", "--duration", "60"], 2, "--dt"),
     ("ggins-covariance", ["--dt", "100", "--duration", "60"], 2, "--dt"),
+    ("ggins-gmap", ["--lat-min", "nan", "--lat-max", "1", "--lon-min", "0", "--lon-max", "1", "--out", out + "/g.bin"], 2,
+     "--lat-min"),
+    ("ggins-gmap", GMAP + ["--out", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-gmap", GMAP + ["--json", os.path.join(afile, "sub")], 2, "--json"),
+    ("ggins-gmap", GMAP + ["--seed", "-1", "--out", out + "/g.bin"], 2, "--seed"),
+    ("ggins-gmap", GMAP + ["--threads", "0", "--out", out + "/g.bin"], 2, "--threads"),
+    ("ggins-gmap", GMAP + ["--spacing", "nan", "--out", out + "/g.bin"], 2, "--spacing"),
+    ("ggins-field", ["--gm", "nan"], 2, "--gm"),
+    ("ggins-field", ["--seed", "-1"], 2, "--seed"),
+    ("ggins-field", ["--step", "nan"], 2, "--step"),
+    ("ggins-field", ["--model", "normal", "--at", "45,0,0", "-o", os.path.join(afile, "sub")], 2, "--out"),
+    ("ggins-field", ["--model", "normal", "--at", "95,0,0"], 2, "latitude"),
+    ("ggins-field", ["--model", "normal", "--at", "45,nan,0"], 2, "--at"),
+    ("ggins-field", ["--model", "normal"], 2, "no points"),
+    ("ggins-profile", ["--duration", "nan"], 2, "--duration"),
+    ("ggins-profile", ["--keep", os.path.join(afile, "sub")], 2, "--keep"),
+    ("ggins-run", ["-s", empty, "--print-scenario"], 2, "sets no key"),
+    ("ggins-run", ["-s", nan_rate, "--print-scenario"], 2, "time.rate_hz = nan"),
+    ("ggins-run", ["--defaults"], 2, "--defaults"),
+    ("ggins-run3d", ["-s", empty, "--print-scenario"], 2, "sets no key"),
+    ("ggins-run3d", ["-s", nan_rate, "--print-scenario"], 2, "time.rate_hz = nan"),
 ]
 # controls: valid command lines still run (the checks do not refuse good input)
 CONTROLS = [
@@ -99,6 +123,9 @@ CONTROLS = [
     ("ggins-covariance", ["-s", axes, "--no-plot", "-o", out + "/axes"], 0, ""),
     ("ggins-covariance3d", ["--duration", "60", "--no-plot", "-o", out + "/good3d"], 0, ""),
     ("ggins-mapnav", ["--help"], 0, ""),
+    ("ggins-field", ["--model", "normal", "--at", "45,10,1000"], 0, ""),
+    ("ggins-run", ["--print-scenario", "--defaults"], 0, ""),
+    ("ggins-run3d", ["-s", "3d-route-45n", "--print-scenario"], 0, ""),
 ]
 
 failed = 0

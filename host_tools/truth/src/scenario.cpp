@@ -359,8 +359,8 @@ Scenario with_fdi_defaults(Scenario s) {
 static void refuse_empty(const std::string& text, const std::string& path) {
   if (toml::parse(text).empty())
     throw std::runtime_error("scenario " + path +
-                             ": sets no key (an empty file would fly every default; start from ggins run "
-                             "--print-scenario --defaults)");
+                             ": sets no key (allowed: a scenario that sets at least one key; an empty file would fly "
+                             "every default: start from ggins run --print-scenario --defaults)");
 }
 
 Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {

@@ -504,8 +504,8 @@ Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std:
   auto refuse_empty = [](const Scenario3& s) {
     if (toml::parse(s.text).empty())
       throw std::runtime_error("scenario " + s.source +
-                               ": sets no key (an empty file would fly every default; start from ggins run3d "
-                               "--print-scenario --defaults)");
+                               ": sets no key (allowed: a scenario that sets at least one key; an empty file would fly "
+                             "every default: start from ggins run3d --print-scenario --defaults)");
     return s;
   };
   if (fs::is_regular_file(name_or_path))

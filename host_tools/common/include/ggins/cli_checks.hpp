@@ -161,6 +161,30 @@ inline CLI::Validator OutputDir() {
       "DIR (writable)", "OutputDir");
 }
 
+// Why an output file cannot be written ("" when it can): not a folder itself, its
+// folder existing (or creatable) and writable.
+inline std::string output_file_problem(const std::string& s) {
+  namespace fs = std::filesystem;
+  if (s.empty()) return "an empty path";
+  std::error_code ec;
+  const fs::path p = fs::absolute(fs::path(s), ec);
+  if (ec) return "not a valid path";
+  if (fs::is_directory(p, ec)) return "'" + p.string() + "' is a folder";
+  if (fs::exists(p, ec) && ::access(p.c_str(), W_OK) != 0) return "'" + p.string() + "' is not writable";
+  return output_dir_problem(p.parent_path().string());
+}
+
+// An output file that can be written (its folder exists or can be created).
+inline CLI::Validator OutputFile() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        const std::string why = output_file_problem(s);
+        return why.empty() ? why
+                           : "cannot write file '" + s + "': " + why + " (allowed: a writable file path)";
+      },
+      "FILE (writable)", "OutputFile");
+}
+
 // Write data to path; an output that cannot be written is an error (std::runtime_error).
 inline void write_file(const std::string& path, const std::string& data, bool binary = false) {
   std::ofstream f(path, binary ? std::ios::binary | std::ios::out : std::ios::out);
