@@ -48,6 +48,9 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_mm.q_g_mps2_rts = m->aid_mm_q_g_mps2_rts;
     c->aid_mm.lambda = m->aid_mm_lambda;
     c->aid_mm.gate_nis = m->aid_mm_gate_nis;
+    c->aid_mm.average_steps = m->aid_mm_average_steps;
+    c->aid_mm.sigma_gyro_rps = m->aid_mm_sigma_gyro_rps;
+    c->aid_mm.sigma_gyro_bias_rps = m->aid_mm_sigma_gyro_bias_rps;
     c->aid_pf.enable = m->aid_pf_enable;
     c->aid_pf.chunk = m->aid_pf_chunk;
     c->aid_pf.end_chunk = m->aid_pf_end_chunk;
@@ -131,6 +134,9 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->mm_nis = o->mm_nis;
     for (int i = 0; i < 12; ++i) m->mm_sigma[i] = o->mm_sigma[i];
     for (int i = 0; i < 3; ++i) m->mm_corr_m[i] = o->mm_corr_m[i];
+    for (int i = 0; i < 6; ++i) m->mm_innov[i] = o->mm_innov[i];
+    for (int i = 0; i < 18; ++i) m->mm_pcov[i] = o->mm_pcov[i];
+    m->mm_n_avg = o->mm_n_avg;
     m->pf_phase = o->pf_phase;
     m->pf_corrected = (int8_t)o->pf_corrected;
     m->pf_shots = (int64_t)o->pf_shots;

@@ -27,6 +27,15 @@
  * the seq gap and flags it). Frames that reach the firmware as
  * retransmissions (resent > 0) are counted as recovered.
  *
+ * Redundancy after a loss: a sender that knows of a loss re-carries each
+ * batch's frames in its next batch (resent = -1, a copy, not a request); while
+ * it does, the negative acknowledgement of a gap waits until the next batch of
+ * copies has come without the frame. A copy of a frame already used is not
+ * answered. After a request for lost outputs (run_control_t OUTPUT_COPIES on
+ * P+CONTROL: answered from the output ring) or a frame resent for a used seq,
+ * each output batch re-carries the previous batch's outputs (republished = -1)
+ * for --output-redundancy-steps steps. Counted in hal_status_t.
+ *
  * Cycle counter: CLOCK_MONOTONIC in ns truncated to uint32 (the firmware
  * takes differences modulo 2^32), cycles_per_second = 1e9.
  *
@@ -81,8 +90,11 @@ _Static_assert(GG_MOD_COUNT <= 8, "ggins_nav_output_t.cycles holds 8 modules");
 
 #define WINDOW 8192 /* reorder window, frames (power of two); > the runners' largest window */
 #define MAX_MSG 4096
-#define OUT_BATCH 64   /* outputs per output batch at most */
-#define BATCH_BUF 131072 /* encoded output batch */
+#define OUT_BATCH 64   /* first publications per output batch at most */
+#define OB_CAP (2 * OUT_BATCH + 8) /* an output batch: its outputs, conflicts, answers, copies of the previous */
+#define BATCH_BUF 262144 /* encoded output batch */
+#define RED_SPAN 8192  /* steps of redundancy after a loss (outputs re-carried in the next batch) */
+#define COPY_ATTEMPT 1000u /* fault-injection transmission index of a redundant output copy */
 #define NAK_RANGES 128 /* ranges per negative acknowledgement */
 
 typedef struct {
@@ -90,6 +102,8 @@ typedef struct {
     int resent;    /* the copy held is a retransmission */
     int requested; /* hal_sim asked for it */
     int batched;   /* it came in a frame batch: its output goes into an output batch */
+    int from_copy; /* the copy held is a redundant copy (resent < 0): the first transmission was lost */
+    int64_t gap_batch; /* copy-carrying batches received when its gap was seen (its NAK waits for the next) */
     int64_t req_seq;  /* seq the request state below belongs to (-1 none) */
     int req_count;    /* requests sent for req_seq */
     double req_time;  /* when the last was sent */
@@ -144,9 +158,19 @@ typedef struct {
     ggins_nav3d_output_t out3_ring[WINDOW]; /* 3-D mode */
 
     /* output batch under construction (answers to batched frames) */
-    ggins_nav_output_t ob2[OUT_BATCH + 2];
-    ggins_nav3d_output_t ob3[OUT_BATCH + 2];
+    ggins_nav_output_t ob2[OB_CAP];
+    ggins_nav3d_output_t ob3[OB_CAP];
     int ob_n;
+    /* redundancy after a loss: the seqs first published in the batch under
+     * construction (cur) and in the previous one (prev, re-carried in the next
+     * batch while next < out_red_until) */
+    int64_t cur_seqs[OUT_BATCH + 8], prev_seqs[OUT_BATCH + 8];
+    int cur_n, prev_n;
+    int64_t out_red_until;
+    int64_t out_red_span; /* --output-redundancy-steps */
+    int64_t batches_rx;      /* frame batches received */
+    int64_t last_copy_batch; /* the last that carried redundant copies (-1 none) */
+    int64_t copy_batches_rx; /* frame batches received that carried redundant copies */
     int cur_batched;  /* the frame being stepped came in a batch */
     int64_t out_batch_seq, nak_seq;
     uint8_t bbuf[BATCH_BUF];
@@ -185,6 +209,34 @@ static int publish_signed(hal_sim_t *h, const char *channel, int n)
  * P+NAVS or P+NAV3DS); nothing when it is empty. */
 static int flush_outputs(hal_sim_t *h)
 {
+    /* after a loss, the previous batch's outputs are re-carried (republished
+     * = -1): a lost one usually reaches the sender without a request */
+    if (h->next < h->out_red_until) {
+        for (int i = 0; i < h->prev_n && h->ob_n < OB_CAP; ++i) {
+            const int64_t q = h->prev_seqs[i];
+            const int64_t r = q & (WINDOW - 1);
+            if (!h->out_valid[r]) continue;
+            if (h->mode3d ? h->out3_ring[r].seq != q : h->out_ring[r].seq != q) continue;
+            if (inject_drop(h, q, COPY_ATTEMPT)) {
+                h->st.output_copies_dropped_injected++;
+                continue;
+            }
+            if (h->mode3d) {
+                h->ob3[h->ob_n] = h->out3_ring[r];
+                h->ob3[h->ob_n].republished = -1;
+                memset(h->ob3[h->ob_n].mac, 0, sizeof h->ob3[h->ob_n].mac);
+            } else {
+                h->ob2[h->ob_n] = h->out_ring[r];
+                h->ob2[h->ob_n].republished = -1;
+                memset(h->ob2[h->ob_n].mac, 0, sizeof h->ob2[h->ob_n].mac);
+            }
+            h->ob_n++;
+            h->st.output_copies_sent++;
+        }
+    }
+    memcpy(h->prev_seqs, h->cur_seqs, sizeof h->prev_seqs[0] * (size_t)h->cur_n);
+    h->prev_n = h->cur_n;
+    h->cur_n = 0;
     if (h->ob_n == 0) return 0;
     int n;
     const char *ch;
@@ -219,9 +271,10 @@ static int flush_outputs(hal_sim_t *h)
  * to each output either way. */
 static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_t attempt, int batched)
 {
+    if (batched && attempt == 0) h->cur_seqs[h->cur_n++] = m->seq; /* re-carried after a loss, dropped or not */
     if (inject_drop(h, m->seq, attempt)) {
         h->st.outputs_dropped_injected++;
-        return 0;
+        return batched && h->cur_n >= OUT_BATCH ? flush_outputs(h) : 0;
     }
     const int conflict = attempt == 0 && inject_conflict(h, m->seq); /* a sender contradicting itself */
     ggins_nav3d_output_t other = *m;
@@ -236,7 +289,7 @@ static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_
             memset(h->ob3[h->ob_n].mac, 0, sizeof other.mac);
             h->ob_n++;
         }
-        return h->ob_n >= OUT_BATCH ? flush_outputs(h) : 0;
+        return h->ob_n >= OUT_BATCH || h->cur_n >= OUT_BATCH ? flush_outputs(h) : 0;
     }
     if (publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
     if (conflict) return publish_signed(h, h->ch_nav3d, ggins_nav3d_output_t_encode(h->buf, 0, MAX_MSG, &other));
@@ -245,9 +298,10 @@ static int publish_output3d(hal_sim_t *h, const ggins_nav3d_output_t *m, uint64_
 
 static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t attempt, int batched)
 {
+    if (batched && attempt == 0) h->cur_seqs[h->cur_n++] = m->seq; /* re-carried after a loss, dropped or not */
     if (inject_drop(h, m->seq, attempt)) {
         h->st.outputs_dropped_injected++;
-        return 0;
+        return batched && h->cur_n >= OUT_BATCH ? flush_outputs(h) : 0;
     }
     const int conflict = attempt == 0 && inject_conflict(h, m->seq); /* a sender contradicting itself */
     ggins_nav_output_t other = *m;
@@ -262,7 +316,7 @@ static int publish_output(hal_sim_t *h, const ggins_nav_output_t *m, uint64_t at
             memset(h->ob2[h->ob_n].mac, 0, sizeof other.mac);
             h->ob_n++;
         }
-        return h->ob_n >= OUT_BATCH ? flush_outputs(h) : 0;
+        return h->ob_n >= OUT_BATCH || h->cur_n >= OUT_BATCH ? flush_outputs(h) : 0;
     }
     if (publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, m)) != 0) return -1;
     if (conflict) return publish_signed(h, h->ch_nav, ggins_nav_output_t_encode(h->buf, 0, MAX_MSG, &other));
@@ -307,6 +361,7 @@ static gg_status_t hal_read_frame(void *ctx, gg_frame_t *frame)
     if (!s->valid || s->frame.seq != h->next) return GG_ERR_NO_DATA;
     *frame = s->frame;
     if (s->resent) h->st.frames_recovered++; /* the copy that got through was a retransmission */
+    if (s->from_copy) h->st.frames_from_copies++; /* ... or a redundant copy */
     h->cur_batched = s->batched;
     s->valid = 0;
     if (h->gap_seq == h->next) h->gap_seq = -1;
@@ -413,35 +468,49 @@ static void report_conflict(hal_sim_t *h, const char *what, int64_t seq, int64_t
                 what, (long long)seq, count == 10 ? " (further conflicts counted only)" : "");
 }
 
-/* An authenticated frame of this run (alone, or one of a batch). */
+/* The output of step s (already stepped, kept in the ring) published again,
+ * as an answer (republished counts the answers). */
+static void republish(hal_sim_t *h, int64_t s, int batched)
+{
+    if (s < 0 || !h->out_valid[s & (WINDOW - 1)]) return;
+    if (h->mode3d) {
+        ggins_nav3d_output_t *o3 = &h->out3_ring[s & (WINDOW - 1)];
+        if (o3->seq != s) return;
+        if (o3->republished < 127) o3->republished++;
+        publish_output3d(h, o3, (uint64_t)o3->republished, batched);
+    } else {
+        ggins_nav_output_t *o = &h->out_ring[s & (WINDOW - 1)];
+        if (o->seq != s) return;
+        if (o->republished < 127) o->republished++;
+        publish_output(h, o, (uint64_t)o->republished, batched);
+    }
+    h->st.outputs_republished++;
+}
+
+/* An authenticated frame of this run (alone, or one of a batch). A redundant
+ * copy (resent < 0: re-carried by the sender after a loss, unasked) fills a
+ * gap like any transmission, but a copy of a frame already used is no
+ * request: it is not answered. */
 static void take_frame(hal_sim_t *h, ggins_sensor_frame_t m, int batched)
 {
     h->st.frames_received++;
     if (h->state != GGINS_HAL_STATUS_T_CONFIGURED && h->state != GGINS_HAL_STATUS_T_RUNNING)
         return; /* not configured yet: the sender resends on timeout */
     const int64_t s = m.seq;
+    const int copy = m.resent < 0;
+    if (copy) h->st.frame_copies_received++;
     if (s < h->next) {
         const slot_t *used = s >= 0 ? &h->slots[s & (WINDOW - 1)] : NULL;
         if (used && used->taken_seq == s && !same_frame(h, used->taken, m)) {
             report_conflict(h, "frame", s, ++h->st.frames_conflict);
             return;
         }
+        if (copy) return;
         h->st.frames_duplicate++;
-        if (h->mode3d) {
-            ggins_nav3d_output_t *o3 = &h->out3_ring[s & (WINDOW - 1)];
-            if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o3->seq == s) {
-                if (o3->republished < 127) o3->republished++;
-                publish_output3d(h, o3, (uint64_t)o3->republished, batched);
-                h->st.outputs_republished++;
-            }
-            return;
-        }
-        ggins_nav_output_t *o = &h->out_ring[s & (WINDOW - 1)];
-        if (s >= 0 && h->out_valid[s & (WINDOW - 1)] && o->seq == s) { /* the sender probably lost our answer */
-            if (o->republished < 127) o->republished++;
-            publish_output(h, o, (uint64_t)o->republished, batched);
-            h->st.outputs_republished++;
-        }
+        /* the sender probably lost our answer; a retransmission says the link loses:
+         * the outputs are re-carried for a while */
+        if (m.resent > 0) h->out_red_until = h->next + h->out_red_span;
+        republish(h, s, batched);
         return;
     }
     if (s >= h->next + WINDOW) { /* too far ahead to hold; the sender will resend */
@@ -452,7 +521,7 @@ static void take_frame(hal_sim_t *h, ggins_sensor_frame_t m, int batched)
     if (sl->valid && sl->frame.seq == s) {
         if (sl->taken_seq == s && !same_frame(h, sl->taken, m))
             report_conflict(h, "frame", s, ++h->st.frames_conflict);
-        else
+        else if (!copy)
             h->st.frames_duplicate++;
         return;
     }
@@ -464,6 +533,7 @@ static void take_frame(hal_sim_t *h, ggins_sensor_frame_t m, int batched)
     sl->batched = batched;
     sl->req_seq = -1;
     sl->resent = m.resent > 0;
+    sl->from_copy = copy;
     sl->requested = requested;
     sl->taken_seq = s;
     sl->taken = m;
@@ -490,6 +560,13 @@ static void on_frame_batch(const lcm_recv_buf_t *rbuf, const char *channel, void
     h->last_rx_wall = now_s();
     const int dec = ggins_frame_batch_t_decode(rbuf->data, 0, (int)rbuf->data_size, &b);
     if (accept_msg(h, rbuf, channel, dec, dec >= 0 ? b.run_id : -1, &h->st.auth_failed_frame)) {
+        h->batches_rx++;
+        for (int i = 0; i < b.n; ++i)
+            if (b.frames[i].resent < 0) {
+                h->last_copy_batch = h->batches_rx;
+                h->copy_batches_rx++;
+                break;
+            }
         for (int i = 0; i < b.n; ++i) {
             if (b.frames[i].run_id != h->run_id) {
                 h->st.foreign_messages++;
@@ -575,6 +652,14 @@ static void on_control(const lcm_recv_buf_t *rbuf, const char *channel, void *us
         h->state = GGINS_HAL_STATUS_T_STOPPED;
         h->stop = 1;
         publish_status(h);
+    } else if (m.command == GGINS_RUN_CONTROL_T_OUTPUT_COPIES) {
+        /* outputs lost on the way: published again, and the following ones
+         * re-carried for a while (the link loses) */
+        h->st.output_copy_requests++;
+        h->out_red_until = h->next + h->out_red_span;
+        const int64_t count = m.n_steps < 0 ? 0 : (m.n_steps > WINDOW ? WINDOW : m.n_steps);
+        for (int64_t s = m.resend_seq; s < m.resend_seq + count && s < h->next; ++s)
+            if (s >= 0 && s + WINDOW > h->next) republish(h, s, 1);
     }
 }
 
@@ -632,6 +717,9 @@ static void handle_gaps(hal_sim_t *h)
         }
     }
     h->gap_seq = h->next;
+    /* the sender re-carries each frame in its next batch (redundancy after a
+     * loss): a gap is asked for only when that copy did not come either */
+    const int sender_redundant = h->last_copy_batch >= 0 && h->batches_rx - h->last_copy_batch <= 8;
     int64_t first[NAK_RANGES];
     int32_t count[NAK_RANGES];
     int n = 0;
@@ -641,8 +729,16 @@ static void handle_gaps(hal_sim_t *h)
         if (sl->req_seq != s) {
             sl->req_seq = s;
             sl->req_count = 0;
+            if (sender_redundant) { /* its copy comes with the next batch of copies: no request yet */
+                sl->gap_batch = h->copy_batches_rx;
+                sl->req_time = t;
+                h->st.naks_deferred++;
+                continue;
+            }
+        } else if (sl->req_count == 0 && h->copy_batches_rx > sl->gap_batch) {
+            /* the next batch of copies came without it: lost twice, asked for */
         } else if (t - sl->req_time < backoff(interval, sl->req_count)) {
-            continue; /* asked for recently */
+            continue; /* asked for recently (or its copy is still on the way) */
         }
         sl->req_count++;
         sl->req_time = t;
@@ -692,6 +788,8 @@ static void usage(FILE *out)
             "  --conflict-output-prob P  fault injection: after an output, a second, different, signed\n"
             "                         output for the same seq with probability P (a conflict)\n"
             "  --inject-seed N        seed of the fault injection (default 1)\n"
+            "  --output-redundancy-steps N  after a lost output (a request for it), re-carry each output\n"
+            "                         batch's outputs in the next one for N steps (default 8192; 0: never)\n"
             "  --map FILE             a gradient map tile (gmap format) for the computer's map storage,\n"
             "                         read by the 3-D task's map aid; repeat for more tiles (up to 256)\n"
             "  --quiet                no diagnostics on stderr\n"
@@ -707,6 +805,7 @@ int main(int argc, char **argv)
     h.run_id = -1;
     h.gap_timeout_ms = 20;
     h.max_resend = 50;
+    h.out_red_span = RED_SPAN;
     h.idle_timeout_s = 60.0;
     static const struct option opts[] = {
         {"lcm-url", required_argument, 0, 'u'}, {"lcm-url-out", required_argument, 0, 'o'},
@@ -716,13 +815,13 @@ int main(int argc, char **argv)
         {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
         {"drop-output-prob", required_argument, 0, 'd'}, {"inject-seed", required_argument, 0, 's'},
         {"key-fd", required_argument, 0, 'k'}, {"conflict-output-prob", required_argument, 0, 'c'},
-        {"map", required_argument, 0, 'M'}, {0, 0, 0, 0}};
+        {"map", required_argument, 0, 'M'}, {"output-redundancy-steps", required_argument, 0, 'R'}, {0, 0, 0, 0}};
     static hal_map_store_t maps; /* the computer's map storage (hal_map.c) */
     hal_map_init(&maps);
     int c;
     h.inject_seed = 1;
     h.key_fd = -1;
-    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:M:", opts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "u:o:p:r:g:m:i:qhd:s:k:c:M:R:", opts, NULL)) != -1) {
         char *end = NULL;
         switch (c) {
         case 'u': h.url = optarg; break;
@@ -736,6 +835,7 @@ int main(int argc, char **argv)
         case 'd': h.drop_output_prob = strtod(optarg, &end); if (*end || !(h.drop_output_prob >= 0.0 && h.drop_output_prob < 1.0)) goto bad; break;
         case 's': h.inject_seed = strtoull(optarg, &end, 0); if (*end) goto bad; break;
         case 'c': h.conflict_output_prob = strtod(optarg, &end); if (*end || !(h.conflict_output_prob >= 0.0 && h.conflict_output_prob < 1.0)) goto bad; break;
+        case 'R': h.out_red_span = strtoll(optarg, &end, 0); if (*end || h.out_red_span < 0) goto bad; break;
         case 'k': h.key_fd = (int)strtol(optarg, &end, 0); if (*end || h.key_fd < 0) goto bad; break;
         case 'M': {
             char err[512];
@@ -779,7 +879,9 @@ int main(int argc, char **argv)
     for (int i = 0; i < WINDOW; ++i) {
         h.slots[i].taken_seq = -1;
         h.slots[i].req_seq = -1;
+        h.slots[i].gap_batch = -1;
     }
+    h.last_copy_batch = -1;
     if (strlen(prefix) > 80) {
         fprintf(stderr, "hal_sim: prefix too long\n");
         return 1;

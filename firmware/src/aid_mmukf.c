@@ -12,6 +12,9 @@
 
 #define NXM GG_UKF_NX_MAX
 
+/* no over-aligned member (aid_mmukf.h, after gg_aid_mm_t) */
+_Static_assert(_Alignof(gg_aid_mm_t) <= _Alignof(double), "gg_aid_mm_t must not be over-aligned");
+
 /* ---------------------------------------------------------------- config */
 
 static int pos_finite(double v)
@@ -43,7 +46,10 @@ static gg_status_t aid_cfg_ok(const gg_aid_mm_config_t *c)
         (pos_finite(c->sig0_att_rad) == 0) || (pos_finite(c->sig0_g_mps2) == 0) ||
         (nonneg_finite(c->q_vel_mps_rts) == 0) || (nonneg_finite(c->q_att_rad_rts) == 0) ||
         (nonneg_finite(c->q_g_mps2_rts) == 0) || (nonneg_finite(c->lambda) == 0) ||
-        !GG_ISFINITE(c->gate_nis)) {
+        !GG_ISFINITE(c->gate_nis) || (c->average_steps < 0) || (c->average_steps > c->update_steps) ||
+        (nonneg_finite(c->sigma_gyro_rps) == 0) || (c->sigma_gyro_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS) ||
+        (nonneg_finite(c->sigma_gyro_bias_rps) == 0) ||
+        (c->sigma_gyro_bias_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS)) {
         st = GG_ERR_CONFIG;
     }
     return st;
@@ -66,6 +72,31 @@ static void mat_identity(int32_t n, double m[NXM][NXM])
 static void mat_zero(double m[NXM][NXM])
 {
     (void)memset(m, 0, sizeof(double) * (size_t)NXM * (size_t)NXM);
+}
+
+/* Empty the epoch's averaging window. */
+static void window_reset(gg_aid_mm_t *a)
+{
+    size_t j;
+    size_t k;
+    a->av_n = 0;
+    a->av_ksum = 0.0;
+    for (j = 0U; j < 3U; ++j) {
+        a->av_r0[j] = 0.0;
+        a->av_dr[j] = 0.0;
+        a->av_rl[j] = 0.0;
+        for (k = 0U; k < 3U; ++k) {
+            a->av_g_e[j][k] = 0.0;
+        }
+        for (k = 0U; k < 6U; ++k) {
+            a->av_s[j][k] = 0.0;
+        }
+    }
+    for (j = 0U; j < 6U; ++j) {
+        for (k = 0U; k < 6U; ++k) {
+            a->av_ss[j][k] = 0.0;
+        }
+    }
 }
 
 gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_t gravity_state)
@@ -142,6 +173,12 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
     a->n_rejected = 0U;
     a->n_no_map = 0U;
     a->last_nis = 0.0;
+    a->last_n_avg = 0;
+    for (j = 0; j < 6; ++j) {
+        a->last_innov[j] = 0.0;
+    }
+    (void)memset(a->ep_r, 0, sizeof a->ep_r);
+    window_reset(a);
     a->initialized = 1;
     return GG_OK;
 }
@@ -288,7 +325,9 @@ static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     double U[NXM][NXM];
     const int32_t n = a->nx;
     const double qv = a->cfg.q_vel_mps_rts * a->cfg.q_vel_mps_rts * ins->dt_s;
-    const double qa = a->cfg.q_att_rad_rts * a->cfg.q_att_rad_rts * ins->dt_s;
+    /* angle random walk: the configured one plus the gyro's (sigma_w h per step) */
+    const double qa = (a->cfg.q_att_rad_rts * a->cfg.q_att_rad_rts * ins->dt_s) +
+                      (a->cfg.sigma_gyro_rps * a->cfg.sigma_gyro_rps * ins->dt_s * ins->dt_s);
     const double qg = a->cfg.q_g_mps2_rts * a->cfg.q_g_mps2_rts * ins->dt_s;
     int32_t i;
     int32_t j;
@@ -439,14 +478,287 @@ static gg_status_t aid_meas_model(void *ctx, const double *x, double *z)
     const aid_hctx_t *hc = (const aid_hctx_t *)ctx;
     const gg_aid_mm_t *a = hc->a;
     gg_real_t c[3][3];
+    gg_real_t r[3];
+    gg_status_t st;
+    size_t j;
+    size_t k;
+    const int two = (a->ep_dq[0] != 0.0) || (a->ep_dq[1] != 0.0) || (a->ep_dq[2] != 0.0);
+    double xm[GG_UKF_NX_MAX];
+    /* the window's mean position error: dr - tau dv (the error state is the epoch's) */
+    for (j = 0U; j < (size_t)GG_UKF_NX_MAX; ++j) {
+        xm[j] = x[j];
+    }
+    for (j = 0U; j < 3U; ++j) {
+        xm[j] = x[j] - (a->ep_tau_s * x[3U + j]);
+    }
+    for (j = 0U; j < 3U; ++j) {
+        r[j] = (gg_real_t)(a->ep_r_e[j] - a->ep_dq[j]);
+        if (two == 0) {
+            r[j] = (gg_real_t)a->ep_r_e[j];
+        }
+        for (k = 0U; k < 3U; ++k) {
+            c[j][k] = (gg_real_t)a->ep_c_b_e[j][k];
+        }
+    }
+    st = gg_aid_mm_predict(a->tile, r, c, (gg_real_t)a->ep_sin_th, (gg_real_t)a->ep_cos_th, xm, z);
+    if ((st == GG_OK) && (two != 0)) {
+        /* the window's mean of the field along its track: two-point Gauss-Legendre (exact for
+         * a field cubic along a straight track flown at constant speed) */
+        double z2[GG_UKF_NZ_MAX];
+        for (j = 0U; j < 3U; ++j) {
+            r[j] = (gg_real_t)(a->ep_r_e[j] + a->ep_dq[j]);
+        }
+        st = gg_aid_mm_predict(a->tile, r, c, (gg_real_t)a->ep_sin_th, (gg_real_t)a->ep_cos_th, xm, z2);
+        for (j = 0U; (j < 6U) && (st == GG_OK); ++j) {
+            z[j] = 0.5 * (z[j] + z2[j]);
+        }
+    }
+    return st;
+}
+
+/* ---------------------------------------------------------------- epoch average */
+
+/* The six independent components (xx, yy, zz, xy, xz, yz) of a symmetric matrix. */
+static void sym_vec6(const double m[3][3], double v[6])
+{
+    v[0] = m[0][0];
+    v[1] = m[1][1];
+    v[2] = m[2][2];
+    v[3] = 0.5 * (m[0][1] + m[1][0]);
+    v[4] = 0.5 * (m[0][2] + m[2][0]);
+    v[5] = 0.5 * (m[1][2] + m[2][1]);
+}
+
+/* o = c m c^T (3 x 3, double) */
+static void sim3(const double c[3][3], const double m[3][3], double o[3][3])
+{
+    double t[3][3];
+    size_t j;
+    size_t k;
+    size_t l;
+    for (j = 0U; j < 3U; ++j) {
+        for (k = 0U; k < 3U; ++k) {
+            double sum = 0.0;
+            for (l = 0U; l < 3U; ++l) {
+                sum += c[j][l] * m[l][k];
+            }
+            t[j][k] = sum;
+        }
+    }
+    for (j = 0U; j < 3U; ++j) {
+        for (k = 0U; k < 3U; ++k) {
+            double sum = 0.0;
+            for (l = 0U; l < 3U; ++l) {
+                sum += t[j][l] * c[k][l];
+            }
+            o[j][k] = sum;
+        }
+    }
+}
+
+/* The six-component map of X -> c X c^T on symmetric matrices: column m is
+ * the image of the m-th basis matrix (E_jj, or E_jk + E_kj off the diagonal,
+ * so that X = sum of its six components times the basis). */
+static void sym_map6(const double c[3][3], double t6[6][6])
+{
+    static const size_t rj[6] = {0U, 1U, 2U, 0U, 0U, 1U};
+    static const size_t rk[6] = {0U, 1U, 2U, 1U, 2U, 2U};
+    size_t m;
+    size_t j;
+    for (m = 0U; m < 6U; ++m) {
+        double e[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+        double o[3][3];
+        double v[6];
+        e[rj[m]][rk[m]] = 1.0;
+        e[rk[m]][rj[m]] = 1.0;
+        sim3(c, (const double(*)[3])e, o);
+        sym_vec6((const double(*)[3])o, v);
+        for (j = 0U; j < 6U; ++j) {
+            t6[j][m] = v[j];
+        }
+    }
+}
+
+/* Add this step's sample to the epoch's window, in ECEF axes (the map's
+ * frame, where the field does not turn with the body): the tensor
+ * C_b_e Gamma_b C_e_b with the estimated attitude, the position, and the
+ * sensitivities of the [w x]^2 removal to the rate (Gao eqs. 28-30):
+ * d[w x]^2 = sum_i dw_i S_i, S_i = e_i w^T + w e_i^T - 2 w_i I. */
+static void window_add(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
+{
+    double c[3][3];
+    double gb[3][3];
+    double ge[3][3];
+    size_t i;
     size_t j;
     size_t k;
     for (j = 0U; j < 3U; ++j) {
+        if (a->av_n == 0) {
+            a->av_r0[j] = (double)ins->r_e[j];
+        }
+        a->av_rl[j] = (double)(ins->r_e[j] - (gg_real_t)a->av_r0[j]);
+        a->av_dr[j] += a->av_rl[j];
         for (k = 0U; k < 3U; ++k) {
-            c[j][k] = a->ep_c_b_e[j][k];
+            c[j][k] = (double)ins->c_b_e[j][k];
         }
     }
-    return gg_aid_mm_predict(a->tile, a->ep_r_e, c, a->ep_sin_th, a->ep_cos_th, x, z);
+    gb[0][0] = ins->z_b[0];
+    gb[1][1] = ins->z_b[1];
+    gb[2][2] = ins->z_b[2];
+    gb[0][1] = ins->z_b[3];
+    gb[1][0] = ins->z_b[3];
+    gb[0][2] = ins->z_b[4];
+    gb[2][0] = ins->z_b[4];
+    gb[1][2] = ins->z_b[5];
+    gb[2][1] = ins->z_b[5];
+    sim3((const double(*)[3])c, (const double(*)[3])gb, ge);
+    for (j = 0U; j < 3U; ++j) {
+        for (k = 0U; k < 3U; ++k) {
+            a->av_g_e[j][k] += ge[j][k];
+        }
+    }
+    if (ins->w_gyro != 0) {
+        for (i = 0U; i < 3U; ++i) {
+            double si[3][3];
+            double se[3][3];
+            double v[6];
+            for (j = 0U; j < 3U; ++j) {
+                for (k = 0U; k < 3U; ++k) {
+                    double e_j = (j == i) ? 1.0 : 0.0;
+                    double e_k = (k == i) ? 1.0 : 0.0;
+                    si[j][k] = (e_j * ins->w_b[k]) + (ins->w_b[j] * e_k);
+                }
+                si[j][j] -= 2.0 * ins->w_b[i];
+            }
+            sim3((const double(*)[3])c, (const double(*)[3])si, se);
+            sym_vec6((const double(*)[3])se, v);
+            for (j = 0U; j < 6U; ++j) {
+                a->av_s[i][j] += v[j];
+                for (k = 0U; k < 6U; ++k) {
+                    a->av_ss[j][k] += v[j] * v[k];
+                }
+            }
+        }
+    }
+    a->av_ksum += (double)a->steps_since_epoch;
+    a->av_n++;
+}
+
+/* The epoch's measurement and R from the window (n samples):
+ *   z = C_e_b Gamma_e,mean C_b_e with the epoch's attitude; its model is the
+ *     map at the window's mean position (the field is linear over the few
+ *     hundred metres flown), the attitude error psi being common to the
+ *     window (C_b_e,est = (I - [psi x]) C_b_e,true at every step);
+ *   R = the gradiometer's white noise / n + the map's
+ *     + sigma_w^2 / n^2 sum_k sum_i s_ik s_ik^T   (white rate noise)
+ *     + sigma_b^2 sum_i s_i,mean s_i,mean^T       (rate bias, one per axis)
+ *   in body axes, and the second-order part of the removal, E[[dw x]^2] =
+ *   -2 sigma_w^2 I, taken out of the diagonal. */
+static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
+{
+    double cbe[3][3];
+    double ceb[3][3];
+    double t6[6][6];
+    double tmp[6][6];
+    double ss[6][6];
+    const double n = (double)a->av_n;
+    const double sw2 = a->cfg.sigma_gyro_rps * a->cfg.sigma_gyro_rps;
+    const double sb2 = a->cfg.sigma_gyro_bias_rps * a->cfg.sigma_gyro_bias_rps;
+    const double sm = a->cfg.sigma_meas_s2;
+    const double rdb = a->cfg.sigma_db_s2 * a->cfg.sigma_db_s2;
+    double ratio = a->cfg.offdiag_ratio;
+    size_t i;
+    size_t j;
+    size_t k;
+    size_t l;
+    if (!(ratio > 0.0)) {
+        ratio = 1.0;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        for (k = 0U; k < 3U; ++k) {
+            cbe[j][k] = (double)ins->c_b_e[j][k];
+            ceb[k][j] = cbe[j][k];
+        }
+    }
+    for (j = 0U; j < 3U; ++j) {
+        a->ep_dq[j] = 0.0;
+    }
+    a->ep_tau_s = 0.0;
+    if (a->av_n > 0) {
+        a->ep_tau_s = ((double)a->steps_since_epoch - (a->av_ksum / n)) * ins->dt_s;
+    }
+    if (a->av_n <= 1) {
+        /* the epoch's own sample, as measured */
+        for (j = 0U; j < 3U; ++j) {
+            a->ep_r_e[j] = (double)ins->r_e[j];
+        }
+        for (j = 0U; j < 6U; ++j) {
+            a->ep_z[j] = ins->z_b[j];
+        }
+    } else {
+        double gm[3][3];
+        double gbm[3][3];
+        /* n samples evenly spaced over the track r0 .. r0 + rl: their positions' standard deviation
+         * is |rl| / 2 sqrt((n + 1) / (3 (n - 1))), the Gauss-Legendre nodes sit at the mean +- it */
+        const double sd = 0.5 * sqrt((n + 1.0) / (3.0 * (n - 1.0)));
+        for (j = 0U; j < 3U; ++j) {
+            a->ep_dq[j] = sd * a->av_rl[j];
+            a->ep_r_e[j] = a->av_r0[j] + (a->av_dr[j] / n);
+            for (k = 0U; k < 3U; ++k) {
+                gm[j][k] = a->av_g_e[j][k] / n;
+            }
+        }
+        sim3((const double(*)[3])ceb, (const double(*)[3])gm, gbm);
+        sym_vec6((const double(*)[3])gbm, a->ep_z);
+    }
+    if (ins->w_gyro != 0) {
+        for (j = 0U; j < 3U; ++j) {
+            a->ep_z[j] += 2.0 * sw2;
+        }
+    }
+    /* R: white gradiometer noise and the map */
+    (void)memset(a->ep_r, 0, sizeof a->ep_r);
+    for (j = 0U; j < 3U; ++j) {
+        a->ep_r[j][j] = ((sm * sm) / n) + rdb;
+        a->ep_r[3U + j][3U + j] = (((ratio * sm) * (ratio * sm)) / n) + rdb;
+    }
+    if ((ins->w_gyro != 0) && ((sw2 > 0.0) || (sb2 > 0.0))) {
+        /* the rate terms, ECEF -> body axes of the epoch */
+        for (j = 0U; j < 6U; ++j) {
+            for (k = 0U; k < 6U; ++k) {
+                double sum = (sw2 / (n * n)) * a->av_ss[j][k];
+                for (i = 0U; i < 3U; ++i) {
+                    sum += (sb2 / (n * n)) * a->av_s[i][j] * a->av_s[i][k];
+                }
+                ss[j][k] = sum;
+            }
+        }
+        sym_map6((const double(*)[3])ceb, t6);
+        for (j = 0U; j < 6U; ++j) {
+            for (k = 0U; k < 6U; ++k) {
+                double sum = 0.0;
+                for (l = 0U; l < 6U; ++l) {
+                    sum += t6[j][l] * ss[l][k];
+                }
+                tmp[j][k] = sum;
+            }
+        }
+        for (j = 0U; j < 6U; ++j) {
+            for (k = 0U; k < 6U; ++k) {
+                double sum = 0.0;
+                for (l = 0U; l < 6U; ++l) {
+                    sum += tmp[j][l] * t6[k][l];
+                }
+                ss[j][k] = sum;
+            }
+        }
+        for (j = 0U; j < 6U; ++j) {
+            for (k = 0U; k < 6U; ++k) {
+                a->ep_r[j][k] += 0.5 * (ss[j][k] + ss[k][j]);
+            }
+        }
+    }
+    a->last_n_avg = a->av_n;
 }
 
 /* ---------------------------------------------------------------- schedule */
@@ -492,6 +804,8 @@ static void start_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal_ma
     size_t j;
     size_t k;
     a->n_epochs++;
+    window_epoch(a, ins);
+    window_reset(a);
     a->steps_since_epoch = 0;
     if ((map != NULL) && (map->tile_at != NULL) &&
         (gg_geo_ecef_to_geodetic(ins->r_e, &lat, &lon, &h) == GG_OK)) {
@@ -511,16 +825,12 @@ static void start_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal_ma
     }
     a->tile = tile;
     for (j = 0U; j < 3U; ++j) {
-        a->ep_r_e[j] = ins->r_e[j];
         for (k = 0U; k < 3U; ++k) {
-            a->ep_c_b_e[j][k] = ins->c_b_e[j][k];
+            a->ep_c_b_e[j][k] = (double)ins->c_b_e[j][k];
         }
     }
-    for (j = 0U; j < 6U; ++j) {
-        a->ep_z[j] = ins->z_b[j];
-    }
-    a->ep_sin_th = ins->sin_th;
-    a->ep_cos_th = ins->cos_th;
+    a->ep_sin_th = (double)ins->sin_th;
+    a->ep_cos_th = (double)ins->cos_th;
     a->pass = 0;
     a->remaining = 1.0;
     a->w_pass = 1.0;
@@ -538,7 +848,9 @@ static void fill_r(const gg_aid_mm_t *a, double w, double R[GG_UKF_NZ_MAX][GG_UK
         }
     }
     for (j = 0; j < 6; ++j) {
-        R[j][j] = a->rk[j] / w;
+        for (k = 0; k < 6; ++k) {
+            R[j][k] = a->ep_r[j][k] / w;
+        }
     }
 }
 
@@ -568,8 +880,9 @@ static void do_spread(gg_aid_mm_t *a)
     if (a->pass < (a->cfg.max_passes - 1)) {
         int32_t k;
         for (k = 0; k < 6; ++k) {
-            if ((spread[k] > a->rk[k]) && ((a->rk[k] / spread[k]) < w)) {
-                w = a->rk[k] / spread[k];
+            const double rkk = a->ep_r[k][k];
+            if ((spread[k] > rkk) && ((rkk / spread[k]) < w)) {
+                w = rkk / spread[k];
             }
         }
     }
@@ -594,6 +907,12 @@ static void do_update(gg_aid_mm_t *a)
     } else if (info.accepted == 0) {
         a->health |= GG_AID_MM_H_GATED;
     } else {
+        if (a->pass == 0) {
+            int32_t j;
+            for (j = 0; j < 6; ++j) {
+                a->last_innov[j] = info.innov[j];
+            }
+        }
         a->accepted_any = 1;
         a->remaining -= a->w_pass;
         a->pass++;
@@ -656,6 +975,15 @@ gg_status_t gg_aid_mm_step(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal
     }
     a->steps_since_epoch += ins->n_steps;
     if (a->phase == GG_AID_MM_PH_PROPAGATE) {
+        int32_t win = a->cfg.average_steps;
+        if (win < 1) {
+            win = 1;
+        }
+        /* the window: the valid samples of the last average_steps steps before the epoch, all
+         * after the last correction (only this phase follows it) */
+        if ((ins->z_valid != 0) && (a->steps_since_epoch > (a->cfg.update_steps - win))) {
+            window_add(a, ins);
+        }
         if (a->steps_since_epoch >= a->cfg.update_steps) {
             if (ins->z_valid != 0) {
                 start_epoch(a, ins, map);

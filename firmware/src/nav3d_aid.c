@@ -48,6 +48,10 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
     ins->z_b[3] = (double)nav->gamma_b[0][1];
     ins->z_b[4] = (double)nav->gamma_b[0][2];
     ins->z_b[5] = (double)nav->gamma_b[1][2];
+    for (j = 0U; j < 3U; ++j) {
+        ins->w_b[j] = (double)nav->w_k[j]; /* the rate difference() removed [w x]^2 with */
+    }
+    ins->w_gyro = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) ? 1 : 0;
     ins->z_valid = (int32_t)z_valid;
     return GG_OK;
 }
@@ -202,4 +206,18 @@ void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     for (j = 0; j < 3; ++j) {
         out->mm_corr_m[j] = nav->aid_corr_m[j];
     }
+    for (j = 0; j < 6; ++j) {
+        out->mm_innov[j] = a->last_innov[j];
+    }
+    {
+        static const int32_t rj[6] = {0, 1, 2, 0, 0, 1};
+        static const int32_t rk[6] = {0, 1, 2, 1, 2, 2};
+        int32_t b;
+        for (b = 0; b < 3; ++b) {
+            for (j = 0; j < 6; ++j) {
+                out->mm_pcov[(6 * b) + j] = a->ukf.P[(3 * b) + rj[j]][(3 * b) + rk[j]];
+            }
+        }
+    }
+    out->mm_n_avg = a->last_n_avg;
 }

@@ -162,6 +162,9 @@ int main(void)
     cfg.aid_mm.q_vel_mps_rts = 1.0e-6;
     cfg.aid_mm.q_att_rad_rts = 1.0e-9;
     cfg.aid_mm.q_g_mps2_rts = 1.0e-10;
+    cfg.aid_mm.average_steps = AID_EPOCH; /* the worst case: every step in the window, two map nodes */
+    cfg.aid_mm.sigma_gyro_rps = 2.9e-6;
+    cfg.aid_mm.sigma_gyro_bias_rps = 4.85e-8;
 #endif
 #ifdef PF
     /* the cold-atom aid (aid_pf.h) with the flights' filter: 500 particles, Rao-Blackwellised,

@@ -29,6 +29,19 @@
 // (a few round trips). The resends of one seq back off (want_resend), so a
 // process descheduled for a while is not mistaken for a loss.
 //
+// Redundancy after a loss. Once a loss is known (a negative acknowledgement,
+// an output gap, a timeout), for the next kRedSpan steps every frame batch
+// also re-carries, first, the frames of the previous batch whose outputs have
+// not come back (resent = -1); when the window is full those copies go out at
+// once in a batch of their own. hal_sim does the same with its outputs
+// (republished = -1) after a loss on its side. A lost frame or output is then
+// usually recovered from its copy, without a round trip: hal_sim asks
+// (negative acknowledgement) only for a frame whose copy did not come either,
+// and this side asks for a lost output (run_control_t OUTPUT_COPIES: hal_sim
+// publishes it again from its ring; cheaper than resending the frame) only
+// when the next output batch did not carry it. Copies are ordinary items of
+// signed batches (one MAC per message, whatever it carries).
+//
 // Real time (--realtime): one frame per message at its scheduled time (start
 // + k dt); the lateness of each send against its schedule and the output
 // latency (first send -> output received) are measured against a deadline.
@@ -276,6 +289,32 @@ class Link : public LinkBase {
     tr["resend_timeouts"] = resend_timeouts_;
     tr["resends_on_request"] = resend_on_request_;
     tr["resends_on_output_gap"] = resend_on_gap_;
+    {
+      json r;
+      r["definition"] =
+          "redundancy after a loss: for span_steps after a known loss each frame batch re-carries the previous "
+          "batch's frames whose outputs have not come (resent = -1), and hal_sim each output batch the previous "
+          "batch's outputs (republished = -1); a lost item is asked for only when its copy was lost too (frames: "
+          "hal_sim's negative acknowledgement; outputs: OUTPUT_COPIES requests)";
+      r["span_steps"] = kRedSpan;
+      r["steps_redundant"] = steps_redundant_;
+      r["frame_copies_sent"] = frame_copies_;
+      r["frame_copy_batches"] = copy_batches_;
+      r["outputs_from_copies"] = outputs_from_copies_;
+      r["outputs_from_answers"] = outputs_from_answers_;
+      r["output_gaps_deferred"] = gaps_deferred_;
+      r["output_copy_requests"] = copy_requests_;
+      r["outputs_requested"] = outputs_requested_;
+      if (hal_) {
+        r["hal_sim_frame_copies_received"] = hal_->frame_copies_received;
+        r["hal_sim_frames_from_copies"] = hal_->frames_from_copies;
+        r["hal_sim_naks_deferred"] = hal_->naks_deferred;
+        r["hal_sim_output_copy_requests"] = hal_->output_copy_requests;
+        r["hal_sim_output_copies_sent"] = hal_->output_copies_sent;
+        r["hal_sim_output_copies_dropped_injected"] = hal_->output_copies_dropped_injected;
+      }
+      tr["redundancy"] = r;
+    }
     tr["nak_received"] = naks_;
     tr["batch_frames"] = batch_;
     tr["window_full"] = {{"waits", blocked_}, {"wait_s", blocked_s_}};  // the runner waited for outputs
@@ -299,7 +338,7 @@ class Link : public LinkBase {
           "the firmware steps there (scripts/bench-rig)";
       tr["cpu_us_per_step"] = c;
     }
-    tr["injected"] = {{"dropped", dropped_inj_},     {"duplicated", dup_inj_},       {"reordered", reordered_inj_},
+    tr["injected"] = {{"dropped", dropped_inj_},     {"dropped_copies", dropped_copies_inj_}, {"duplicated", dup_inj_}, {"duplicated_copies", dup_copies_inj_},       {"reordered", reordered_inj_},
                       {"garbage", garbage_inj_},     {"conflicting", conflict_inj_}, {"output_drop_prob", opt_.faults.drop_output}};
     if (hal_) tr["hal_sim"] = hal_sim_summary();
     return tr;
@@ -378,6 +417,7 @@ class Link : public LinkBase {
   static constexpr int64_t kMaxWindow = 4096;  // < hal_sim's reorder window (8192); <= kRing / 2
   static constexpr double kWindowRtts = 4.0;
   static constexpr int kDefaultBatch = 32;
+  static constexpr int64_t kRedSpan = 8192;  // steps of redundancy after a known loss
 
   struct Slot {
     int64_t seq = -1;
@@ -385,7 +425,10 @@ class Link : public LinkBase {
     double t_first = -1, t_last = -1;  // first / last transmission
     double t_resend = -1;              // last resend asked for (request, gap or timeout)
     int resends = 0;                   // resends of this seq so far
-    int attempts = 0;
+    int attempts = 0;                  // first transmission and resends
+    int tx = 0;                        // transmissions, redundant copies included (fault-injection index)
+    int64_t gap_msg = -1;              // output messages received when its output was first seen missing
+    double t_gap = -1;                 // ... and when
     bool got = false;
     Out out{};
   };
@@ -422,6 +465,7 @@ class Link : public LinkBase {
         ++foreign_msgs_;
         continue;
       }
+      if (m.republished < 0) last_copy_msg_ = output_messages_;
       take_output(m, now);
     }
     output_gaps(now);
@@ -448,9 +492,11 @@ class Link : public LinkBase {
     if (m.n_cycles > GG_MOD_TOTAL) fw_ns_ += static_cast<double>(static_cast<uint32_t>(m.cycles[GG_MOD_TOTAL]));
     taken_.put(k, plain);
     ++outputs_;
-    if (s.attempts > 1) ++outputs_recovered_;
+    if (s.attempts > 1 || m.republished != 0) ++outputs_recovered_;
+    if (m.republished < 0) ++outputs_from_copies_;
+    if (m.republished > 0) ++outputs_from_answers_;
     if (opt_.realtime) latency_[static_cast<size_t>(k)] = now - s.t_first;
-    if (s.attempts == 1) {  // round trip of a frame sent once
+    if (s.attempts == 1 && m.republished == 0) {  // round trip of a frame sent once
       const double rtt = now - s.t_first;
       rtt_min_ = std::min(rtt_min_, rtt);
       srtt_ = srtt_ > 0 ? 0.875 * srtt_ + 0.125 * rtt : rtt;
@@ -460,20 +506,70 @@ class Link : public LinkBase {
   }
   // hal_sim steps in seq order and publishes the outputs in that order: an
   // output below the highest first publication that is not here was lost on
-  // the way (or its answer to a resend was); its frame goes again, and
-  // hal_sim answers with the output it keeps.
+  // the way (or its answer to a request was). While hal_sim re-carries its
+  // outputs, the next output message brings its copy; when that did not (or
+  // after a timeout) it is asked for (OUTPUT_COPIES), and hal_sim publishes
+  // it again from its ring.
   void output_gaps(double now) {
-    for (int64_t j = base_; j < max_first_; ++j)
-      if (!slot(j).got && want_resend(j, now)) {
-        ++resend_on_gap_;
-        resend_.push_back(j);
+    const bool hal_red = last_copy_msg_ >= 0 && output_messages_ - last_copy_msg_ <= 2;
+    for (int64_t j = std::max(scanned_, base_); j < max_first_; ++j)  // newly below the highest first publication
+      if (!slot(j).got) missing_.push_back(j);
+    scanned_ = std::max(scanned_, max_first_);
+    size_t keep = 0;
+    for (size_t i = 0; i < missing_.size(); ++i) {
+      const int64_t j = missing_[i];
+      Slot& s = slot(j);
+      if (j < base_ || s.got) continue;
+      missing_[keep++] = j;
+      if (s.gap_msg < 0) {
+        s.gap_msg = output_messages_;
+        s.t_gap = now;
+        red_until_ = next_ + kRedSpan;
+        if (hal_red) {
+          ++gaps_deferred_;
+          continue;
+        }
+      } else if (hal_red && output_messages_ <= s.gap_msg && now - s.t_gap < rto()) {
+        continue;  // its copy is still on the way
       }
+      if (want_resend(j, now)) {
+        ++resend_on_gap_;
+        copies_wanted_.push_back(j);
+      }
+    }
+    missing_.resize(keep);
+  }
+  // The outputs asked for, as OUTPUT_COPIES requests of contiguous ranges.
+  void request_output_copies() {
+    if (copies_wanted_.empty()) return;
+    std::sort(copies_wanted_.begin(), copies_wanted_.end());
+    copies_wanted_.erase(std::unique(copies_wanted_.begin(), copies_wanted_.end()), copies_wanted_.end());
+    size_t i = 0;
+    while (i < copies_wanted_.size()) {
+      size_t e = i + 1;
+      while (e < copies_wanted_.size() && copies_wanted_[e] == copies_wanted_[e - 1] + 1) ++e;
+      ggins::run_control_t c{};
+      c.utime = wall_us();
+      c.seq = control_seq_++;
+      c.run_id = run_id_;
+      c.command = ggins::run_control_t::OUTPUT_COPIES;
+      c.scenario_id = static_cast<int64_t>(scenario_id_);
+      c.resend_seq = copies_wanted_[i];
+      c.n_steps = static_cast<int64_t>(e - i);
+      c.realtime = opt_.realtime ? 1 : 0;
+      publish(ch_control_, c);
+      ++copy_requests_;
+      outputs_requested_ += static_cast<int64_t>(e - i);
+      i = e;
+    }
+    copies_wanted_.clear();
   }
   void on_nak(const lcm_recv_buf_t* rb) {
     ggins::resend_request_t m{};
     if (!accept(rb, ch_nak_, m)) return;
     ++naks_;
     const double now = mono_s();
+    red_until_ = next_ + kRedSpan;
     for (int i = 0; i < m.n && i < static_cast<int>(m.count.size()); ++i)
       for (int64_t j = std::max(m.first[static_cast<size_t>(i)], base_);
            j < std::min(m.first[static_cast<size_t>(i)] + m.count[static_cast<size_t>(i)], next_); ++j)
@@ -508,28 +604,37 @@ class Link : public LinkBase {
   double gap_interval_s() const { return 1e-3 * std::max(2, opt_.resend_timeout_ms / 25); }
 
   // ---- sending
-  // Frame k (its stored message) into the batch under construction, through the fault injection.
-  void emit(int64_t k) {
+  // Frame k (its stored message) into the batch under construction, through
+  // the fault injection; copy: a redundant copy (resent = -1), not a resend.
+  void emit(int64_t k, bool copy = false) {
     Slot& s = slot(k);
-    const auto ua = static_cast<uint64_t>(s.attempts);
+    const auto ua = static_cast<uint64_t>(s.tx);
     const auto uk = static_cast<uint64_t>(k);
     if (s.attempts >= opt_.max_resend + 1)
       throw Fail("no navigation output for step " + std::to_string(k) + " after " + std::to_string(opt_.max_resend) +
                  " resends; see " + (out_ / "hal_sim.log").string());
     ggins::sensor_frame_t m = s.msg;
-    m.resent = static_cast<int8_t>(std::min(s.attempts, 127));
-    ++s.attempts;
+    if (copy) {
+      m.resent = -1;
+      ++frame_copies_;
+    } else {
+      m.resent = static_cast<int8_t>(std::min(s.attempts, 127));
+      ++s.attempts;
+    }
+    ++s.tx;
     pending_seqs_.push_back(k);
     const Faults& f = opt_.faults;
     if (f.garbage > 0 && fault_uniform(f.seed, 13, uk, ua) < f.garbage) publish_garbage(m);
     if (f.drop > 0 && fault_uniform(f.seed, 10, uk, ua) < f.drop) {
       ++dropped_inj_;
+      if (copy) ++dropped_copies_inj_;
       return;
     }
     batch_msgs_.push_back(m);
     if (f.dup > 0 && fault_uniform(f.seed, 11, uk, ua) < f.dup) {
       batch_msgs_.push_back(m);
       ++dup_inj_;
+      if (copy) ++dup_copies_inj_;
     }
     if (f.conflict > 0 && fault_uniform(f.seed, 14, uk, ua) < f.conflict) {
       ggins::sensor_frame_t other = m;  // a sender contradicting itself: a different frame, correctly signed
@@ -587,6 +692,7 @@ class Link : public LinkBase {
     pending_seqs_.swap(held_seqs);
   }
   void flush_resends() {
+    request_output_copies();
     if (resend_.empty()) return;
     std::sort(resend_.begin(), resend_.end());
     resend_.erase(std::unique(resend_.begin(), resend_.end()), resend_.end());
@@ -629,6 +735,7 @@ class Link : public LinkBase {
     check_children();
     int c = 0;
     const double now = mono_s();
+    red_until_ = next_ + kRedSpan;
     for (int64_t k = base_; k < next_ && c < batch_; ++k)
       if (!slot(k).got && want_resend(k, now)) {
         ++resend_timeouts_;
@@ -637,6 +744,12 @@ class Link : public LinkBase {
       }
     flush();
     last_progress_ = mono_s();
+  }
+  // Redundant copies of the previous batch's frames whose outputs have not come.
+  void emit_copies() {
+    for (int64_t k = std::max(prev_lo_, base_); k < prev_hi_; ++k)
+      if (!slot(k).got) emit(k, true);
+    prev_lo_ = prev_hi_;
   }
   void update_window() {
     if (opt_.window > 0) return;
@@ -659,6 +772,9 @@ class Link : public LinkBase {
       flush_resends();
       int added = 0;
       const double a = mono_s();
+      const bool red = next_ < red_until_;
+      if (red) emit_copies();  // the previous batch's frames again, first (they fill a gap before a new one opens)
+      prev_lo_ = next_;
       while (next_ < n_ && next_ - base_ < window_ && added < batch_) {
         const Faults& f = opt_.faults;
         if (f.reorder > 0 && next_ + 1 < n_ &&
@@ -682,11 +798,19 @@ class Link : public LinkBase {
         }
       }
       t_make_ += mono_s() - a;
+      prev_hi_ = next_;
+      if (red) steps_redundant_ += added;
       flush();
       const bool can_send = next_ < n_ && next_ - base_ < window_;
       if (can_send) {
         handle_ready();
       } else {
+        if (red && prev_lo_ < prev_hi_) {  // the copies of the last batch now, not after the wait
+          const int64_t c0 = frame_copies_;
+          emit_copies();
+          flush();
+          if (frame_copies_ > c0) ++copy_batches_;
+        }
         // outputs known to be missing (below the highest first publication) are
         // asked for again when their last resend is half a re-request interval old,
         // whether or not anything else arrives meanwhile
@@ -775,7 +899,11 @@ class Link : public LinkBase {
   std::vector<Slot> ring_;
   SeqCopies<Out> taken_;
   std::vector<ggins::sensor_frame_t> batch_msgs_;
-  std::vector<int64_t> pending_seqs_, resend_;
+  std::vector<int64_t> pending_seqs_, resend_, copies_wanted_, missing_;  // missing_: outputs known lost
+  int64_t scanned_ = 0;  // output_gaps has looked at the seqs below this
+  int64_t red_until_ = 0, prev_lo_ = 0, prev_hi_ = 0, last_copy_msg_ = -1;
+  int64_t steps_redundant_ = 0, frame_copies_ = 0, copy_batches_ = 0, outputs_from_copies_ = 0,
+          outputs_from_answers_ = 0, gaps_deferred_ = 0, copy_requests_ = 0, outputs_requested_ = 0;
   int64_t base_ = 0, next_ = 0, max_first_ = -1, batch_seq_ = 0;
   int batch_ = kDefaultBatch;
   int64_t window_ = 0, window_max_ = 0;
@@ -785,7 +913,7 @@ class Link : public LinkBase {
   double cpu_start_ = 0, cpu_loop_ = 0, hal_cpu_s_ = -1, fw_ns_ = 0;
   int64_t outputs_ = 0, outputs_dup_ = 0, outputs_recovered_ = 0, outputs_foreign_ = 0, outputs_conflict_ = 0;
   int64_t output_messages_ = 0, resend_timeouts_ = 0, resend_on_request_ = 0, resend_on_gap_ = 0, naks_ = 0;
-  int64_t dropped_inj_ = 0, dup_inj_ = 0, reordered_inj_ = 0, conflict_inj_ = 0;
+  int64_t dropped_copies_inj_ = 0, dup_copies_inj_ = 0, dropped_inj_ = 0, dup_inj_ = 0, reordered_inj_ = 0, conflict_inj_ = 0;
   std::vector<double> latency_, lateness_;
 };
 

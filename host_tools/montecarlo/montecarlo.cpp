@@ -24,10 +24,12 @@
 #include <sstream>
 #include <thread>
 
+#include "ggins/cli_checks.hpp"
 #include "ggins/covariance/propagate.hpp"
 #include "ggins/covariance/scenario.hpp"
 #include "ggins/covariance/welker2d.hpp"
 #include "ggins/gravity/field.hpp"
+#include "ggins/truth/stats.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -83,11 +85,6 @@ RunData read_run(const fs::path& csv) {
   return r;
 }
 
-double chi2_quantile_wh(double n, double z) {  // Wilson-Hilferty
-  const double a = 2.0 / (9.0 * n);
-  const double c = 1.0 - a + z * std::sqrt(a);
-  return n * c * c * c;
-}
 
 std::string self_dir() {
   std::error_code ec;
@@ -112,16 +109,25 @@ int main(int argc, char** argv) {
   app.add_option("-s,--scenario", scen, "scenario name or .toml path (as ggins run)")->capture_default_str();
   app.add_option("-n,--runs", runs, "number of flights")->capture_default_str()->check(CLI::Range(2, 100000));
   app.add_option("-j,--jobs", jobs, "flights in parallel (default: all cores)")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--seed0", seed0, "run i uses accelerometer seed seed0 + i")->capture_default_str();
-  app.add_option("--duration", duration, "override the scenario duration, s")->check(CLI::PositiveNumber);
-  app.add_option("--z", z, "acceptance band: +-z normal quantiles of the chi-square interval")->capture_default_str();
-  app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo/<scenario>)");
+  app.add_option("--seed0", seed0, "run i uses accelerometer seed seed0 + i")
+      ->capture_default_str()
+      ->check(ggins::cli::IntRange(0, 4000000000000000000LL));
+  app.add_option("--duration", duration, "override the scenario duration, s")
+      ->check(ggins::cli::FiniteRange(0.0, 1e6, ggins::cli::kOpenLow));
+  app.add_option("--z", z, "acceptance band: +-z normal quantiles of the chi-square interval")
+      ->capture_default_str()
+      ->check(ggins::cli::FiniteRange(0.0, 10.0, ggins::cli::kOpenLow));
+  app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo/<scenario>)")->check(ggins::cli::OutputDir());
   app.add_option("--run-exe", run_exe, "ggins-run executable (default: beside this one)");
   app.add_flag("--keep-runs", keep, "keep every run's output folder");
   app.add_flag("--json", want_json, "print the JSON summary on stdout");
   app.add_flag("--no-plot", no_plot, "no PNG");
   app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
-  CLI11_PARSE(app, argc, argv);
+  try {  // bad arguments: CLI11's message naming the option, exit 2 (ggins/cli_checks.hpp)
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
+  }
 
   CovScenario sc;
   try {
@@ -204,7 +210,8 @@ int main(int argc, char** argv) {
     return sigmas(cov[k].P, 6);
   };
 
-  const double lo = std::sqrt(chi2_quantile_wh(n, -z) / n), hi = std::sqrt(chi2_quantile_wh(n, z) / n);
+  const ggins::truth::Chi2Band band = ggins::truth::chi2_band(n, z);  // truth/stats.hpp
+  const double lo = band.rms_lo, hi = band.rms_hi;
   {
     std::ofstream f(outp / "montecarlo.csv");
     f << "t_s";

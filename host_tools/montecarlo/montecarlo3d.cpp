@@ -18,7 +18,9 @@
 #include <random>
 #include <thread>
 
+#include "ggins/cli_checks.hpp"
 #include "ggins/covariance/propagate.hpp"
+#include "ggins/truth/stats.hpp"
 #include "sim3d.hpp"
 #ifdef GGINS_HAVE_TRUTH3D
 #include "ggins/covariance/cov3d_truth3d.hpp"
@@ -49,27 +51,42 @@ int main(int argc, char** argv) {
   std::string python;
   app.add_option("-s,--scenario", scen, "3-D scenario: gc3d-* built-in or a 3-D truth-generator scenario (ggins covariance3d --help)")->capture_default_str();
   app.add_option("-n,--runs", runs, "number of runs N")->capture_default_str()->check(CLI::Range(2, 100000));
-  app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str();
-  app.add_option("--rate-hz", rate, "firmware step rate, Hz")->capture_default_str();
-  app.add_option("--duration", duration, "s");
-  app.add_option("--output-dt", output_dt, "comparison spacing, s")->capture_default_str();
-  app.add_option("-j,--jobs", jobs, "threads (default: all cores)");
+  app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str()->check(ggins::cli::Seed());
+  app.add_option("--rate-hz", rate, "firmware step rate, Hz (1e6 / rate a whole number of microseconds)")
+      ->capture_default_str()
+      ->check(ggins::cli::FiniteRange(0.0, 1e4, ggins::cli::kOpenLow));
+  app.add_option("--duration", duration, "s")->check(ggins::cli::FiniteRange(0.0, 1e6, ggins::cli::kOpenLow));
+  app.add_option("--output-dt", output_dt, "comparison spacing, s")
+      ->capture_default_str()
+      ->check(ggins::cli::FiniteRange(0.0, 1e6, ggins::cli::kOpenLow));
+  app.add_option("-j,--jobs", jobs, "threads (default: all cores)")->check(ggins::cli::IntRange(0, 1024));
   app.add_option("--platform", platform_s, "stabilized | strapdown")->check(CLI::IsMember({"stabilized", "strapdown"}));
   app.add_option("--field", field_s, "normal | point-mass")->check(CLI::IsMember({"normal", "point-mass"}));
-  app.add_option("--omega-ie", omega_ie, "Earth rate, rad/s (0: non-rotating)");
-  app.add_option("--speed", speed, "m/s");
-  app.add_option("--lat0-deg", lat0, "deg");
-  app.add_option("--acc-bias-sigma", acc_bias, "m/s^2");
-  app.add_option("--gyro-bias-sigma", gyro_bias, "rad/s");
-  app.add_option("--acc-noise-sigma", acc_noise, "per sample, m/s^2");
-  app.add_option("--gyro-noise-sigma", gyro_noise, "per sample, rad/s");
-  app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo3d/<scenario>)");
+  app.add_option("--omega-ie", omega_ie, "Earth rate, rad/s (0: non-rotating)")->check(ggins::cli::FiniteRange(0.0, 1e-3));
+  app.add_option("--speed", speed, "m/s")->check(ggins::cli::FiniteRange(0.0, 2e4));
+  app.add_option("--lat0-deg", lat0, "deg")->check(ggins::cli::FiniteRange(-89.0, 89.0));
+  app.add_option("--acc-bias-sigma", acc_bias, "m/s^2")->check(ggins::cli::NonNegativeFinite());
+  app.add_option("--gyro-bias-sigma", gyro_bias, "rad/s")->check(ggins::cli::NonNegativeFinite());
+  app.add_option("--acc-noise-sigma", acc_noise, "per sample, m/s^2")->check(ggins::cli::NonNegativeFinite());
+  app.add_option("--gyro-noise-sigma", gyro_noise, "per sample, rad/s")->check(ggins::cli::NonNegativeFinite());
+  app.add_option("-o,--out", out_dir, "output directory (default out/montecarlo3d/<scenario>)")->check(ggins::cli::OutputDir());
   app.add_flag("--json", want_json, "print the JSON summary");
   app.add_flag("--no-plot", no_plot, "no matplotlib plot");
   app.add_flag("--no-baro", no_baro, "fly (and analyse) a scenario that has the barometric loop without it");
   app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
-  CLI11_PARSE(app, argc, argv);
-
+  try {  // bad arguments: CLI11's message naming the option, exit 2 (ggins/cli_checks.hpp)
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
+  }
+  {
+    const double us = 1e6 / rate;
+    if (std::fabs(us - std::round(us)) > 1e-9 * us) {
+      std::fprintf(stderr, "ggins-montecarlo3d: --rate-hz: value %g does not give a whole number of microseconds per step\n", rate);
+      return ggins::cli::kExitBadArgs;
+    }
+  }
+  try {
   auto b = builtin_scenario3d(scen);
 #ifdef GGINS_HAVE_TRUTH3D
   if (!b) {
@@ -168,7 +185,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins-montecarlo3d: %zu covariance samples vs %zu run samples\n", cov.size(), nt);
     return 1;
   }
-  const auto band = chi_band(runs);
+  const ggins::truth::Chi2Band b3 = ggins::truth::chi2_band(runs, 3.0);  // truth/stats.hpp
+  const std::pair<double, double> band{b3.rms_lo, b3.rms_hi};
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   std::ofstream csv(fs::path(out_dir) / "montecarlo3d.csv");
@@ -266,4 +284,8 @@ int main(int argc, char** argv) {
     std::printf("%s\n", all_in ? "all inside the band" : "NOT all inside the band");
   }
   return all_in ? 0 : 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-montecarlo3d: %s\n", e.what());
+    return ggins::cli::kExitFailed;
+  }
 }

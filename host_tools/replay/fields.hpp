@@ -94,6 +94,8 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kI64, mm_rejected, 1, 1, true),  GG_FIELD(T, kI64, mm_no_map, 1, 1, true),
       GG_FIELD(T, kF64, mm_nis, 1, 1, true),       GG_FIELD(T, kF64, mm_sigma, 12, 1, true),
       GG_FIELD(T, kF64, mm_corr_m, 3, 1, true),
+      GG_FIELD(T, kF64, mm_innov, 6, 1, true),     GG_FIELD(T, kF64, mm_pcov, 18, 1, true),
+      GG_FIELD(T, kI32, mm_n_avg, 1, 1, true),
       // the cold-atom particle-filter aid (aid_pf.h)
       GG_FIELD(T, kI32, pf_phase, 1, 1, true),     GG_FIELD(T, kI8, pf_corrected, 1, 1, true),
       GG_FIELD(T, kI64, pf_shots, 1, 1, true),     GG_FIELD(T, kI64, pf_updates, 1, 1, true),

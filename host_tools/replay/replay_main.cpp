@@ -30,6 +30,7 @@
 // with the outputs in the log.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
@@ -39,6 +40,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -57,7 +59,9 @@
 #include "ggins_nav_output_batch_t.h"
 #include "hal_lcm.h"
 #include "hal_lcm3d.h"
+#include "hal_map.h"
 #include "lcmlog_reader.hpp"
+#include "tile_digest.hpp"
 
 using json = nlohmann::json;
 using namespace ggins::replay;
@@ -269,6 +273,7 @@ struct Options {
   std::string json_out;
   int show = 20;
   bool quiet = false;
+  std::string map_dir;  // 3-D: look the recorded map tiles up by file name here
 };
 
 // What the log holds apart from the task-specific configuration and outputs.
@@ -555,6 +560,48 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     if (encoded(a, D::cfg_encode, D::cfg_size) != encoded(b, D::cfg_encode, D::cfg_size)) config_copies_differ = true;
   }
 
+  // ---- the computer's map storage (3-D, map aid): the tiles the configuration records, each
+  // checked against its recorded size and BLAKE2b-256 before it is loaded
+  struct MapStore {
+    hal_map_store_t s;
+    MapStore() { hal_map_init(&s); }
+    ~MapStore() { hal_map_free(&s); }
+  } maps;
+  bool have_maps = false;
+  if constexpr (std::is_same_v<D, Dim3>) {
+    const auto& cm = configs.front();
+    json tl = json::array();
+    std::string bad;
+    for (int i = 0; i < cm.aid_mm_n_tiles && i < 16 && bad.empty(); ++i) {
+      const char* p = reinterpret_cast<const char*>(cm.aid_mm_tile_path[i]);
+      std::string path(p, strnlen(p, 256));
+      if (!o.map_dir.empty()) path = (std::filesystem::path(o.map_dir) / std::filesystem::path(path).filename()).string();
+      std::array<uint8_t, 32> want{};
+      std::memcpy(want.data(), cm.aid_mm_tile_blake2b[i], 32);
+      const auto d = ggins::run3d::tile_digest(path);
+      char err[256] = "";
+      if (!d)
+        bad = "map tile " + path + " (recorded for the run) cannot be read";
+      else if (d->bytes != cm.aid_mm_tile_bytes[i] || d->blake2b != want)
+        bad = "map tile " + path + " is not the one the run flew: " + std::to_string(d->bytes) + " bytes, BLAKE2b " +
+              ggins::run3d::hex(d->blake2b) + "; recorded " + std::to_string(cm.aid_mm_tile_bytes[i]) +
+              " bytes, " + ggins::run3d::hex(want);
+      else if (hal_map_load(&maps.s, path.c_str(), err, sizeof err) != 0)
+        bad = "map tile " + path + ": " + err;
+      else
+        have_maps = true;
+      tl.push_back({{"path", path}, {"bytes", cm.aid_mm_tile_bytes[i]}, {"blake2b", ggins::run3d::hex(want)}});
+    }
+    r["map_tiles"] = tl;
+    if (!bad.empty()) {  // a replay over other tiles would not be the run: refused
+      problems.push_back({kUnreadable, bad});
+      const int code = worst(kUnreadable);
+      print_problems();
+      std::printf("replay: %s\n", verdict_name(static_cast<Exit>(code)));
+      return finish(code);
+    }
+  }
+
   // ---- replay
   typename D::Cfg cfg;
   D::cfg_from_lcm(&configs.front(), &cfg);
@@ -568,6 +615,7 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   set_writer(hal, D{});
   hal.cycle_count = hal_cycle_count<FwOut>;
   hal.cycles_per_second = 1000000000u;
+  if (have_maps) hal.map = &maps.s.ops;
 
   Comparer cmp;
   cmp.keep = static_cast<size_t>(std::max(0, o.show));
@@ -714,6 +762,10 @@ int main(int argc, char** argv) {
       "of one frame must be identical but for `resent`). If hal_sim reported frames it gave\n"
       "up on (hal_status_t.frames_lost > 0), only the frames with a recorded output are\n"
       "replayed.\n\n"
+      "3-D runs with the gradient-map aid: the computer's map storage is loaded with the\n"
+      "tiles the configuration message records (path, size, BLAKE2b-256 of each file; from\n"
+      "--map-dir by file name if the files moved); a tile that cannot be read or whose\n"
+      "size or digest differs is refused (exit 2): a replay over other tiles is not the run.\n\n"
       "Compared: every field of the output message (doubles by bit pattern) except cycles[],\n"
       "the HAL cycle-counter timing, and republished. The recorded cycles[GG_MOD_TOTAL] is\n"
       "fed back through the replay HAL's cycle counter so the firmware's deadline check\n"
@@ -748,6 +800,9 @@ int main(int argc, char** argv) {
           },
           "FILE (writable)", "WritableFile"));
   app.add_option("--show", o.show, "mismatches listed in full")->capture_default_str()->check(ggins::cli::IntRange(0, 1000000));
+  app.add_option("--map-dir", o.map_dir,
+                 "3-D: take the map tiles the run recorded (path, size, BLAKE2b) from this folder, by file name "
+                 "(a tile whose size or digest differs is refused)");
   app.add_flag("-q,--quiet", o.quiet, "print only the problems and the verdict line");
   try {
     app.parse(argc, argv);

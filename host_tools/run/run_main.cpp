@@ -31,6 +31,7 @@
 #include "ggins/nav2d_config_t.hpp"
 #include "ggins/nav_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
+#include "ggins/truth/config2d.hpp"
 #include "ggins/truth/generator.hpp"
 #include "ggins/truth/survey.hpp"
 #include "ggins/truth_t.hpp"
@@ -291,49 +292,46 @@ ggins::sensor_frame_t Model2D::frame(int64_t k) {
 ggins::nav2d_config_t Model2D::config() {
   if (sc_.navigation.gravity == "model" && sc_.navigation.survey.enable)  // before hal_sim: it may take a while
     survey_grid_ = ggins::truth::make_survey_grid(gen_);                   // (truth field at every node)
-  const ggins::truth::TruthState t0 = gen_.truth(0);
+  // the one scenario -> configuration mapping (truth/config2d.hpp), sent as its LCM message
+  const gg_nav2d_config_t f = ggins::truth::config2d(gen_, survey_grid_ ? &*survey_grid_ : nullptr);
   ggins::nav2d_config_t c{};
   c.utime = wall_us();
   c.seq = 0;
   c.run_id = run_id_;
   std::memset(c.scenario, 0, sizeof c.scenario);
   std::memcpy(c.scenario, sc_.name.data(), std::min<size_t>(sc_.name.size(), 63));
-  c.a_m = sc_.a_m;
-  c.b_m = sc_.b_m;
-  c.dt_us = sc_.dt_us();
-  c.dt_tol_us = sc_.firmware.dt_tol_us;
+  c.a_m = static_cast<double>(f.geometry.a_m);
+  c.b_m = static_cast<double>(f.geometry.b_m);
+  c.dt_us = f.dt_us;
+  c.dt_tol_us = f.dt_tol_us;
   for (int j = 0; j < 3; ++j) {
-    hilo(t0.kin.r(j), c.r0_hi[j], c.r0_lo[j]);
-    hilo(t0.kin.v(j), c.v0_hi[j], c.v0_lo[j]);
-    hilo(t0.g(j), c.g0_hi[j], c.g0_lo[j]);
+    hilo(f.r0[j], c.r0_hi[j], c.r0_lo[j]);
+    hilo(f.v0[j], c.v0_hi[j], c.v0_lo[j]);
+    hilo(f.g0[j], c.g0_hi[j], c.g0_lo[j]);
   }
-  c.f_max = sc_.firmware.f_max_mps2;
-  c.asym_max = sc_.firmware.asym_max_ps2;
-  c.gravdr_trapezoid_only = sc_.firmware.gravdr_trapezoid_only ? 1 : 0;
-  c.fdi_parity_f_max = sc_.firmware.fdi_parity_f_max_mps2;
-  c.fdi_asym_max = sc_.firmware.fdi_asym_max_ps2;
-  // gravity source, onboard model, barometric loop, altitude reference
-  c.gravity_mode = sc_.navigation.gravity == "model" ? 1 : 0;  // GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER (nav2d.h)
-  {
-    const ggins::truth::NavModelParams nm = sc_.nav_model();
-    hilo(static_cast<Real>(nm.gm_m3ps2), c.model_gm_hi, c.model_gm_lo);
-    c.model_a_m = nm.a_m;
-    for (int n = 0; n < 9; ++n) c.model_j[n] = nm.j[static_cast<size_t>(n)];
+  c.f_max = f.f_max;
+  c.asym_max = f.asym_max;
+  c.gravdr_trapezoid_only = static_cast<int8_t>(f.gravdr_trapezoid_only);
+  c.fdi_parity_f_max = f.fdi_parity_f_max;
+  c.fdi_asym_max = f.fdi_asym_max;
+  c.gravity_mode = static_cast<int8_t>(f.gravity_mode);
+  hilo(f.model.gm, c.model_gm_hi, c.model_gm_lo);
+  c.model_a_m = static_cast<double>(f.model.a_m);
+  for (int n = 0; n < 9; ++n) c.model_j[n] = static_cast<double>(f.model.j[n]);
+  c.grid_n_th = f.model.grid.n_th;
+  c.grid_n_rho = f.model.grid.n_rho;
+  c.grid_c0 = static_cast<double>(f.model.grid.c0);
+  c.grid_s0 = static_cast<double>(f.model.grid.s0);
+  c.grid_th0_rad = static_cast<double>(f.model.grid.th0_rad);
+  c.grid_dth_rad = static_cast<double>(f.model.grid.dth_rad);
+  c.grid_rho0_m = static_cast<double>(f.model.grid.rho0_m);
+  c.grid_drho_m = static_cast<double>(f.model.grid.drho_m);
+  for (int i = 0; i < GG_GMODEL_GRID_MAX; ++i) {
+    c.grid_dg[i][0] = f.model.grid.dg[i][0];
+    c.grid_dg[i][1] = f.model.grid.dg[i][1];
   }
-  if (c.gravity_mode == 1 && survey_grid_) {  // programmed anomaly grid (truth/survey.hpp)
+  if (c.gravity_mode == GG_GRAVITY_MODEL && survey_grid_) {
     const ggins::truth::SurveyGrid& g = *survey_grid_;
-    c.grid_n_th = g.n_th;
-    c.grid_n_rho = g.n_rho;
-    c.grid_c0 = g.c0;
-    c.grid_s0 = g.s0;
-    c.grid_th0_rad = g.th0_rad;
-    c.grid_dth_rad = g.dth_rad;
-    c.grid_rho0_m = g.rho0_m;
-    c.grid_drho_m = g.drho_m;
-    for (size_t i = 0; i < g.dg.size() && i < 1024; ++i) {
-      c.grid_dg[i][0] = g.dg[i][0];
-      c.grid_dg[i][1] = g.dg[i][1];
-    }
     survey_ = {{"nodes_theta", g.n_th}, {"nodes_rho", g.n_rho}, {"spacing_m", sc_.navigation.survey.spacing_m},
                {"drho_m", g.drho_m}, {"seed", sc_.navigation.survey.seed},
                {"noise_gravity_mgal", sc_.navigation.survey.noise_gravity_mgal},
@@ -341,21 +339,17 @@ ggins::nav2d_config_t Model2D::config() {
                {"rms_noise_tangential_mps2", g.rms_noise_t}, {"rms_noise_radial_mps2", g.rms_noise_r},
                {"rms_true_tangential_mps2", g.rms_true_t}, {"rms_true_radial_mps2", g.rms_true_r}};
   }
-  c.baro_enable = sc_.baro_loop_enabled() ? 1 : 0;
-  {
-    const auto& l = sc_.navigation.baro;
-    for (int i = 0; i < 3; ++i) c.baro_poles[i] = l.poles_radps[static_cast<size_t>(i)];
-    // w_s^2 = |G| / |r| at the start (the point-mass vertical gradient is 2 w_s^2)
-    c.baro_omega_s2 = l.omega_s2 > 0 ? l.omega_s2 : static_cast<double>(t0.g.norm() / t0.kin.r.norm());
-    c.baro_period_us = std::llround(sc_.baro_period_s() * 1e6);
-    c.baro_max_age_us = std::llround(l.max_age_s * 1e6);
-    c.baro_coast_us = std::llround(l.coast_s * 1e6);
-    c.baro_alt_min_m = l.alt_min_m;
-    c.baro_alt_max_m = l.alt_max_m;
-    c.baro_gate_m = l.gate_m;
-    c.baro_max_rejects = static_cast<int32_t>(l.max_rejects);
-  }
-  hilo(static_cast<Real>(sc_.r_ref_m()), c.r_ref_hi, c.r_ref_lo);
+  c.baro_enable = static_cast<int8_t>(f.baro_enable);
+  for (int i = 0; i < 3; ++i) c.baro_poles[i] = static_cast<double>(f.baro.poles[i]);
+  c.baro_omega_s2 = static_cast<double>(f.baro.omega_s2);
+  c.baro_period_us = f.baro.period_us;
+  c.baro_max_age_us = f.baro.max_age_us;
+  c.baro_coast_us = f.baro.coast_us;
+  c.baro_alt_min_m = f.baro.alt_min_m;
+  c.baro_alt_max_m = f.baro.alt_max_m;
+  c.baro_gate_m = f.baro.gate_m;
+  c.baro_max_rejects = f.baro.max_rejects;
+  hilo(f.r_ref_m, c.r_ref_hi, c.r_ref_lo);
   return c;
 }
 
@@ -496,7 +490,12 @@ int main(int argc, char** argv) {
   app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
   ggins::hil::add_run_options(app, o);
   app.add_flag("--list-scenarios", list, "list the built-in scenarios and exit");
-  app.add_flag("--print-scenario", print_scenario, "print the resolved scenario and exit");
+  bool print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -508,6 +507,14 @@ int main(int argc, char** argv) {
       auto s = ggins::truth::load_scenario(n, {GGINS_SCENARIO_DIR});
       std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
     }
+    return 0;
+  }
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "%s: --defaults goes with --print-scenario\n", o.tool.c_str());
+    return 2;
+  }
+  if (print_scenario && print_defaults) {
+    std::fputs(ggins::truth::scenario_to_toml(ggins::truth::Scenario{}, true).c_str(), stdout);
     return 0;
   }
   ggins::truth::Scenario sc;
@@ -532,17 +539,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (print_scenario) {
-    std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
+    std::fputs(ggins::truth::scenario_to_toml(sc).c_str(), stdout);
     return 0;
   }
-  const auto& tp = sc.transport;
-  const json effective = {
-      {"time.duration_s", sc.duration_s},         {"time.rate_hz", sc.rate_hz},
-      {"accel.seed", sc.accel.seed},              {"output.csv_rate_hz", sc.output.csv_rate_hz},
-      {"output.truth_rate_hz", sc.output.truth_rate_hz}, {"transport.seed", tp.seed},
-      {"transport.drop_prob", tp.drop_prob},      {"transport.duplicate_prob", tp.duplicate_prob},
-      {"transport.reorder_prob", tp.reorder_prob}, {"transport.output_drop_prob", tp.output_drop_prob},
-      {"transport.garbage_prob", tp.garbage_prob}};
-  return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, sc.text, effective, GGINS_PLOT_SCRIPT,
+  // scenario.toml as flown: every key, the effective values (overrides applied)
+  const std::string as_flown = ggins::truth::scenario_to_toml(sc);
+  return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT_SCRIPT,
                                            [&] { return std::make_unique<Model2D>(o, sc); });
 }

@@ -5,6 +5,7 @@
 // cold-atom particle filter) gets its own table there and its apply here.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -15,6 +16,7 @@ extern "C" {
 #include "ggins/nav3d.h"
 }
 #include "ggins/truth3d/aids3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
 
 namespace ggins::run3d {
 
@@ -33,8 +35,12 @@ inline std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::s
 }
 
 // [aid_ukf] onto the firmware configuration (1 E = 1e-9 s^-2); the firmware
-// validates the values (gg_nav3d_init).
-inline void apply_aid_ukf(const AidUkf3& a, double rate_hz, gg_nav3d_config_t& c) {
+// validates the values (gg_nav3d_init). The gyro's noise and bias one-sigma,
+// unless [aid_ukf] states them, are the sensor's as [gyro] specifies it (the
+// per-step white noise noise_sigma_radps; the bias sqrt(bias_sigma_radps^2 +
+// the largest fixed bias_radps^2)).
+inline void apply_aid_ukf(const AidUkf3& a, double rate_hz, const truth3d::GyroErrorParams& gyro,
+                          gg_nav3d_config_t& c) {
   gg_aid_mm_config_t& m = c.aid_mm;
   m = gg_aid_mm_config_t{};
   m.enable = a.enabled ? 1 : 0;
@@ -53,6 +59,12 @@ inline void apply_aid_ukf(const AidUkf3& a, double rate_hz, gg_nav3d_config_t& c
   m.q_g_mps2_rts = a.q_g_mps2_rts;
   m.lambda = a.lambda;
   m.gate_nis = a.gate_nis;
+  m.average_steps = static_cast<int32_t>(std::llround(a.average_s * rate_hz));
+  double b2 = gyro.bias_sigma_radps * gyro.bias_sigma_radps;
+  double bmax2 = 0;
+  for (double b : gyro.bias_radps) bmax2 = std::max(bmax2, b * b);
+  m.sigma_gyro_rps = a.sigma_gyro_rps >= 0 ? a.sigma_gyro_rps : gyro.noise_sigma_radps;
+  m.sigma_gyro_bias_rps = a.sigma_gyro_bias_rps >= 0 ? a.sigma_gyro_bias_rps : std::sqrt(b2 + bmax2);
 }
 
 }  // namespace ggins::run3d

@@ -17,8 +17,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <Eigen/Cholesky>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -26,12 +28,14 @@
 #include <vector>
 
 #include "compare3d.hpp"
-#include "config3d.hpp"
+#include "aids3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
 #include "runner.hpp"
+#include "tile_digest.hpp"
 #include "pf3d.hpp"
 
 namespace fs = std::filesystem;
@@ -88,7 +92,10 @@ class Model3D {
   void begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run_id);
   ggins::sensor_frame_t frame(int64_t k);
   void take(const ggins::nav3d_output_t& m, bool latest);
-  void end() { csv_.close(); }
+  void end() {
+    csv_.close();
+    if (ep_csv_.is_open()) ep_csv_.close();
+  }
   void report(json& s);
   static std::string final_line(const json& s);
 
@@ -96,6 +103,7 @@ class Model3D {
   void consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos);
   static void from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o);
   json aid_ukf_block() const;
+  void aid_epoch(const ggins::nav3d_output_t& m, bool accepted);
 
   const ggins::hil::RunOptions& opt_;
   ggins::truth3d::Scenario3 sc_;
@@ -115,7 +123,57 @@ class Model3D {
   MaxFinal pos_, vel_, att_, grav_, gam_e_, gam_b_, hgt_, par_asym_, par_trace_, wdot_;
   std::array<double, 3> fpos_n_{}, fvel_n_{}, fatt_n_{}, fg_n_{};
   std::ofstream csv_;
+  std::ofstream ep_csv_;                  // aid_epochs.csv (map aid on)
+  std::array<double, 3> nees_sum_{};      // position, velocity, attitude NEES summed over epochs
+  int64_t nees_n_ = 0;
 };
+
+// NEES of one 3 x 3 block: d^T P^-1 d with P from its upper triangle (xx yy zz xy xz yz);
+// NaN if P is not positive definite.
+double nees3(const double* p6, const ggins::truth3d::Vec3& d) {
+  Eigen::Matrix3d P;
+  P << p6[0], p6[3], p6[4], p6[3], p6[1], p6[5], p6[4], p6[5], p6[2];
+  const Eigen::LLT<Eigen::Matrix3d> llt(P);
+  if (llt.info() != Eigen::Success) return std::nan("");
+  const Eigen::Vector3d dd(static_cast<double>(d(0)), static_cast<double>(d(1)), static_cast<double>(d(2)));
+  return dd.dot(llt.solve(dd));
+}
+
+// One closed epoch of the map aid against the truth of its step: the aid's error state is
+// x = true - estimate in ECI (aid_mmukf.h), so the errors are formed the same way, after the
+// correction the step applied, and weighed with the covariance the step reports.
+void Model3D::aid_epoch(const ggins::nav3d_output_t& m, bool accepted) {
+  const ggins::truth3d::Truth3& t = truth_ring_[static_cast<size_t>(m.seq % kTruthRing)];
+  using ggins::truth3d::Vec3;
+  const double w_ie = 7.292115e-5;  // WGS-84, the rate the task uses by default
+  Vec3 r, v;
+  for (int i = 0; i < 3; ++i) {
+    r(i) = static_cast<ggins::truth3d::Real>(m.r_e[i]) + static_cast<ggins::truth3d::Real>(m.r_e_lo[i]);
+    v(i) = m.v_e[i];
+  }
+  const Vec3 w(0, 0, w_ie);
+  const Vec3 dr_i = t.s.C_e_i * (t.s.r_e - r);
+  const Vec3 dv_i = t.s.v_i - t.s.C_e_i * (v + w.cross(r));
+  const Mat3 Cn = ggins::run3d::dcm_from_quat(m.q_b_e);
+  const Vec3 psi_i = t.s.C_e_i * ggins::run3d::rotation_vector(t.s.C_b_e * Cn.transpose());
+  const double ne[3] = {nees3(&m.mm_pcov[0], dr_i), nees3(&m.mm_pcov[6], dv_i), nees3(&m.mm_pcov[12], psi_i)};
+  if (accepted && std::isfinite(ne[0]) && std::isfinite(ne[1]) && std::isfinite(ne[2])) {
+    for (int b = 0; b < 3; ++b) nees_sum_[static_cast<size_t>(b)] += ne[b];
+    ++nees_n_;
+  }
+  const ggins::run3d::Errors3 e = ggins::run3d::compare(t, [&] {
+    gg_nav3d_output_t o;
+    from_lcm(m, o);
+    return o;
+  }());
+  ep_csv_ << m.t_s << "," << m.seq << "," << m.mm_epochs << "," << (accepted ? 1 : 0) << "," << m.mm_n_avg << ","
+          << m.mm_nis;
+  for (int j = 0; j < 6; ++j) ep_csv_ << "," << m.mm_innov[j] * 1e9;
+  for (int j = 0; j < 3; ++j) ep_csv_ << "," << (accepted ? m.mm_corr_m[j] : 0.0);
+  for (int j = 0; j < 3; ++j) ep_csv_ << "," << static_cast<double>(e.dr_n(j));
+  for (int j = 0; j < 3; ++j) ep_csv_ << "," << std::sqrt(m.mm_pcov[j]);
+  ep_csv_ << "," << ne[0] << "," << ne[1] << "," << ne[2] << "\n";
+}
 
 void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run_id) {
   link_ = link;
@@ -134,6 +192,14 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
           "baro_innov_m,a_c_mps2,status,health,health_bits";
   if (sc_.aid_ukf.enabled) csv_ << ",aid_sig_r_x_m,aid_sig_r_y_m,aid_sig_r_z_m,aid_sig_r_rss_m";
   csv_ << "\n";
+  if (sc_.aid_ukf.enabled) {  // one row per closed epoch of the map aid
+    ep_csv_.open(out / "aid_epochs.csv");
+    if (!ep_csv_) throw Fail("cannot write " + (out / "aid_epochs.csv").string());
+    ep_csv_ << std::setprecision(10);
+    ep_csv_ << "t_s,seq,epoch,accepted,n_avg,nis,innov_xx_E,innov_yy_E,innov_zz_E,innov_xy_E,innov_xz_E,innov_yz_E,"
+               "corr_x_eci_m,corr_y_eci_m,corr_z_eci_m,err_n_m,err_e_m,err_d_m,sig_x_eci_m,sig_y_eci_m,sig_z_eci_m,"
+               "nees_pos,nees_vel,nees_att\n";
+  }
 }
 
 void Model3D::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
@@ -175,8 +241,10 @@ void Model3D::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
 
 void Model3D::take(const ggins::nav3d_output_t& m, bool latest) {
   if (m.mm_updates + m.mm_rejected > aid_closed_) {  // a map-aid epoch finished: its NIS
+    const bool accepted = m.mm_updates + m.mm_rejected == aid_closed_ + 1 && m.mm_corrected != 0;
     aid_closed_ = m.mm_updates + m.mm_rejected;
     aid_nis_sum_ += m.mm_nis;
+    if (ep_csv_.is_open()) aid_epoch(m, accepted);
   }
   if (latest) aid_last_ = m;
   gg_nav3d_output_t o;
@@ -227,8 +295,7 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
 }
 
 ggins::nav3d_config_t Model3D::config() {
-  gg_nav3d_config_t c;
-  ggins::truth3d::nav3d_config(sc_, gen_, c);
+  gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
   ggins::run3d::apply_aid_pf(sc_.aid_pf, sc_.coldatom, c);
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
@@ -277,6 +344,25 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
   m.aid_mm_lambda = c.aid_mm.lambda;
   m.aid_mm_gate_nis = c.aid_mm.gate_nis;
+  m.aid_mm_average_steps = c.aid_mm.average_steps;
+  m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
+  m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
+  // the tiles of the map storage, for a replay to load the same ones
+  // (the configuration records at most 16; a larger storage, as the cold-atom aid's Gamma_zz
+  // tiles, is not recorded and a replay of the run reports the difference)
+  const size_t n_rec = maps_.size() <= 16 ? maps_.size() : 0;
+  if (n_rec < maps_.size())
+    std::fprintf(stderr, "run3d: %zu map tiles: more than the 16 the configuration records; a replay will not load them\n",
+                 maps_.size());
+  m.aid_mm_n_tiles = static_cast<int8_t>(n_rec);
+  for (size_t i = 0; i < n_rec; ++i) {
+    if (maps_[i].size() > 255) throw Fail("map tile path longer than 255 bytes: " + maps_[i]);
+    std::memcpy(m.aid_mm_tile_path[i], maps_[i].data(), maps_[i].size());
+    const auto d = ggins::run3d::tile_digest(maps_[i]);
+    if (!d) throw Fail("cannot read map tile " + maps_[i]);
+    m.aid_mm_tile_bytes[i] = d->bytes;
+    std::memcpy(m.aid_mm_tile_blake2b[i], d->blake2b.data(), 32);
+  }
   ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
   pf_on_ = c.aid_pf.enable != 0;
   return m;
@@ -344,6 +430,32 @@ json Model3D::aid_ukf_block() const {  // the map aid's counters at the last ste
   a["sigma_pos_final_m"] = {{"x", aid_last_.mm_sigma[0]}, {"y", aid_last_.mm_sigma[1]}, {"z", aid_last_.mm_sigma[2]}};
   a["sigma_frame"] = "ECI";
   a["tiles"] = maps_.size();
+  json tf = json::array();  // as recorded in the configuration message (a replay loads these)
+  for (const auto& p : maps_) {
+    const auto d = ggins::run3d::tile_digest(p);
+    tf.push_back({{"path", p}, {"bytes", d ? d->bytes : -1}, {"blake2b", d ? ggins::run3d::hex(d->blake2b) : ""}});
+  }
+  a["tile_files"] = tf;
+  // NEES per block (3 dof each) against the truth after each accepted epoch's correction,
+  // mean over the epochs, and the 95 % band of such a mean if the epochs were independent
+  const double n = static_cast<double>(nees_n_);
+  json ne;
+  ne["epochs"] = nees_n_;
+  ne["dof"] = 3;
+  ne["frame"] = "ECI (error state of aid_mmukf.h: true - estimate)";
+  if (nees_n_ > 0) {
+    ne["position"] = nees_sum_[0] / n;
+    ne["velocity"] = nees_sum_[1] / n;
+    ne["attitude"] = nees_sum_[2] / n;
+    // Wilson-Hilferty quantiles of chi^2(3n) / n
+    auto q = [&](double z) {
+      const double k = 3.0 * n, c = 2.0 / (9.0 * k);
+      return k * std::pow(1.0 - c + z * std::sqrt(c), 3) / n;
+    };
+    ne["band95"] = {q(-1.959963984540054), q(1.959963984540054)};
+  }
+  a["nees"] = ne;
+  a["epochs_csv"] = "aid_epochs.csv";
   return a;
 }
 
@@ -430,7 +542,12 @@ int main(int argc, char** argv) {
                "fly the scenario without its aids ([aid_ukf] off): the unaided reference of an aided flight\n"
                "(plot both on one figure: plot_run3d.py AIDED_DIR --unaided THIS_DIR)");
   app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
-  app.add_flag("--print-scenario", print_scenario, "print the resolved scenario and exit");
+  bool print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -442,6 +559,14 @@ int main(int argc, char** argv) {
       auto s = ggins::truth3d::load_scenario3(n, {GGINS_SCENARIO_DIR});
       std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
     }
+    return 0;
+  }
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "%s: --defaults goes with --print-scenario\n", o.tool.c_str());
+    return 2;
+  }
+  if (print_scenario && print_defaults) {
+    std::fputs(ggins::truth3d::scenario3_to_toml(ggins::truth3d::Scenario3{}, true).c_str(), stdout);
     return 0;
   }
   ggins::truth3d::Scenario3 sc;
@@ -461,14 +586,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (print_scenario) {
-    std::printf("# %s\n%s", sc.source.c_str(), sc.text.c_str());
+    std::fputs(ggins::truth3d::scenario3_to_toml(sc).c_str(), stdout);
     return 0;
   }
-  const json effective = {{"time.duration_s", sc.duration_s},
-                          {"time.rate_hz", sc.rate_hz},
-                          {"accel.seed", sc.accel.seed},
-                          {"output.csv_rate_hz", sc.csv_rate_hz},
-                          {"aid_ukf.enabled", sc.aid_ukf.enabled}};
-  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, sc.text, effective, GGINS_PLOT3D_SCRIPT,
+  // scenario.toml as flown: every key, the effective values (overrides applied)
+  const std::string as_flown = ggins::truth3d::scenario3_to_toml(sc);
+  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
                                            [&] { return std::make_unique<Model3D>(o, sc); });
 }

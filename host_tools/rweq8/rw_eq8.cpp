@@ -10,7 +10,10 @@
 // spherical Earth (point mass GM; the firmware's onboard model is exactly
 // that point mass, so the deflection is the only gravity error) with perfect
 // accelerometers and a perfect barometer (vertical channel damped, as on
-// R&W's platform). The true gravitation has an along-track component
+// R&W's platform). The frames, the truth and the firmware configuration come
+// from the simulation library (truth/generator.hpp, truth/config2d.hpp) for a
+// scenario built from the options, with the deflected field below as its
+// gravitation. The true gravitation has an along-track component
 // g * delta(s) the onboard model does not know; delta(s) is either
 //   --field gm  (default): a first-order Gauss-Markov sequence in distance,
 //              delta_{k+1} = phi delta_k + sqrt(1 - phi^2) sigma w_k,
@@ -40,8 +43,12 @@
 #include <string>
 #include <vector>
 
+#include "ggins/cli_checks.hpp"
 #include "ggins/gravity/point_anomaly.hpp"
 #include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth/config2d.hpp"
+#include "ggins/truth/generator.hpp"
+#include "ggins/truth/stats.hpp"
 extern "C" {
 #include "ggins/nav2d.h"
 }
@@ -49,8 +56,8 @@ extern "C" {
 namespace {
 
 using json = nlohmann::json;
-constexpr long double kGM = 3.986004418e14L;  // WGS-84, m^3/s^2
-constexpr long double kRe = 6378137.0L;       // m
+constexpr long double kGM = ggins::gravity::wgs84::kGm;  // m^3/s^2
+constexpr long double kRe = ggins::gravity::wgs84::kA;   // m
 constexpr double kArcsec = 4.84813681109535994e-6;
 constexpr double kKnot = 1852.0 / 3600.0;
 
@@ -72,35 +79,6 @@ struct Opts {
   bool check = false;   // exit 1 when a checkpoint falls outside the band
   double check_from_s = 600.0;
 };
-
-// Standard normal quantile (Acklam's rational approximation, |rel err| < 1.2e-9).
-double norm_quantile(double p) {
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
-  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                             6.680131188771972e+01,  -1.328068155288572e+01};
-  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
-  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                             3.754408661907416e+00};
-  const double pl = 0.02425;
-  if (p < pl) {
-    const double q = std::sqrt(-2 * std::log(p));
-    return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-           ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  }
-  if (p > 1 - pl) return -norm_quantile(1 - p);
-  const double q = p - 0.5, r = q * q;
-  return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
-         (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
-}
-
-// chi-square quantile, Wilson-Hilferty: chi2_p ~ n (1 - 2/(9n) + z_p sqrt(2/(9n)))^3.
-double chi2_quantile(double p, double n) {
-  const double z = norm_quantile(p), k = 2.0 / (9.0 * n);
-  const double t = 1.0 - k + z * std::sqrt(k);
-  return n * t * t * t;
-}
 
 // R&W eq. (8), as printed.
 double eq8_ms(double t, double delta, double R, double g, double alpha, double ws) {
@@ -128,98 +106,114 @@ double eq7_ms(double t, double R, double ws, F Rf, int n = 4000) {
   return 2 * s * h / 3;
 }
 
-struct Flight {
-  long double rho, V, lat0;
-  void at(long double t, long double r[3], long double v[3], long double a[3]) const {
-    const long double L = lat0 + V * t / rho, c = cosl(L), s = sinl(L), ac = V * V / rho;
-    r[0] = rho * c; r[1] = 0; r[2] = rho * s;
-    v[0] = -V * s; v[1] = 0; v[2] = V * c;
-    a[0] = -ac * c; a[1] = 0; a[2] = -ac * s;
+// The truth gravitation of a run: the point mass plus R&W's along-track
+// deflection, G(r) = G_pm(r) + |G_pm(r)| delta(s) t^(r), with s the distance
+// along the flight circle (radius rho, from latitude lat0) of the point's
+// polar angle, t^ the along-track (north) unit vector there, and delta given
+// as samples every ds metres from s = 0 (linear between them). Gamma is taken
+// by central differences of G (1 m steps): the deflection's own gradient
+// (~ g delta / L ~ 1e-9 s^-2) is kept, though the runs (model mode) do not
+// use it.
+class DeflectedField final : public ggins::gravity::Field {
+  using Vec3 = ggins::gravity::Vec3;
+
+ public:
+  DeflectedField(long double gm, long double rho, long double lat0, const std::vector<double>& delta, double ds)
+      : pm_(gm), rho_(rho), lat0_(lat0), delta_(delta), ds_(ds) {}
+  std::string name() const override { return "point-mass + along-track deflection"; }
+  Vec3 gravitation(const Vec3& r) const override {
+    const Vec3 g = pm_.gravitation(r);
+    const long double th = std::atan2(r(2), r(0)), c = std::cos(th), sn = std::sin(th);
+    const double x = static_cast<double>(rho_ * (th - lat0_)) / ds_;  // delta at the along-track distance
+    size_t i0 = x > 0 ? static_cast<size_t>(x) : 0;
+    if (i0 + 1 >= delta_.size()) i0 = delta_.size() - 2;
+    const double fr = x - static_cast<double>(i0);
+    const long double dl = (1 - fr) * delta_[i0] + fr * delta_[i0 + 1];
+    return g + g.norm() * dl * Vec3(-sn, 0, c);
   }
+  ggins::gravity::FieldSample eval(const Vec3& r) const override {
+    ggins::gravity::FieldSample f;
+    f.potential = pm_.eval(r).potential;  // the point mass's (the deflection has none here)
+    f.g = gravitation(r);
+    for (int k = 0; k < 3; ++k) {
+      Vec3 h = Vec3::Zero();
+      h(k) = 1.0L;
+      f.gamma.col(k) = (gravitation(r + h) - gravitation(r - h)) / 2.0L;
+    }
+    return f;
+  }
+
+ private:
+  ggins::gravity::PointMassField pm_;
+  long double rho_, lat0_;
+  const std::vector<double>& delta_;
+  double ds_;
 };
 
-void point_mass_g(const long double r[3], long double g[3]) {
-  const long double rr = r[0] * r[0] + r[1] * r[1] + r[2] * r[2], k = -kGM / (rr * sqrtl(rr));
-  for (int j = 0; j < 3; ++j) g[j] = k * r[j];
+// The scenario of a run: R&W's north flight over the point mass, perfect
+// sensors, a barometer sample every step, the firmware in model mode with the
+// point mass as its onboard model and the barometric loop damping the
+// vertical channel.
+ggins::truth::Scenario rw_scenario(const Opts& o, int64_t dt_us, long double rho) {
+  ggins::truth::Scenario s;
+  s.name = "rw-eq8";
+  s.trajectory.type = "north-flight";
+  s.trajectory.speed_mps = o.speed_kn * kKnot;
+  s.trajectory.height_m = o.height_m;
+  s.trajectory.lat0_deg = o.lat0_deg;
+  s.trajectory.radius_m = static_cast<double>(kRe);
+  s.gravity.model = "point-mass";
+  s.gravity.gm_m3ps2 = static_cast<double>(kGM);
+  s.a_m = 0.5;
+  s.b_m = 0.5;
+  s.rate_hz = 1e6 / static_cast<double>(dt_us);
+  s.duration_s = o.hours * 3600.0;
+  s.firmware.f_max_mps2 = 100.0;
+  s.firmware.asym_max_ps2 = 1e-6;
+  s.firmware.dt_tol_us = 0;
+  s.navigation.gravity = "model";
+  s.navigation.model.set = true;
+  s.navigation.model.gm_m3ps2 = static_cast<double>(kGM);
+  s.navigation.model.a_m = static_cast<double>(kRe);
+  s.baro.enable = true;  // perfect: no bias, no noise
+  s.baro.rate_hz = s.rate_hz;
+  auto& l = s.navigation.baro;
+  l.enable = 1;
+  l.poles_radps = {0.01, 0.02, 0.03};
+  l.omega_s2 = static_cast<double>(kGM / (rho * rho * rho));
+  l.period_s = static_cast<double>(dt_us) * 1e-6;
+  l.max_age_s = 0.5 * l.period_s;
+  l.coast_s = 10 * l.period_s;
+  l.gate_m = 1000.0;
+  return s;
 }
 
-// One flight: delta(s) given as samples every ds metres from s = 0. Returns the
-// along-track errors at the checkpoints (every `every` steps).
-std::vector<double> fly(const Opts& o, const Flight& fl, const std::vector<double>& delta, double ds, int64_t n_steps,
-                        int64_t every, int64_t dt_us, int& bad_steps) {
+// One flight through the deflected field. Returns the along-track errors at
+// the checkpoints (every `every` steps).
+std::vector<double> fly(const ggins::truth::Scenario& sc, const std::vector<double>& delta, double ds, int64_t every,
+                        int& bad_steps) {
   static gg_nav2d_t nav;  // large (the model's grid): static, one flight at a time
-  static gg_nav2d_config_t cfg;
-  std::memset(&cfg, 0, sizeof cfg);
-  long double r[3], v[3], a[3], g[3];
-  fl.at(0, r, v, a);
-  point_mass_g(r, g);
-  cfg.geometry.a_m = 0.5L;
-  cfg.geometry.b_m = 0.5L;
-  cfg.dt_us = dt_us;
-  cfg.dt_tol_us = 0;
-  for (int j = 0; j < 3; ++j) { cfg.r0[j] = r[j]; cfg.v0[j] = v[j]; cfg.g0[j] = g[j]; }
-  cfg.f_max = 100.0;
-  cfg.asym_max = 1e-6;
-  cfg.gravity_mode = GG_GRAVITY_MODEL;
-  cfg.model.gm = kGM;
-  cfg.model.a_m = kRe;
-  cfg.baro_enable = 1;
-  cfg.baro.poles[0] = 0.01L; cfg.baro.poles[1] = 0.02L; cfg.baro.poles[2] = 0.03L;
-  cfg.baro.omega_s2 = kGM / (fl.rho * fl.rho * fl.rho);
-  cfg.baro.period_us = dt_us;
-  cfg.baro.max_age_us = dt_us / 2;
-  cfg.baro.coast_us = 10 * dt_us;
-  cfg.baro.alt_min_m = -1000.0;
-  cfg.baro.alt_max_m = 30000.0;
-  cfg.baro.gate_m = 1000.0;
-  cfg.baro.max_rejects = 5;
-  cfg.r_ref_m = kRe;
+  const long double rho = static_cast<long double>(sc.trajectory.radius_m) + static_cast<long double>(sc.trajectory.height_m);
+  const long double lat0 = static_cast<long double>(sc.trajectory.lat0_deg) * 3.14159265358979323846264338327950288L / 180.0L;
+  const ggins::truth::Generator gen(sc, std::make_shared<DeflectedField>(kGM, rho, lat0, delta, ds));
+  const gg_nav2d_config_t cfg = ggins::truth::config2d(gen);
   if (gg_nav2d_init(&nav, &cfg) != GG_OK) throw std::runtime_error("gg_nav2d_init refused the configuration");
-  const long double dt = static_cast<long double>(dt_us) * 1e-6L;
-  const long double off[4][3] = {{0.5L, 0, 0}, {0, 0, 0.5L}, {-0.5L, 0, 0}, {0, 0, -0.5L}};
   std::vector<double> err;
-  for (int64_t k = 0; k < n_steps; ++k) {
-    const long double t = static_cast<long double>(k) * dt;
-    fl.at(t, r, v, a);
-    const long double rn = sqrtl(r[0] * r[0] + r[2] * r[2]);
-    const long double th[3] = {-r[2] / rn, 0, r[0] / rn};  // along-track unit vector
-    // delta at the along-track distance s = V t (linear between samples)
-    const double s = static_cast<double>(fl.V * t) / ds;
-    size_t i0 = static_cast<size_t>(s);
-    if (i0 + 1 >= delta.size()) i0 = delta.size() - 2;
-    const double fr = s - static_cast<double>(i0);
-    const long double dl = (1 - fr) * delta[i0] + fr * delta[i0 + 1];
+  for (int64_t k = 0; k < gen.n_steps(); ++k) {
     gg_frame_t f;
-    std::memset(&f, 0, sizeof f);
-    f.utime = 1000000 + k * dt_us;
-    f.seq = k;
-    f.n_acc = 4;
-    for (int i = 0; i < 4; ++i) {
-      long double ri[3], gi[3];
-      for (int j = 0; j < 3; ++j) ri[j] = r[j] + off[i][j];
-      point_mass_g(ri, gi);
-      const long double gabs = sqrtl(gi[0] * gi[0] + gi[1] * gi[1] + gi[2] * gi[2]);
-      for (int j = 0; j < 3; ++j) {
-        const long double x = a[j] - (gi[j] + gabs * dl * th[j]);  // f = a - G_true
-        f.f[i][j] = static_cast<double>(x);
-        f.f_lo[i][j] = static_cast<double>(x - static_cast<long double>(f.f[i][j]));
-      }
-      f.acc_status[i] = GG_SENSOR_OK;
-    }
-    for (int i = 4; i < GG_MAX_ACC; ++i) f.acc_status[i] = GG_SENSOR_ABSENT;
-    f.gyro_status = GG_SENSOR_ABSENT;
-    f.baro_alt_m = static_cast<double>(sqrtl(r[0] * r[0] + r[2] * r[2]) - kRe);
-    f.baro_utime = f.utime;
-    f.baro_status = GG_SENSOR_OK;
+    ggins::truth::TruthState t;
+    gen.frame(k, f, &t);
     gg_nav_output_t out;
     if (gg_nav2d_step(&nav, &f, nullptr, &out) != GG_OK || out.health != 0) ++bad_steps;
     if (k % every == 0) {
+      const ggins::truth::Vec3& r = t.kin.r;
+      const long double rn = std::sqrt(r(0) * r(0) + r(2) * r(2));
+      const long double th[3] = {-r(2) / rn, 0, r(0) / rn};  // along-track unit vector
       long double e = 0;
-      for (int j = 0; j < 3; ++j) e += (static_cast<long double>(out.r_i[j]) - r[j]) * th[j];
+      for (int j = 0; j < 3; ++j) e += (static_cast<long double>(out.r_i[j]) - r(j)) * th[j];
       err.push_back(static_cast<double>(e));
     }
   }
-  (void)o;
   return err;
 }
 
@@ -229,32 +223,42 @@ int main(int argc, char** argv) {
   Opts o;
   CLI::App app{"Rubenstein & Winter eq. (8): Monte Carlo of the conventional INS in a random deflection field"};
   app.add_option("--runs", o.runs, "Monte Carlo runs")->check(CLI::Range(2, 1000000));
-  app.add_option("--hours", o.hours, "flight time, h")->check(CLI::Range(0.01, 24.0));
-  app.add_option("--rate-hz", o.rate_hz, "firmware step rate, Hz")->check(CLI::Range(0.2, 100.0));
-  app.add_option("--speed-kn", o.speed_kn, "ground speed, knots (R&W: 330)");
-  app.add_option("--height-m", o.height_m, "flight height above R_e, m");
-  app.add_option("--lat0-deg", o.lat0_deg, "start latitude, deg");
-  app.add_option("--rms-arcsec", o.rms_arcsec, "rms deflection, arcsec (R&W eq. 5: 4.5)");
-  app.add_option("--corr-nmi", o.corr_nmi, "correlation distance, n.mi. (R&W eq. 5: 33)");
-  app.add_option("--seed", o.seed, "seed of the deflection realisations");
+  app.add_option("--hours", o.hours, "flight time, h")->check(ggins::cli::FiniteRange(0.01, 24.0));
+  app.add_option("--rate-hz", o.rate_hz, "firmware step rate, Hz")->check(ggins::cli::FiniteRange(0.2, 100.0));
+  app.add_option("--speed-kn", o.speed_kn, "ground speed, knots (R&W: 330)")->check(ggins::cli::FiniteRange(1.0, 2000.0));
+  app.add_option("--height-m", o.height_m, "flight height above R_e, m")->check(ggins::cli::FiniteRange(-1000.0, 1e5));
+  app.add_option("--lat0-deg", o.lat0_deg, "start latitude, deg")->check(ggins::cli::FiniteRange(-89.0, 89.0));
+  app.add_option("--rms-arcsec", o.rms_arcsec, "rms deflection, arcsec (R&W eq. 5: 4.5)")
+      ->check(ggins::cli::FiniteRange(0.0, 3600.0, ggins::cli::kOpenLow));
+  app.add_option("--corr-nmi", o.corr_nmi, "correlation distance, n.mi. (R&W eq. 5: 33)")
+      ->check(ggins::cli::FiniteRange(0.0, 1e4, ggins::cli::kOpenLow));
+  app.add_option("--seed", o.seed, "seed of the deflection realisations")->check(ggins::cli::Seed(1ULL << 40));
   app.add_option("--field", o.field, "gm (exact exponential, Gauss-Markov) or point-mass (R&W point-mass field)")
       ->check(CLI::IsMember({"gm", "point-mass"}));
-  app.add_option("--pm-sample-m", o.pm_sample_m, "point-mass field: sample spacing along track, m");
-  app.add_option("--check-every-s", o.check_every_s, "checkpoint spacing, s");
-  app.add_option("--band", o.band, "two-sided coverage of the chi-square band")->check(CLI::Range(0.5, 0.999999));
+  app.add_option("--pm-sample-m", o.pm_sample_m, "point-mass field: sample spacing along track, m")
+      ->check(ggins::cli::FiniteRange(1.0, 1e5));
+  app.add_option("--check-every-s", o.check_every_s, "checkpoint spacing, s")
+      ->check(ggins::cli::FiniteRange(0.0, 86400.0, ggins::cli::kOpenLow));
+  app.add_option("--band", o.band, "two-sided coverage of the chi-square band")->check(ggins::cli::FiniteRange(0.5, 0.999999));
   app.add_option("--out", o.out, "write <out>.json and <out>.csv");
   app.add_flag("--check", o.check, "exit 1 if a checkpoint at t >= --check-from-s is outside the band");
-  app.add_option("--check-from-s", o.check_from_s, "first checkpoint time that --check tests, s");
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--check-from-s", o.check_from_s, "first checkpoint time that --check tests, s")
+      ->check(ggins::cli::NonNegativeFinite());
+  try {  // bad arguments: CLI11's message naming the option, exit 2 (ggins/cli_checks.hpp)
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
+  }
+  try {
 
   const auto t_start = std::chrono::steady_clock::now();
   const int64_t dt_us = std::llround(1e6 / o.rate_hz);
   const int64_t n_steps = std::llround(o.hours * 3600.0 * 1e6 / static_cast<double>(dt_us)) + 1;
   const int64_t every = std::max<int64_t>(1, std::llround(o.check_every_s * 1e6 / static_cast<double>(dt_us)));
-  Flight fl{kRe + static_cast<long double>(o.height_m), static_cast<long double>(o.speed_kn * kKnot),
-            static_cast<long double>(o.lat0_deg * M_PI / 180.0)};
-  const double R = static_cast<double>(fl.rho), V = static_cast<double>(fl.V);
-  const double g = static_cast<double>(kGM / (fl.rho * fl.rho)), ws = std::sqrt(g / R);
+  const long double rho = kRe + static_cast<long double>(o.height_m);
+  const ggins::truth::Scenario sc = rw_scenario(o, dt_us, rho);
+  const double R = static_cast<double>(rho), V = sc.trajectory.speed_mps;
+  const double g = static_cast<double>(kGM / (rho * rho)), ws = std::sqrt(g / R);
   const double L = o.corr_nmi * 1852.0, alpha = V / L, delta = o.rms_arcsec * kArcsec;
   const double length = V * static_cast<double>(n_steps) * static_cast<double>(dt_us) * 1e-6 + 2 * o.pm_sample_m;
 
@@ -306,7 +310,7 @@ int main(int argc, char** argv) {
       acf_sum[j] += s / static_cast<double>(n_samp - j);
     }
     acf_n += 1;
-    const std::vector<double> e = fly(o, fl, d, ds, n_steps, every, dt_us, bad_steps);
+    const std::vector<double> e = fly(sc, d, ds, every, bad_steps);
     if (sum_sq.empty()) sum_sq.assign(e.size(), 0.0);
     for (size_t i = 0; i < e.size(); ++i) sum_sq[i] += e[i] * e[i];
   }
@@ -327,8 +331,9 @@ int main(int argc, char** argv) {
       break;
     }
 
-  const double N = o.runs, p_lo = 0.5 * (1 - o.band), p_hi = 1 - p_lo;
-  const double b_lo = chi2_quantile(p_lo, N) / N, b_hi = chi2_quantile(p_hi, N) / N;
+  const double N = o.runs;
+  const ggins::truth::Chi2Band band = ggins::truth::chi2_band_coverage(N, o.band);  // truth/stats.hpp
+  const double b_lo = band.ms_lo, b_hi = band.ms_hi;
   json res;
   res["command"] = [&] { std::string s; for (int i = 0; i < argc; ++i) s += (i ? " " : "") + std::string(argv[i]); return s; }();
   res["field"] = o.field;
@@ -395,4 +400,8 @@ int main(int argc, char** argv) {
   std::printf("eq. (8) as printed = eq. (7) by quadrature within 1%%: %s\n", closed_form_ok ? "yes" : "NO");
   if (bad_steps > 0) std::printf("WARNING: %d firmware steps were not OK or had health bits\n", bad_steps);
   return (o.check && (!all_in || bad_steps > 0 || !closed_form_ok)) ? 1 : 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-rw-eq8: %s\n", e.what());
+    return ggins::cli::kExitFailed;
+  }
 }

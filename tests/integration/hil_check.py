@@ -163,6 +163,32 @@ def log_item_seqs(events, single, batch):
     return out
 
 
+def log_items(events, batch):
+    """The items of the batches on `batch`, by seq (a list of byte strings per seq)."""
+    out = {}
+    for ch, d in events:
+        if ch != batch:
+            continue
+        n = struct.unpack_from(">i", d, 32)[0]
+        if n <= 0:
+            continue
+        size = (len(d) - 36 - 32) // n
+        for i in range(n):
+            it = d[36 + i * size:36 + (i + 1) * size]
+            out.setdefault(struct.unpack_from(">q", it, 8)[0], []).append(it)
+    return out
+
+
+def copies_agree(items):
+    """Every copy of a seq differs from the first only within one field of <= 4 bytes."""
+    for v in items.values():
+        for c in v[1:]:
+            diff = [i for i in range(len(c)) if c[i] != v[0][i]] if len(c) == len(v[0]) else None
+            if diff is None or (diff and diff[-1] - diff[0] >= 4):
+                return False
+    return True
+
+
 def nav_errors(row):
     """Errors of the navigation columns against the independent truth."""
     t = Decimal(row["t_s"])
@@ -224,10 +250,21 @@ def test_perfect(a):
     chans = {}
     for ch, _ in ev_:
         chans[ch] = chans.get(ch, 0) + 1
-    seqs = sorted(log_item_seqs(ev_, "GGINS_FRAME", "GGINS_FRAMES"))
-    outs = sorted(log_item_seqs(ev_, "GGINS_NAV", "GGINS_NAVS"))
-    check(len(seqs) == n, "log holds %d frames (got %d, in %s batches)" % (n, len(seqs), chans.get("GGINS_FRAMES")))
-    check(outs == list(range(n)), "log holds %d navigation outputs, one per seq (got %d)" % (n, len(outs)))
+    # the log holds what was on the bus: every frame and output at least once, and the
+    # redundant copies the rig sent after a late or lost item, each equal to its original
+    # but for its copy marker (a field of at most 4 bytes)
+    fitems = log_items(ev_, "GGINS_FRAMES")
+    oitems = log_items(ev_, "GGINS_NAVS")
+    seqs = sorted(set(log_item_seqs(ev_, "GGINS_FRAME", "GGINS_FRAMES")))
+    outs = sorted(set(log_item_seqs(ev_, "GGINS_NAV", "GGINS_NAVS")))
+    tr = s["transport"]
+    check(len(seqs) == n and sum(len(v) for v in fitems.values()) == tr["frames_published"],
+          "log holds %d frames, with the %d copies the runner published (%d items, in %s batches)"
+          % (n, tr["frames_published"] - n, sum(len(v) for v in fitems.values()), chans.get("GGINS_FRAMES")))
+    check(outs == list(range(n)) and sum(len(v) for v in oitems.values()) == tr["outputs_received"] + tr["outputs_duplicate"],
+          "log holds %d navigation outputs, one per seq, with the copies hal_sim sent (%d items)"
+          % (n, sum(len(v) for v in oitems.values())))
+    check(copies_agree(fitems) and copies_agree(oitems), "every copy equals its original but for its copy marker")
     check(chans.get("GGINS_TRUTH") == n, "log holds %d truth messages" % n)
     check(chans.get("GGINS_CONFIG", 0) >= 1, "log holds the configuration")
     check(seqs == list(range(n)), "frame seqs in the log are 0..%d" % (n - 1))
@@ -291,11 +328,21 @@ def test_faults(a):
     check(sf["frames_lost"] == 0, "no frame lost")
     check(inj["dropped"] > 50 and inj["duplicated"] > 50 and inj["reordered"] > 50,
           "faults were injected (%s)" % inj)
-    # a frame is recovered when the copy that reached the firmware was a retransmission:
-    # one per dropped first transmission (a retransmission may be dropped again)
-    check(0.85 * inj["dropped"] <= sf["frames_recovered"] <= inj["dropped"],
-          "frames_recovered matches the drops (%d recovered, %d drops)" % (sf["frames_recovered"], inj["dropped"]))
-    check(tr["hal_sim"]["frames_duplicate"] >= inj["duplicated"], "hal_sim counted the duplicates")
+    # a frame is recovered when the copy that reached the firmware was a retransmission
+    # or a redundant copy: one per dropped first transmission (a retransmission or a
+    # copy may be dropped again; drops of redundant copies are counted apart)
+    red = tr["redundancy"]
+    rec = sf["frames_recovered"] + red["hal_sim_frames_from_copies"]
+    first = inj["dropped"] - inj["dropped_copies"]
+    check(0.85 * first <= rec <= first,
+          "frames recovered (resend or copy) match the drops (%d recovered, %d of them from copies; %d drops of "
+          "first transmissions or resends)" % (rec, red["hal_sim_frames_from_copies"], first))
+    check(red["hal_sim_frames_from_copies"] > sf["frames_recovered"],
+          "most lost frames came from their redundant copy, without a request (%d from copies, %d resent)"
+          % (red["hal_sim_frames_from_copies"], sf["frames_recovered"]))
+    # (a duplicated redundant copy is one more copy, not counted as a duplicate)
+    check(tr["hal_sim"]["frames_duplicate"] >= inj["duplicated"] - inj["duplicated_copies"],
+          "hal_sim counted the duplicates")
     check(tr["hal_sim"]["frames_out_of_order"] >= 0.8 * inj["reordered"],
           "hal_sim counted the out-of-order frames (%d, %d reordered)" % (tr["hal_sim"]["frames_out_of_order"],
                                                                        inj["reordered"]))
@@ -304,8 +351,10 @@ def test_faults(a):
           "undecodable payloads counted by hal_sim (%d of %d)" % (tr["hal_sim"]["decode_errors"], inj["garbage"]))
     hd = tr["hal_sim"]["outputs_dropped_injected"]
     check(hd > 50 and tr["outputs_recovered"] >= hd - 5,
-          "lost outputs recovered by resending the frame (%d dropped, %d recovered, %d republished)"
-          % (hd, tr["outputs_recovered"], tr["hal_sim"]["outputs_republished"]))
+          "lost outputs recovered from copies or requests (%d dropped, %d recovered: %d from copies, %d answers)"
+          % (hd, tr["outputs_recovered"], red["outputs_from_copies"], red["outputs_from_answers"]))
+    check(red["outputs_from_copies"] > red["outputs_from_answers"],
+          "most lost outputs came from their redundant copy, without a request")
     cols = [c for c in rc[0] if c.startswith("nav_")]
     same = len(rc) == len(rf) and all(x[c] == y[c] for x, y in zip(rc, rf) for c in cols)
     check(same, "navigation outputs identical to the clean run (%d rows x %d columns)" % (len(rc), len(cols)))

@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 #include "compare3d.hpp"
-#include "config3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 
 using namespace ggins;
 
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   }
   const truth3d::Generator3 gen(sc);
   gg_nav3d_config_t cfg;
-  truth3d::nav3d_config(sc, gen, cfg);
+  cfg = truth3d::config3d(sc, gen);
   static gg_nav3d_t nav;
   if (gg_nav3d_init(&nav, &cfg) != GG_OK) {
     std::printf("FAIL: gg_nav3d_init refused the configuration\n");

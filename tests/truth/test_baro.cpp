@@ -12,14 +12,7 @@
 
 using namespace ggins::truth;
 
-static int g_fail = 0;
-#define CHECK(c, ...)                                   \
-  do {                                                  \
-    std::printf("%s ", (c) ? "ok  " : "FAIL");          \
-    std::printf(__VA_ARGS__);                           \
-    std::printf("\n");                                  \
-    if (!(c)) ++g_fail;                                 \
-  } while (0)
+#include "check.hpp"
 
 static Scenario scen(double duration_s, double rate_hz, const std::string& baro) {
   char head[256];

@@ -23,14 +23,7 @@
 
 using namespace ggins::truth;
 
-static int g_fail = 0;
-#define CHECK(c, ...)                                   \
-  do {                                                  \
-    std::printf("%s ", (c) ? "ok  " : "FAIL");          \
-    std::printf(__VA_ARGS__);                           \
-    std::printf("\n");                                  \
-    if (!(c)) ++g_fail;                                 \
-  } while (0)
+#include "check.hpp"
 
 static const char* kBase =
     "[trajectory]\nspeed_mps = 100.0\nheight_m = 3000.0\nlat0_deg = 33.4\n"

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "compare3d.hpp"
-#include "config3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 
 using namespace ggins;
 using namespace ggins::truth3d;
@@ -69,8 +69,7 @@ struct Run {
 };
 Run fly(const Scenario3& sc, int64_t fault_step, uint32_t flag) {
   const Generator3 gen(sc);
-  gg_nav3d_config_t cfg;
-  nav3d_config(sc, gen, cfg);
+  const gg_nav3d_config_t cfg = config3d(sc, gen);
   static gg_nav3d_t nav;
   Run r;
   if (gg_nav3d_init(&nav, &cfg) != GG_OK) {

@@ -338,11 +338,11 @@ int main() {
     };
     expect_error("", "needs at least one [[trajectory.waypoint]]", "no waypoint");
     expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\nlon_deg = 10.5\nspeed_mps = 0.5\n",
-                 "trajectory.waypoint[1] (line 6).speed_mps must be >= 1", "speed below 1 m/s");
-    expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\n", "trajectory.waypoint[1] (line 6): lat_deg and lon_deg are required",
+                 "test:9: trajectory.waypoint[1].speed_mps = 0.5: out of range (allowed: [1, 3000] m/s)", "speed below 1 m/s");
+    expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\n", "test:6: trajectory.waypoint[1]: lat_deg and lon_deg are required",
                  "missing lon");
     expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\nlon_deg = 10.5\nspeed = 3.0\n",
-                 "unknown key 'trajectory.waypoint[1].speed' (line 6)", "unknown key");
+                 "test:9: unknown key 'trajectory.waypoint[1].speed'", "unknown key");
     expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\nlon_deg = 10.5\n[[trajectory.waypoint]]\nlat_deg = 45.0\nlon_deg = 10.0\n",
                  "trajectory.waypoint[1] (line 6): route: the turn at this waypoint is", "180 deg turn");
     expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\nlon_deg = 10.01\n[[trajectory.waypoint]]\nlat_deg = 45.01\nlon_deg = 10.01\n",
@@ -351,7 +351,7 @@ int main() {
                  "trajectory.waypoint[1] (line 6): route: the height change of", "climb does not fit");
     expect_error("[[trajectory.waypoint]]\nlat_deg = 45.0\nlon_deg = 10.0\n", "waypoint[1] (line 6): route: waypoint coincides",
                  "coincident waypoints");
-    expect_error("[[trajectory.waypoint]]\nlat_deg = 95.0\nlon_deg = 10.0\n", "trajectory.waypoint[1] (line 6).lat_deg must be within",
+    expect_error("[[trajectory.waypoint]]\nlat_deg = 95.0\nlon_deg = 10.0\n", "test:7: trajectory.waypoint[1].lat_deg = 95.0: out of range (allowed: [-85, 85] deg)",
                  "latitude out of range");
     std::string msg;
     try {

@@ -163,9 +163,10 @@ static double nrand(void)
 
 /* a reading's noise so that a diagonal gradient component (difference of two
  * readings over 2 HB) has SIGMA_G */
+static double meas_scale(void);
 static void add_noise(gg_frame_t *fr)
 {
-    const double sf = SIGMA_G * 2.0 * (double)HB / sqrt(2.0);
+    const double sf = meas_scale() * SIGMA_G * 2.0 * (double)HB / sqrt(2.0);
     for (int s = 0; s < 6; ++s)
         for (int j = 0; j < 3; ++j) fr->f[s][j] += sf * nrand();
 }
@@ -297,6 +298,22 @@ typedef struct {
     int nx;
 } flight_t;
 
+/* Options of fly_aided beyond the defaults (stabilized platform, no body
+ * rotation, exact gyros, the epoch's own sample). */
+typedef struct {
+    int strapdown;
+    long double spin, precession; /* body rates of the truth (truth3.h), rad/s */
+    double gyro_noise;            /* white noise added to each frame's gyro rate, rad/s */
+    int32_t average_steps;        /* filter: steps averaged into an epoch */
+    double sigma_gyro;            /* filter: the gyro noise it is told, rad/s */
+    double meas_scale;            /* gradiometer noise (readings and filter) times this (0: 1) */
+} fly_opt_t;
+static fly_opt_t g_opt;
+static double meas_scale(void)
+{
+    return g_opt.meas_scale > 0.0 ? g_opt.meas_scale : 1.0;
+}
+
 /* Fly n steps with the start position off by (dN, dE); aided and unaided
  * side by side on the same noisy frames. */
 static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_ned[3], const double psi[3],
@@ -311,8 +328,10 @@ static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_n
     gg_hal_t hal;
     flight_t res = {0};
     flight_truth(&T);
+    T.s = g_opt.spin;
+    T.p = g_opt.precession;
     build_map(&T);
-    make_config(&T, GG_PLATFORM_STABILIZED, 0, DT_US, &cfg);
+    make_config(&T, g_opt.strapdown != 0 ? GG_PLATFORM_STRAPDOWN : GG_PLATFORM_STABILIZED, 0, DT_US, &cfg);
     if (model_mode != 0) {
         /* the onboard model: the central point mass (the truth's field without the buried masses) */
         cfg.gravity_mode = GG_GRAVITY_MODEL;
@@ -340,6 +359,9 @@ static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_n
     cref = cfg;
     aid_config(&cfg.aid_mm);
     cfg.aid_mm.sig0_pos_m = sig0_pos;
+    cfg.aid_mm.average_steps = g_opt.average_steps;
+    cfg.aid_mm.sigma_gyro_rps = g_opt.sigma_gyro;
+    cfg.aid_mm.sigma_meas_s2 = meas_scale() * SIGMA_G;
     assert_int_equal(gg_nav3d_init(&g_nav, &cfg), GG_OK);
     assert_int_equal(gg_nav3d_init(&g_nav_ref, &cref), GG_OK);
     store.map = &g_map;
@@ -353,6 +375,8 @@ static flight_t fly_aided(long long n, const double dr_ned[3], const double dv_n
     for (long long k = 0; k <= n; ++k) {
         make_frame(&T, k, DT_US, &fr);
         add_noise(&fr);
+        if (g_opt.gyro_noise > 0.0)
+            for (int j = 0; j < 3; ++j) fr.omega_b[j] += g_opt.gyro_noise * nrand();
         const gg_status_t st = gg_nav3d_step(&g_nav, &fr, &hal, &out);
         if (st != GG_OK) fail_msg("step %lld: status %d health 0x%x", k, st, out.health);
         assert_int_equal(gg_nav3d_step(&g_nav_ref, &fr, NULL, &oref), GG_OK);
@@ -439,6 +463,67 @@ static void test_consistency(void **state)
     assert_true(nis > chi2q(-z, 6.0 * n_ep) / n_ep && nis < chi2q(z, 6.0 * n_ep) / n_ep);
 }
 
+/* A strapdown body turning at 2.2 mrad/s (spin about x 2e-3, precession
+ * 1e-3 rad/s) with gyro white noise of 2e-6 rad/s per 10 ms sample: removing
+ * [w x]^2 with the noisy rate adds 2 |w| sigma_w ~ 9e-9 s^-2 (9 E) to each
+ * sample's tensor, 90 times the gradiometer noise (0.1 E per sample here, so
+ * that the averaged noise, not the map error, dominates R's other
+ * directions). The epoch averages its ~490 samples (1 km of track) in ECEF
+ * axes (the body turns by 1.1 mrad, 5 E of tensor, within an epoch; the
+ * field is curved along the track: two map nodes) and R carries the rate
+ * noise's share (aid_mmukf.h); start errors drawn from P0, 12 flights of
+ * 100 s: the position NEES after the last epoch and the NIS over all epochs
+ * in their 95 % bands. The same flights with the filter not told the gyro
+ * noise: NIS far above its band. */
+static void test_gyro_share_averaged(void **state)
+{
+    (void)state;
+    const int n_runs = 12;
+    const double z = 1.959963984540054;
+    double nees = 0.0, nis = 0.0, nis_blind = 0.0;
+    int n_ep = 0, n_ep_blind = 0;
+    memset(&g_opt, 0, sizeof g_opt);
+    g_opt.strapdown = 1;
+    g_opt.spin = 2.0e-3L;
+    g_opt.precession = 1.0e-3L;
+    g_opt.gyro_noise = 2.0e-6;
+    g_opt.average_steps = 500;
+    g_opt.meas_scale = 10.0;
+    for (int pass = 0; pass < 2; ++pass) {
+        g_rng = 0x5851F42D4C957F2Dull;
+        g_opt.sigma_gyro = pass == 0 ? g_opt.gyro_noise : 0.0;
+        for (int r = 0; r < n_runs; ++r) {
+            double dr[3], dv[3], psi[3];
+            for (int j = 0; j < 3; ++j) {
+                dr[j] = 30.0 * nrand();
+                dv[j] = 0.05 * nrand();
+                psi[j] = 1.0e-6 * nrand();
+            }
+            const flight_t f = fly_aided(10000, dr, dv, psi, 30.0, 0);
+            assert_true(f.n_epochs >= 18);
+            if (pass == 0) {
+                nees += f.nees_last;
+                nis += f.nis_sum;
+                n_ep += f.n_epochs;
+            } else {
+                nis_blind += f.nis_sum;
+                n_ep_blind += f.n_epochs;
+            }
+        }
+    }
+    memset(&g_opt, 0, sizeof g_opt);
+    nees /= n_runs;
+    nis /= n_ep;
+    nis_blind /= n_ep_blind;
+    print_message("aid, turning strapdown body, gyro noise: %d flights, mean NEES %.3f (band %.3f..%.3f), mean NIS "
+                  "%.3f over %d epochs (band %.3f..%.3f); filter not told the gyro noise: NIS %.1f\n",
+                  n_runs, nees, chi2q(-z, 3.0 * n_runs) / n_runs, chi2q(z, 3.0 * n_runs) / n_runs, nis, n_ep,
+                  chi2q(-z, 6.0 * n_ep) / n_ep, chi2q(z, 6.0 * n_ep) / n_ep, nis_blind);
+    assert_true(nees > chi2q(-z, 3.0 * n_runs) / n_runs && nees < chi2q(z, 3.0 * n_runs) / n_runs);
+    assert_true(nis > chi2q(-z, 6.0 * n_ep) / n_ep && nis < chi2q(z, 6.0 * n_ep) / n_ep);
+    assert_true(nis_blind > 3.0 * chi2q(z, 6.0 * n_ep_blind) / n_ep_blind);
+}
+
 /* Model mode (the onboard model lacks the buried masses: 10-20 E, ~4e-5 m/s^2
  * of unmodelled gravity): 9 error states, no gravitation state; the same
  * start offset is recovered. */
@@ -512,6 +597,17 @@ static void test_config(void **state)
     c.sigma_meas_s2 = NAN;
     assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
     aid_config(&c);
+    c.average_steps = c.update_steps + 1; /* the window longer than the period */
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
+    aid_config(&c);
+    c.average_steps = c.update_steps;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
+    c.sigma_gyro_rps = -1.0e-6;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
+    aid_config(&c);
+    c.sigma_gyro_bias_rps = NAN;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
+    aid_config(&c);
     c.enable = 0;
     assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
     assert_int_equal(a.initialized, 0);
@@ -526,6 +622,7 @@ int main(void)
         cmocka_unit_test(test_recovers_start_offset),
         cmocka_unit_test(test_consistency),
         cmocka_unit_test(test_model_mode_recovers),
+        cmocka_unit_test(test_gyro_share_averaged),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

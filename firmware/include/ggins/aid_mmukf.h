@@ -27,7 +27,7 @@
  *   dr' = dv,
  *   dv' = Gamma_i dr - [f_i x] psi + dg       (Gamma_i = C_b_i Gamma_b C_i_b,
  *                                              the measured gradient),
- *   psi' = n_psi,                             (gyro white noise)
+ *   psi' = n_psi,                             (gyro white noise: q_att and sigma_gyro)
  *   dg' = [w_ie x] dg + n_g                   (dg is fixed in ECEF; n_g the
  *                                              gradient noise times the speed)
  * The vertical block dr'' = Gamma_zz dr with Gamma_zz ~ +2 w_s^2 is Welker's
@@ -42,9 +42,28 @@
  * Gao eqs. 24-27, [w x]^2 removed with the gyro rate), predicted for a sigma
  * point x as Gamma_b = C_n_b Gamma_n(map at r_e + R3(-theta) dr_i) C_b_n with
  * C_b_n = C_e_n (I + [psi_e x]) C_b_e, psi_e = R3(-theta) psi_i. The tile must
- * hold the total gravitation gradient. R = diag(sigma_meas^2 + sigma_db^2) on
- * the diagonal components and ((offdiag_ratio sigma_meas)^2 + sigma_db^2) on
- * the off-diagonal ones (mmukf.h).
+ * hold the total gravitation gradient.
+ * Epoch average (average_steps = n > 1): the valid samples of the last n steps
+ * before the epoch are rotated to ECEF with the task's attitude of their step
+ * (C_b_e Gamma_b C_e_b: the field does not turn with the body there), averaged,
+ * and rotated back with the epoch's attitude. Since C_b_e,est = (I - [psi x])
+ * C_b_e,true at every step of the window, the average is modelled as above
+ * with the field replaced by its mean along the window's track (two-point
+ * Gauss-Legendre: the map at the mean position +- the positions' standard
+ * deviation along the track) and dr by the window's mean error dr - tau dv
+ * (tau: epoch time minus the mean sample time).
+ * R (full 6 x 6): sigma_meas^2 / n on the diagonal components and
+ * (offdiag_ratio sigma_meas)^2 / n on the off-diagonal ones (sigma_meas is
+ * one sample's noise; mmukf.h), + sigma_db^2 on each (the map's noise does not
+ * average), + the gyro's share: the removal with the measured rate w adds
+ * d[w x]^2 = sum_i dw_i S_i, S_i = e_i w^T + w e_i^T - 2 w_i I (Gao eqs. 28-29:
+ * the rotation terms are quadratic in w), so white rate noise sigma_w per step
+ * adds sigma_w^2 / n^2 sum_k sum_i s_ik s_ik^T and a rate bias sigma_b per axis
+ * sigma_b^2 sum_i s_i s_i^T (s_i the window mean; a constant bias is treated as
+ * white from epoch to epoch), in ECEF components rotated to the epoch's body
+ * axes; the second-order mean E[[dw x]^2] = -2 sigma_w^2 I is taken out of the
+ * measured diagonal. The gyro noise is also an angle random walk of
+ * sigma_w^2 h^2 per step in Q (with q_att_rad_rts).
  *
  * Real-time schedule (one unit of work per navigation step, so no step does
  * more than one pass over the sigma points):
@@ -109,6 +128,11 @@ typedef struct {
     double q_g_mps2_rts;     /**< gravitation-error random walk, m/s^2/sqrt(s) (>= 0) */
     double lambda;           /**< UT spread (>= 0; 0 = Gao) */
     double gate_nis;         /**< NIS gate, chi-square 6 dof (<= 0: none) */
+    int32_t average_steps;   /**< navigation steps whose tensors are averaged into an epoch's
+                                  measurement, 0..update_steps (0 or 1: the epoch's own sample) */
+    double sigma_gyro_rps;   /**< gyro white noise of one navigation step's rate, rad/s (>= 0):
+                                  its share of R (the [w x]^2 removal) and of Q (angle random walk) */
+    double sigma_gyro_bias_rps; /**< gyro bias one-sigma per axis, rad/s (>= 0): its share of R */
 } gg_aid_mm_config_t;
 
 /** The task's INS solution and measurement at one navigation step. */
@@ -123,6 +147,8 @@ typedef struct {
     double gamma_i[3][3];     /**< measured gradient, ECI axes, s^-2 (error dynamics) */
     double f_i[3];            /**< specific force, ECI axes, m/s^2 */
     double z_b[6];            /**< measured gradient, body axes: xx, yy, zz, xy, xz, yz, s^-2 */
+    double w_b[3];            /**< body rate the [w x]^2 removal used, rad/s (0: no removal) */
+    int32_t w_gyro;           /**< 1: w_b is the gyro reading (strapdown), 0: no gyro in z_b */
     int32_t z_valid;          /**< 1: z_b from this frame's own readings (not rebuilt, bridged, coasting) */
 } gg_aid_ins_t;
 
@@ -143,12 +169,12 @@ typedef struct {
     double q[GG_UKF_NX_MAX][GG_UKF_NX_MAX];       /**< process noise accumulated since then */
     /* the epoch (measurement and the nominal it is predicted about) */
     const gg_gmap_t *tile;                        /**< tile from the map storage, valid for the epoch */
-    gg_real_t ep_r_e[3];
-    gg_real_t ep_c_b_e[3][3];
-    gg_real_t ep_sin_th;
-    gg_real_t ep_cos_th;
+    double ep_r_e[3];                             /**< nominal position, ECEF, m */
+    double ep_c_b_e[3][3];                        /**< nominal attitude */
+    double ep_sin_th;                             /**< Earth rotation angle of the epoch */
+    double ep_cos_th;
     double ep_z[6];
-    double rk[6];                                 /**< diagonal of R */
+    double rk[6];                                 /**< diagonal of R of a single sample */
     double w_pass;                                /**< weight of the pass in progress */
     double remaining;                             /**< measurement weight not yet used */
     int32_t pass;
@@ -162,7 +188,28 @@ typedef struct {
     uint32_t n_no_map;                            /**< epochs without a covering tile */
     double last_nis;                              /**< NIS of the last epoch (single update with R) */
     int32_t initialized;
+    /* the epoch's averaging window (sums over its valid steps, ECEF axes) */
+    int32_t av_n;                                 /**< steps summed */
+    double av_g_e[3][3];                          /**< sum of C_b_e Gamma_b C_e_b, s^-2 */
+    double av_r0[3];                              /**< first estimated position of the window, m */
+    double av_dr[3];                              /**< sum of the positions minus av_r0, m */
+    double av_rl[3];                              /**< last position of the window minus av_r0, m */
+    double ep_dq[3];                              /**< epoch: half the spread of the two map nodes, ECEF, m */
+    double av_ksum;                               /**< sum of the samples' steps since the last epoch */
+    double ep_tau_s;                              /**< epoch time minus the window's mean sample time, s */
+    double av_s[3][6];                            /**< sum of the rotated rate sensitivities s_i */
+    double av_ss[6][6];                           /**< sum of s_i s_i^T over i and the steps */
+    double ep_r[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];    /**< R of the epoch (full, s^-4) */
+    double last_innov[6];                         /**< innovation of the last epoch (first pass), s^-2 */
+    int32_t last_n_avg;                           /**< steps averaged into the last epoch */
 } gg_aid_mm_t;
+
+/* gg_aid_mm_t has no gg_real_t member, on purpose: on x86-64 that would make
+ * it 16-byte aligned, and GCC 12.2 at -O3 then miscomputes the misalignment
+ * of its member arrays in outer-loop vectorization (a member at 8 mod 16 is
+ * loaded with an aligned SSE instruction: SIGSEGV; standalone reproduction in
+ * tests/unit/gcc12_outer_vect_align.c). With 8-byte alignment the compiler
+ * cannot assume more than each member's own. aid_mmukf.c asserts it. */
 
 /** Validate cfg and start the filter (mean 0, P0 = diag of the sig0_*).
  *  gravity_state = 1 with gravity dead reckoning, 0 in model mode. cfg->enable

@@ -64,6 +64,8 @@
 #define GG_LIM_AID_MM_STEPS_MAX 128
 /** Navigation steps between two measurement epochs (1000 s at 100 Hz). */
 #define GG_LIM_AID_MM_UPDATE_STEPS_MAX 100000
+/** Gyro noise and bias one-sigma the aid accepts, rad/s (~57 deg/s: beyond any navigation gyro). */
+#define GG_LIM_AID_MM_SIGMA_W_MAX_RPS 1.0
 
 /* ---- particle filter (pf.h) ---- */
 #ifndef GG_PF_MAX

@@ -245,6 +245,10 @@ typedef struct gg_nav3d_output_s {
     double mm_sigma[12];         /**< one-sigma of the error state (aid_mmukf.h order: dr_i m,
                                       dv_i m/s, psi_i rad, dg_i m/s^2; 0 beyond its size) */
     double mm_corr_m[3];         /**< position correction of the last epoch, ECI axes, m */
+    double mm_innov[6];          /**< innovation of the last epoch (xx yy zz xy xz yz, body axes), s^-2 */
+    double mm_pcov[18];          /**< covariance after this step, upper triangles (xx yy zz xy xz yz)
+                                      of the dr_i (m^2), dv_i ((m/s)^2), psi_i (rad^2) blocks */
+    int32_t mm_n_avg;            /**< samples averaged into the last epoch's measurement */
     /* cold-atom particle-filter aid (aid_pf.h); all 0 when it is off */
     int32_t pf_phase;            /**< schedule phase after this step (GG_AID_PF_PH_*) */
     int32_t pf_corrected;        /**< 1: this step fed the filter's correction back into the state */

@@ -10,30 +10,26 @@
 
 namespace ggins::covariance {
 
-namespace {
+Truth3DTrajectory::Truth3DTrajectory(std::shared_ptr<const truth3d::Trajectory3> t) : t_(std::move(t)) {}
 
-// truth3d::Trajectory3 (Taylor jets: mutually exact r, v, a, C_b_i, omega, omega') as a Trajectory3D.
-class Truth3DTrajectory final : public Trajectory3D {
- public:
-  explicit Truth3DTrajectory(std::unique_ptr<truth3d::Trajectory3> t) : t_(std::move(t)) {}
-  Traj3DPoint at(Real t) const override {
-    const truth3d::State3 s = t_->at(t);
-    Traj3DPoint p;
-    p.r_e = s.r_e;
-    p.v_e = s.v_e;
-    p.a_e = s.a_e;
-    p.C_b_e = s.C_b_e;
-    p.w_ib_b = s.omega_b;
-    p.wdot_ib_b = s.omega_dot_b;
-    return p;
-  }
-  Real omega_ie() const override { return truth3d::kOmegaIe; }
+Traj3DPoint Truth3DTrajectory::at(Real t) const {
+  const truth3d::State3 s = t_->at(t);
+  Traj3DPoint p;
+  p.r_e = s.r_e;
+  p.v_e = s.v_e;
+  p.a_e = s.a_e;
+  p.C_b_e = s.C_b_e;
+  p.w_ib_b = s.omega_b;
+  p.wdot_ib_b = s.omega_dot_b;
+  return p;
+}
 
- private:
-  std::unique_ptr<truth3d::Trajectory3> t_;
-};
+Real Truth3DTrajectory::omega_ie() const { return t_->omega_ie(); }
 
-}  // namespace
+std::shared_ptr<const truth3d::Trajectory3> truth3d_trajectory(const Cov3DScenario& s) {
+  if (const auto* t = dynamic_cast<const Truth3DTrajectory*>(s.traj_override.get())) return t->truth();
+  return nullptr;
+}
 
 std::vector<std::string> truth3d_scenario_names() { return truth3d::builtin_scenario3_names(); }
 
@@ -47,7 +43,7 @@ Cov3DScenario load_truth3d_scenario(const std::string& name_or_path, const std::
   s.platform = t.strapdown() ? Platform::kStrapdown : Platform::kStabilized;
   s.field = t.gravity.model;
   s.field_override = std::shared_ptr<const gravity::Field>(truth3d::make_field3(t));
-  s.traj_override = std::make_shared<Truth3DTrajectory>(truth3d::make_trajectory3(t));
+  s.traj_override = std::make_shared<Truth3DTrajectory>(std::shared_ptr<const truth3d::Trajectory3>(truth3d::make_trajectory3(t)));
   s.omega_ie = double(truth3d::kOmegaIe);
   s.lat0_deg = t.trajectory.lat_deg;
   s.lon0_deg = t.trajectory.lon_deg;

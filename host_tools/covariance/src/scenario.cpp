@@ -41,8 +41,9 @@ double num(const toml::node* n, const std::string& key) {
 
 // The file is a scenario of the truth generator (the same keys, types and ranges: an
 // unknown key or section, a NaN, a value out of range is an error there) plus the
-// covariance-only [initial] table, checked here.
-void check_against_truth_schema(const toml::table& tbl, const std::string& path) {
+// covariance-only [initial] table, checked here. Returns the truth parser's scenario:
+// every shared key's value and default comes from there (truth/scenario.hpp).
+ggins::truth::Scenario parse_as_truth_scenario(const toml::table& tbl, const std::string& path) {
   if (tbl.empty())
     throw std::runtime_error("scenario " + path + ": the file sets no key (allowed: a scenario table; for the defaults "
                              "use the built-in welker-table1)");
@@ -60,7 +61,7 @@ void check_against_truth_schema(const toml::table& tbl, const std::string& path)
       if (acc->get(k) && acc->get(k)->is_array()) acc->insert_or_assign(k, 0.0);
   std::ostringstream os;
   os << rest;
-  (void)ggins::truth::parse_scenario(os.str(), fs::path(path).stem().string(), path);
+  return ggins::truth::parse_scenario(os.str(), fs::path(path).stem().string(), path);
 }
 
 void check_sigma(double v, const std::string& path, const std::string& key) {
@@ -78,100 +79,95 @@ CovScenario load_scenario_toml(const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw std::runtime_error(path + ": " + std::string(e.description()));
   }
-  check_against_truth_schema(tbl, path);
-  // Keys shared with the truth generator / ggins run (scenarios/*.toml, see
-  // host_tools/truth/include/ggins/truth/scenario.hpp). Missing keys take the
-  // truth generator's defaults (no accelerometer errors) and are listed in
-  // `defaulted`. The firmware starts from the true G(r0) in host-in-the-loop
+  const ggins::truth::Scenario t = parse_as_truth_scenario(tbl, path);
+  // Keys shared with the truth generator / ggins run take their values and defaults from
+  // the truth parser (no accelerometer errors unless given); the keys the file leaves out
+  // are listed in `defaulted`. The firmware starts from the true G(r0) in host-in-the-loop
   // runs, so dG(0) defaults to 0 here; the optional [initial] table is read by
   // ggins-covariance only (the truth generator rejects unknown tables, so put
   // it only in covariance-only files, or use --sigma-g0).
   CovScenario s;
   s.source = path;
-  s.bias_sigma_mps2.assign(8, 0.0);
+  s.name = t.name;
   s.gravity0_sigma_x_mps2 = s.gravity0_sigma_z_mps2 = 0.0;
-  s.name = tbl["name"].value_or(fs::path(path).stem().string());
   auto node = [&](const char* dotted) { return tbl.at_path(dotted).node(); };
-  auto get = [&](const char* dotted, double& dst) {
-    const toml::node* n = node(dotted);
-    if (!n) {
-      s.defaulted.emplace_back(dotted);
-      return;
-    }
-    try {
-      dst = num(n, dotted);
-    } catch (const std::exception& e) {
-      throw std::runtime_error(path + ": " + e.what());
-    }
+  auto given = [&](const char* dotted) {
+    if (node(dotted)) return true;
+    s.defaulted.emplace_back(dotted);
+    return false;
   };
-  if (auto m = tbl.at_path("gravity.model").value<std::string>(); m && *m != "point-mass")
-    throw std::runtime_error(path + ": gravity.model '" + *m + "' not supported by ggins-covariance yet (point-mass)");
-  if (auto t = tbl.at_path("trajectory.type").value<std::string>()) s.trajectory = *t;
+  if (t.gravity.model != "point-mass")
+    throw std::runtime_error(path + ": gravity.model '" + t.gravity.model + "' not supported by ggins-covariance yet (point-mass)");
+  s.trajectory = t.trajectory.type;
   if (s.trajectory != "north-flight")
     throw std::runtime_error(path + ": trajectory.type '" + s.trajectory + "' not supported (north-flight)");
-  if (auto g = tbl.at_path("navigation.gravity").value<std::string>(); g && *g != "gradiometer")
-    throw std::runtime_error(path + ": navigation.gravity '" + *g +
+  if (t.navigation.gravity != "gradiometer")
+    throw std::runtime_error(path + ": navigation.gravity '" + t.navigation.gravity +
                              "': ggins-covariance models the gradiometer mode (Welker et al.) only");
   // Inputs of the truth generator that the linear model does not contain.
   if (node("accel.bias_mps2")) s.unmodelled.emplace_back("accel.bias_mps2 (deterministic biases)");
   if (node("accel.scale")) s.unmodelled.emplace_back("accel.scale (deterministic scale factors)");
-  {  // barometric vertical loop: the loop is on when [navigation.baro] enable says so,
-     // else when there is a [baro] table that does not disable the barometer (truth generator rules)
-    const bool baro_sensor = node("baro") && tbl.at_path("baro.enable").value_or(true);
-    s.baro_loop = tbl.at_path("navigation.baro.enable").value_or(baro_sensor);
-    if (s.baro_loop) {
-      const double rate = tbl.at_path("baro.rate_hz").value_or(1.0);
-      s.baro_period_s = tbl.at_path("navigation.baro.period_s").value_or(1.0 / rate);
-      s.baro_omega_s2 = tbl.at_path("navigation.baro.omega_s2").value_or(0.0);
-      if (const toml::array* a = tbl.at_path("navigation.baro.poles_radps").as_array()) {
-        if (a->size() != 3) throw std::runtime_error(path + ": navigation.baro.poles_radps needs 3 values");
-        for (size_t i = 0; i < 3; ++i) s.baro_poles_radps[i] = num(a->get(i), "navigation.baro.poles_radps");
-      }
-      if (baro_sensor) {
-        s.baro_bias_m = tbl.at_path("baro.bias_m").value_or(0.0);
-        s.baro_gm_sigma_m = tbl.at_path("baro.gm_sigma_m").value_or(0.0);
-        s.baro_gm_tau_s = tbl.at_path("baro.gm_tau_s").value_or(600.0);
-        s.baro_noise_sigma_m = tbl.at_path("baro.noise_sigma_m").value_or(0.0);
-      }
-      for (const char* k : {"baro.dropout_prob", "baro.dropouts", "baro.outlier_prob", "baro.invalid_prob"})
-        if (node(k)) s.unmodelled.emplace_back(std::string(k) + " (barometer faults)");
+  // barometric vertical loop (the truth generator's rules: Scenario::baro_loop_enabled)
+  s.baro_loop = t.baro_loop_enabled();
+  if (s.baro_loop) {
+    s.baro_period_s = t.baro_period_s();
+    s.baro_omega_s2 = t.navigation.baro.omega_s2;
+    for (size_t i = 0; i < 3; ++i) s.baro_poles_radps[i] = t.navigation.baro.poles_radps[i];
+    if (t.baro.enable) {
+      s.baro_bias_m = t.baro.bias_m;
+      s.baro_gm_sigma_m = t.baro.gm_sigma_m;
+      s.baro_gm_tau_s = t.baro.gm_tau_s;
+      s.baro_noise_sigma_m = t.baro.noise_sigma_m;
     }
+    for (const char* k : {"baro.dropout_prob", "baro.dropouts", "baro.outlier_prob", "baro.invalid_prob"})
+      if (node(k)) s.unmodelled.emplace_back(std::string(k) + " (barometer faults)");
   }
   if (node("sensor_faults")) s.unmodelled.emplace_back("sensor_faults");
-  get("time.duration_s", s.duration_s);
-  get("gravity.gm_m3ps2", s.gm_m3ps2);
-  get("trajectory.radius_m", s.radius_m);
-  get("trajectory.speed_mps", s.speed_mps);
-  get("trajectory.height_m", s.height_m);
-  {
-    double d = 0;
-    get("trajectory.lat0_deg", d);
-    s.lat0_rad = d * M_PI / 180.0;
-  }
-  get("platform.a_m", s.a_m);
-  get("platform.b_m", s.b_m);
-  get("time.rate_hz", s.rate_hz);
-  auto vec8 = [&](const char* dotted, std::vector<double>& dst) {
-    const toml::node* n = node(dotted);
-    if (!n) {
-      s.defaulted.emplace_back(dotted);
+  for (const char* k : {"time.duration_s", "gravity.gm_m3ps2", "trajectory.radius_m", "trajectory.speed_mps",
+                        "trajectory.height_m", "trajectory.lat0_deg", "platform.a_m", "platform.b_m", "time.rate_hz"})
+    (void)given(k);
+  s.duration_s = t.duration_s;
+  s.gm_m3ps2 = t.gravity.gm_m3ps2;
+  s.radius_m = t.trajectory.radius_m;
+  s.speed_mps = t.trajectory.speed_mps;
+  s.height_m = t.trajectory.height_m;
+  s.lat0_rad = t.trajectory.lat0_deg * M_PI / 180.0;
+  s.a_m = t.a_m;
+  s.b_m = t.b_m;
+  s.rate_hz = t.rate_hz;
+  // accelerometer sigmas: one number (the truth generator's key) or, covariance only, 8 per axis
+  auto vec8 = [&](const char* dotted, double truth_value, std::vector<double>& dst) {
+    if (!given(dotted)) {
+      dst.assign(8, 0.0);
       return;
     }
-    if (const toml::array* arr = n->as_array()) {
-      if (arr->size() != 8) throw std::runtime_error(path + ": " + dotted + " needs 8 values (f1x f2x f3x f4x f1z f2z f3z f4z)");
-      for (size_t i = 0; i < 8; ++i) dst[i] = num(arr->get(i), dotted);
+    if (const toml::array* arr = node(dotted)->as_array()) {
+      if (arr->size() != 8)
+        throw std::runtime_error(path + ": " + dotted + " needs 8 values (f1x f2x f3x f4x f1z f2z f3z f4z)");
+      for (size_t i = 0; i < 8; ++i) {
+        try {
+          dst[i] = num(arr->get(i), dotted);
+        } catch (const std::runtime_error& e) {
+          throw std::runtime_error("scenario " + path + ": " + e.what());
+        }
+      }
     } else {
-      dst.assign(8, num(n, dotted));
+      dst.assign(8, truth_value);
     }
   };
-  try {
-    vec8("accel.bias_sigma_mps2", s.bias_sigma_mps2);
-    vec8("accel.noise_sigma_mps2", s.noise_sigma_mps2);
-  } catch (const std::runtime_error& e) {
-    const std::string m = e.what();
-    throw std::runtime_error(m.rfind(path, 0) == 0 ? m : "scenario " + path + ": " + m);
-  }
-  get("accel.scale_sigma", s.scale_sigma);
+  vec8("accel.bias_sigma_mps2", t.accel.bias_sigma_mps2, s.bias_sigma_mps2);
+  vec8("accel.noise_sigma_mps2", t.accel.noise_sigma_mps2, s.noise_sigma_mps2);
+  (void)given("accel.scale_sigma");
+  s.scale_sigma = t.accel.scale_sigma;
+  // the covariance-only [initial] table
+  auto get = [&](const char* dotted, double& dst) {
+    if (!given(dotted)) return;
+    try {
+      dst = num(node(dotted), dotted);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(path + ": " + e.what());
+    }
+  };
   if (const toml::node* n = node("initial.gravity_sigma_mps2")) {
     if (const toml::array* arr = n->as_array()) {
       if (arr->size() != 2) throw std::runtime_error(path + ": initial.gravity_sigma_mps2 needs [x, z]");
@@ -189,21 +185,11 @@ CovScenario load_scenario_toml(const std::string& path) {
     check_sigma(s.bias_sigma_mps2[i], path, "accel.bias_sigma_mps2[" + std::to_string(i) + "]");
     check_sigma(s.noise_sigma_mps2[i], path, "accel.noise_sigma_mps2[" + std::to_string(i) + "]");
   }
-  check_sigma(s.scale_sigma, path, "accel.scale_sigma");
   check_sigma(s.gravity0_sigma_x_mps2, path, "initial.gravity_sigma_mps2");
   check_sigma(s.gravity0_sigma_z_mps2, path, "initial.gravity_sigma_mps2");
   check_sigma(s.pos0_sigma_m, path, "initial.position_sigma_m");
   check_sigma(s.vel0_sigma_mps, path, "initial.velocity_sigma_mps");
-  if (s.baro_loop) {
-    check_sigma(s.baro_bias_m, path, "baro.bias_m");
-    check_sigma(s.baro_gm_sigma_m, path, "baro.gm_sigma_m");
-    check_sigma(s.baro_noise_sigma_m, path, "baro.noise_sigma_m");
-    if (!(std::isfinite(s.baro_period_s) && s.baro_period_s > 0) || !(std::isfinite(s.baro_gm_tau_s) && s.baro_gm_tau_s > 0))
-      throw std::runtime_error("scenario " + path + ": baro period and baro.gm_tau_s must be finite and > 0");
-  }
-  if (!(s.duration_s > 0) || !(s.radius_m > 0) || !(s.gm_m3ps2 > 0) || !(s.a_m > 0) || !(s.b_m > 0) ||
-      !(s.rate_hz > 0))
-    throw std::runtime_error(path + ": duration, radius, GM, rate and half-baselines must be > 0");
+  if (s.baro_loop) check_sigma(s.baro_bias_m, path, "baro.bias_m");  // the linear model's sigma of the constant bias
   return s;
 }
 

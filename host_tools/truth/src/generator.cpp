@@ -15,43 +15,6 @@ extern "C" {
 
 namespace ggins::truth {
 
-namespace {
-
-constexpr uint64_t kStreamBias = 1, kStreamScale = 2, kStreamNoise = 3;
-// barometer streams (keyed by the [baro] seed and the sample index)
-constexpr uint64_t kStreamBaroGm = 20, kStreamBaroNoise = 21, kStreamBaroDrop = 22, kStreamBaroOutlier = 23,
-                   kStreamBaroInvalid = 24;
-
-uint64_t splitmix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
-
-uint64_t key(uint64_t seed, uint64_t stream, uint64_t k, uint64_t i, uint64_t j) {
-  uint64_t h = splitmix64(seed);
-  h = splitmix64(h ^ stream);
-  h = splitmix64(h ^ k);
-  h = splitmix64(h ^ (i << 8 | j));
-  return h;
-}
-
-double to_unit(uint64_t x) { return static_cast<double>(x >> 11) * 0x1.0p-53; }  // [0, 1)
-
-}  // namespace
-
-double counter_uniform(uint64_t seed, uint64_t stream, uint64_t k, uint64_t i, uint64_t j) {
-  return to_unit(key(seed, stream, k, i, j));
-}
-
-double counter_normal(uint64_t seed, uint64_t stream, uint64_t k, uint64_t i, uint64_t j) {
-  const uint64_t h = key(seed, stream, k, i, j);
-  const double u1 = 1.0 - to_unit(h);             // (0, 1]
-  const double u2 = to_unit(splitmix64(h ^ 0x5bd1e995ULL));
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-}
-
 std::unique_ptr<Trajectory> make_trajectory(const Scenario& s) {
   if (s.trajectory.type == "north-flight") {
     const Real deg = 3.14159265358979323846264338327950288L / 180.0L;
@@ -92,8 +55,10 @@ std::unique_ptr<gravity::Field> make_field(const Scenario& s) {
   throw std::invalid_argument("unknown gravity model " + s.gravity.model);
 }
 
-Generator::Generator(const Scenario& s)
-    : sc_(s), traj_(make_trajectory(s)), field_(make_field(s)), dt_us_(s.dt_us()), n_steps_(s.n_steps()),
+Generator::Generator(const Scenario& s) : Generator(s, std::shared_ptr<const gravity::Field>(make_field(s))) {}
+
+Generator::Generator(const Scenario& s, std::shared_ptr<const gravity::Field> field)
+    : sc_(s), traj_(make_trajectory(s)), field_(std::move(field)), dt_us_(s.dt_us()), n_steps_(s.n_steps()),
       n_acc_(s.n_acc()) {
   const Real a = s.a_m, b = s.b_m;
   offsets_[0] = Vec3(a, 0, 0);
@@ -113,37 +78,9 @@ Generator::Generator(const Scenario& s)
     if (gg_gmodel_init(model_.get(), c.get()) != GG_OK) model_.reset();
     model_cfg_ = c;
   }
-  if (s.baro.enable) {  // the Gauss-Markov sequence of every sample of the run (exact discrete recursion)
-    baro_every_ = s.baro_every();
-    const int64_t n = (n_steps_ - 1) / baro_every_ + 1;
-    const double T = static_cast<double>(baro_every_ * dt_us_) * 1e-6;
-    const double phi = std::exp(-T / s.baro.gm_tau_s), q = std::sqrt(1.0 - phi * phi);
-    baro_gm_.resize(static_cast<size_t>(n));
-    double m = s.baro.gm_sigma_m * counter_normal(s.baro.seed, kStreamBaroGm, 0, 0, 0);
-    for (int64_t j = 0; j < n; ++j) {
-      if (j > 0) m = phi * m + s.baro.gm_sigma_m * q * counter_normal(s.baro.seed, kStreamBaroGm, static_cast<uint64_t>(j), 0, 0);
-      baro_gm_[static_cast<size_t>(j)] = m;
-    }
-  }
-  for (int i = 0; i < n_acc_; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      auto ui = static_cast<uint64_t>(i), uj = static_cast<uint64_t>(j);
-      double bias = s.accel.bias_mps2[static_cast<size_t>(i)][static_cast<size_t>(j)];
-      double scale = s.accel.scale[static_cast<size_t>(i)][static_cast<size_t>(j)];
-      const bool measured = (j == axes_[0] || j == axes_[1]);
-      if (measured) {
-        if (s.accel.bias_sigma_mps2 > 0)
-          bias += s.accel.bias_sigma_mps2 * counter_normal(s.accel.seed, kStreamBias, 0, ui, uj);
-        if (s.accel.scale_sigma > 0)
-          scale += s.accel.scale_sigma * counter_normal(s.accel.seed, kStreamScale, 0, ui, uj);
-      } else {
-        bias = 0;
-        scale = 0;
-      }
-      bias_[static_cast<size_t>(i)][static_cast<size_t>(j)] = bias;
-      scale_[static_cast<size_t>(i)][static_cast<size_t>(j)] = scale;
-    }
-  }
+  // the sensor error models (sensors.hpp): x and z measured, y reads 0
+  accel_ = AccelModel(s.accel, n_acc_, {true, false, true}, kAccelStreams2D);
+  if (s.baro.enable) baro_ = BaroModel(s.baro, s.baro_every(), n_steps_, dt_us_);
 }
 
 Real Generator::altitude(const Vec3& r) const { return r.norm() - static_cast<Real>(sc_.r_ref_m()); }
@@ -156,33 +93,11 @@ Vec3 Generator::model_g(const Vec3& r) const {
 }
 
 BaroSample Generator::baro(int64_t k, const TruthState& t) const {
-  BaroSample b;
   const BaroParams& p = sc_.baro;
   // the altitude at the sample's own time (latency_s before the frame)
-  b.true_alt_m = static_cast<double>(
+  const double h = static_cast<double>(
       p.latency_s > 0 ? altitude(traj_->at(t.t_s - static_cast<Real>(p.latency_s)).r) : altitude(t.kin.r));
-  if (!p.enable || k % baro_every_ != 0) return b;
-  const auto j = static_cast<uint64_t>(k / baro_every_);
-  b.due = true;
-  const double ts = static_cast<double>(t.t_s);
-  for (const auto& w : p.dropouts)
-    if (ts >= w[0] && ts < w[1]) b.dropped = true;
-  if (p.dropout_prob > 0 && counter_uniform(p.seed, kStreamBaroDrop, j, 0, 0) < p.dropout_prob) b.dropped = true;
-  b.gm_m = baro_gm_[static_cast<size_t>(j)];
-  b.error_m = p.bias_m + b.gm_m;
-  if (p.noise_sigma_m > 0) b.error_m += p.noise_sigma_m * counter_normal(p.seed, kStreamBaroNoise, j, 0, 0);
-  if (p.outlier_prob > 0) {
-    const double u = counter_uniform(p.seed, kStreamBaroOutlier, j, 0, 0);
-    if (u < p.outlier_prob) {
-      b.outlier = true;
-      b.error_m += (u < 0.5 * p.outlier_prob ? p.outlier_m : -p.outlier_m);
-    }
-  }
-  if (p.invalid_prob > 0 && counter_uniform(p.seed, kStreamBaroInvalid, j, 0, 0) < p.invalid_prob) b.invalid = true;
-  if (b.dropped) return b;
-  b.status = GG_SENSOR_OK;
-  b.alt_m = b.invalid ? std::numeric_limits<double>::quiet_NaN() : b.true_alt_m + b.error_m;
-  return b;
+  return baro_.sample(k, static_cast<double>(t.t_s), h);
 }
 
 Real Generator::time_of(int64_t k) const {
@@ -208,7 +123,6 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
   out.utime = t.utime;
   out.seq = k;
   out.n_acc = n_acc_;
-  const bool noise = sc_.accel.noise_sigma_mps2 > 0;
   for (int i = 0; i < GG_MAX_ACC; ++i) {
     if (i >= n_acc_) {
       out.acc_status[i] = GG_SENSOR_ABSENT;
@@ -219,14 +133,7 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
     const Vec3 fi = t.kin.a - gi;  // error-free specific force at the sensor
     for (int n = 0; n < n_axes_; ++n) {
       const int j = axes_[static_cast<size_t>(n)];
-      const auto sj = static_cast<size_t>(j);
-      Real f = fi(j) * (1.0L + static_cast<Real>(scale_[si][sj])) + static_cast<Real>(bias_[si][sj]);
-      if (noise)
-        f += static_cast<Real>(sc_.accel.noise_sigma_mps2 *
-                               counter_normal(sc_.accel.seed, kStreamNoise, static_cast<uint64_t>(k),
-                                              static_cast<uint64_t>(i), static_cast<uint64_t>(j)));
-      out.f[i][j] = static_cast<double>(f);
-      out.f_lo[i][j] = static_cast<double>(f - static_cast<Real>(out.f[i][j]));
+      encode_hilo(accel_.read(k, i, j, fi(j)), out.f[i][j], out.f_lo[i][j]);
     }
     out.acc_status[i] = GG_SENSOR_OK;
   }
@@ -246,7 +153,7 @@ void Generator::frame(int64_t k, gg_frame_t& out, TruthState* truth_out) const {
       Scenario clean = sc_;
       clean.sensor_faults.faults.clear();
       gg_frame_t f0;
-      Generator(clean).frame(k0, f0);
+      Generator(clean, field_).frame(k0, f0);
       hi = f0.f[s][j];
       lo = f0.f_lo[s][j];
     });

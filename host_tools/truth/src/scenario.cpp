@@ -12,7 +12,8 @@
 #include <toml++/toml.h>
 
 #include "ggins/gravity/normal.hpp"
-#include "ggins/truth/scenario_toml.hpp"
+#include "ggins/truth/scenario_keys.hpp"
+#include "ggins/truth/scenario_schema.hpp"
 #include "sensor_faults_parse.hpp"
 
 namespace ggins::truth {
@@ -25,70 +26,6 @@ struct BuiltinScenario {
 extern const BuiltinScenario kBuiltinScenarios[];
 extern const int kBuiltinScenarioCount;
 
-namespace {
-
-using scenario_toml::check_keys;
-using scenario_toml::fail;
-using scenario_toml::get_bool;
-using scenario_toml::get_int;
-using scenario_toml::get_num;
-using scenario_toml::get_str;
-
-const toml::table* sub(const toml::table& root, const char* name, const std::string& source) {
-  const toml::node* n = root.get(name);
-  if (!n) return nullptr;
-  if (!n->is_table()) fail(source, std::string("'") + name + "' must be a table ([" + name + "])");
-  return n->as_table();
-}
-
-void get_per_axis(const toml::table& t, const std::string& where, const char* key,
-                  std::array<std::array<double, 3>, kMaxAcc>& out, const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return;
-  const toml::array* rows = n->as_array();
-  const std::string k = where + "." + key;
-  if (!rows || rows->size() > static_cast<size_t>(kMaxAcc))
-    fail(source, k + " must be an array of up to 6 [x, y, z] arrays (one per accelerometer)");
-  for (size_t i = 0; i < rows->size(); ++i) {
-    const toml::array* row = (*rows)[i].as_array();
-    if (!row || row->size() != 3) fail(source, k + "[" + std::to_string(i) + "] must be [x, y, z]");
-    for (size_t j = 0; j < 3; ++j) {
-      auto d = (*row)[j].value<double>();
-      if (!d || !std::isfinite(*d)) fail(source, k + " entries must be finite numbers");
-      out[i][j] = *d;
-    }
-  }
-}
-
-uint64_t get_seed(const toml::table& t, const std::string& where, const std::string& source) {
-  const int64_t s = get_int(t, where, "seed", 1, source);
-  if (s < 0) fail(source, where + ".seed must be >= 0");
-  return static_cast<uint64_t>(s);
-}
-
-void check_prob(double p, const std::string& key, const std::string& source) {
-  if (!(p >= 0.0 && p < 1.0)) fail(source, key + " must be in [0, 1)");
-}
-
-// An array of finite numbers with n_min..n_max entries.
-std::vector<double> get_num_array(const toml::table& t, const std::string& where, const char* key, size_t n_min,
-                                  size_t n_max, const std::string& source) {
-  std::vector<double> v;
-  const toml::node* n = t.get(key);
-  if (!n) return v;
-  const toml::array* a = n->as_array();
-  const std::string k = where + "." + key;
-  if (!a || a->size() < n_min || a->size() > n_max)
-    fail(source, k + " must be an array of " + std::to_string(n_min) + ".." + std::to_string(n_max) + " numbers");
-  for (const auto& e : *a) {
-    auto d = e.value<double>();
-    if (!d || !std::isfinite(*d)) fail(source, k + " entries must be finite numbers");
-    v.push_back(*d);
-  }
-  return v;
-}
-
-}  // namespace
 
 int64_t Scenario::dt_us() const { return static_cast<int64_t>(std::llround(1e6 / rate_hz)); }
 
@@ -116,270 +53,295 @@ int64_t Scenario::n_steps() const {
   return static_cast<int64_t>(std::llround(duration_s * 1e6 / static_cast<double>(dt_us()))) + 1;
 }
 
+namespace {
+
+namespace sch = ggins::truth::sch;
+using S = Scenario;
+
+// [sensor_faults]: read by parse_sensor_faults (sensor_faults.cpp), documented here.
+std::vector<sch::Row> sensor_fault_rows() {
+  return {{"seed", "integer", "", "1", ">= 0", "seed of the faults' random occurrence (prob < 1)"},
+          {"fault", "array of tables", "", "none", "[[sensor_faults.fault]]", "one entry per injected fault:"},
+          {"fault.kind", "string", "", "(required)",
+           "\"nan\", \"inf\", \"range\", \"saturate\", \"stuck\", \"step\", \"drift\", \"noise\", \"status_bad\", "
+           "\"time_jump\", \"time_repeat\", \"time_back\"",
+           "what happens to the reading (time_*: to the frame's time stamp)"},
+          {"fault.sensor", "integer", "", "(required, not time_*)", "[1, 4]", "accelerometer"},
+          {"fault.axis", "string", "", "(required, not time_*)", "\"x\", \"z\"", "its axis"},
+          {"fault.start_s", "number", "s", "0.0", ">= 0", "onset"},
+          {"fault.duration_s", "number", "s", "0.0", ">= 0", "length (0: to the end)"},
+          {"fault.size", "number", "m/s^2 (time_*: us)", "0.0", "finite; time_jump/back: whole us in [1, 1e12]",
+           "the fault's size: reading, step, drift rate, noise sigma, or time jump"},
+          {"fault.prob", "number", "1", "1.0", "(0, 1]", "probability per frame while active"}};
+}
+
+std::vector<std::pair<std::string, std::optional<std::string>>> write_sensor_faults(const SensorFaultParams& p) {
+  std::vector<std::pair<std::string, std::optional<std::string>>> out;
+  out.emplace_back("seed", std::to_string(p.seed));
+  if (p.faults.empty()) return out;
+  std::string a = "[";
+  for (size_t i = 0; i < p.faults.size(); ++i) {
+    const SensorFault& f = p.faults[i];
+    a += std::string(i ? ",\n  " : "\n  ") + "{kind = " + sch::str_text(f.kind) +
+         ", sensor = " + std::to_string(f.sensor) + ", axis = " + (f.axis == 0 ? "\"x\"" : "\"z\"") +
+         ", start_s = " + sch::num_text(f.start_s) + ", duration_s = " + sch::num_text(f.duration_s) +
+         ", size = " + sch::num_text(f.size) + ", prob = " + sch::num_text(f.prob) + "}";
+  }
+  out.emplace_back("fault", a + "\n]");
+  return out;
+}
+
+sch::Schema<S> build_schema() {
+  sch::Schema<S> sc;
+  sc.title = "2-D scenario (ggins run, covariance, montecarlo)";
+  auto& secs = sc.secs;
+  {
+    sch::Table<S> t("", "Name and description.");
+    sch::Key<S> name = sch::mk<S>("name", "string", "", "1..63 characters", "the scenario's name (report, output folder)",
+                                  "the file name without .toml");
+    name.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+      s.name = sch::read_str(n, c, p, {});
+      if (s.name.empty() || s.name.size() > 63)
+        c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must have 1..63 characters");
+    };
+    name.write = [](const S& s) -> std::optional<std::string> {
+      if (s.name.empty()) return std::nullopt;
+      return sch::str_text(s.name);
+    };
+    t.custom(name).str("description", &S::description, {}, "one line shown by --list-scenarios");
+    secs.push_back(sch::section<S>(t));
+  }
+  {
+    sch::Table<TrajectoryParams> t("trajectory", "The analytic trajectory (truth/trajectory.hpp).");
+    using T = TrajectoryParams;
+    t.str("type", &T::type, {"north-flight"}, "northward great-circle flight at constant speed and height")
+        .num("speed_mps", &T::speed_mps, "m/s", sch::in(-3e4, 3e4), "ground speed")
+        .num("height_m", &T::height_m, "m", sch::in(-1e4, 1e8), "height above radius_m")
+        .num("lat0_deg", &T::lat0_deg, "deg", sch::in(-90, 90), "start latitude")
+        .num("radius_m", &T::radius_m, "m", sch::in_lopen(0, 1e9), "Earth radius of the flight (the paper's R_e)");
+    secs.push_back(sch::section<S>(t, &S::trajectory));
+  }
+  {
+    sch::Table<GravityParams> t("gravity", "The truth gravity field.");
+    using G = GravityParams;
+    t.str("model", &G::model, {"point-mass", "wgs84-normal", "rw-anomaly"},
+          "point mass; WGS-84 normal field; WGS-84 normal field + buried point masses ([gravity.anomaly])")
+        .num("gm_m3ps2", &G::gm_m3ps2, "m^3/s^2", sch::in_lopen(0, 1e21), "GM of the point-mass model");
+    secs.push_back(sch::section<S>(t, &S::gravity));
+    secs.push_back(sch::section<S>(keys::anomaly_table("the trajectory's mid-latitude", "0"),
+                                   std::function<AnomalyParams&(S&)>([](S& s) -> AnomalyParams& { return s.gravity.anomaly; }),
+                                   [](const S& s) { return s.gravity.model == "rw-anomaly"; }));
+  }
+  {
+    sch::Table<S> t("platform", "The gradiometer's geometry (four accelerometers).");
+    t.num("a_m", &S::a_m, "m", sch::in_lopen(0, 100), "half-baseline along x")
+        .num("b_m", &S::b_m, "m", sch::in_lopen(0, 100), "half-baseline along z");
+    secs.push_back(sch::section<S>(t));
+  }
+  secs.push_back(sch::section<S>(keys::time_table<S>()));
+  {
+    auto t = keys::accel_table(0, kMaxAcc);
+    t.custom(keys::per_axis_key<AccelErrorParams>("scale", &AccelErrorParams::scale, "1", 0, kMaxAcc,
+                                                  "fixed scale-factor error per accelerometer axis"));
+    secs.push_back(sch::section<S>(t, &S::accel));
+  }
+  {
+    sch::Table<FirmwareParams> t("firmware", "The firmware's configuration (nav2d.h, fdi2d.h).");
+    using F = FirmwareParams;
+    keys::firmware_keys(t);
+    t.boolean("gravdr_trapezoid_only", &F::gravdr_trapezoid_only, "gravity integration by the trapezoid rule only")
+        .num("fdi_parity_f_max_mps2", &F::fdi_parity_f_max_mps2, "m/s^2", sch::in(0, 1e6),
+             "accelerometer parity fault detection threshold (0: off)")
+        .then([](F& f) { f.fdi_parity_f_max_set = true; })
+        .default_doc("fdi_parity_f_max_mps2", "derived from the sensor errors, baseline and field (fdi_thresholds.hpp)")
+        .num("fdi_asym_max_ps2", &F::fdi_asym_max_ps2, "1/s^2", sch::in(0, 1),
+             "gradient-symmetry fault detection threshold (0: off)")
+        .then([](F& f) { f.fdi_asym_max_set = true; })
+        .default_doc("fdi_asym_max_ps2", "derived from the sensor errors, baseline and field (fdi_thresholds.hpp)");
+    secs.push_back(sch::section<S>(t, &S::firmware));
+  }
+  {
+    sch::Table<TransportParams> t("transport", "Faults of the frame transport to the firmware (hal_sim).");
+    using P = TransportParams;
+    t.seed("seed", &P::seed, "seed of the transport faults")
+        .num("drop_prob", &P::drop_prob, "1", sch::prob(), "a frame's first transmission is dropped")
+        .num("duplicate_prob", &P::duplicate_prob, "1", sch::prob(), "a frame is sent twice")
+        .num("reorder_prob", &P::reorder_prob, "1", sch::prob(), "frame k+1 is sent before frame k")
+        .num("output_drop_prob", &P::output_drop_prob, "1", sch::prob(), "hal_sim does not send a navigation output")
+        .num("garbage_prob", &P::garbage_prob, "1", sch::prob(), "an undecodable payload precedes a frame");
+    secs.push_back(sch::section<S>(t, &S::transport));
+  }
+  {
+    sch::Table<NavigationParams> t("navigation", "What the firmware navigates with beyond the sensors (nav2d.h).");
+    using N = NavigationParams;
+    t.str("gravity", &N::gravity, {"gradiometer", "model"},
+          "gravity from the gradiometer's integrated gradient, or from the onboard model")
+        .num("r_ref_m", &N::r_ref_m, "m", sch::in(0, 1e9),
+             "reference radius of the altitude h = |r| - r_ref_m (0: trajectory.radius_m)");
+    secs.push_back(sch::section<S>(t, &S::navigation));
+  }
+  {
+    sch::Table<NavModelParams> t("navigation.model",
+                                 "The onboard zonal gravity model (gmodel.h), model mode. Without this table: the "
+                                 "truth field's normal part (point mass: GM, J = 0; else WGS-84 GM, a, J2..J8).");
+    using M = NavModelParams;
+    t.num("gm_m3ps2", &M::gm_m3ps2, "m^3/s^2", sch::in_lopen(0, 1e21), "GM of the model")
+        .default_doc("gm_m3ps2", "gravity.gm_m3ps2")
+        .num("a_m", &M::a_m, "m", sch::in_lopen(0, 1e9), "its reference radius")
+        .default_doc("a_m", "trajectory.radius_m");
+    sch::Key<M> j = sch::mk<M>("j", "array of 0..7 numbers", "1", "each finite", "zonal coefficients J2, ..., J8", "");
+    j.read = [](M& m, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+      const std::vector<double> v = sch::read_nums(n, c, p, 0, 7, sch::any(), "");
+      for (size_t i = 0; i < v.size(); ++i) m.j[i + 2] = v[i];
+    };
+    j.write = [](const M& m) -> std::optional<std::string> {
+      std::string s = "[";
+      for (size_t i = 2; i < m.j.size(); ++i) s += (i > 2 ? ", " : "") + sch::num_text(m.j[i]);
+      return s + "]";
+    };
+    t.custom(j).default_doc("j", "[] (all zero)");
+    secs.push_back(sch::section<S>(
+        t, std::function<M&(S&)>([](S& s) -> M& { return s.navigation.model; }),
+        [](const S& s) { return s.navigation.model.set; },
+        [](S& s) {
+          s.navigation.model.set = true;
+          s.navigation.model.gm_m3ps2 = s.gravity.gm_m3ps2;
+          s.navigation.model.a_m = s.trajectory.radius_m;
+        }));
+    secs.back().presence_matters = true;
+  }
+  {
+    sch::Table<SurveyParams> t("navigation.survey",
+                               "The anomaly grid programmed into the onboard model (gmodel.h polar grid; "
+                               "truth/survey.hpp): the truth disturbance at the nodes plus seeded survey noise.");
+    using V = SurveyParams;
+    t.boolean("enable", &V::enable, "program the grid")
+        .default_doc("enable", "true when the table is present")
+        .on_present([](V& v) { v.enable = true; })
+        .seed("seed", &V::seed, "seed of the survey noise")
+        .num("spacing_m", &V::spacing_m, "m", sch::in(10, 1e6), "along-track node spacing at the flight radius")
+        .num("margin_m", &V::margin_m, "m", sch::in(0, 1e6), "the grid extends this far before the start and after the end")
+        .integer("n_rho", &V::n_rho, "", sch::in(2, 64), "nodes in radius, centred on the flight radius")
+        .num("drho_m", &V::drho_m, "m", sch::in(1, 1e5), "their spacing")
+        .num("noise_gravity_mgal", &V::noise_gravity_mgal, "mGal", sch::in(0, 1e6), "radial component noise, 1 sigma")
+        .num("noise_deflection_arcsec", &V::noise_deflection_arcsec, "arcsec", sch::in(0, 3600),
+             "tangential component noise, 1 sigma, as g x deflection");
+    secs.push_back(sch::section<S>(t, std::function<V&(S&)>([](S& s) -> V& { return s.navigation.survey; }),
+                                   [](const S& s) { return s.navigation.survey.enable; }));
+  }
+  secs.push_back(sch::section<S>(keys::baro_loop_table(),
+                                 std::function<BaroLoopParams&(S&)>([](S& s) -> BaroLoopParams& { return s.navigation.baro; })));
+  {
+    auto t = keys::baro_table();
+    using B = BaroParams;
+    t.num("dropout_prob", &B::dropout_prob, "1", sch::prob(), "a sample is missing (status ABSENT)")
+        .custom([] {
+          sch::Key<B> k = sch::mk<B>("dropouts", "array of [t0_s, t1_s]", "s", "finite, t1_s > t0_s",
+                                     "scheduled windows [t0, t1) without samples", "");
+          k.read = [](B& b, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+            const toml::array* rows = n.as_array();
+            if (!rows) c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must be an array of [t0_s, t1_s] pairs");
+            for (size_t i = 0; i < rows->size(); ++i) {
+              const std::string pi = p + "[" + std::to_string(i) + "]";
+              const auto v = sch::read_nums((*rows)[i], c, pi, 2, 2, sch::any(), "s");
+              if (!(v[1] > v[0])) c.fail_at(&(*rows)[i], pi, pi + " = " + sch::value_text((*rows)[i]) + ": needs t1_s > t0_s");
+              b.dropouts.push_back({v[0], v[1]});
+            }
+          };
+          k.write = [](const B& b) -> std::optional<std::string> {
+            std::string s = "[";
+            for (size_t i = 0; i < b.dropouts.size(); ++i)
+              s += (i ? ", [" : "[") + sch::num_text(b.dropouts[i][0]) + ", " + sch::num_text(b.dropouts[i][1]) + "]";
+            return s + "]";
+          };
+          return k;
+        }())
+        .default_doc("dropouts", "[] (none)")
+        .num("outlier_prob", &B::outlier_prob, "1", sch::prob(), "a sample is off by +-outlier_m")
+        .num("outlier_m", &B::outlier_m, "m", sch::in(0, 1e6), "size of an outlier")
+        .num("invalid_prob", &B::invalid_prob, "1", sch::prob(), "a sample is NaN with status OK (the firmware must notice)")
+        .num("latency_s", &B::latency_s, "s", sch::in(0, 3600),
+             "the sample is the altitude latency_s before its frame, stamped so (whole microseconds)");
+    secs.push_back(sch::section<S>(t, &S::baro, [](const S& s) { return s.baro.enable; }));
+  }
+  secs.push_back(sch::delegated_section<S>(
+      "sensor_faults", "Injected sensor faults (sensor_faults.hpp).", sensor_fault_rows(),
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults(t, c.source); },
+      [](const S& s) { return write_sensor_faults(s.sensor_faults); },
+      [](const S& s) { return !s.sensor_faults.faults.empty(); }));
+  {
+    sch::Table<OutputParams> t("output", "What the run writes.");
+    using O = OutputParams;
+    t.num("csv_rate_hz", &O::csv_rate_hz, "Hz", sch::in_lopen(0, 1e6), "rows per second of timeseries.csv")
+        .num("truth_rate_hz", &O::truth_rate_hz, "Hz", sch::in(0, 1e6), "truth messages on LCM per second (0: every step)");
+    secs.push_back(sch::section<S>(t, &S::output));
+  }
+  return sc;
+}
+
+}  // namespace
+
+const sch::Schema<Scenario>& scenario_schema() {
+  static const sch::Schema<Scenario> s = build_schema();
+  return s;
+}
+
+std::string scenario_to_toml(const Scenario& s, bool template_comments) {
+  std::string head = template_comments ? "# 2-D scenario: every key with its default (ggins run --print-scenario --defaults;\n"
+                                         "# docs/scenario-reference.md). A commented key is derived unless given.\n"
+                                       : "# scenario " + s.name + " as flown (defaults filled in, overrides applied)\n";
+  return head + scenario_schema().to_toml(s, template_comments);
+}
+
 Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source) {
+  const sch::Ctx c{source};
   toml::table root;
   try {
     root = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
-    os << e.description() << " (line " << e.source().begin.line << ", column " << e.source().begin.column << ")";
-    fail(source, os.str());
+    os << "scenario " << source << ":" << e.source().begin.line << ": " << e.description() << " (line "
+       << e.source().begin.line << ", column " << e.source().begin.column << ")";
+    throw std::runtime_error(os.str());
   }
   Scenario s;
   s.source = source;
   s.text = text;
-  check_keys(root, "",
-             {"name", "description", "trajectory", "gravity", "platform", "time", "accel", "firmware",
-              "transport", "output", "sensor_faults", "navigation", "baro"},
-             source);
-  s.name = get_str(root, "", "name", fallback_name, source);
-  s.description = get_str(root, "", "description", "", source);
-  if (s.name.empty() || s.name.size() > 63) fail(source, "name must have 1..63 characters");
+  s.name = fallback_name;
+  scenario_schema().read(s, root, c);
+  if (s.name.empty() || s.name.size() > 63) c.fail("name must have 1..63 characters (give name = \"...\")");
 
-  if (const auto* t = sub(root, "trajectory", source)) {
-    check_keys(*t, "trajectory", {"type", "speed_mps", "height_m", "lat0_deg", "radius_m"}, source);
-    auto& p = s.trajectory;
-    p.type = get_str(*t, "trajectory", "type", p.type, source);
-    p.speed_mps = get_num(*t, "trajectory", "speed_mps", p.speed_mps, source);
-    p.height_m = get_num(*t, "trajectory", "height_m", p.height_m, source);
-    p.lat0_deg = get_num(*t, "trajectory", "lat0_deg", p.lat0_deg, source);
-    p.radius_m = get_num(*t, "trajectory", "radius_m", p.radius_m, source);
-  }
-  if (s.trajectory.type != "north-flight")
-    fail(source, "trajectory.type '" + s.trajectory.type + "' unknown (known: north-flight)");
+  // relations between keys
   if (!(s.trajectory.radius_m + s.trajectory.height_m > 1.0))
-    fail(source, "trajectory.radius_m + height_m must be > 1 m");
-  if (std::fabs(s.trajectory.lat0_deg) > 90.0) fail(source, "trajectory.lat0_deg must be within [-90, 90]");
-
-  if (const auto* t = sub(root, "gravity", source)) {
-    check_keys(*t, "gravity", {"model", "gm_m3ps2", "anomaly"}, source);
-    s.gravity.model = get_str(*t, "gravity", "model", s.gravity.model, source);
-    s.gravity.gm_m3ps2 = get_num(*t, "gravity", "gm_m3ps2", s.gravity.gm_m3ps2, source);
-    if (const toml::node* an = t->get("anomaly")) {
-      if (!an->is_table()) fail(source, "'gravity.anomaly' must be a table ([gravity.anomaly])");
-      const toml::table& a = *an->as_table();
-      const std::string w = "gravity.anomaly";
-      check_keys(a, w,
-                 {"seed", "lat_deg", "lon_deg", "half_size_m", "ref_height_m", "rms_arcsec", "corr_length_m",
-                  "ewald_sigma_m", "lattice_spacing_m", "lattice_points"},
-                 source);
-      auto& p = s.gravity.anomaly;
-      p.seed = get_seed(a, w, source);
-      p.lat_deg = get_num(a, w, "lat_deg", p.lat_deg, source);
-      p.lon_deg = get_num(a, w, "lon_deg", p.lon_deg, source);
-      p.half_size_m = get_num(a, w, "half_size_m", p.half_size_m, source);
-      p.ref_height_m = get_num(a, w, "ref_height_m", p.ref_height_m, source);
-      p.rms_arcsec = get_num(a, w, "rms_arcsec", p.rms_arcsec, source);
-      p.corr_length_m = get_num(a, w, "corr_length_m", p.corr_length_m, source);
-      p.ewald_sigma_m = get_num(a, w, "ewald_sigma_m", p.ewald_sigma_m, source);
-      p.lattice_spacing_m = get_num(a, w, "lattice_spacing_m", p.lattice_spacing_m, source);
-      p.lattice_points = get_int(a, w, "lattice_points", p.lattice_points, source);
-      if (std::fabs(p.lat_deg) > 90.0) fail(source, w + ".lat_deg must be within [-90, 90]");
-      if (!(p.half_size_m > 0) || !(p.rms_arcsec >= 0) || !(p.corr_length_m > 0) || !(p.ewald_sigma_m > 0) ||
-          !(p.lattice_spacing_m > 0))
-        fail(source, w + ": half_size_m, corr_length_m, ewald_sigma_m, lattice_spacing_m must be > 0, rms_arcsec >= 0");
-      if (p.lattice_points < 2 || p.lattice_points > 16 || p.lattice_points % 2 != 0)
-        fail(source, w + ".lattice_points must be even, 2..16");
-    }
-  }
-  if (s.gravity.model != "point-mass" && s.gravity.model != "wgs84-normal" && s.gravity.model != "rw-anomaly")
-    fail(source, "gravity.model '" + s.gravity.model + "' unknown (known: point-mass, wgs84-normal, rw-anomaly)");
-  if (!(s.gravity.gm_m3ps2 > 0)) fail(source, "gravity.gm_m3ps2 must be > 0");
-
-  if (const auto* t = sub(root, "platform", source)) {
-    check_keys(*t, "platform", {"a_m", "b_m"}, source);
-    s.a_m = get_num(*t, "platform", "a_m", s.a_m, source);
-    s.b_m = get_num(*t, "platform", "b_m", s.b_m, source);
-  }
-  if (!(s.a_m > 0) || !(s.b_m > 0)) fail(source, "platform.a_m and platform.b_m must be > 0");
-
-  if (const auto* t = sub(root, "time", source)) {
-    check_keys(*t, "time", {"duration_s", "rate_hz"}, source);
-    s.duration_s = get_num(*t, "time", "duration_s", s.duration_s, source);
-    s.rate_hz = get_num(*t, "time", "rate_hz", s.rate_hz, source);
-  }
-  if (!(s.rate_hz > 0) || s.rate_hz > 1e6) fail(source, "time.rate_hz must be in (0, 1e6]");
+    c.fail_key(root, "trajectory.height_m", "trajectory.radius_m + height_m must be > 1 m");
   {
     const double dt = 1e6 / s.rate_hz;
     if (std::fabs(dt - std::round(dt)) > 1e-9 * dt)
-      fail(source, "time.rate_hz must make 1e6/rate_hz an integer number of microseconds");
+      c.fail_key(root, "time.rate_hz",
+                 "time.rate_hz = " + sch::num_text(s.rate_hz) +
+                     ": must make 1e6/rate_hz an integer number of microseconds");
   }
-  if (!(s.duration_s > 0) || s.duration_s > 1e7) fail(source, "time.duration_s must be in (0, 1e7]");
-
-  if (const auto* t = sub(root, "accel", source)) {
-    check_keys(*t, "accel",
-               {"seed", "bias_sigma_mps2", "noise_sigma_mps2", "scale_sigma", "bias_mps2", "scale"}, source);
-    auto& a = s.accel;
-    a.seed = get_seed(*t, "accel", source);
-    a.bias_sigma_mps2 = get_num(*t, "accel", "bias_sigma_mps2", 0.0, source);
-    a.noise_sigma_mps2 = get_num(*t, "accel", "noise_sigma_mps2", 0.0, source);
-    a.scale_sigma = get_num(*t, "accel", "scale_sigma", 0.0, source);
-    if (a.bias_sigma_mps2 < 0 || a.noise_sigma_mps2 < 0 || a.scale_sigma < 0)
-      fail(source, "accel sigmas must be >= 0");
-    get_per_axis(*t, "accel", "bias_mps2", a.bias_mps2, source);
-    get_per_axis(*t, "accel", "scale", a.scale, source);
-  }
-  if (const auto* t = sub(root, "firmware", source)) {
-    check_keys(*t, "firmware",
-               {"f_max_mps2", "asym_max_ps2", "dt_tol_us", "gravdr_trapezoid_only", "fdi_parity_f_max_mps2",
-                "fdi_asym_max_ps2"},
-               source);
-    auto& f = s.firmware;
-    f.f_max_mps2 = get_num(*t, "firmware", "f_max_mps2", f.f_max_mps2, source);
-    f.asym_max_ps2 = get_num(*t, "firmware", "asym_max_ps2", f.asym_max_ps2, source);
-    f.dt_tol_us = get_int(*t, "firmware", "dt_tol_us", f.dt_tol_us, source);
-    f.gravdr_trapezoid_only = get_bool(*t, "firmware", "gravdr_trapezoid_only", f.gravdr_trapezoid_only, source);
-    if (!(f.f_max_mps2 > 0) || !(f.asym_max_ps2 > 0) || f.dt_tol_us < 0)
-      fail(source, "firmware.f_max_mps2 and asym_max_ps2 must be > 0, dt_tol_us >= 0");
-    f.fdi_parity_f_max_set = t->contains("fdi_parity_f_max_mps2");
-    f.fdi_asym_max_set = t->contains("fdi_asym_max_ps2");
-    f.fdi_parity_f_max_mps2 = get_num(*t, "firmware", "fdi_parity_f_max_mps2", f.fdi_parity_f_max_mps2, source);
-    f.fdi_asym_max_ps2 = get_num(*t, "firmware", "fdi_asym_max_ps2", f.fdi_asym_max_ps2, source);
-    if (f.fdi_parity_f_max_mps2 < 0 || f.fdi_asym_max_ps2 < 0)
-      fail(source, "firmware.fdi_parity_f_max_mps2 and fdi_asym_max_ps2 must be >= 0 (0: off)");
-  }
-  if (const auto* t = sub(root, "transport", source)) {
-    check_keys(*t, "transport", {"seed", "drop_prob", "duplicate_prob", "reorder_prob", "output_drop_prob", "garbage_prob"}, source);
-    auto& p = s.transport;
-    p.seed = get_seed(*t, "transport", source);
-    p.drop_prob = get_num(*t, "transport", "drop_prob", 0.0, source);
-    p.duplicate_prob = get_num(*t, "transport", "duplicate_prob", 0.0, source);
-    p.reorder_prob = get_num(*t, "transport", "reorder_prob", 0.0, source);
-    check_prob(p.drop_prob, "transport.drop_prob", source);
-    check_prob(p.duplicate_prob, "transport.duplicate_prob", source);
-    p.output_drop_prob = get_num(*t, "transport", "output_drop_prob", 0.0, source);
-    check_prob(p.reorder_prob, "transport.reorder_prob", source);
-    check_prob(p.output_drop_prob, "transport.output_drop_prob", source);
-    p.garbage_prob = get_num(*t, "transport", "garbage_prob", 0.0, source);
-    check_prob(p.garbage_prob, "transport.garbage_prob", source);
-  }
-  if (const auto* t = sub(root, "navigation", source)) {
-    const std::string w = "navigation";
-    check_keys(*t, w, {"gravity", "r_ref_m", "model", "baro", "survey"}, source);
-    auto& n = s.navigation;
-    n.gravity = get_str(*t, w, "gravity", n.gravity, source);
-    if (n.gravity != "gradiometer" && n.gravity != "model")
-      fail(source, "navigation.gravity '" + n.gravity + "' unknown (known: gradiometer, model)");
-    n.r_ref_m = get_num(*t, w, "r_ref_m", n.r_ref_m, source);
-    if (n.r_ref_m < 0) fail(source, "navigation.r_ref_m must be >= 0 (0: trajectory.radius_m)");
-    if (const auto* m = sub(*t, "model", source)) {
-      const std::string wm = "navigation.model";
-      check_keys(*m, wm, {"gm_m3ps2", "a_m", "j"}, source);
-      n.model.set = true;
-      n.model.gm_m3ps2 = get_num(*m, wm, "gm_m3ps2", s.gravity.gm_m3ps2, source);
-      n.model.a_m = get_num(*m, wm, "a_m", s.trajectory.radius_m, source);
-      const std::vector<double> j = get_num_array(*m, wm, "j", 0, 7, source);
-      for (size_t i = 0; i < j.size(); ++i) n.model.j[i + 2] = j[i];
-      if (!(n.model.gm_m3ps2 > 0) || !(n.model.a_m > 0)) fail(source, wm + ": gm_m3ps2 and a_m must be > 0");
-    }
-    if (const auto* v = sub(*t, "survey", source)) {
-      const std::string wv = "navigation.survey";
-      check_keys(*v, wv,
-                 {"enable", "seed", "spacing_m", "margin_m", "n_rho", "drho_m", "noise_gravity_mgal",
-                  "noise_deflection_arcsec"},
-                 source);
-      auto& g = n.survey;
-      g.enable = get_bool(*v, wv, "enable", true, source);
-      g.seed = get_seed(*v, wv, source);
-      g.spacing_m = get_num(*v, wv, "spacing_m", g.spacing_m, source);
-      g.margin_m = get_num(*v, wv, "margin_m", g.margin_m, source);
-      g.n_rho = get_int(*v, wv, "n_rho", g.n_rho, source);
-      g.drho_m = get_num(*v, wv, "drho_m", g.drho_m, source);
-      g.noise_gravity_mgal = get_num(*v, wv, "noise_gravity_mgal", g.noise_gravity_mgal, source);
-      g.noise_deflection_arcsec = get_num(*v, wv, "noise_deflection_arcsec", g.noise_deflection_arcsec, source);
-      if (!(g.spacing_m >= 10 && g.spacing_m <= 1e6) || !(g.margin_m >= 0 && g.margin_m <= 1e6) || g.n_rho < 2 ||
-          g.n_rho > 64 || !(g.drho_m >= 1 && g.drho_m <= 1e5) || !(g.noise_gravity_mgal >= 0) ||
-          !(g.noise_deflection_arcsec >= 0) || !std::isfinite(g.noise_gravity_mgal) ||
-          !std::isfinite(g.noise_deflection_arcsec))
-        fail(source, wv + ": spacing_m in [10, 1e6], margin_m in [0, 1e6], n_rho in [2, 64], drho_m in [1, 1e5], "
-                          "noise_* >= 0 and finite");
-    }
-    if (const auto* b = sub(*t, "baro", source)) {
-      const std::string wb = "navigation.baro";
-      check_keys(*b, wb,
-                 {"enable", "poles_radps", "period_s", "omega_s2", "max_age_s", "coast_s", "alt_min_m", "alt_max_m",
-                  "gate_m", "max_rejects"},
-                 source);
-      auto& l = n.baro;
-      if (b->get("enable")) l.enable = get_bool(*b, wb, "enable", false, source) ? 1 : 0;
-      const std::vector<double> p = get_num_array(*b, wb, "poles_radps", 3, 3, source);
-      if (!p.empty()) l.poles_radps = {p[0], p[1], p[2]};
-      l.period_s = get_num(*b, wb, "period_s", l.period_s, source);
-      l.omega_s2 = get_num(*b, wb, "omega_s2", l.omega_s2, source);
-      l.max_age_s = get_num(*b, wb, "max_age_s", l.max_age_s, source);
-      l.coast_s = get_num(*b, wb, "coast_s", l.coast_s, source);
-      l.alt_min_m = get_num(*b, wb, "alt_min_m", l.alt_min_m, source);
-      l.alt_max_m = get_num(*b, wb, "alt_max_m", l.alt_max_m, source);
-      l.gate_m = get_num(*b, wb, "gate_m", l.gate_m, source);
-      l.max_rejects = get_int(*b, wb, "max_rejects", l.max_rejects, source);
-      for (double q : l.poles_radps)
-        if (!(q > 0)) fail(source, wb + ".poles_radps must be > 0 (the loop's poles are -p)");
-      if (l.period_s < 0 || l.omega_s2 < 0 || l.max_age_s < 0 || !(l.coast_s > 0) || !(l.alt_max_m > l.alt_min_m) ||
-          !(l.gate_m > 0) || l.max_rejects < 1 || l.max_rejects > 1000000)
-        fail(source, wb + ": period_s, omega_s2, max_age_s must be >= 0, coast_s and gate_m > 0, alt_max_m > alt_min_m, "
-                          "max_rejects >= 1");
-    }
-  }
-  if (const auto* t = sub(root, "baro", source)) {
-    const std::string w = "baro";
-    check_keys(*t, w,
-               {"enable", "seed", "rate_hz", "bias_m", "gm_sigma_m", "gm_tau_s", "noise_sigma_m", "dropout_prob",
-                "dropouts", "outlier_prob", "outlier_m", "invalid_prob", "latency_s"},
-               source);
-    auto& b = s.baro;
-    b.enable = get_bool(*t, w, "enable", true, source);  // a [baro] table means a barometer unless it says otherwise
-    b.seed = get_seed(*t, w, source);
-    b.rate_hz = get_num(*t, w, "rate_hz", b.rate_hz, source);
-    b.bias_m = get_num(*t, w, "bias_m", b.bias_m, source);
-    b.gm_sigma_m = get_num(*t, w, "gm_sigma_m", b.gm_sigma_m, source);
-    b.gm_tau_s = get_num(*t, w, "gm_tau_s", b.gm_tau_s, source);
-    b.noise_sigma_m = get_num(*t, w, "noise_sigma_m", b.noise_sigma_m, source);
-    b.dropout_prob = get_num(*t, w, "dropout_prob", b.dropout_prob, source);
-    b.outlier_prob = get_num(*t, w, "outlier_prob", b.outlier_prob, source);
-    b.outlier_m = get_num(*t, w, "outlier_m", b.outlier_m, source);
-    b.invalid_prob = get_num(*t, w, "invalid_prob", b.invalid_prob, source);
-    b.latency_s = get_num(*t, w, "latency_s", b.latency_s, source);
-    if (b.latency_s < 0 || std::fabs(b.latency_s * 1e6 - std::round(b.latency_s * 1e6)) > 1e-6)
-      fail(source, "baro.latency_s must be >= 0 and a whole number of microseconds");
-    check_prob(b.dropout_prob, "baro.dropout_prob", source);
-    check_prob(b.outlier_prob, "baro.outlier_prob", source);
-    check_prob(b.invalid_prob, "baro.invalid_prob", source);
-    if (!(b.rate_hz > 0) || b.gm_sigma_m < 0 || !(b.gm_tau_s > 0) || b.noise_sigma_m < 0 || b.outlier_m < 0)
-      fail(source, "baro: rate_hz and gm_tau_s must be > 0, gm_sigma_m, noise_sigma_m, outlier_m >= 0");
-    if (const toml::node* d = t->get("dropouts")) {
-      const toml::array* rows = d->as_array();
-      if (!rows) fail(source, "baro.dropouts must be an array of [t0_s, t1_s] pairs");
-      for (const auto& r : *rows) {
-        const toml::array* pr = r.as_array();
-        auto a0 = pr && pr->size() == 2 ? (*pr)[0].value<double>() : std::nullopt;
-        auto a1 = pr && pr->size() == 2 ? (*pr)[1].value<double>() : std::nullopt;
-        if (!a0 || !a1 || !std::isfinite(*a0) || !std::isfinite(*a1) || !(*a1 > *a0))
-          fail(source, "baro.dropouts entries must be [t0_s, t1_s] with t1_s > t0_s");
-        b.dropouts.push_back({*a0, *a1});
-      }
-    }
-  }
-  if (const auto* t = sub(root, "sensor_faults", source)) s.sensor_faults = parse_sensor_faults(*t, source);
+  const auto& l = s.navigation.baro;
+  if (!(l.alt_max_m > l.alt_min_m))
+    c.fail_key(root, "navigation.baro.alt_max_m", "navigation.baro: alt_max_m must be > alt_min_m");
+  const auto& b = s.baro;
+  if (std::fabs(b.latency_s * 1e6 - std::round(b.latency_s * 1e6)) > 1e-6)
+    c.fail_key(root, "baro.latency_s", "baro.latency_s = " + sch::num_text(b.latency_s) +
+                                           ": must be a whole number of microseconds");
   if (s.baro.enable) {
     const double every = s.rate_hz / s.baro.rate_hz;
     if (!(every >= 1.0) || std::fabs(every - std::round(every)) > 1e-9 * every)
-      fail(source, "baro.rate_hz must divide time.rate_hz (an integer number of steps per sample)");
+      c.fail_key(root, "baro.rate_hz", "baro.rate_hz must divide time.rate_hz (an integer number of steps per sample)");
   }
   if (s.baro_loop_enabled()) {
-    const double pmax = std::max({s.navigation.baro.poles_radps[0], s.navigation.baro.poles_radps[1],
-                                  s.navigation.baro.poles_radps[2]});
+    const double pmax = std::max({l.poles_radps[0], l.poles_radps[1], l.poles_radps[2]});
     if (pmax * s.baro_period_s() > 1.0)
-      fail(source, "navigation.baro: largest pole times period_s must be <= 1 (vchan.h)");
-  }
-  if (const auto* t = sub(root, "output", source)) {
-    check_keys(*t, "output", {"csv_rate_hz", "truth_rate_hz"}, source);
-    s.output.csv_rate_hz = get_num(*t, "output", "csv_rate_hz", s.output.csv_rate_hz, source);
-    s.output.truth_rate_hz = get_num(*t, "output", "truth_rate_hz", s.output.truth_rate_hz, source);
-    if (!(s.output.csv_rate_hz > 0) || s.output.truth_rate_hz < 0)
-      fail(source, "output.csv_rate_hz must be > 0 and truth_rate_hz >= 0");
+      c.fail_key(root, "navigation.baro.poles_radps",
+                 "navigation.baro: largest pole times period_s must be <= 1 (vchan.h)");
   }
   return s;
 }
+
 
 std::vector<std::string> builtin_scenario_names() {
   std::vector<std::string> v;
@@ -394,6 +356,13 @@ Scenario with_fdi_defaults(Scenario s) {
 }
 }  // namespace
 
+static void refuse_empty(const std::string& text, const std::string& path) {
+  if (toml::parse(text).empty())
+    throw std::runtime_error("scenario " + path +
+                             ": sets no key (an empty file would fly every default; start from ggins run "
+                             "--print-scenario --defaults)");
+}
+
 Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {
   namespace fs = std::filesystem;
   auto read_file = [](const fs::path& p) {
@@ -405,13 +374,21 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
   };
   std::error_code ec;
   const fs::path p(name_or_path);
-  if (fs::is_regular_file(p, ec)) return with_fdi_defaults(parse_scenario(read_file(p), p.stem().string(), p.string()));
+  if (fs::is_regular_file(p, ec)) {
+    Scenario s = with_fdi_defaults(parse_scenario(read_file(p), p.stem().string(), p.string()));
+    refuse_empty(s.text, p.string());
+    return s;
+  }
   const bool looks_like_path =
       name_or_path.find('/') != std::string::npos || p.extension() == ".toml";
   if (looks_like_path) throw std::runtime_error("scenario file not found: " + name_or_path);
   for (const auto& d : search_dirs) {
     const fs::path f = fs::path(d) / (name_or_path + ".toml");
-    if (fs::is_regular_file(f, ec)) return with_fdi_defaults(parse_scenario(read_file(f), name_or_path, f.string()));
+    if (fs::is_regular_file(f, ec)) {
+      Scenario s = with_fdi_defaults(parse_scenario(read_file(f), name_or_path, f.string()));
+      refuse_empty(s.text, f.string());
+      return s;
+    }
   }
   for (int i = 0; i < kBuiltinScenarioCount; ++i)
     if (name_or_path == kBuiltinScenarios[i].name)

@@ -15,10 +15,6 @@ namespace ggins::truth3d {
 
 namespace {
 constexpr Real kDeg = kPi / 180.0L;
-// counter-based streams (distinct from the 2-D generator's 1..3, 20..24)
-constexpr uint64_t kStreamABias = 31, kStreamAScale = 32, kStreamANoise = 33;
-constexpr uint64_t kStreamGBias = 41, kStreamGScale = 42, kStreamGNoise = 43;
-constexpr uint64_t kStreamBaroGm = 20, kStreamBaroNoise = 21;  // as in 2-D
 }  // namespace
 
 std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s) {
@@ -147,33 +143,12 @@ void Generator3::init_errors() {
   d_[3] = Vec3(-hb[0], 0, 0);
   d_[4] = Vec3(0, -hb[1], 0);
   d_[5] = Vec3(0, 0, -hb[2]);
-  const auto& a = opt_.accel;
-  for (size_t i = 0; i < 6; ++i)
-    for (size_t j = 0; j < 3; ++j) {
-      abias_[i][j] = a.bias_mps2[i][j];
-      ascale_[i][j] = a.scale[i][j];
-      if (a.bias_sigma_mps2 > 0) abias_[i][j] += a.bias_sigma_mps2 * truth::counter_normal(a.seed, kStreamABias, 0, i, j);
-      if (a.scale_sigma > 0) ascale_[i][j] += a.scale_sigma * truth::counter_normal(a.seed, kStreamAScale, 0, i, j);
-    }
-  const auto& g = opt_.gyro;
-  for (size_t j = 0; j < 3; ++j) {
-    gbias_[j] = g.bias_radps[j];
-    gscale_[j] = g.scale[j];
-    if (g.bias_sigma_radps > 0) gbias_[j] += g.bias_sigma_radps * truth::counter_normal(g.seed, kStreamGBias, 0, 0, j);
-    if (g.scale_sigma > 0) gscale_[j] += g.scale_sigma * truth::counter_normal(g.seed, kStreamGScale, 0, 0, j);
-  }
-  if (opt_.baro.enable) {  // Gauss-Markov sequence of every sample (exact discrete recursion, stationary start)
-    const auto& b = opt_.baro;
-    baro_every_ = std::max<int64_t>(1, std::llround(1e6 / b.rate_hz / static_cast<double>(opt_.dt_us)));
-    const int64_t n = (opt_.n_steps - 1) / baro_every_ + 1;
-    const double T = static_cast<double>(baro_every_ * opt_.dt_us) * 1e-6;
-    const double phi = std::exp(-T / b.gm_tau_s), q = std::sqrt(1.0 - phi * phi);
-    baro_gm_.resize(static_cast<size_t>(n));
-    double m = b.gm_sigma_m * truth::counter_normal(b.seed, kStreamBaroGm, 0, 0, 0);
-    for (int64_t j = 0; j < n; ++j) {
-      if (j > 0) m = phi * m + b.gm_sigma_m * q * truth::counter_normal(b.seed, kStreamBaroGm, static_cast<uint64_t>(j), 0, 0);
-      baro_gm_[static_cast<size_t>(j)] = m;
-    }
+  // the sensor error models (truth/sensors.hpp): all three axes of the six accelerometers
+  accel_ = truth::AccelModel(opt_.accel, 6, {true, true, true}, truth::kAccelStreams3D);
+  gyro_ = truth::GyroModel(opt_.gyro, truth::kGyroStreams3D);
+  if (opt_.baro.enable) {
+    const int64_t every = std::max<int64_t>(1, std::llround(1e6 / opt_.baro.rate_hz / static_cast<double>(opt_.dt_us)));
+    baro_ = truth::BaroModel(opt_.baro, every, opt_.n_steps, opt_.dt_us);
   }
 }
 
@@ -234,18 +209,7 @@ Vec3 Generator3::accel_reference(const Truth3& t, int j) const {
 }
 
 truth::BaroSample Generator3::baro(int64_t k, const Truth3& t) const {
-  truth::BaroSample b;
-  b.true_alt_m = static_cast<double>(t.s.h);
-  const auto& p = opt_.baro;
-  if (!p.enable || k % baro_every_ != 0) return b;
-  const auto j = static_cast<uint64_t>(k / baro_every_);
-  b.due = true;
-  b.gm_m = baro_gm_[static_cast<size_t>(j)];
-  b.error_m = p.bias_m + b.gm_m;
-  if (p.noise_sigma_m > 0) b.error_m += p.noise_sigma_m * truth::counter_normal(p.seed, kStreamBaroNoise, j, 0, 0);
-  b.status = GG_SENSOR_OK;
-  b.alt_m = b.true_alt_m + b.error_m;
-  return b;
+  return baro_.sample(k, static_cast<double>(t.t_s), static_cast<double>(t.s.h));
 }
 
 void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
@@ -257,28 +221,12 @@ void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
   out.utime = t.utime;
   out.seq = k;
   out.n_acc = 6;
-  const auto& ae = opt_.accel;
   for (int i = 0; i < 6; ++i) {
-    const auto si = static_cast<size_t>(i);
-    const Vec3& fi = fs[si];
-    for (int j = 0; j < 3; ++j) {
-      const auto sj = static_cast<size_t>(j);
-      Real f = fi(j) * (1.0L + static_cast<Real>(ascale_[si][sj])) + static_cast<Real>(abias_[si][sj]);
-      if (ae.noise_sigma_mps2 > 0)
-        f += static_cast<Real>(ae.noise_sigma_mps2 * truth::counter_normal(ae.seed, kStreamANoise, static_cast<uint64_t>(k), si, sj));
-      out.f[i][j] = static_cast<double>(f);
-      out.f_lo[i][j] = static_cast<double>(f - static_cast<Real>(out.f[i][j]));
-    }
+    const Vec3& fi = fs[static_cast<size_t>(i)];
+    for (int j = 0; j < 3; ++j) truth::encode_hilo(accel_.read(k, i, j, fi(j)), out.f[i][j], out.f_lo[i][j]);
     out.acc_status[i] = GG_SENSOR_OK;
   }
-  const auto& ge = opt_.gyro;
-  for (int j = 0; j < 3; ++j) {
-    const auto sj = static_cast<size_t>(j);
-    Real w = t.s.omega_b(j) * (1.0L + static_cast<Real>(gscale_[sj])) + static_cast<Real>(gbias_[sj]);
-    if (ge.noise_sigma_radps > 0)
-      w += static_cast<Real>(ge.noise_sigma_radps * truth::counter_normal(ge.seed, kStreamGNoise, static_cast<uint64_t>(k), 0, sj));
-    out.omega_b[j] = static_cast<double>(w);
-  }
+  for (int j = 0; j < 3; ++j) out.omega_b[j] = static_cast<double>(gyro_.read(k, j, t.s.omega_b(j)));
   out.gyro_status = GG_SENSOR_OK;
   out.baro_status = GG_SENSOR_ABSENT;
   out.baro_alt_m = 0;

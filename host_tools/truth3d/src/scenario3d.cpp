@@ -9,7 +9,8 @@
 #include <stdexcept>
 #include <toml++/toml.h>
 
-#include "ggins/truth/scenario_toml.hpp"
+#include "ggins/truth/scenario_keys.hpp"
+#include "ggins/truth/scenario_schema.hpp"
 #include "ggins/truth3d/faults3d.hpp"
 #include "ggins/truth3d/route3d.hpp"
 
@@ -28,135 +29,388 @@ extern const int kBuiltinScenario3Count;
 
 namespace {
 
-namespace scenario_toml = ggins::truth::scenario_toml;
+namespace sch = ggins::truth::sch;
+namespace keys = ggins::truth::keys;
+using S = Scenario3;
+using T3 = Trajectory3Params;
 
-struct P {
-  std::string src;
-  [[noreturn]] void fail(const std::string& what) const { scenario_toml::fail(src, what); }
-  void keys(const toml::table& t, const std::string& where, const std::set<std::string>& allowed) const {
-    scenario_toml::check_keys(t, where, allowed, src);
-  }
-  const toml::table* sub(const toml::table& root, const char* name) const {
-    const toml::node* n = root.get(name);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(std::string("'") + name + "' must be a table");
-    return n->as_table();
-  }
-  double num(const toml::table& t, const std::string& w, const char* key, double d) const {
-    return scenario_toml::get_num(t, w, key, d, src);
-  }
-  int64_t integer(const toml::table& t, const std::string& w, const char* key, int64_t d) const {
-    return scenario_toml::get_int(t, w, key, d, src);
-  }
-  bool boolean(const toml::table& t, const std::string& w, const char* key, bool d) const {
-    return scenario_toml::get_bool(t, w, key, d, src);
-  }
-  std::string str(const toml::table& t, const std::string& w, const char* key, const std::string& d) const {
-    return scenario_toml::get_str(t, w, key, d, src);
-  }
-  template <size_t K>
-  std::array<double, K> vec(const toml::table& t, const std::string& w, const char* key, std::array<double, K> d) const {
-    const toml::node* n = t.get(key);
-    if (!n) return d;
-    const toml::array* a = n->as_array();
-    if (!a || a->size() != K) fail(w + "." + key + " must be an array of " + std::to_string(K) + " numbers");
-    for (size_t i = 0; i < K; ++i) {
-      auto v = (*a)[i].value<double>();
-      if (!v || !std::isfinite(*v)) fail(w + "." + key + " must hold finite numbers");
-      d[i] = *v;
-    }
-    return d;
-  }
-  void positive(double v, const std::string& what) const {
-    if (!(v > 0)) fail(what + " must be > 0");
-  }
-  void nonneg(double v, const std::string& what) const {
-    if (!(v >= 0)) fail(what + " must be >= 0");
-  }
-};
-
-int64_t line_of(const toml::node& n) { return static_cast<int64_t>(n.source().begin.line); }
 std::string at_line(int64_t line) { return line > 0 ? " (line " + std::to_string(line) + ")" : ""; }
 
-// route keys of [trajectory] and its [[trajectory.waypoint]] entries
-void parse_route(const P& p, const toml::table& t, Trajectory3Params& r) {
-  const std::string w = "trajectory";
-  const bool route = r.type == "route";
-  for (const char* k : {"waypoint", "initial_speed_mps", "turn_rate_dps", "climb_rate_mps", "accel_mps2",
-                        "vertical_accel_mps2"})
-    if (!route && t.contains(k))
-      p.fail(std::string("trajectory.") + k + at_line(line_of(*t.get(k))) + " is a key of type = \"route\"");
-  if (!route) return;
-  r.initial_speed_mps = p.num(t, w, "initial_speed_mps", r.initial_speed_mps);
-  r.turn_rate_dps = p.num(t, w, "turn_rate_dps", r.turn_rate_dps);
-  r.climb_rate_mps = p.num(t, w, "climb_rate_mps", r.climb_rate_mps);
-  r.accel_mps2 = p.num(t, w, "accel_mps2", r.accel_mps2);
-  r.vertical_accel_mps2 = p.num(t, w, "vertical_accel_mps2", r.vertical_accel_mps2);
-  if (!(r.speed_mps >= 1)) p.fail("trajectory.speed_mps must be >= 1 m/s for a route (the attitude follows the velocity)");
-  if (t.contains("initial_speed_mps") && !(r.initial_speed_mps >= 1))
-    p.fail("trajectory.initial_speed_mps" + at_line(line_of(*t.get("initial_speed_mps"))) + " must be >= 1 m/s");
-  p.positive(r.turn_rate_dps, "trajectory.turn_rate_dps");
-  p.positive(r.climb_rate_mps, "trajectory.climb_rate_mps");
-  p.positive(r.accel_mps2, "trajectory.accel_mps2");
-  p.positive(r.vertical_accel_mps2, "trajectory.vertical_accel_mps2");
-  const toml::node* wn = t.get("waypoint");
-  if (!wn) p.fail("trajectory.waypoint: a route needs at least one [[trajectory.waypoint]] after its start");
-  const toml::array* a = wn->as_array();
-  if (!a) p.fail("trajectory.waypoint" + at_line(line_of(*wn)) + " must be an array of tables ([[trajectory.waypoint]])");
-  double h = r.height_m, v = r.speed_mps;
-  for (size_t i = 0; i < a->size(); ++i) {
-    const toml::table* e = (*a)[i].as_table();
-    const std::string where = "trajectory.waypoint[" + std::to_string(i + 1) + "]";
-    const int64_t line = line_of((*a)[i]);
-    const std::string loc = where + at_line(line);
-    if (!e) p.fail(loc + " must be a table");
-    for (const auto& [k, val] : *e) {
-      (void)val;
-      static const std::set<std::string> allowed = {"lat_deg",       "lon_deg",        "height_m",
-                                                    "speed_mps",     "turn_rate_dps",  "climb_rate_mps",
-                                                    "accel_mps2",    "vertical_accel_mps2"};
-      if (!allowed.count(std::string(k.str()))) {
-        std::string list;
-        for (const auto& x : allowed) list += (list.empty() ? "" : ", ") + x;
-        p.fail("unknown key '" + where + "." + std::string(k.str()) + "'" + at_line(line) + " (allowed: " + list + ")");
-      }
+bool is_route(const T3& r) { return r.type == "route"; }
+
+// [[trajectory.waypoint]] of a route: the keys of one entry (defaults: the previous
+// waypoint's height and speed, the route's rates).
+sch::Key<T3> waypoint_key() {
+  sch::Key<T3> k = sch::mk<T3>("waypoint", "array of tables", "", "[[trajectory.waypoint]]: lat_deg, lon_deg (required), "
+                                "height_m, speed_mps, turn_rate_dps, climb_rate_mps, accel_mps2, vertical_accel_mps2",
+                                "the route's waypoints after its start (route3d.hpp); height_m [previous], speed_mps "
+                                "[previous leg's] (ground speed on the leg ending here), climb_rate_mps, accel_mps2, "
+                                "vertical_accel_mps2 (of that leg), turn_rate_dps (of the turn at this waypoint) "
+                                "[the route's]", "");
+  k.read = [](T3& r, const toml::node& wn, const sch::Ctx& c, const std::string& p) {
+    const toml::array* a = wn.as_array();
+    if (!a) c.fail_at(&wn, p, p + " must be an array of tables ([[trajectory.waypoint]])");
+    static const sch::Range lat = sch::in(-85, 85), lon = sch::in(-360, 360), h = sch::in(-1000, 1e5),
+                            v = sch::in(1, 3000), pos = sch::gt(0);
+    static const std::set<std::string> allowed = {"lat_deg",    "lon_deg",       "height_m",       "speed_mps",
+                                                  "turn_rate_dps", "climb_rate_mps", "accel_mps2", "vertical_accel_mps2"};
+    double hp = r.height_m, vp = r.speed_mps;
+    for (size_t i = 0; i < a->size(); ++i) {
+      const toml::table* e = (*a)[i].as_table();
+      const std::string where = "trajectory.waypoint[" + std::to_string(i + 1) + "]";
+      if (!e) c.fail_at(&(*a)[i], where, where + " must be a table");
+      for (const auto& [kk, val] : *e)
+        if (!allowed.count(std::string(kk.str())))
+          c.fail_at(&val, where, "unknown key '" + where + "." + std::string(kk.str()) +
+                                     "' (allowed: " + sch::detail::allowed_list(allowed) + ")");
+      if (!e->contains("lat_deg") || !e->contains("lon_deg"))
+        c.fail_at(&(*a)[i], where, where + ": lat_deg and lon_deg are required");
+      WaypointParams q;
+      q.line = static_cast<int64_t>((*a)[i].source().begin.line);
+      auto num = [&](const char* key, double d, const sch::Range& rg, const char* unit) {
+        const toml::node* n = e->get(key);
+        return n ? sch::read_num(*n, c, where + "." + key, rg, unit) : d;
+      };
+      q.lat_deg = num("lat_deg", 0, lat, "deg");
+      q.lon_deg = num("lon_deg", 0, lon, "deg");
+      q.height_m = num("height_m", hp, h, "m");
+      q.speed_mps = num("speed_mps", vp, v, "m/s");
+      q.turn_rate_dps = num("turn_rate_dps", r.turn_rate_dps, pos, "deg/s");
+      q.climb_rate_mps = num("climb_rate_mps", r.climb_rate_mps, pos, "m/s");
+      q.accel_mps2 = num("accel_mps2", r.accel_mps2, pos, "m/s^2");
+      q.vertical_accel_mps2 = num("vertical_accel_mps2", r.vertical_accel_mps2, pos, "m/s^2");
+      hp = q.height_m;
+      vp = q.speed_mps;
+      r.waypoints.push_back(q);
     }
-    if (!e->contains("lat_deg") || !e->contains("lon_deg")) p.fail(loc + ": lat_deg and lon_deg are required");
-    WaypointParams q;
-    q.line = line;
-    q.lat_deg = p.num(*e, loc, "lat_deg", 0);
-    q.lon_deg = p.num(*e, loc, "lon_deg", 0);
-    q.height_m = p.num(*e, loc, "height_m", h);
-    q.speed_mps = p.num(*e, loc, "speed_mps", v);
-    q.turn_rate_dps = p.num(*e, loc, "turn_rate_dps", r.turn_rate_dps);
-    q.climb_rate_mps = p.num(*e, loc, "climb_rate_mps", r.climb_rate_mps);
-    q.accel_mps2 = p.num(*e, loc, "accel_mps2", r.accel_mps2);
-    q.vertical_accel_mps2 = p.num(*e, loc, "vertical_accel_mps2", r.vertical_accel_mps2);
-    if (std::fabs(q.lat_deg) > 85) p.fail(loc + ".lat_deg must be within +-85");
-    if (!(std::fabs(q.lon_deg) <= 360)) p.fail(loc + ".lon_deg must be within +-360");
-    if (q.height_m < -1000 || q.height_m > 1e5) p.fail(loc + ".height_m must be in [-1000, 1e5]");
-    if (!(q.speed_mps >= 1)) p.fail(loc + ".speed_mps must be >= 1 m/s (the attitude follows the velocity)");
-    if (!(q.speed_mps <= 3000)) p.fail(loc + ".speed_mps must be <= 3000 m/s");
-    p.positive(q.turn_rate_dps, loc + ".turn_rate_dps");
-    p.positive(q.climb_rate_mps, loc + ".climb_rate_mps");
-    p.positive(q.accel_mps2, loc + ".accel_mps2");
-    p.positive(q.vertical_accel_mps2, loc + ".vertical_accel_mps2");
-    h = q.height_m;
-    v = q.speed_mps;
-    r.waypoints.push_back(q);
+  };
+  k.write = [](const T3& r) -> std::optional<std::string> {
+    std::string s = "[";
+    for (size_t i = 0; i < r.waypoints.size(); ++i) {
+      const auto& q = r.waypoints[i];
+      s += std::string(i ? ",\n  " : "\n  ") + "{lat_deg = " + sch::num_text(q.lat_deg) +
+           ", lon_deg = " + sch::num_text(q.lon_deg) + ", height_m = " + sch::num_text(q.height_m) +
+           ", speed_mps = " + sch::num_text(q.speed_mps) + ", turn_rate_dps = " + sch::num_text(q.turn_rate_dps) +
+           ", climb_rate_mps = " + sch::num_text(q.climb_rate_mps) + ", accel_mps2 = " + sch::num_text(q.accel_mps2) +
+           ", vertical_accel_mps2 = " + sch::num_text(q.vertical_accel_mps2) + "}";
+    }
+    return s + (r.waypoints.empty() ? "]" : "\n]");
+  };
+  return k;
+}
+
+// [[trajectory.maneuver]] of a flight: t_s, duration_s, dv_ned_mps.
+sch::Key<T3> maneuver_key() {
+  sch::Key<T3> k = sch::mk<T3>("maneuver", "array of tables", "", "[[trajectory.maneuver]]: t_s, duration_s (> 0), dv_ned_mps",
+                                "velocity changes of a flight: start t_s [0] s, duration_s [60] s, velocity change "
+                                "dv_ned_mps [[0, 0, 0]] m/s (trajectory3d.hpp)", "");
+  k.read = [](T3& r, const toml::node& mn, const sch::Ctx& c, const std::string& p) {
+    const toml::array* a = mn.as_array();
+    if (!a) c.fail_at(&mn, p, p + " must be an array of tables ([[trajectory.maneuver]])");
+    static const std::set<std::string> allowed = {"t_s", "duration_s", "dv_ned_mps"};
+    for (size_t i = 0; i < a->size(); ++i) {
+      const toml::table* mt = (*a)[i].as_table();
+      const std::string where = "trajectory.maneuver[" + std::to_string(i + 1) + "]";
+      if (!mt) c.fail_at(&(*a)[i], where, "trajectory.maneuver entries must be tables");
+      for (const auto& [kk, val] : *mt)
+        if (!allowed.count(std::string(kk.str())))
+          c.fail_at(&val, where, "unknown key 'trajectory.maneuver." + std::string(kk.str()) +
+                                     "' (allowed: " + sch::detail::allowed_list(allowed) + ")");
+      ManeuverParams m;
+      if (const toml::node* n = mt->get("t_s")) m.t_s = sch::read_num(*n, c, where + ".t_s", sch::in(0, 1e8), "s");
+      if (const toml::node* n = mt->get("duration_s"))
+        m.duration_s = sch::read_num(*n, c, where + ".duration_s", sch::in_lopen(0, 1e8), "s");
+      if (const toml::node* n = mt->get("dv_ned_mps")) {
+        const auto v = sch::read_nums(*n, c, where + ".dv_ned_mps", 3, 3, sch::in(-1e4, 1e4), "m/s");
+        m.dv_ned_mps = {v[0], v[1], v[2]};
+      }
+      r.maneuvers.push_back(m);
+    }
+  };
+  k.write = [](const T3& r) -> std::optional<std::string> {
+    std::string s = "[";
+    for (size_t i = 0; i < r.maneuvers.size(); ++i) {
+      const auto& m = r.maneuvers[i];
+      s += std::string(i ? ",\n  " : "\n  ") + "{t_s = " + sch::num_text(m.t_s) + ", duration_s = " +
+           sch::num_text(m.duration_s) + ", dv_ned_mps = [" + sch::num_text(m.dv_ned_mps[0]) + ", " +
+           sch::num_text(m.dv_ned_mps[1]) + ", " + sch::num_text(m.dv_ned_mps[2]) + "]}";
+    }
+    return s + (r.maneuvers.empty() ? "]" : "\n]");
+  };
+  return k;
+}
+
+// [coldatom] and [aid_pf] (coldatom3d.hpp): their readers check their own keys and ranges.
+std::vector<sch::Row> coldatom3_rows() {
+  const ColdAtom3 d;
+  const auto& g = d.grad;
+  return {{"enabled", "boolean", "", "false", "", "the cold-atom gradiometer is carried (a shot per 1/rate_hz)"},
+          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\"",
+           "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only)"},
+          {"egm96", "string", "", "data/egm96_to360.ascii.txt", "file name", "EGM96 coefficients (scenario-relative)"},
+          {"cache", "string", "", "\"\" (none)", "file name", "cache of the route map grid (scenario-relative)"},
+          {"rate_hz", "number", "Hz", sch::num_text(g.rate_hz), "> 0", "shot rate (fringe pairs)"},
+          {"dz_m", "number", "m", sch::num_text(g.dz), "> 0", "vertical separation of the two interferometers"},
+          {"T_s", "number", "s", sch::num_text(g.T), "> 0", "pulse separation"},
+          {"n_atoms", "number", "1", sch::num_text(g.n_atoms), "> 0", "atoms per cloud (shot noise)"},
+          {"contrast", "number", "1", sch::num_text(g.contrast), "(0, 1]", "fringe contrast"},
+          {"phase_noise_mrad", "number", "mrad", sch::num_text(1e3 * g.phase_noise), ">= 0", "phase noise per shot"},
+          {"shot_noise", "boolean", "", g.shot_noise ? "true" : "false", "", "atom shot noise on the fringe"},
+          {"p_fail", "number", "1", sch::num_text(g.p_fail), "[0, 1]", "probability of a failed shot"},
+          {"cloud_rw_m_rts", "number", "m/sqrt(s)", sch::num_text(g.cloud_rw), ">= 0", "cloud position random walk"},
+          {"beam_radius_m", "number", "m", sch::num_text(g.beam_radius), "> 0", "beam radius"},
+          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "seed of the shots' draws"}};
+}
+
+std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(const ColdAtom3& c) {
+  const auto& g = c.grad;
+  return {{"enabled", c.enabled ? "true" : "false"}, {"gzz_map", sch::str_text(c.gzz_map)},
+          {"egm96", sch::str_text(c.egm96)}, {"cache", sch::str_text(c.cache)},
+          {"rate_hz", sch::num_text(g.rate_hz)}, {"dz_m", sch::num_text(g.dz)}, {"T_s", sch::num_text(g.T)},
+          {"n_atoms", sch::num_text(g.n_atoms)}, {"contrast", sch::num_text(g.contrast)},
+          {"phase_noise_mrad", sch::num_text(1e3 * g.phase_noise)}, {"shot_noise", g.shot_noise ? "true" : "false"},
+          {"p_fail", sch::num_text(g.p_fail)}, {"cloud_rw_m_rts", sch::num_text(g.cloud_rw)},
+          {"beam_radius_m", sch::num_text(g.beam_radius)}, {"seed", std::to_string(c.seed)}};
+}
+
+std::vector<sch::Row> aid_pf3_rows() {
+  const AidPf3 d;
+  auto n = [](double v) { return sch::num_text(v); };
+  return {{"enabled", "boolean", "", "false", "", "the particle-filter aid runs (needs [coldatom] and map_dir)"},
+          {"map_dir", "string", "", "\"\" (none)", "directory", "Gamma_zz tiles (*.gmap) for the map storage"},
+          {"particles", "integer", "", std::to_string(d.particles), ">= 1", "particles"},
+          {"chunk", "integer", "", std::to_string(d.chunk), ">= 1", "particles predicted and weighed per step"},
+          {"end_chunk", "integer", "", std::to_string(d.end_chunk), ">= 1", "particle passes of a shot's end per step"},
+          {"model", "string", "", sch::str_text(d.model), "\"rbpf\", \"ins\", \"rw\"", "process model (pf.h)"},
+          {"feedback", "string", "", sch::str_text(d.feedback), "\"position\", \"position-velocity\"",
+           "what the closed loop corrects"},
+          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "generator seed"},
+          {"sigma", "number", "1", n(d.sigma), ">= 0 (0: from the sensor)", "likelihood sd, signal units"},
+          {"sigma0_pos_m", "number", "m", n(d.sigma0_pos_m), ">= 0", "initial spread of position"},
+          {"sigma0_vel_mps", "number", "m/s", n(d.sigma0_vel_mps), ">= 0", "initial spread of velocity"},
+          {"sigma0_tilt_mps2", "number", "m/s^2", n(d.sigma0_tilt_mps2), ">= 0", "initial spread of tilt"},
+          {"sigma0_gyro_mps3", "number", "m/s^3", n(d.sigma0_gyro_mps3), ">= 0", "initial spread of g x gyro bias"},
+          {"sigma0_accel_mps2", "number", "m/s^2", n(d.sigma0_accel_mps2), ">= 0", "initial spread of acc error"},
+          {"q_pos_m", "number", "m", n(d.q_pos_m), ">= 0", "process noise per shot: position"},
+          {"q_vel_mps", "number", "m/s", n(d.q_vel_mps), ">= 0", "process noise per shot: velocity"},
+          {"q_tilt_mps2", "number", "m/s^2", n(d.q_tilt_mps2), ">= 0", "process noise per shot: tilt"},
+          {"q_gyro_mps3", "number", "m/s^3", n(d.q_gyro_mps3), ">= 0", "process noise per shot: g x gyro bias"},
+          {"q_accel_mps2", "number", "m/s^2", n(d.q_accel_mps2), ">= 0", "process noise per shot: acc error"},
+          {"reg_bw", "number", "1", n(d.reg_bw), ">= 0", "regularisation bandwidth, x Silverman"},
+          {"gain", "number", "1", n(d.gain), "[0, 1]", "smoothing gain of the fed-back correction"},
+          {"ess_frac", "number", "1", n(d.ess_frac), "[0, 1]", "resample when N_eff < ess_frac N"}};
+}
+
+std::vector<std::pair<std::string, std::optional<std::string>>> write_aid_pf3(const AidPf3& a) {
+  auto n = [](double v) { return sch::num_text(v); };
+  return {{"enabled", a.enabled ? "true" : "false"}, {"map_dir", sch::str_text(a.map_dir)},
+          {"particles", std::to_string(a.particles)}, {"chunk", std::to_string(a.chunk)},
+          {"end_chunk", std::to_string(a.end_chunk)}, {"model", sch::str_text(a.model)},
+          {"feedback", sch::str_text(a.feedback)}, {"seed", std::to_string(a.seed)}, {"sigma", n(a.sigma)},
+          {"sigma0_pos_m", n(a.sigma0_pos_m)}, {"sigma0_vel_mps", n(a.sigma0_vel_mps)},
+          {"sigma0_tilt_mps2", n(a.sigma0_tilt_mps2)}, {"sigma0_gyro_mps3", n(a.sigma0_gyro_mps3)},
+          {"sigma0_accel_mps2", n(a.sigma0_accel_mps2)}, {"q_pos_m", n(a.q_pos_m)}, {"q_vel_mps", n(a.q_vel_mps)},
+          {"q_tilt_mps2", n(a.q_tilt_mps2)}, {"q_gyro_mps3", n(a.q_gyro_mps3)}, {"q_accel_mps2", n(a.q_accel_mps2)},
+          {"reg_bw", n(a.reg_bw)}, {"gain", n(a.gain)}, {"ess_frac", n(a.ess_frac)}};
+}
+
+std::vector<sch::Row> sensor_fault3_rows() {
+  return {{"seed", "integer", "", "1", ">= 0", "seed of the faults' random occurrence (prob < 1)"},
+          {"fault", "array of tables", "", "none", "[[sensor_faults.fault]]", "one entry per injected fault:"},
+          {"fault.kind", "string", "", "(required)",
+           "\"nan\", \"inf\", \"range\", \"saturate\", \"stuck\", \"step\", \"drift\", \"noise\", \"status_bad\", "
+           "\"time_jump\", \"time_repeat\", \"time_back\"",
+           "what happens to the reading (time_*: to the frame's time stamp)"},
+          {"fault.sensor", "integer or \"gyro\"", "", "(required, not time_*)", "[0, 5], \"gyro\"", "accelerometer or the gyro"},
+          {"fault.axis", "string", "", "(required, not time_*, status_bad)", "\"x\", \"y\", \"z\"", "its axis"},
+          {"fault.start_s", "number", "s", "0.0", ">= 0", "onset"},
+          {"fault.duration_s", "number", "s", "0.0", ">= 0", "length (0: to the end)"},
+          {"fault.size", "number", "m/s^2, rad/s (time_*: us)", "0.0", "finite; time_jump/back: whole us in [1, 1e12]",
+           "the fault's size: reading, step, drift rate, noise sigma, or time jump"},
+          {"fault.prob", "number", "1", "1.0", "(0, 1]", "probability per frame while active"}};
+}
+
+std::vector<std::pair<std::string, std::optional<std::string>>> write_sensor_faults3(const SensorFaults3& p) {
+  std::vector<std::pair<std::string, std::optional<std::string>>> out;
+  out.emplace_back("seed", std::to_string(p.seed));
+  if (p.faults.empty()) return out;
+  std::string a = "[";
+  for (size_t i = 0; i < p.faults.size(); ++i) {
+    const SensorFault3& f = p.faults[i];
+    const std::string sensor = f.sensor == kFaultGyro ? "\"gyro\"" : std::to_string(f.sensor);
+    const char* axis = f.axis == 0 ? "\"x\"" : (f.axis == 1 ? "\"y\"" : "\"z\"");
+    a += std::string(i ? ",\n  " : "\n  ") + "{kind = " + sch::str_text(f.kind) + ", sensor = " + sensor +
+         ", axis = " + axis + ", start_s = " + sch::num_text(f.start_s) + ", duration_s = " +
+         sch::num_text(f.duration_s) + ", size = " + sch::num_text(f.size) + ", prob = " + sch::num_text(f.prob) + "}";
   }
-  // the geometry and the timing: legs, turns, climbs must fit
-  try {
-    Route3 check(route_params(r), Attitude::Coordinated);
-  } catch (const RouteError& e) {
-    const size_t k = static_cast<size_t>(e.waypoint);
-    const int64_t line = k >= 1 && k <= r.waypoints.size() ? r.waypoints[k - 1].line : 0;
-    p.fail((k == 0 ? std::string("trajectory (the start)") : "trajectory.waypoint[" + std::to_string(k) + "]") +
-           at_line(line) + ": " + e.what());
+  out.emplace_back("fault", a + "\n]");
+  return out;
+}
+
+sch::Schema<S> build_schema3() {
+  sch::Schema<S> sc;
+  sc.title = "3-D scenario (ggins run3d, covariance3d, montecarlo3d)";
+  auto& secs = sc.secs;
+  {
+    sch::Table<S> t("", "Name and description.");
+    sch::Key<S> name = sch::mk<S>("name", "string", "", "1..63 characters", "the scenario's name (report, output folder)",
+                                  "the file name without .toml");
+    name.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+      s.name = sch::read_str(n, c, p, {});
+      if (s.name.empty() || s.name.size() > 63)
+        c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must have 1..63 characters");
+    };
+    name.write = [](const S& s) -> std::optional<std::string> {
+      if (s.name.empty()) return std::nullopt;
+      return sch::str_text(s.name);
+    };
+    t.custom(name).str("description", &S::description, {}, "one line shown by --list-scenarios");
+    secs.push_back(sch::section<S>(t));
   }
+  {
+    sch::Table<T3> t("trajectory",
+                     "The analytic trajectory over the rotating WGS-84 Earth (trajectory3d.hpp, route3d.hpp).");
+    auto route = [](const T3& r) { return is_route(r); };
+    t.str("type", &T3::type, {"flight", "circle", "tumble", "route"},
+          "flight with maneuvers; circle; tumbling body; route through waypoints")
+        .num("lat_deg", &T3::lat_deg, "deg", sch::in(-85, 85),
+             "latitude (flight, route: start; circle: centre; tumble: the fixed point)")
+        .num("lon_deg", &T3::lon_deg, "deg", sch::in(-360, 360), "longitude (as lat_deg)")
+        .num("height_m", &T3::height_m, "m", sch::in(-1000, 1e5), "height above the ellipsoid (as lat_deg)")
+        .vec<3>("velocity_ned_mps", &T3::velocity_ned_mps, "m/s", sch::in(-1e4, 1e4), "flight: initial velocity, NED")
+        .custom(maneuver_key())
+        .num("radius_m", &T3::radius_m, "m", sch::in_lopen(0, 1e7), "circle: radius")
+        .num("speed_mps", &T3::speed_mps, "m/s", sch::in(-1e4, 1e4), "circle: speed; route: first leg's ground speed (>= 1)")
+        .num("spin_radps", &T3::spin_radps, "rad/s", sch::in(-1e3, 1e3), "tumble: spin rate")
+        .num("precession_radps", &T3::precession_radps, "rad/s", sch::in(-1e3, 1e3), "tumble: precession rate")
+        .num("nutation_deg", &T3::nutation_deg, "deg", sch::in(-360, 360), "tumble: mean nutation angle")
+        .num("nutation_amp_deg", &T3::nutation_amp_deg, "deg", sch::in(-360, 360), "tumble: nutation amplitude")
+        .num("nutation_radps", &T3::nutation_radps, "rad/s", sch::in(-1e3, 1e3), "tumble: nutation rate")
+        .num("psi0_deg", &T3::psi0_deg, "deg", sch::in(-360, 360), "tumble: initial precession angle")
+        .num("phi0_deg", &T3::phi0_deg, "deg", sch::in(-360, 360), "tumble: initial spin angle")
+        .num("initial_speed_mps", &T3::initial_speed_mps, "m/s", sch::in(1, 3000), "route: speed at t = 0", -1.0,
+             "speed_mps")
+        .only_if(route, "of type = \"route\"")
+        .num("turn_rate_dps", &T3::turn_rate_dps, "deg/s", sch::gt(0), "route: turn rate (default of every waypoint)")
+        .only_if(route, "of type = \"route\"")
+        .num("climb_rate_mps", &T3::climb_rate_mps, "m/s", sch::gt(0), "route: climb rate (default of every waypoint)")
+        .only_if(route, "of type = \"route\"")
+        .num("accel_mps2", &T3::accel_mps2, "m/s^2", sch::gt(0), "route: along-track acceleration (default of every waypoint)")
+        .only_if(route, "of type = \"route\"")
+        .num("vertical_accel_mps2", &T3::vertical_accel_mps2, "m/s^2", sch::gt(0),
+             "route: vertical acceleration (default of every waypoint)")
+        .only_if(route, "of type = \"route\"")
+        .custom(waypoint_key())
+        .only_if(route, "of type = \"route\"");
+    secs.push_back(sch::section<S>(t, &S::trajectory));
+  }
+  {
+    sch::Table<S> t("platform", "The gradiometer: six tri-axis accelerometers, their platform.");
+    t.str("kind", &S::platform, {"stabilized", "strapdown"}, "stabilized (locally level) or strapdown platform")
+        .num("a_m", &S::a_m, "m", sch::in_lopen(0, 100), "half-baseline along x")
+        .num("b_m", &S::b_m, "m", sch::in_lopen(0, 100), "half-baseline along y")
+        .num("c_m", &S::c_m, "m", sch::in_lopen(0, 100), "half-baseline along z");
+    secs.push_back(sch::section<S>(t));
+  }
+  {
+    sch::Table<truth::GravityParams> t("gravity", "The truth gravity field.");
+    using G = truth::GravityParams;
+    t.str("model", &G::model, {"point-mass", "wgs84-normal", "rw-anomaly", "egm96"},
+          "point mass; WGS-84 normal field; + Rubenstein & Winter point masses ([gravity.anomaly]); + the EGM96 "
+          "disturbing potential ([gravity.sh]) on the lattice fast path")
+        .num("gm_m3ps2", &G::gm_m3ps2, "m^3/s^2", sch::in_lopen(0, 1e21), "GM of the point-mass model");
+    secs.push_back(sch::section<S>(t, &S::gravity));
+  }
+  {
+    sch::Table<ShFieldParams> t("gravity.sh", "The spherical-harmonic disturbing field of model \"egm96\".");
+    using H = ShFieldParams;
+    t.str("path", &H::path, {}, "coefficient file", "<source>/data/egm96_to360.ascii.txt")
+        .integer("nmax", &H::nmax, "", sch::in(2, 360), "highest degree")
+        .num("lattice_spacing_m", &H::lattice_spacing_m, "m", sch::in_lopen(0, 1e7), "spacing of the fast-path lattice")
+        .integer("lattice_points", &H::lattice_points, "", sch::in(2, 16), "points per lattice cell edge", true);
+    secs.push_back(sch::section<S>(t, &S::sh, [](const S& s) { return s.gravity.model == "egm96"; }));
+  }
+  secs.push_back(sch::section<S>(keys::anomaly_table("trajectory.lat_deg", "trajectory.lon_deg"),
+                                 std::function<truth::AnomalyParams&(S&)>(
+                                     [](S& s) -> truth::AnomalyParams& { return s.gravity.anomaly; }),
+                                 [](const S& s) { return s.gravity.model == "rw-anomaly"; }));
+  secs.push_back(sch::section<S>(keys::time_table<S>()));
+  secs.push_back(sch::section<S>(keys::accel_table(6, 6), &S::accel));
+  {
+    sch::Table<GyroErrorParams> t("gyro", "The gyro's errors (strapdown).");
+    using Y = GyroErrorParams;
+    t.seed("seed", &Y::seed, "seed of the random errors")
+        .num("bias_sigma_radps", &Y::bias_sigma_radps, "rad/s", sch::in(0, 1), "constant random bias per axis, 1 sigma")
+        .num("noise_sigma_radps", &Y::noise_sigma_radps, "rad/s", sch::in(0, 1), "white noise per sample, 1 sigma")
+        .num("scale_sigma", &Y::scale_sigma, "1", sch::in(0, 0.1), "constant random scale-factor error, 1 sigma")
+        .vec<3>("bias_radps", &Y::bias_radps, "rad/s", sch::in(-1, 1), "fixed bias per axis")
+        .vec<3>("scale", &Y::scale, "1", sch::in(-0.1, 0.1), "fixed scale-factor error per axis");
+    secs.push_back(sch::section<S>(t, &S::gyro));
+  }
+  secs.push_back(sch::section<S>(keys::baro_table(), &S::baro, [](const S& s) { return s.baro.enable; }));
+  {
+    sch::Table<S> t("navigation", "What the firmware navigates with beyond the sensors (nav3d.h).");
+    t.str("gravity", &S::nav_gravity, {"gradiometer", "model"},
+          "gravity from the gradiometer, or the onboard WGS-84 zonal series (J2..J8)");
+    secs.push_back(sch::section<S>(t));
+  }
+  secs.push_back(sch::section<S>(keys::baro_loop_table(), &S::nav_baro));
+  {
+    sch::Table<truth::FirmwareParams> f("firmware", "");
+    keys::firmware_keys(f);
+    sch::Table<S> t("firmware", "The firmware's configuration (nav3d.h, fdi3d.h).");
+    t.lift(f, std::function<truth::FirmwareParams&(S&)>([](S& s) -> truth::FirmwareParams& { return s.firmware; }));
+    sch::Key<S> fdi = sch::mk<S>("fdi_parity_f_max_mps2", "number", "m/s^2",
+                                 "0 (off) or >= " + sch::num_text(GG_FDI3D_FLOOR_MPS2),
+                                 "pair-mean fault detection threshold (fdi3d.h)", "");
+    fdi.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+      const double v = sch::read_num(n, c, p, sch::in(0, 1e6), "m/s^2");
+      if (!(v == 0 || v >= GG_FDI3D_FLOOR_MPS2))
+        c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must be 0 (off) or >= " + std::to_string(GG_FDI3D_FLOOR_MPS2) +
+                             " m/s^2 (the pair means' curvature differences)");
+      s.fdi_parity_f_max_mps2 = v;
+    };
+    fdi.write = [](const S& s) -> std::optional<std::string> { return sch::num_text(s.fdi_parity_f_max_mps2); };
+    fdi.dflt_doc = "7 sigma of a pair-mean difference from [accel] + the fixed biases' + 2e-12 (scenario3d.hpp)";
+    t.custom(fdi);
+    secs.push_back(sch::section<S>(t));
+  }
+  {
+    sch::Table<S> t("output", "What the run writes.");
+    t.num("csv_rate_hz", &S::csv_rate_hz, "Hz", sch::in_lopen(0, 1e6), "rows per second of timeseries.csv");
+    secs.push_back(sch::section<S>(t));
+  }
+  secs.push_back(sch::delegated_section<S>(
+      "sensor_faults", "Injected sensor faults (faults3d.hpp).", sensor_fault3_rows(),
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults3(t, c.source); },
+      [](const S& s) { return write_sensor_faults3(s.sensor_faults); },
+      [](const S& s) { return !s.sensor_faults.faults.empty(); }));
+  secs.push_back(sch::section<S>(aid_ukf_table(), &S::aid_ukf, [](const S& s) { return s.aid_ukf.enabled; }));
+  secs.push_back(sch::delegated_section<S>(
+      "coldatom", "The cold-atom gradiometer (coldatom3d.hpp): two interferometers, fringe pairs.", coldatom3_rows(),
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.coldatom = parse_coldatom3(&t, c.source); },
+      [](const S& s) { return write_coldatom3(s.coldatom); }, [](const S& s) { return s.coldatom.enabled; }));
+  secs.push_back(sch::delegated_section<S>(
+      "aid_pf", "The cold-atom particle-filter aid (aid_pf.h) on the gradiometer's shots.", aid_pf3_rows(),
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.aid_pf = parse_aid_pf3(&t, c.source); },
+      [](const S& s) { return write_aid_pf3(s.aid_pf); }, [](const S& s) { return s.aid_pf.enabled; }));
+  return sc;
 }
 
 }  // namespace
+
+const sch::Schema<Scenario3>& scenario3_schema() {
+  static const sch::Schema<Scenario3> s = build_schema3();
+  return s;
+}
+
+std::string scenario3_to_toml(const Scenario3& s, bool template_comments) {
+  std::string head = template_comments ? "# 3-D scenario: every key with its default (ggins run3d --print-scenario --defaults;\n"
+                                         "# docs/scenario-reference.md). A commented key is derived, or belongs to\n"
+                                         "# another trajectory type or model, unless given.\n"
+                                       : "# scenario " + s.name + " as flown (defaults filled in, overrides applied)\n";
+  return head + scenario3_schema().to_toml(s, template_comments);
+}
 
 int64_t Scenario3::dt_us() const { return std::llround(1e6 / rate_hz); }
 int64_t Scenario3::n_steps() const { return std::llround(duration_s * rate_hz) + 1; }
@@ -166,242 +420,69 @@ int64_t Scenario3::baro_every() const {
 }
 
 Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_name, const std::string& source) {
-  P p{source};
+  const sch::Ctx c{source};
   toml::table root;
   try {
-    root = toml::parse(text);
+    root = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream os;
-    os << e.description() << " at line " << e.source().begin.line;
-    p.fail(os.str());
+    os << "scenario " << source << ":" << e.source().begin.line << ": " << e.description() << " at line "
+       << e.source().begin.line;
+    throw std::runtime_error(os.str());
   }
   Scenario3 s;
   s.source = source;
   s.text = text;
-  s.gravity.model = "wgs84-normal";
-  p.keys(root, "", {"name", "description", "trajectory", "platform", "gravity", "time", "accel", "gyro", "baro",
-                    "navigation", "firmware", "output", "sensor_faults",
-                    "aid_ukf", "coldatom", "aid_pf"});  // the aiding sources (aids3d.hpp, coldatom3d.hpp)
-  s.name = p.str(root, "", "name", fallback_name);
-  s.description = p.str(root, "", "description", "");
-  if (const auto* t = p.sub(root, "trajectory")) {
-    const std::string w = "trajectory";
-    p.keys(*t, w, {"type", "lat_deg", "lon_deg", "height_m", "velocity_ned_mps", "maneuver", "radius_m", "speed_mps",
-                   "spin_radps", "precession_radps", "nutation_deg", "nutation_amp_deg", "nutation_radps", "psi0_deg",
-                   "phi0_deg", "waypoint", "initial_speed_mps", "turn_rate_dps", "climb_rate_mps", "accel_mps2",
-                   "vertical_accel_mps2"});
-    auto& r = s.trajectory;
-    r.type = p.str(*t, w, "type", r.type);
-    if (r.type != "flight" && r.type != "circle" && r.type != "tumble" && r.type != "route")
-      p.fail("trajectory.type must be \"flight\", \"circle\", \"tumble\" or \"route\"");
-    r.lat_deg = p.num(*t, w, "lat_deg", r.lat_deg);
-    r.lon_deg = p.num(*t, w, "lon_deg", r.lon_deg);
-    r.height_m = p.num(*t, w, "height_m", r.height_m);
-    if (std::fabs(r.lat_deg) > 85) p.fail("trajectory.lat_deg must be within +-85");
-    if (r.height_m < -1000 || r.height_m > 1e5) p.fail("trajectory.height_m must be in [-1000, 1e5]");
-    r.velocity_ned_mps = p.vec<3>(*t, w, "velocity_ned_mps", r.velocity_ned_mps);
-    if (const toml::node* mn = t->get("maneuver")) {
-      const toml::array* a = mn->as_array();
-      if (!a) p.fail("trajectory.maneuver must be an array of tables ([[trajectory.maneuver]])");
-      for (const auto& e : *a) {
-        const toml::table* mt = e.as_table();
-        if (!mt) p.fail("trajectory.maneuver entries must be tables");
-        p.keys(*mt, "trajectory.maneuver", {"t_s", "duration_s", "dv_ned_mps"});
-        ManeuverParams m;
-        m.t_s = p.num(*mt, "trajectory.maneuver", "t_s", m.t_s);
-        m.duration_s = p.num(*mt, "trajectory.maneuver", "duration_s", m.duration_s);
-        p.positive(m.duration_s, "trajectory.maneuver.duration_s");
-        m.dv_ned_mps = p.vec<3>(*mt, "trajectory.maneuver", "dv_ned_mps", m.dv_ned_mps);
-        r.maneuvers.push_back(m);
-      }
+  s.name = fallback_name;
+  scenario3_schema().read(s, root, c);
+  if (s.name.empty() || s.name.size() > 63) c.fail("name must have 1..63 characters (give name = \"...\")");
+
+  // relations between keys
+  auto& r = s.trajectory;
+  if (is_route(r)) {
+    if (!(r.speed_mps >= 1))
+      c.fail_key(root, "trajectory.speed_mps",
+                 "trajectory.speed_mps must be >= 1 m/s for a route (the attitude follows the velocity)");
+    if (r.waypoints.empty())
+      c.fail_key(root, "trajectory", "trajectory.waypoint: a route needs at least one [[trajectory.waypoint]] after its start");
+    try {  // the geometry and the timing: legs, turns, climbs must fit
+      Route3 check(route_params(r), Attitude::Coordinated);
+    } catch (const RouteError& e) {
+      const size_t k = static_cast<size_t>(e.waypoint);
+      const int64_t line = k >= 1 && k <= r.waypoints.size() ? r.waypoints[k - 1].line : 0;
+      c.fail((k == 0 ? std::string("trajectory (the start)") : "trajectory.waypoint[" + std::to_string(k) + "]") +
+             at_line(line) + ": " + e.what());
     }
-    r.radius_m = p.num(*t, w, "radius_m", r.radius_m);
-    r.speed_mps = p.num(*t, w, "speed_mps", r.speed_mps);
-    parse_route(p, *t, r);
-    p.positive(r.radius_m, "trajectory.radius_m");
-    r.spin_radps = p.num(*t, w, "spin_radps", r.spin_radps);
-    r.precession_radps = p.num(*t, w, "precession_radps", r.precession_radps);
-    r.nutation_deg = p.num(*t, w, "nutation_deg", r.nutation_deg);
-    r.nutation_amp_deg = p.num(*t, w, "nutation_amp_deg", r.nutation_amp_deg);
-    r.nutation_radps = p.num(*t, w, "nutation_radps", r.nutation_radps);
-    r.psi0_deg = p.num(*t, w, "psi0_deg", r.psi0_deg);
-    r.phi0_deg = p.num(*t, w, "phi0_deg", r.phi0_deg);
-  }
-  if (const auto* t = p.sub(root, "platform")) {
-    p.keys(*t, "platform", {"kind", "a_m", "b_m", "c_m"});
-    s.platform = p.str(*t, "platform", "kind", s.platform);
-    if (s.platform != "stabilized" && s.platform != "strapdown")
-      p.fail("platform.kind must be \"stabilized\" or \"strapdown\"");
-    s.a_m = p.num(*t, "platform", "a_m", s.a_m);
-    s.b_m = p.num(*t, "platform", "b_m", s.b_m);
-    s.c_m = p.num(*t, "platform", "c_m", s.c_m);
-    p.positive(s.a_m, "platform.a_m");
-    p.positive(s.b_m, "platform.b_m");
-    p.positive(s.c_m, "platform.c_m");
-  }
-  if (const auto* t = p.sub(root, "gravity")) {
-    p.keys(*t, "gravity", {"model", "gm_m3ps2", "anomaly", "sh"});
-    s.gravity.model = p.str(*t, "gravity", "model", s.gravity.model);
-    if (s.gravity.model != "point-mass" && s.gravity.model != "wgs84-normal" && s.gravity.model != "rw-anomaly" &&
-        s.gravity.model != "egm96")
-      p.fail("gravity.model must be \"point-mass\", \"wgs84-normal\", \"rw-anomaly\" or \"egm96\"");
-    if (const auto* h = p.sub(*t, "sh")) {
-      const std::string w = "gravity.sh";
-      p.keys(*h, w, {"path", "nmax", "lattice_spacing_m", "lattice_points"});
-      s.sh.path = p.str(*h, w, "path", s.sh.path);
-      s.sh.nmax = p.integer(*h, w, "nmax", s.sh.nmax);
-      s.sh.lattice_spacing_m = p.num(*h, w, "lattice_spacing_m", s.sh.lattice_spacing_m);
-      s.sh.lattice_points = p.integer(*h, w, "lattice_points", s.sh.lattice_points);
-      if (s.sh.nmax < 2 || s.sh.nmax > 360) p.fail("gravity.sh.nmax must be in [2, 360]");
-      p.positive(s.sh.lattice_spacing_m, "gravity.sh.lattice_spacing_m");
-      if (s.sh.lattice_points < 2 || s.sh.lattice_points > 16 || s.sh.lattice_points % 2)
-        p.fail("gravity.sh.lattice_points must be even, 2..16");
-    }
-    s.gravity.gm_m3ps2 = p.num(*t, "gravity", "gm_m3ps2", s.gravity.gm_m3ps2);
-    if (const auto* a = p.sub(*t, "anomaly")) {
-      const std::string w = "gravity.anomaly";
-      p.keys(*a, w, {"seed", "lat_deg", "lon_deg", "half_size_m", "ref_height_m", "rms_arcsec", "corr_length_m",
-                     "ewald_sigma_m", "lattice_spacing_m", "lattice_points"});
-      auto& g = s.gravity.anomaly;
-      g.seed = static_cast<uint64_t>(p.integer(*a, w, "seed", static_cast<int64_t>(g.seed)));
-      g.lat_deg = p.num(*a, w, "lat_deg", g.lat_deg);
-      g.lon_deg = p.num(*a, w, "lon_deg", NAN);
-      g.half_size_m = p.num(*a, w, "half_size_m", g.half_size_m);
-      g.ref_height_m = p.num(*a, w, "ref_height_m", g.ref_height_m);
-      g.rms_arcsec = p.num(*a, w, "rms_arcsec", g.rms_arcsec);
-      g.corr_length_m = p.num(*a, w, "corr_length_m", g.corr_length_m);
-      g.ewald_sigma_m = p.num(*a, w, "ewald_sigma_m", g.ewald_sigma_m);
-      g.lattice_spacing_m = p.num(*a, w, "lattice_spacing_m", g.lattice_spacing_m);
-      g.lattice_points = p.integer(*a, w, "lattice_points", g.lattice_points);
-    } else {
-      s.gravity.anomaly.lon_deg = NAN;
-    }
-  } else {
-    s.gravity.anomaly.lon_deg = NAN;
   }
   // anomaly region centred on the trajectory's (start) point unless given
   if (std::isnan(s.gravity.anomaly.lat_deg)) s.gravity.anomaly.lat_deg = s.trajectory.lat_deg;
   if (std::isnan(s.gravity.anomaly.lon_deg)) s.gravity.anomaly.lon_deg = s.trajectory.lon_deg;
   if (std::isnan(s.gravity.anomaly.ref_height_m)) s.gravity.anomaly.ref_height_m = s.trajectory.height_m;
-  if (const auto* t = p.sub(root, "time")) {
-    p.keys(*t, "time", {"duration_s", "rate_hz"});
-    s.duration_s = p.num(*t, "time", "duration_s", s.duration_s);
-    s.rate_hz = p.num(*t, "time", "rate_hz", s.rate_hz);
-  }
-  p.positive(s.duration_s, "time.duration_s");
-  p.positive(s.rate_hz, "time.rate_hz");
   if (std::fabs(1e6 / s.rate_hz - static_cast<double>(s.dt_us())) > 1e-9)
-    p.fail("time.rate_hz must give an integer number of microseconds per step");
-  if (const auto* t = p.sub(root, "accel")) {
-    const std::string w = "accel";
-    p.keys(*t, w, {"seed", "bias_sigma_mps2", "noise_sigma_mps2", "scale_sigma", "bias_mps2"});
-    s.accel.seed = static_cast<uint64_t>(p.integer(*t, w, "seed", 1));
-    s.accel.bias_sigma_mps2 = p.num(*t, w, "bias_sigma_mps2", 0);
-    s.accel.noise_sigma_mps2 = p.num(*t, w, "noise_sigma_mps2", 0);
-    s.accel.scale_sigma = p.num(*t, w, "scale_sigma", 0);
-    p.nonneg(s.accel.bias_sigma_mps2, "accel.bias_sigma_mps2");
-    p.nonneg(s.accel.noise_sigma_mps2, "accel.noise_sigma_mps2");
-    p.nonneg(s.accel.scale_sigma, "accel.scale_sigma");
-    if (const toml::node* n = t->get("bias_mps2")) {
-      const toml::array* a = n->as_array();
-      if (!a || a->size() != 6) p.fail("accel.bias_mps2 must be 6 arrays of 3 numbers");
-      for (size_t i = 0; i < 6; ++i) {
-        const toml::array* r = (*a)[i].as_array();
-        if (!r || r->size() != 3) p.fail("accel.bias_mps2 must be 6 arrays of 3 numbers");
-        for (size_t j = 0; j < 3; ++j) {
-          auto v = (*r)[j].value<double>();
-          if (!v || !std::isfinite(*v)) p.fail("accel.bias_mps2 must hold finite numbers");
-          s.accel.bias_mps2[i][j] = *v;
-        }
-      }
-    }
-  }
-  if (const auto* t = p.sub(root, "gyro")) {
-    const std::string w = "gyro";
-    p.keys(*t, w, {"seed", "bias_sigma_radps", "noise_sigma_radps", "scale_sigma", "bias_radps", "scale"});
-    s.gyro.seed = static_cast<uint64_t>(p.integer(*t, w, "seed", static_cast<int64_t>(s.gyro.seed)));
-    s.gyro.bias_sigma_radps = p.num(*t, w, "bias_sigma_radps", 0);
-    s.gyro.noise_sigma_radps = p.num(*t, w, "noise_sigma_radps", 0);
-    s.gyro.scale_sigma = p.num(*t, w, "scale_sigma", 0);
-    p.nonneg(s.gyro.bias_sigma_radps, "gyro.bias_sigma_radps");
-    p.nonneg(s.gyro.noise_sigma_radps, "gyro.noise_sigma_radps");
-    p.nonneg(s.gyro.scale_sigma, "gyro.scale_sigma");
-    s.gyro.bias_radps = p.vec<3>(*t, w, "bias_radps", s.gyro.bias_radps);
-    s.gyro.scale = p.vec<3>(*t, w, "scale", s.gyro.scale);
-  }
-  if (const auto* t = p.sub(root, "baro")) {
-    const std::string w = "baro";
-    p.keys(*t, w, {"enable", "seed", "rate_hz", "bias_m", "gm_sigma_m", "gm_tau_s", "noise_sigma_m"});
-    s.baro.enable = p.boolean(*t, w, "enable", true);
-    s.baro.seed = static_cast<uint64_t>(p.integer(*t, w, "seed", 1));
-    s.baro.rate_hz = p.num(*t, w, "rate_hz", s.baro.rate_hz);
-    s.baro.bias_m = p.num(*t, w, "bias_m", 0);
-    s.baro.gm_sigma_m = p.num(*t, w, "gm_sigma_m", 0);
-    s.baro.gm_tau_s = p.num(*t, w, "gm_tau_s", s.baro.gm_tau_s);
-    s.baro.noise_sigma_m = p.num(*t, w, "noise_sigma_m", 0);
-    p.positive(s.baro.rate_hz, "baro.rate_hz");
-    p.positive(s.baro.gm_tau_s, "baro.gm_tau_s");
-    p.nonneg(s.baro.gm_sigma_m, "baro.gm_sigma_m");
-    p.nonneg(s.baro.noise_sigma_m, "baro.noise_sigma_m");
-    if (s.baro.rate_hz > s.rate_hz) p.fail("baro.rate_hz must not exceed time.rate_hz");
-  }
-  if (const auto* t = p.sub(root, "navigation")) {
-    p.keys(*t, "navigation", {"gravity", "baro"});
-    s.nav_gravity = p.str(*t, "navigation", "gravity", s.nav_gravity);
-    if (s.nav_gravity != "gradiometer" && s.nav_gravity != "model")
-      p.fail("navigation.gravity must be \"gradiometer\" or \"model\"");
-    if (const auto* b = p.sub(*t, "baro")) {
-      const std::string w = "navigation.baro";
-      p.keys(*b, w, {"enable", "poles_radps", "period_s", "omega_s2", "max_age_s", "coast_s", "alt_min_m",
-                     "alt_max_m", "gate_m", "max_rejects"});
-      auto& l = s.nav_baro;
-      if (b->get("enable")) l.enable = p.boolean(*b, w, "enable", false) ? 1 : 0;
-      l.poles_radps = p.vec<3>(*b, w, "poles_radps", l.poles_radps);
-      l.period_s = p.num(*b, w, "period_s", l.period_s);
-      l.omega_s2 = p.num(*b, w, "omega_s2", l.omega_s2);
-      l.max_age_s = p.num(*b, w, "max_age_s", l.max_age_s);
-      l.coast_s = p.num(*b, w, "coast_s", l.coast_s);
-      l.alt_min_m = p.num(*b, w, "alt_min_m", l.alt_min_m);
-      l.alt_max_m = p.num(*b, w, "alt_max_m", l.alt_max_m);
-      l.gate_m = p.num(*b, w, "gate_m", l.gate_m);
-      l.max_rejects = p.integer(*b, w, "max_rejects", l.max_rejects);
-    }
-  }
-  bool fdi_set = false;
-  if (const auto* t = p.sub(root, "firmware")) {
-    p.keys(*t, "firmware", {"f_max_mps2", "asym_max_ps2", "dt_tol_us", "fdi_parity_f_max_mps2"});
-    s.firmware.f_max_mps2 = p.num(*t, "firmware", "f_max_mps2", s.firmware.f_max_mps2);
-    s.firmware.asym_max_ps2 = p.num(*t, "firmware", "asym_max_ps2", s.firmware.asym_max_ps2);
-    s.firmware.dt_tol_us = p.integer(*t, "firmware", "dt_tol_us", s.firmware.dt_tol_us);
-    if (t->contains("fdi_parity_f_max_mps2")) {
-      fdi_set = true;
-      s.fdi_parity_f_max_mps2 = p.num(*t, "firmware", "fdi_parity_f_max_mps2", 0);
-      if (!(s.fdi_parity_f_max_mps2 == 0 || s.fdi_parity_f_max_mps2 >= GG_FDI3D_FLOOR_MPS2))
-        p.fail("firmware.fdi_parity_f_max_mps2 must be 0 (off) or >= " + std::to_string(GG_FDI3D_FLOOR_MPS2) +
-               " m/s^2 (the pair means' curvature differences)");
-    }
-  }
-  if (!fdi_set) {
+    c.fail_key(root, "time.rate_hz", "time.rate_hz = " + sch::num_text(s.rate_hz) +
+                                         ": must give an integer number of microseconds per step");
+  if (s.baro.enable && s.baro.rate_hz > s.rate_hz)
+    c.fail_key(root, "baro.rate_hz", "baro.rate_hz must not exceed time.rate_hz");
+  if (!(s.nav_baro.alt_max_m > s.nav_baro.alt_min_m))
+    c.fail_key(root, "navigation.baro.alt_max_m", "navigation.baro: alt_max_m must be > alt_min_m");
+  if (s.aid_ukf.average_s > s.aid_ukf.update_period_s)
+    c.fail_key(root, "aid_ukf.average_s", "aid_ukf.average_s = " + sch::num_text(s.aid_ukf.average_s) +
+                                              ": must be <= aid_ukf.update_period_s");
+  if (s.aid_pf.enabled && !s.coldatom.enabled)
+    c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs [coldatom] enabled (its sensor)");
+  if (s.aid_ukf.enabled && s.aid_ukf.maps.empty())
+    c.fail_key(root, "aid_ukf.enabled", "aid_ukf.enabled needs aid_ukf.map (the onboard tiles)");
+  if (!sch::detail::node_at(root, "firmware.fdi_parity_f_max_mps2")) {
     const auto& a = s.accel;
     const double sp = std::sqrt(a.bias_sigma_mps2 * a.bias_sigma_mps2 + a.noise_sigma_mps2 * a.noise_sigma_mps2 +
                                 (10.0 * a.scale_sigma) * (10.0 * a.scale_sigma));
     double fixed = 0;  // the fixed biases' largest pair-mean difference
     for (size_t j = 0; j < 3; ++j)
       for (size_t q = 0; q < 3; ++q)
-        for (size_t r = q + 1; r < 3; ++r)
+        for (size_t w = q + 1; w < 3; ++w)
           fixed = std::max(fixed, 0.5 * std::fabs((a.bias_mps2[q][j] + a.bias_mps2[q + 3][j]) -
-                                                  (a.bias_mps2[r][j] + a.bias_mps2[r + 3][j])));
+                                                  (a.bias_mps2[w][j] + a.bias_mps2[w + 3][j])));
     s.fdi_parity_f_max_mps2 = 7.0 * sp + fixed + GG_FDI3D_FLOOR_MPS2;
-  }
-  if (const auto* t = p.sub(root, "sensor_faults")) s.sensor_faults = parse_sensor_faults3(*t, source);
-  s.aid_ukf = parse_aid_ukf(root["aid_ukf"].as_table(), source);
-  s.coldatom = parse_coldatom3(root["coldatom"].as_table(), source);
-  s.aid_pf = parse_aid_pf3(root["aid_pf"].as_table(), source);
-  if (s.aid_pf.enabled && !s.coldatom.enabled) scenario_toml::fail(source, "aid_pf.enabled needs [coldatom] enabled (its sensor)");
-  if (const auto* t = p.sub(root, "output")) {
-    p.keys(*t, "output", {"csv_rate_hz"});
-    s.csv_rate_hz = p.num(*t, "output", "csv_rate_hz", s.csv_rate_hz);
-    p.positive(s.csv_rate_hz, "output.csv_rate_hz");
   }
   return s;
 }
@@ -420,11 +501,18 @@ Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std:
     ss << in.rdbuf();
     return ss.str();
   };
+  auto refuse_empty = [](const Scenario3& s) {
+    if (toml::parse(s.text).empty())
+      throw std::runtime_error("scenario " + s.source +
+                               ": sets no key (an empty file would fly every default; start from ggins run3d "
+                               "--print-scenario --defaults)");
+    return s;
+  };
   if (fs::is_regular_file(name_or_path))
-    return parse_scenario3(read(name_or_path), fs::path(name_or_path).stem().string(), name_or_path);
+    return refuse_empty(parse_scenario3(read(name_or_path), fs::path(name_or_path).stem().string(), name_or_path));
   for (const auto& d : search_dirs) {
     const fs::path f = fs::path(d) / (name_or_path + ".toml");
-    if (fs::is_regular_file(f)) return parse_scenario3(read(f), name_or_path, f.string());
+    if (fs::is_regular_file(f)) return refuse_empty(parse_scenario3(read(f), name_or_path, f.string()));
   }
   for (int i = 0; i < kBuiltinScenario3Count; ++i)
     if (name_or_path == kBuiltinScenarios3[i].name)

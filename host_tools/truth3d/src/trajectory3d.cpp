@@ -72,11 +72,11 @@ void ned_axes_n(const Jet<N>& lat, const Jet<N>& lon, JVec3<N>& north, JVec3<N>&
 void ned_axes(const J& lat, const J& lon, JV& north, JV& east, JV& down) { ned_axes_n(lat, lon, north, east, down); }
 
 template <int N>
-JMat3<N> earth_rotation(Real t) {
-  return rot3(kOmegaIe * Jet<N>::variable(t));
+JMat3<N> earth_rotation(Real t, Real omega_ie) {
+  return rot3(omega_ie * Jet<N>::variable(t));
 }
-template JMat3<kJetOrder> earth_rotation<kJetOrder>(Real t);
-template JMat3<kAttOrder> earth_rotation<kAttOrder>(Real t);
+template JMat3<kJetOrder> earth_rotation<kJetOrder>(Real t, Real omega_ie);
+template JMat3<kAttOrder> earth_rotation<kAttOrder>(Real t, Real omega_ie);
 
 JMA coordinated_attitude_e(const JA& lat, const JA& lon, const JVA& v_e, const JVA& a_e) {
   JVA n, e, d;
@@ -116,7 +116,7 @@ State3 Trajectory3::at(Real t) const {
   // State3 needs derivatives up to 2: order-2 jets (same coefficients 0..2)
   const JVA rj = resize<kAttOrder>(r4);
   const JMA Cj = resize<kAttOrder>(C4);
-  const JMA R = earth_rotation<kAttOrder>(t);
+  const JMA R = earth_rotation<kAttOrder>(t, omega_ie());
   const JVA ri = matvec(R, rj);
   State3 s;
   s.t = t;
@@ -218,6 +218,40 @@ void Circle3::jets(Real t, JV& r_e, JM& C_b_i) const {
     return;
   }
   C_b_i = coordinated_attitude_i(t, lat, lon, r_e);
+}
+
+// ---- Great circle ----------------------------------------------------------
+
+GreatCircle3::GreatCircle3(const GreatCircleParams& p, Attitude att) : p_(p), att_(att), rho_(p.radius_m + p.height_m) {
+  if (!(rho_ > 0) || !(p.speed_mps >= 0)) throw std::invalid_argument("great circle: radius > 0, speed >= 0");
+  const Real cl = std::cos(p.lat0), sl = std::sin(p.lat0), co = std::cos(p.lon0), so = std::sin(p.lon0);
+  u_ = Vec3(cl * co, cl * so, sl);
+  const Vec3 north(-sl * co, -sl * so, cl), east(-so, co, 0);
+  w_ = std::cos(p.heading) * north + std::sin(p.heading) * east;
+  n_ = u_.cross(w_);
+}
+
+void GreatCircle3::jets(Real t, JV& r_e, JM& C_b_i) const {
+  const J phi = J::variable(t) * (p_.speed_mps / rho_);
+  J s, c;
+  sincos(phi, s, c);
+  JV rh, th;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto ei = static_cast<Eigen::Index>(i);
+    rh[i] = c * u_(ei) + s * w_(ei);   // r^
+    th[i] = c * w_(ei) - s * u_(ei);   // direction of flight
+    r_e[i] = rh[i] * rho_;
+  }
+  JM C_b_e;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const auto ei = static_cast<Eigen::Index>(i);
+    if (att_ == Attitude::Stabilized) {
+      C_b_i[i] = {J(w_(ei)), J(-n_(ei)), J(-u_(ei))};
+    } else {
+      C_b_e[i] = {th[i], J(-n_(ei)), -rh[i]};
+    }
+  }
+  if (att_ != Attitude::Stabilized) C_b_i = matmul(earth_rotation<kJetOrder>(t, p_.omega_ie), C_b_e);
 }
 
 // ---- Tumble ----------------------------------------------------------------

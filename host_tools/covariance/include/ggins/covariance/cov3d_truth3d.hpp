@@ -4,12 +4,32 @@
 // models, with their sensor-error sigmas, as a Cov3DScenario.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "ggins/covariance/cov3d.hpp"
 
+namespace ggins::truth3d {
+class Trajectory3;
+}
+
 namespace ggins::covariance {
+
+// A truth3d::Trajectory3 (Taylor jets: mutually exact r, v, a, C_b_i, omega, omega') as a Trajectory3D.
+class Truth3DTrajectory final : public Trajectory3D {
+ public:
+  explicit Truth3DTrajectory(std::shared_ptr<const truth3d::Trajectory3> t);
+  Traj3DPoint at(Real t) const override;
+  Real omega_ie() const override;
+  const std::shared_ptr<const truth3d::Trajectory3>& truth() const { return t_; }
+
+ private:
+  std::shared_ptr<const truth3d::Trajectory3> t_;
+};
+
+// The truth3d trajectory of a scenario loaded by load_truth3d_scenario (null for the built-in ones).
+std::shared_ptr<const truth3d::Trajectory3> truth3d_trajectory(const Cov3DScenario& s);
 
 // Loads a truth3d scenario (a file, <dir>/<name>.toml in search_dirs, or a
 // truth3d built-in). Throws std::runtime_error with the reason.

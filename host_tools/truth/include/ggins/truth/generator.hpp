@@ -9,11 +9,10 @@
 // a Taylor expansion around the centre), in long double. The 2-D layout of
 // Welker et al.: sensors 1..4 (frame index 0..3) at (x, z) offsets
 // (+a, 0), (0, +b), (-a, 0), (0, -b); axis y reads 0.
-// Errors (each off by default): f_meas = (1 + s) f + b + n with a constant
-// scale factor s and bias b per sensor axis (random, seeded, plus fixed values
-// from the scenario) and white noise n. All random numbers come from a
-// counter-based generator keyed by (seed, step, sensor, axis), so frame k is
-// the same whenever and however often it is generated (resends, replays,
+// Sensor errors (each off by default): the accelerometer and barometer models
+// of sensors.hpp (f_meas = (1 + s) f + b + n per measured axis; barometer
+// bias + Gauss-Markov + noise, dropouts, outliers), counter-based, so frame k
+// is the same whenever and however often it is generated (resends, replays,
 // Monte Carlo runs with the same seed).
 #pragma once
 
@@ -29,28 +28,10 @@ extern "C" {
 }
 #include "ggins/gravity/field.hpp"
 #include "ggins/truth/scenario.hpp"
+#include "ggins/truth/sensors.hpp"
 #include "ggins/truth/trajectory.hpp"
 
 namespace ggins::truth {
-
-// Barometer of step k (scenario [baro]). A sample is due every baro_every()
-// steps (sample j at step j * every, time-stamped with the frame's utime):
-//   h_baro = h_true + bias + m_j + n_j (+ outlier),  h_true = |r| - r_ref,
-// m_j a first-order Gauss-Markov sequence by its exact discrete recursion
-//   m_0 = sigma w_0,  m_{j+1} = phi m_j + sigma sqrt(1 - phi^2) w_{j+1},  phi = exp(-T/tau)
-// (stationary from the start: var m_j = sigma^2 for every j), n_j white with
-// sigma noise_sigma_m; w, n from the counter-based generator (seed, j).
-struct BaroSample {
-  bool due = false;       // a sample time
-  bool dropped = false;   // due but not sent (dropout: probability or scheduled window)
-  bool outlier = false;   // +-outlier_m added
-  bool invalid = false;   // sent as NaN with status OK
-  double alt_m = NAN;     // what the frame carries (NaN when none)
-  int32_t status = GG_SENSOR_ABSENT;
-  double true_alt_m = 0;  // h_true at the sample time (latency_s before the frame), m
-  double error_m = 0;     // bias + m_j + n_j (+ outlier), m (0 when not due)
-  double gm_m = 0;        // m_j, m
-};
 
 // Truth at the platform centre at one step.
 struct TruthState {
@@ -63,18 +44,15 @@ struct TruthState {
   Vec3 f_c = Vec3::Zero();     // error-free centre specific force a - G, m/s^2
 };
 
-// Standard normal deviate number `stream` of generator `seed`, element
-// (k, i, j): a pure function (splitmix64 hashing + Box-Muller), portable.
-double counter_normal(uint64_t seed, uint64_t stream, uint64_t k, uint64_t i, uint64_t j);
-// Uniform deviate in [0, 1) from the same construction.
-double counter_uniform(uint64_t seed, uint64_t stream, uint64_t k, uint64_t i, uint64_t j);
-
 std::unique_ptr<Trajectory> make_trajectory(const Scenario& s);
 std::unique_ptr<gravity::Field> make_field(const Scenario& s);
 
 class Generator {
  public:
   explicit Generator(const Scenario& s);
+  // The same with another truth gravitation field in place of the scenario's [gravity]
+  // (a tool's own model of the true field, e.g. rw-eq8's deflected point mass).
+  Generator(const Scenario& s, std::shared_ptr<const gravity::Field> field);
 
   const Scenario& scenario() const { return sc_; }
   const Trajectory& trajectory() const { return *traj_; }
@@ -99,25 +77,23 @@ class Generator {
   // Platform offset of accelerometer i (inertial = platform axes), m.
   const Vec3& offset(int i) const { return offsets_[static_cast<size_t>(i)]; }
   // Total constant bias and scale factor of accelerometer i, axis j.
-  double bias(int i, int j) const { return bias_[static_cast<size_t>(i)][static_cast<size_t>(j)]; }
-  double scale(int i, int j) const { return scale_[static_cast<size_t>(i)][static_cast<size_t>(j)]; }
+  double bias(int i, int j) const { return accel_.bias(i, j); }
+  double scale(int i, int j) const { return accel_.scale(i, j); }
 
  private:
   Scenario sc_;
   std::unique_ptr<Trajectory> traj_;
-  std::unique_ptr<gravity::Field> field_;
+  std::shared_ptr<const gravity::Field> field_;
   int64_t dt_us_;
   int64_t n_steps_;
   int n_acc_;
   std::array<Vec3, kMaxAcc> offsets_{};
-  std::array<std::array<double, 3>, kMaxAcc> bias_{};
-  std::array<std::array<double, 3>, kMaxAcc> scale_{};
   std::array<int, 3> axes_{};  // which axes are measured (2-D: x and z)
   int n_axes_ = 0;
-  std::vector<double> baro_gm_;  // m_j per barometer sample j
+  AccelModel accel_;  // the accelerometers' error model (sensors.hpp)
+  BaroModel baro_;    // the barometer's (sensors.hpp)
   std::shared_ptr<gg_gmodel_t> model_;  // onboard model (null if it does not initialise)
   std::shared_ptr<gg_gmodel_config_t> model_cfg_;  // its configuration (zonal part only)
-  int64_t baro_every_ = 1;
 };
 
 }  // namespace ggins::truth

@@ -3,48 +3,9 @@
 // are also compiled into the library, so `--scenario welker-perfect` works
 // from any directory. Unknown keys and out-of-range values are errors.
 //
-// File layout (all keys optional unless noted; defaults in brackets):
-//   name = "..."                      [file name without .toml]
-//   description = "..."
-//   [trajectory]  type = "north-flight", speed_mps [300], height_m [0],
-//                 lat0_deg [0], radius_m [6378137]
-//   [gravity]     model = "point-mass" | "wgs84-normal" | "rw-anomaly" (WGS-84 normal field plus
-//                 buried point masses with Rubenstein & Winter statistics, gravity/point_anomaly.hpp),
-//                 gm_m3ps2 [3.986004418e14] (point-mass only)
-//   [gravity.anomaly] (rw-anomaly) seed [1], lat_deg [trajectory mid-latitude], lon_deg [0],
-//                 half_size_m [300e3], ref_height_m [trajectory.height_m], rms_arcsec [4.5],
-//                 corr_length_m [61116], ewald_sigma_m [8000], lattice_spacing_m [1000],
-//                 lattice_points [12]
-//   [navigation]  gravity = "gradiometer" | "model" [gradiometer], r_ref_m [trajectory.radius_m]
-//                 (altitude h = |r| - r_ref_m, for the barometer and the firmware)
-//   [navigation.model] onboard zonal model (model mode): gm_m3ps2, a_m, j = [J2, ..., J8]
-//                 [the truth field's normal part: point mass GM (J = 0), or WGS-84 GM, a, J2..J8]
-//   [navigation.survey] programmed anomaly grid (model mode; truth/survey.hpp): enable [true when the
-//                 table is present], seed [1], spacing_m [2000], margin_m [20000], n_rho [2], drho_m [1000],
-//                 noise_gravity_mgal [1.0] (radial), noise_deflection_arcsec [0.5] (tangential, x g)
-//   [navigation.baro] firmware vertical loop (vchan.h): enable [= baro.enable],
-//                 poles_radps [[0.01, 0.02, 0.03]], period_s [1 / baro.rate_hz],
-//                 omega_s2 [|G(r0)| / |r0| from the truth], max_age_s [0.5], coast_s [10],
-//                 alt_min_m [-1000], alt_max_m [30000], gate_m [50], max_rejects [5]
-//   [baro]        truth barometer (none without the table): enable [true], seed [1], rate_hz [1], bias_m [0],
-//                 gm_sigma_m [0], gm_tau_s [600] (first-order Gauss-Markov), noise_sigma_m [0],
-//                 dropout_prob [0], dropouts = [[t0_s, t1_s], ...] [none], outlier_prob [0],
-//                 outlier_m [0], invalid_prob [0] (NaN sample flagged OK), latency_s [0] (the sample
-//                 is the altitude latency_s before the frame and stamped so)
-//   [platform]    a_m [0.5], b_m [0.5]            (half-baselines along x and z)
-//   [time]        duration_s [3600], rate_hz [100] (1e6/rate_hz must be an integer)
-//   [accel]       seed [1], bias_sigma_mps2 [0], noise_sigma_mps2 [0],
-//                 scale_sigma [0] (dimensionless), bias_mps2 = [[bx,by,bz] x n] [0],
-//                 scale = [[sx,sy,sz] x n] [0]
-//   [firmware]    f_max_mps2 [50], asym_max_ps2 [1e-6], dt_tol_us [0],
-//                 gravdr_trapezoid_only [false]
-//   [transport]   seed [1], drop_prob [0], duplicate_prob [0], reorder_prob [0], output_drop_prob [0],
-//                 garbage_prob [0]
-//   [output]      csv_rate_hz [1], truth_rate_hz [10; 0 = every step]
-//   [sensor_faults] seed [1], [[sensor_faults.fault]] ... (sensor_faults.hpp)
-//   [firmware]    also fdi_parity_f_max_mps2, fdi_asym_max_ps2 (fdi2d.h; 0 = off) [derived by
-//                 load_scenario from the sensor noise, biases, baseline and field:
-//                 fdi_thresholds.hpp]
+// Every table and key (type, unit, default, allowed range, meaning) is in the scenario
+// schema (scenario_schema.hpp; built in scenario.cpp from these structs' initialisers)
+// and on the page generated from it, docs/scenario-reference.md (ggins scenario-reference).
 #pragma once
 
 #include <array>
@@ -219,5 +180,17 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
 
 // Names of the compiled-in scenarios.
 std::vector<std::string> builtin_scenario_names();
+
+namespace sch {
+template <class R>
+struct Schema;
+}
+// The 2-D scenario's schema (scenario_schema.hpp): every key, its type, unit, default,
+// range and meaning; parse_scenario reads through it.
+const sch::Schema<Scenario>& scenario_schema();
+// The scenario as TOML (every table and key, effective values: defaults filled in,
+// overrides applied); parse_scenario reads it back to the same values. With
+// template_comments: each key commented with unit, range and meaning (a template).
+std::string scenario_to_toml(const Scenario& s, bool template_comments = false);
 
 }  // namespace ggins::truth

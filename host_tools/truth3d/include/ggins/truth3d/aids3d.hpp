@@ -14,13 +14,19 @@
 //   sig0_pos_m, sig0_vel_mps, sig0_att_rad, sig0_g_mps2   # initial one-sigma
 //   q_vel_mps_rts, q_att_rad_rts, q_g_mps2_rts           # process noise
 //   gate_nis = 0.0             # NIS gate (chi-square, 6 dof); 0: none
+//   average_s = 0.0            # tensors averaged into an epoch's measurement over this long
+//                              # before it (0: the epoch's own sample), <= update_period_s
+//   sigma_gyro_rps             # gyro white noise of one navigation step's rate, rad/s: its
+//                              # share of R ([w x]^2 removal) and of Q; default [gyro] noise_sigma_radps
+//   sigma_gyro_bias_rps        # gyro bias one-sigma, rad/s: its share of R; default [gyro]
+//                              # bias_sigma_radps (+ the largest |bias_radps| entry)
 #pragma once
 
 #include <string>
 #include <vector>
 #include <toml++/toml.h>
 
-#include "ggins/truth/scenario_toml.hpp"
+#include "ggins/truth/scenario_schema.hpp"
 
 namespace ggins::truth3d {
 
@@ -41,50 +47,64 @@ struct AidUkf3 {
   double q_g_mps2_rts = 1.0e-9;
   double lambda = 0.0;
   double gate_nis = 0.0;
+  double average_s = 0.0;
+  double sigma_gyro_rps = -1.0;       // < 0: from the scenario's [gyro] (run3d/aids3d.hpp)
+  double sigma_gyro_bias_rps = -1.0;  // < 0: from the scenario's [gyro]
 };
 
-// The [aid_ukf] table of a scenario (t null: absent, the defaults: aid off); throws naming
-// the key, as the rest of the scenario parser.
-inline AidUkf3 parse_aid_ukf(const toml::table* t, const std::string& source) {
-  namespace st = ggins::truth::scenario_toml;
-  AidUkf3 a;
-  if (!t) return a;
-  const std::string w = "aid_ukf";
-  st::check_keys(*t, w,
-                 {"enabled", "map", "update_period_s", "max_passes", "sigma_meas_E", "sigma_db_E", "offdiag_ratio",
-                  "sig0_pos_m", "sig0_vel_mps", "sig0_att_rad", "sig0_g_mps2", "q_vel_mps_rts", "q_att_rad_rts",
-                  "q_g_mps2_rts", "lambda", "gate_nis"},
-                 source);
-  a.enabled = st::get_bool(*t, w, "enabled", a.enabled, source);
-  if (const toml::node* n = t->get("map")) {
-    if (n->is_string()) {
-      a.maps.push_back(n->as_string()->get());
-    } else if (const toml::array* arr = n->as_array()) {
+// The [aid_ukf] table of a scenario (scenario_schema.hpp): absent, the defaults (aid off).
+inline truth::sch::Table<AidUkf3> aid_ukf_table() {
+  namespace sch = truth::sch;
+  using A = AidUkf3;
+  sch::Table<A> t("aid_ukf", "The gradient-map aid: map-matching UKF on the gradiometer (aid_mmukf.h).");
+  sch::Key<A> map = sch::mk<A>("map", "string or array of strings", "", "file names",
+                               "gmap tiles (ggins gmap) for the computer's map storage; relative paths from the "
+                               "scenario file's directory", "");
+  map.read = [](A& a, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+    if (n.is_string()) {
+      a.maps.push_back(n.as_string()->get());
+    } else if (const toml::array* arr = n.as_array()) {
       for (const auto& e : *arr) {
-        if (!e.is_string()) st::fail(source, "aid_ukf.map must be a file name or a list of them");
+        if (!e.is_string()) c.fail_at(&e, p, p + " = " + sch::value_text(n) + ": must be a file name or a list of them");
         a.maps.push_back(e.as_string()->get());
       }
     } else {
-      st::fail(source, "aid_ukf.map must be a file name or a list of them");
+      c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must be a file name or a list of them");
     }
-  }
-  a.update_period_s = st::get_num(*t, w, "update_period_s", a.update_period_s, source);
-  a.max_passes = static_cast<int>(st::get_int(*t, w, "max_passes", a.max_passes, source));
-  a.sigma_meas_E = st::get_num(*t, w, "sigma_meas_E", a.sigma_meas_E, source);
-  a.sigma_db_E = st::get_num(*t, w, "sigma_db_E", a.sigma_db_E, source);
-  a.offdiag_ratio = st::get_num(*t, w, "offdiag_ratio", a.offdiag_ratio, source);
-  a.sig0_pos_m = st::get_num(*t, w, "sig0_pos_m", a.sig0_pos_m, source);
-  a.sig0_vel_mps = st::get_num(*t, w, "sig0_vel_mps", a.sig0_vel_mps, source);
-  a.sig0_att_rad = st::get_num(*t, w, "sig0_att_rad", a.sig0_att_rad, source);
-  a.sig0_g_mps2 = st::get_num(*t, w, "sig0_g_mps2", a.sig0_g_mps2, source);
-  a.q_vel_mps_rts = st::get_num(*t, w, "q_vel_mps_rts", a.q_vel_mps_rts, source);
-  a.q_att_rad_rts = st::get_num(*t, w, "q_att_rad_rts", a.q_att_rad_rts, source);
-  a.q_g_mps2_rts = st::get_num(*t, w, "q_g_mps2_rts", a.q_g_mps2_rts, source);
-  a.lambda = st::get_num(*t, w, "lambda", a.lambda, source);
-  a.gate_nis = st::get_num(*t, w, "gate_nis", a.gate_nis, source);
-  if (a.enabled && a.maps.empty()) st::fail(source, "aid_ukf.enabled needs aid_ukf.map (the onboard tiles)");
-  if (!(a.update_period_s > 0)) st::fail(source, "aid_ukf.update_period_s must be > 0");
-  return a;
+  };
+  map.write = [](const A& a) -> std::optional<std::string> {
+    std::string s = "[";
+    for (size_t i = 0; i < a.maps.size(); ++i) s += (i ? ", " : "") + sch::str_text(a.maps[i]);
+    return s + "]";
+  };
+  t.boolean("enabled", &A::enabled, "the aid runs (needs map)")
+      .custom(map)
+      .default_doc("map", "[] (none)")
+      .num("update_period_s", &A::update_period_s, "s", sch::in_lopen(0, 1e6), "time between epochs")
+      .integer("max_passes", &A::max_passes, "", sch::in(1, 100), "progressive update passes")
+      .num("sigma_meas_E", &A::sigma_meas_E, "E", sch::in_lopen(0, 1e6),
+           "gradiometer noise of a diagonal component (Gao: 0.01 E)")
+      .num("sigma_db_E", &A::sigma_db_E, "E", sch::in(0, 1e6), "map noise (Gao: 0.001 E)")
+      .num("offdiag_ratio", &A::offdiag_ratio, "1", sch::in(0, 10),
+           "off-diagonal / diagonal noise (six differenced accelerometers)")
+      .num("sig0_pos_m", &A::sig0_pos_m, "m", sch::in_lopen(0, 1e7), "initial position sigma")
+      .num("sig0_vel_mps", &A::sig0_vel_mps, "m/s", sch::in_lopen(0, 1e4), "initial velocity sigma")
+      .num("sig0_att_rad", &A::sig0_att_rad, "rad", sch::in_lopen(0, 10), "initial attitude sigma")
+      .num("sig0_g_mps2", &A::sig0_g_mps2, "m/s^2", sch::in_lopen(0, 100), "initial gravity sigma")
+      .num("q_vel_mps_rts", &A::q_vel_mps_rts, "m/s/sqrt(s)", sch::in(0, 1e3), "velocity process noise")
+      .num("q_att_rad_rts", &A::q_att_rad_rts, "rad/sqrt(s)", sch::in(0, 10), "attitude process noise")
+      .num("q_g_mps2_rts", &A::q_g_mps2_rts, "m/s^2/sqrt(s)", sch::in(0, 100), "gravity process noise")
+      .num("lambda", &A::lambda, "1", sch::in(-1e3, 1e3), "UKF sigma-point spread parameter")
+      .num("gate_nis", &A::gate_nis, "1", sch::in(0, 1e9), "NIS gate (chi-square, 6 dof); 0: none")
+      .num("average_s", &A::average_s, "s", sch::in(0, 1e6),
+           "tensors averaged into an epoch's measurement over this long before it (0: the epoch's own sample; "
+           "<= update_period_s)")
+      .num("sigma_gyro_rps", &A::sigma_gyro_rps, "rad/s", sch::in(0, 1),
+           "gyro white noise of one navigation step's rate: its share of R ([w x]^2 removal) and of Q", -1.0,
+           "gyro.noise_sigma_radps")
+      .num("sigma_gyro_bias_rps", &A::sigma_gyro_bias_rps, "rad/s", sch::in(0, 1),
+           "gyro bias one-sigma: its share of R", -1.0, "gyro.bias_sigma_radps + the largest |gyro.bias_radps| entry");
+  return t;
 }
 
 }  // namespace ggins::truth3d

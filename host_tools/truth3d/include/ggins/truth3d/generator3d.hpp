@@ -16,11 +16,11 @@
 // (lattices) are evaluated at every sensor. accel_reference() evaluates the
 // field at each sensor's own position (the independent check, tests/truth3d).
 // Errors (off by default, seeded, counter-based like the 2-D generator so
-// frame k is a pure function of (seed, k)):
+// frame k is a pure function of (seed, k)): the sensor models of
+// truth/sensors.hpp, the same code as the 2-D generator's:
 //   accelerometer f_meas = (1 + s) f + b + n per sensor axis (scale, bias constant; n white);
-//   gyro w_meas = (1 + s) w + b + n per axis (w = omega_b, the inertial body rate).
-// Barometer: the 2-D model (truth/generator.hpp) on the geodetic height:
-//   h_baro = h + bias + m_j + n_j (m_j first-order Gauss-Markov, exact recursion).
+//   gyro w_meas = (1 + s) w + b + n per axis (w = omega_b, the inertial body rate);
+//   barometer on the geodetic height h_baro = h + bias + m_j + n_j (m_j Gauss-Markov).
 #pragma once
 
 #include <array>
@@ -91,9 +91,9 @@ class Generator3 {
   Vec3 accel_reference(const Truth3& t, int j) const;
   void frame(int64_t k, gg_frame_t& out, Truth3* truth_out = nullptr) const;
   truth::BaroSample baro(int64_t k, const Truth3& t) const;
-  double accel_bias(int j, int ax) const { return abias_[static_cast<size_t>(j)][static_cast<size_t>(ax)]; }
-  double gyro_bias(int ax) const { return gbias_[static_cast<size_t>(ax)]; }
-  double gyro_scale(int ax) const { return gscale_[static_cast<size_t>(ax)]; }
+  double accel_bias(int j, int ax) const { return accel_.bias(j, ax); }
+  double gyro_bias(int ax) const { return gyro_.bias(ax); }
+  double gyro_scale(int ax) const { return gyro_.scale(ax); }
   // The cold-atom gradiometer ([coldatom]; nullptr when off).
   const ColdAtomSensor3* coldatom() const { return ca_.get(); }
 
@@ -111,10 +111,9 @@ class Generator3 {
   std::shared_ptr<const gravity::Field> field_;
   Generator3Options opt_;
   std::array<Vec3, 6> d_{};
-  std::array<std::array<double, 3>, 6> abias_{}, ascale_{};
-  std::array<double, 3> gbias_{}, gscale_{};
-  std::vector<double> baro_gm_;
-  int64_t baro_every_ = 1;
+  truth::AccelModel accel_;  // sensor error models (truth/sensors.hpp)
+  truth::GyroModel gyro_;
+  truth::BaroModel baro_;
   std::shared_ptr<const ColdAtomSensor3> ca_;
 };
 

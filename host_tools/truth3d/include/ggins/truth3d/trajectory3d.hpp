@@ -46,6 +46,7 @@
 
 #include <Eigen/Dense>
 
+#include "ggins/gravity/wgs84.hpp"
 #include "ggins/truth3d/jet.hpp"
 
 namespace ggins::truth3d {
@@ -64,7 +65,7 @@ using JA = Jet<kAttOrder>;
 using JVA = JVec3<kAttOrder>;
 using JMA = JMat3<kAttOrder>;
 
-constexpr Real kOmegaIe = 7.292115e-5L;  // rad/s (WGS-84, NIMA TR8350.2 Table 3.1)
+constexpr Real kOmegaIe = gravity::wgs84::kOmega;  // rad/s (WGS-84, NIMA TR8350.2 Table 3.1)
 constexpr Real kG0 = 9.80665L;           // m/s^2, bank-angle reference (standard gravity)
 constexpr Real kPi = 3.14159265358979323846264338327950288L;
 
@@ -95,6 +96,9 @@ class Trajectory3 {
   // at() reads orders 0..2, the kinds here compute exactly those).
   virtual void jets(Real t, JV& r_e, JM& C_b_i) const = 0;
   virtual std::string name() const = 0;
+  // The Earth rate of the ECI <-> ECEF rotation R3(omega_ie t), rad/s
+  // (WGS-84 unless a trajectory flies over a differently turning Earth).
+  virtual Real omega_ie() const { return kOmegaIe; }
   // Everything at time t (from jets()).
   State3 at(Real t) const;
 };
@@ -120,7 +124,7 @@ JMA coordinated_attitude_e(const JA& lat, const JA& lon, const JVA& v_e, const J
 JM coordinated_attitude_e(const J& lat, const J& lon, const JV& v_e, const JV& a_e);
 // R3(omega_ie t) as a jet of order N (2 or 4).
 template <int N = kJetOrder>
-JMat3<N> earth_rotation(Real t);
+JMat3<N> earth_rotation(Real t, Real omega_ie = kOmegaIe);
 
 class Flight3 final : public Trajectory3 {
  public:
@@ -154,6 +158,34 @@ class Circle3 final : public Trajectory3 {
   Attitude att_;
   Real alat_, alon_, w_;
   JM c0_;
+};
+
+// Great circle at constant geocentric radius rho = R + h and speed V over an
+// Earth turning at omega_ie (0: non-rotating), from geocentric latitude lat0,
+// longitude lon0, heading psi0 (from north toward east); the reference flight
+// of the 3-D error analysis (covariance/trajectory3d.hpp, GreatCircle3D):
+//   r_e(t) = rho (cos(phi) u + sin(phi) w),  phi = V t / rho,
+// u = r^_e(0), w = the initial direction of flight, n = u x w.
+// Strapdown: body x along the flight direction, y = -n, z = -r^
+// (C_b_i = R3(omega_ie t) C_b_e); stabilized: C_b_i = C_b_e(0) = [w, -n, -u].
+struct GreatCircleParams {
+  Real radius_m = 6378137.0L, height_m = 0;
+  Real lat0 = 0, lon0 = 0, heading = 0;  // rad
+  Real speed_mps = 200;
+  Real omega_ie = kOmegaIe;  // rad/s
+};
+class GreatCircle3 final : public Trajectory3 {
+ public:
+  GreatCircle3(const GreatCircleParams& p, Attitude att);
+  void jets(Real t, JV& r_e, JM& C_b_i) const override;
+  std::string name() const override { return "great-circle"; }
+  Real omega_ie() const override { return p_.omega_ie; }
+
+ private:
+  GreatCircleParams p_;
+  Attitude att_;
+  Real rho_ = 0;
+  Vec3 u_, w_, n_;
 };
 
 struct TumbleParams {

@@ -1,25 +1,17 @@
-// The firmware configuration (gg_nav3d_config_t, nav3d.h) of a 3-D scenario:
-// geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
-// position, known as in Welker et al.), q0_b_e from the truth at t = 0, gravity
-// mode and onboard model (the WGS-84 normal field's zonal series J2..J8, or
-// the point mass), barometric loop, the aiding sources ([aid_ukf], aids3d.hpp).
-// Shared by ggins run3d and the tests.
-#pragma once
+#include "ggins/truth3d/config3d.hpp"
 
 #include <cmath>
 #include <cstring>
 
-extern "C" {
-#include "ggins/nav3d.h"
-}
+#include "aids3d.hpp"  // host_tools/run3d: [aid_ukf] onto gg_nav3d_config_t.aid_mm
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/wgs84.hpp"
-#include "ggins/truth3d/generator3d.hpp"
-#include "aids3d.hpp"
+#include "ggins/truth/config2d.hpp"
 
 namespace ggins::truth3d {
 
-inline void nav3d_config(const Scenario3& s, const Generator3& g, gg_nav3d_config_t& c) {
+gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
+  gg_nav3d_config_t c;
   std::memset(&c, 0, sizeof c);
   c.geometry.half_base_m[0] = s.a_m;
   c.geometry.half_base_m[1] = s.b_m;
@@ -51,16 +43,12 @@ inline void nav3d_config(const Scenario3& s, const Generator3& g, gg_nav3d_confi
   }
   c.baro_enable = s.baro_loop_enabled() ? 1 : 0;
   const auto& l = s.nav_baro;
-  for (int i = 0; i < 3; ++i) c.baro.poles[i] = l.poles_radps[static_cast<size_t>(i)];
-  c.baro.omega_s2 = l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm();
-  c.baro.period_us = std::llround(s.baro_period_s() * 1e6);
-  c.baro.max_age_us = std::llround(l.max_age_s * 1e6);
-  c.baro.coast_us = std::llround(l.coast_s * 1e6);
-  c.baro.alt_min_m = l.alt_min_m;
-  c.baro.alt_max_m = l.alt_max_m;
-  c.baro.gate_m = l.gate_m;
-  c.baro.max_rejects = static_cast<int32_t>(l.max_rejects);
-  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, c);  // [aid_ukf], aids3d.hpp
+  truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
+                      c.baro);
+  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
+  return c;
 }
+
+gg_nav3d_config_t config3d(const Scenario3& s) { return config3d(s, Generator3(s)); }
 
 }  // namespace ggins::truth3d

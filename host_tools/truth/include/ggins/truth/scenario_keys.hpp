@@ -1,0 +1,137 @@
+// Scenario tables shared by the 2-D and 3-D scenarios (scenario_schema.hpp): the keys
+// both read, defined once. A builder returns the table with the keys in common; a
+// parser adds its own (e.g. the 2-D barometer's dropouts) before binding it.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "ggins/truth/scenario.hpp"
+#include "ggins/truth/scenario_schema.hpp"
+
+namespace ggins::truth::keys {
+
+// [gravity.anomaly]: the Rubenstein & Winter buried point masses (gravity/point_anomaly.hpp).
+inline sch::Table<AnomalyParams> anomaly_table(const std::string& centre_doc, const std::string& lon_doc) {
+  sch::Table<AnomalyParams> t("gravity.anomaly",
+                              "Gravity anomaly field of model \"rw-anomaly\": the WGS-84 normal field plus buried "
+                              "point masses with Rubenstein & Winter statistics on a lattice (gravity/point_anomaly.hpp).");
+  using A = AnomalyParams;
+  t.seed("seed", &A::seed, "seed of the point-mass draw")
+      .num("lat_deg", &A::lat_deg, "deg", sch::in(-90, 90), "latitude of the region's centre", NAN, centre_doc)
+      .num("lon_deg", &A::lon_deg, "deg", sch::in(-360, 360), "longitude of the region's centre", NAN, lon_doc)
+      .num("half_size_m", &A::half_size_m, "m", sch::in_lopen(0, 2e7), "half the side of the square region")
+      .num("ref_height_m", &A::ref_height_m, "m", sch::in(-1e4, 1e6),
+           "height at which the statistics hold (rms deflection)", NAN, "trajectory.height_m")
+      .num("rms_arcsec", &A::rms_arcsec, "arcsec", sch::in(0, 3600),
+           "rms vertical deflection at ref_height_m (Rubenstein & Winter eq. (5))")
+      .num("corr_length_m", &A::corr_length_m, "m", sch::in_lopen(0, 1e7), "correlation length of the deflection")
+      .num("ewald_sigma_m", &A::ewald_sigma_m, "m", sch::in_lopen(0, 1e7),
+           "Ewald split length of the lattice sum (gravity/lattice.hpp)")
+      .num("lattice_spacing_m", &A::lattice_spacing_m, "m", sch::in_lopen(0, 1e7), "spacing of the point masses")
+      .integer("lattice_points", &A::lattice_points, "", sch::in(2, 16), "points per lattice cell edge", true);
+  return t;
+}
+
+// [navigation.baro]: the firmware's barometric vertical loop (vchan.h).
+inline sch::Table<BaroLoopParams> baro_loop_table() {
+  sch::Table<BaroLoopParams> t("navigation.baro", "The firmware's barometric vertical channel loop (vchan.h).");
+  using B = BaroLoopParams;
+  t.tristate("enable", &B::enable, "loop on", "baro.enable")
+      .vec<3>("poles_radps", &B::poles_radps, "rad/s", sch::in_lopen(0, 1e3),
+              "the loop's poles are -p (third-order loop)")
+      .num("period_s", &B::period_s, "s", sch::in(0, 3600), "loop update period (0: 1 / baro.rate_hz)")
+      .num("omega_s2", &B::omega_s2, "1/s^2", sch::in(0, 1),
+           "vertical gravity gradient of the loop (0: |G(r0)| / |r0| from the truth at t0)")
+      .num("max_age_s", &B::max_age_s, "s", sch::in(0, 3600), "oldest barometer sample the loop takes")
+      .num("coast_s", &B::coast_s, "s", sch::in_lopen(0, 1e6), "coasting time without samples before the loop drops out")
+      .num("alt_min_m", &B::alt_min_m, "m", sch::in(-1e5, 1e6), "lowest valid barometric altitude")
+      .num("alt_max_m", &B::alt_max_m, "m", sch::in(-1e5, 1e6), "highest valid barometric altitude (> alt_min_m)")
+      .num("gate_m", &B::gate_m, "m", sch::in_lopen(0, 1e6), "innovation gate")
+      .integer("max_rejects", &B::max_rejects, "", sch::in(1, 1e6), "rejections in a row before the loop resets");
+  return t;
+}
+
+// [baro]: the truth generator's barometer (keys both scenarios have).
+inline sch::Table<BaroParams> baro_table() {
+  sch::Table<BaroParams> t("baro", "The truth barometer (none without this table).");
+  using B = BaroParams;
+  t.boolean("enable", &B::enable, "a barometer flies")
+      .default_doc("enable", "true when the table is present")
+      .on_present([](B& b) { b.enable = true; })
+      .seed("seed", &B::seed, "seed of the barometer's errors")
+      .num("rate_hz", &B::rate_hz, "Hz", sch::in_lopen(0, 1e6), "sample rate (divides time.rate_hz)")
+      .num("bias_m", &B::bias_m, "m", sch::in(-1e5, 1e5), "constant bias")
+      .num("gm_sigma_m", &B::gm_sigma_m, "m", sch::in(0, 1e5), "first-order Gauss-Markov error, stationary sigma")
+      .num("gm_tau_s", &B::gm_tau_s, "s", sch::in_lopen(0, 1e9), "its correlation time")
+      .num("noise_sigma_m", &B::noise_sigma_m, "m", sch::in(0, 1e5), "white noise per sample, 1 sigma");
+  return t;
+}
+
+// [firmware]: the keys of the firmware configuration both scenarios set.
+template <class F>
+void firmware_keys(sch::Table<F>& t) {
+  t.num("f_max_mps2", &F::f_max_mps2, "m/s^2", sch::in_lopen(0, 1e6), "largest accepted specific force reading")
+      .num("asym_max_ps2", &F::asym_max_ps2, "1/s^2", sch::in_lopen(0, 1), "largest accepted gradient asymmetry")
+      .integer("dt_tol_us", &F::dt_tol_us, "us", sch::in(0, 1e9), "accepted deviation of a frame's time step");
+}
+
+// [time] of a scenario struct R with members duration_s and rate_hz.
+template <class R>
+sch::Table<R> time_table() {
+  sch::Table<R> t("time", "Flight duration and frame rate.");
+  t.num("duration_s", &R::duration_s, "s", sch::in_lopen(0, 1e7), "flight duration (frames at t = 0 .. duration_s)")
+      .num("rate_hz", &R::rate_hz, "Hz", sch::in_lopen(0, 1e6),
+           "frame rate (1e6 / rate_hz must be a whole number of microseconds)");
+  return t;
+}
+
+// An accelerometer's per-axis array: rows [x, y, z], n_min..n_max rows (one per accelerometer).
+template <class T>
+sch::Key<T> per_axis_key(const std::string& name, std::array<std::array<double, 3>, kMaxAcc> T::*m,
+                         const std::string& unit, size_t n_min, size_t n_max, const std::string& meaning) {
+  const std::string rows = n_min == n_max ? std::to_string(n_min) : "up to " + std::to_string(n_max);
+  sch::Key<T> k = sch::mk<T>(name, "array of " + rows + " [x, y, z]", unit, "finite", meaning, "");
+  k.read = [m, n_min, n_max, unit](T& t, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+    const toml::array* a = n.as_array();
+    if (!a || a->size() < n_min || a->size() > n_max)
+      c.fail_at(&n, p,
+                p + " = " + sch::value_text(n) + ": must be an array of " +
+                    (n_min == n_max ? std::to_string(n_min) : "up to " + std::to_string(n_max)) +
+                    " [x, y, z] arrays (one per accelerometer)");
+    for (size_t i = 0; i < a->size(); ++i) {
+      const auto v = sch::read_nums((*a)[i], c, p + "[" + std::to_string(i) + "]", 3, 3, sch::any(), unit);
+      for (size_t j = 0; j < 3; ++j) (t.*m)[i][j] = v[j];
+    }
+  };
+  k.write = [m, n_min](const T& t) -> std::optional<std::string> {
+    // the rows up to the last non-zero one (at least n_min)
+    size_t n = n_min;
+    for (size_t i = 0; i < (t.*m).size(); ++i)
+      if ((t.*m)[i] != std::array<double, 3>{0, 0, 0}) n = std::max(n, i + 1);
+    std::string s = "[";
+    for (size_t i = 0; i < n; ++i) {
+      s += i ? ", [" : "[";
+      for (size_t j = 0; j < 3; ++j) s += (j ? ", " : "") + sch::num_text((t.*m)[i][j]);
+      s += "]";
+    }
+    return s + "]";
+  };
+  return k;
+}
+
+// [accel]: the accelerometers' errors, keys both scenarios have.
+inline sch::Table<AccelErrorParams> accel_table(size_t bias_rows_min, size_t bias_rows_max) {
+  sch::Table<AccelErrorParams> t("accel", "The accelerometers' errors (every accelerometer axis alike).");
+  using A = AccelErrorParams;
+  t.seed("seed", &A::seed, "seed of the random errors")
+      .num("bias_sigma_mps2", &A::bias_sigma_mps2, "m/s^2", sch::in(0, 1), "constant random bias per axis, 1 sigma")
+      .num("noise_sigma_mps2", &A::noise_sigma_mps2, "m/s^2", sch::in(0, 1), "white noise per sample, 1 sigma")
+      .num("scale_sigma", &A::scale_sigma, "1", sch::in(0, 0.1), "constant random scale-factor error, 1 sigma")
+      .custom(per_axis_key<A>("bias_mps2", &A::bias_mps2, "m/s^2", bias_rows_min, bias_rows_max,
+                              "fixed bias added per accelerometer axis"));
+  return t;
+}
+
+}  // namespace ggins::truth::keys

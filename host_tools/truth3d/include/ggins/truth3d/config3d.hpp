@@ -1,0 +1,24 @@
+// The scenario -> firmware configuration mapping of the 3-D task: the one
+// place where a 3-D scenario (scenario3d.hpp) becomes the gg_nav3d_config_t
+// of nav3d.h (ggins run3d over LCM or in process, Monte Carlo, the tests):
+// geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
+// position, known as in Welker et al.), q0_b_e from the truth at t = 0, the
+// Earth rate, gravity mode and onboard model (the WGS-84 normal field's zonal
+// series J2..J8, or the point mass), barometric loop, the aiding sources
+// ([aid_ukf]: run3d/aids3d.hpp).
+#pragma once
+
+extern "C" {
+#include "ggins/nav3d.h"
+}
+#include "ggins/truth3d/generator3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
+
+namespace ggins::truth3d {
+
+// The configuration of scenario s flown by generator g (its truth at t = 0).
+gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g);
+// The same from the scenario alone (builds its generator).
+gg_nav3d_config_t config3d(const Scenario3& s);
+
+}  // namespace ggins::truth3d
