@@ -96,6 +96,15 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kF64, mm_corr_m, 3, 1, true),
       GG_FIELD(T, kF64, mm_innov, 6, 1, true),     GG_FIELD(T, kF64, mm_pcov, 18, 1, true),
       GG_FIELD(T, kI32, mm_n_avg, 1, 1, true),
+      // the cold-atom particle-filter aid (aid_pf.h)
+      GG_FIELD(T, kI32, pf_phase, 1, 1, true),     GG_FIELD(T, kI8, pf_corrected, 1, 1, true),
+      GG_FIELD(T, kI64, pf_shots, 1, 1, true),     GG_FIELD(T, kI64, pf_updates, 1, 1, true),
+      GG_FIELD(T, kI64, pf_failed, 1, 1, true),    GG_FIELD(T, kI64, pf_invalid, 1, 1, true),
+      GG_FIELD(T, kI64, pf_dropped, 1, 1, true),   GG_FIELD(T, kI64, pf_no_map, 1, 1, true),
+      GG_FIELD(T, kI64, pf_map_miss, 1, 1, true),  GG_FIELD(T, kI64, pf_degenerate, 1, 1, true),
+      GG_FIELD(T, kI64, pf_resampled, 1, 1, true), GG_FIELD(T, kF64, pf_ess, 1, 1, true),
+      GG_FIELD(T, kF64, pf_spread_m, 2, 1, true),  GG_FIELD(T, kF64, pf_corr_m, 2, 1, true),
+      GG_FIELD(T, kF64, pf_mean_m, 2, 1, true),    GG_FIELD(T, kF64, pf_gzz_s2, 1, 1, true),
       GG_FIELD(T, kI8, mac, 32, 1, false),  // bus MAC (hal_sim/bus_auth.h): replay has no key
   };
   return f;
