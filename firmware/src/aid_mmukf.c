@@ -482,7 +482,10 @@ static gg_status_t aid_meas_model(void *ctx, const double *x, double *z)
     gg_status_t st;
     size_t j;
     size_t k;
-    const int two = (a->ep_dq[0] != 0.0) || (a->ep_dq[1] != 0.0) || (a->ep_dq[2] != 0.0);
+    int two = 0;
+    if ((a->ep_dq[0] != 0.0) || (a->ep_dq[1] != 0.0) || (a->ep_dq[2] != 0.0)) {
+        two = 1;
+    }
     double xm[GG_UKF_NX_MAX];
     /* the window's mean position error: dr - tau dv (the error state is the epoch's) */
     for (j = 0U; j < (size_t)GG_UKF_NX_MAX; ++j) {
@@ -589,7 +592,6 @@ static void window_add(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     double c[3][3];
     double gb[3][3];
     double ge[3][3];
-    size_t i;
     size_t j;
     size_t k;
     for (j = 0U; j < 3U; ++j) {
@@ -618,7 +620,7 @@ static void window_add(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
         }
     }
     if (ins->w_gyro != 0) {
-        for (i = 0U; i < 3U; ++i) {
+        for (size_t i = 0U; i < 3U; ++i) {
             double si[3][3];
             double se[3][3];
             double v[6];
@@ -659,7 +661,6 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     double cbe[3][3];
     double ceb[3][3];
     double t6[6][6];
-    double tmp[6][6];
     double ss[6][6];
     const double n = (double)a->av_n;
     const double sw2 = a->cfg.sigma_gyro_rps * a->cfg.sigma_gyro_rps;
@@ -667,10 +668,8 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     const double sm = a->cfg.sigma_meas_s2;
     const double rdb = a->cfg.sigma_db_s2 * a->cfg.sigma_db_s2;
     double ratio = a->cfg.offdiag_ratio;
-    size_t i;
     size_t j;
     size_t k;
-    size_t l;
     if (!(ratio > 0.0)) {
         ratio = 1.0;
     }
@@ -727,17 +726,18 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
         for (j = 0U; j < 6U; ++j) {
             for (k = 0U; k < 6U; ++k) {
                 double sum = (sw2 / (n * n)) * a->av_ss[j][k];
-                for (i = 0U; i < 3U; ++i) {
+                for (size_t i = 0U; i < 3U; ++i) {
                     sum += (sb2 / (n * n)) * a->av_s[i][j] * a->av_s[i][k];
                 }
                 ss[j][k] = sum;
             }
         }
+        double tmp[6][6];
         sym_map6((const double(*)[3])ceb, t6);
         for (j = 0U; j < 6U; ++j) {
             for (k = 0U; k < 6U; ++k) {
                 double sum = 0.0;
-                for (l = 0U; l < 6U; ++l) {
+                for (size_t l = 0U; l < 6U; ++l) {
                     sum += t6[j][l] * ss[l][k];
                 }
                 tmp[j][k] = sum;
@@ -746,7 +746,7 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
         for (j = 0U; j < 6U; ++j) {
             for (k = 0U; k < 6U; ++k) {
                 double sum = 0.0;
-                for (l = 0U; l < 6U; ++l) {
+                for (size_t l = 0U; l < 6U; ++l) {
                     sum += tmp[j][l] * t6[k][l];
                 }
                 ss[j][k] = sum;

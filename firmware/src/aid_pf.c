@@ -87,10 +87,16 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
     a->n_corrections = 0U;
     a->corr_total_m[0] = 0.0;
     a->corr_total_m[1] = 0.0;
-    {
-        const gg_pf_output_t zero = {{0.0, 0.0}, {0.0}, {0.0, 0.0}, 0.0, 0.0, 0U};
-        a->last = zero;
+    a->last.corr[0] = 0.0;
+    a->last.corr[1] = 0.0;
+    for (size_t k = 0U; k < (size_t)GG_PF_NX; ++k) {
+        a->last.mean[k] = 0.0;
     }
+    a->last.spread[0] = 0.0;
+    a->last.spread[1] = 0.0;
+    a->last.ess = 0.0;
+    a->last.gzz_mean = 0.0;
+    a->last.health = 0U;
     a->initialized = 1;
     return GG_OK;
 }
@@ -113,7 +119,11 @@ static void aid_pf_take_shot(gg_aid_pf_t *a, const gg_aid_pf_in_t *in)
     s.h = in->h_m;
     s.vn = in->vn_mps;
     s.ve = in->ve_mps;
-    s.shot_ok = (in->shot_ok != 0) ? 1 : 0;
+    if (in->shot_ok != 0) {
+        s.shot_ok = 1;
+    } else {
+        s.shot_ok = 0;
+    }
     s.s0 = 0.0;
     s.s1 = 0.0;
     a->n_shots++;

@@ -51,7 +51,11 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
     for (j = 0U; j < 3U; ++j) {
         ins->w_b[j] = (double)nav->w_k[j]; /* the rate difference() removed [w x]^2 with */
     }
-    ins->w_gyro = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) ? 1 : 0;
+    if (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) {
+        ins->w_gyro = 1;
+    } else {
+        ins->w_gyro = 0;
+    }
     ins->z_valid = (int32_t)z_valid;
     return GG_OK;
 }

@@ -21,7 +21,6 @@ static gg_status_t n3_pf_ins(const gg_nav3d_t *nav, gg_aid_pf_in_t *in, gg_real_
     gg_real_t h = 0.0L;
     gg_real_t h2 = 0.0L;
     const gg_real_t w = nav->omega_ie;
-    size_t j;
     gg_status_t st = gg_mech_get(&nav->mech, r_i, v_i);
     if (st == GG_OK) {
         /* Earth-relative velocity: v_i - omega x r_i, rotated into ECEF */
@@ -37,7 +36,7 @@ static gg_status_t n3_pf_ins(const gg_nav3d_t *nav, gg_aid_pf_in_t *in, gg_real_
     if (st == GG_OK) {
         gg_real_t vn = 0.0L;
         gg_real_t ve = 0.0L;
-        for (j = 0U; j < 3U; ++j) {
+        for (size_t j = 0U; j < 3U; ++j) {
             vn += cen[0][j] * v_e[j];
             ve += cen[1][j] * v_e[j];
         }
@@ -91,8 +90,12 @@ static gg_status_t n3_pf_apply(gg_nav3d_t *nav, const gg_aid_pf_corr_t *pc, gg_r
         c.psi_i[j] = 0.0;
         c.dg_i[j] = 0.0;
     }
-    c.dv_i[0] = (double)(dv_i[0] - (w * dr_i[1]));
-    c.dv_i[1] = (double)(dv_i[1] + (w * dr_i[0]));
+    {
+        const gg_real_t dv0 = dv_i[0] - (w * dr_i[1]);
+        const gg_real_t dv1 = dv_i[1] + (w * dr_i[0]);
+        c.dv_i[0] = (double)dv0;
+        c.dv_i[1] = (double)dv1;
+    }
     c.dv_i[2] = (double)dv_i[2];
     return n3_aid_apply(nav, &c);
 }
@@ -114,14 +117,22 @@ void n3_pf_step(gg_nav3d_t *nav, const gg_frame_t *fr, int used, const gg_hal_t 
     in.shot_ok = 0;
     in.s[0] = 0.0;
     in.s[1] = 0.0;
-    in.stale = (used != 0) ? 0 : 1;
+    if (used != 0) {
+        in.stale = 0;
+    } else {
+        in.stale = 1;
+    }
     if (fr->ca_status != GG_SENSOR_ABSENT) {
         if ((fr->ca_utime < 0) || (fr->ca_utime > GG_TIME_MAX) ||
             ((fr->ca_status != GG_SENSOR_OK) && (fr->ca_status != GG_SENSOR_BAD))) {
             extra |= GG_HEALTH_PF_SHOT_INVALID; /* no shot this step: its time or status is no shot's */
         } else if ((nav->pf_have_shot == 0) || (fr->ca_utime != nav->pf_last_utime)) {
             in.shot_present = 1;
-            in.shot_ok = (fr->ca_status == GG_SENSOR_OK) ? 1 : 0;
+            if (fr->ca_status == GG_SENSOR_OK) {
+                in.shot_ok = 1;
+            } else {
+                in.shot_ok = 0;
+            }
             in.s[0] = fr->ca_s[0];
             in.s[1] = fr->ca_s[1];
             nav->pf_have_shot = 1;

@@ -204,7 +204,6 @@ static gg_status_t pf_regularise_rb_one(gg_pf_t *st, int i, const gg_pf_kernel_t
     double z1 = 0.0;
     double y0 = 0.0;
     double y1 = 0.0;
-    int k;
     gg_status_t s = gg_rng_normal(&st->rng, &z0);
     if (s == GG_OK) {
         s = gg_rng_normal(&st->rng, &z1);
@@ -221,7 +220,7 @@ static gg_status_t pf_regularise_rb_one(gg_pf_t *st, int i, const gg_pf_kernel_t
     {
         const double w0 = (l00 > 0.0) ? (((a - 1.0) * y0) + (h * z0)) : 0.0;
         const double w1 = (l11 > 0.0) ? (((a - 1.0) * y1) + (h * z1)) : 0.0;
-        for (k = 0; k < GG_PF_NX; ++k) {
+        for (int k = 0; k < GG_PF_NX; ++k) {
             st->x[i][k] += (kn->el[k][0] * w0) + (kn->el[k][1] * w1);
         }
     }
@@ -418,7 +417,11 @@ static int pf_end_after_norm(gg_pf_t *st)
     if (st->sh_ess < (c->ess_frac * (double)c->n)) {
         st->sh_health |= GG_PF_H_RESAMPLED;
         st->n_resampled++;
-        next = (st->reg_h > 0.0) ? PF_E_MOM_MEAN : PF_E_PICK;
+        if (st->reg_h > 0.0) {
+            next = PF_E_MOM_MEAN;
+        } else {
+            next = PF_E_PICK;
+        }
     }
     return next;
 }
@@ -510,7 +513,6 @@ static gg_status_t pf_end_particle(gg_pf_t *st, int nx)
 static gg_status_t pf_end_stage_done(gg_pf_t *st, int nx, gg_pf_output_t *out)
 {
     const gg_pf_config_t *c = &st->cfg;
-    int j;
     int k;
     gg_status_t s = GG_OK;
     int next = PF_E_DONE;
@@ -538,7 +540,11 @@ static gg_status_t pf_end_stage_done(gg_pf_t *st, int nx, gg_pf_output_t *out)
         next = PF_E_COPY;
         break;
     case PF_E_COPY:
-        next = (st->reg_h > 0.0) ? PF_E_REG : PF_E_MEAN;
+        if (st->reg_h > 0.0) {
+            next = PF_E_REG;
+        } else {
+            next = PF_E_MEAN;
+        }
         break;
     case PF_E_REG:
         next = PF_E_MEAN;
@@ -570,7 +576,7 @@ static gg_status_t pf_end_stage_done(gg_pf_t *st, int nx, gg_pf_output_t *out)
         st->sh_ri = 0;
     }
     if ((next == PF_E_MOM_MEAN) || (next == PF_E_MEAN)) {
-        for (j = 0; j < GG_PF_NX; ++j) {
+        for (int j = 0; j < GG_PF_NX; ++j) {
             st->kn.m[j] = 0.0;
             st->sh_mean[j] = 0.0;
             for (k = 0; k < GG_PF_NX; ++k) {
@@ -602,7 +608,11 @@ gg_status_t gg_pf_step_end_chunk(gg_pf_t *st, int max_particles, gg_pf_output_t 
     }
     nx = pf_nx(&st->cfg);
     if (st->sh_stage < 0) { /* first call of this shot's end */
-        st->sh_stage = (st->sh_in.shot_ok != 0) ? PF_E_WEIGH : PF_E_NORM;
+        if (st->sh_in.shot_ok != 0) {
+            st->sh_stage = PF_E_WEIGH;
+        } else {
+            st->sh_stage = PF_E_NORM;
+        }
         st->sh_i = 0;
         st->sh_sw = 0.0;
         st->sh_sw2 = 0.0;
@@ -636,7 +646,11 @@ gg_status_t gg_pf_step_end_chunk(gg_pf_t *st, int max_particles, gg_pf_output_t 
     if ((s != GG_OK) || (st->sh_stage == PF_E_DONE)) {
         st->shot_open = 0; /* an error cannot happen: the generator has no failure mode */
         st->sh_stage = -1;
-        *done = (s == GG_OK) ? 1 : 0;
+        if (s == GG_OK) {
+            *done = 1;
+        } else {
+            *done = 0;
+        }
     }
     return s;
 }
