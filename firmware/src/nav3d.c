@@ -952,16 +952,14 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
             (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) && (nav->started != 0)) {
             /* gravity-model mode: what cannot be rebuilt comes from the model */
             gg_real_t mp[3][3];
+            gg_fdi3d_t fdi_model = fdi_saved; /* fdi_saved stays the state before the step */
             if ((n3_model_prior(nav, w_now, wd_p, mp) == GG_OK) &&
-                (gg_fdi3d_set_prior(&fdi_saved, mp) == GG_OK)) {
-                nav->fdi = fdi_saved;
+                (gg_fdi3d_set_prior(&fdi_model, mp) == GG_OK)) {
+                nav->fdi = fdi_model;
                 fixed = *frame;
                 st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed.f, fixed.f_lo, &fo);
                 if (gg_fdi3d_set_prior(&nav->fdi, NULL) != GG_OK) {
                     st_read = GG_ERR_NULL; /* not reached: the state is there */
-                }
-                if (gg_fdi3d_set_prior(&fdi_saved, NULL) != GG_OK) {
-                    st_read = GG_ERR_NULL;
                 }
             }
         }

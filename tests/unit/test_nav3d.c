@@ -276,6 +276,55 @@ static void test_rejections(void **state)
     assert_int_equal(out.health & GG_HEALTH_FRAME_REJECTED, 0);
 }
 
+/* Gravity-model mode: a frame whose lost pairs (sensors 0, 1, 3, 4) take
+ * column entries from the onboard model (the prior handed to fdi3d for that
+ * step) and which is then rejected (a gradient beyond GG_LIM_GAMMA_MAX_S2
+ * from the one pair left, which no parity check can catch) leaves the whole
+ * task state byte-identical, the fault isolation's model prior included. */
+static void test_model_prior_rejected(void **state)
+{
+    (void)state;
+    truth3_t T;
+    default_truth(&T);
+    static gg_nav3d_t nav, before;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    make_config(&T, GG_PLATFORM_STRAPDOWN, 0, 10000, &cfg);
+    cfg.gravity_mode = GG_GRAVITY_MODEL;
+    cfg.model.gm = 3.986004418e14L;
+    cfg.model.a_m = 6378137.0L;
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    for (long long k = 0; k < 50; ++k) {
+        make_frame(&T, k, 10000, &fr);
+        assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    }
+    make_frame(&T, 50, 10000, &fr);
+    /* the model's entries are used for a lost pair: the frame is accepted */
+    {
+        gg_frame_t lost = fr;
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 6; ++i)
+                if (i != 2 && i != 5) lost.f[i][j] = NAN;
+        before = nav;
+        assert_int_equal(gg_nav3d_step(&nav, &lost, NULL, &out), GG_OK);
+        assert_true((out.health & GG_HEALTH_GRAD_COAST) != 0U);
+        nav = before;
+    }
+    /* the same, with an out-of-range gradient on the x pair of sensors 2/3 */
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 6; ++i)
+            if (i != 2 && i != 5) fr.f[i][j] = NAN;
+    fr.f[2][0] += 0.01;
+    fr.f[5][0] -= 0.01;
+    before = nav;
+    const gg_status_t st = gg_nav3d_step(&nav, &fr, NULL, &out);
+    if (st == GG_OK || (out.health & GG_HEALTH_FRAME_REJECTED) == 0U)
+        fail_msg("status %d health 0x%x (want rejected)", st, out.health);
+    nav.seq = before.seq;
+    assert_memory_equal(&nav, &before, sizeof nav);
+}
+
 /* One unusable reading per pair and axis is rebuilt from its partner and the
  * other pairs (fdi3d.h), on the tumbling strapdown flight at 200 m/s: NaN on
  * sensor 2's y axis, sensor 4 flagged bad (all three axes) and an
@@ -646,6 +695,7 @@ int main(void)
         cmocka_unit_test(test_geodetic),
         cmocka_unit_test(test_config),
         cmocka_unit_test(test_rejections),
+        cmocka_unit_test(test_model_prior_rejected),
         cmocka_unit_test(test_stabilized_ignores_gyro),
         cmocka_unit_test(test_parity),
         cmocka_unit_test(test_bridge),
