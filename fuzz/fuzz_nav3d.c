@@ -5,8 +5,15 @@
  *   byte 0    bit 0 strapdown, bit 1 gravity-model mode, bit 2 barometer,
  *             bit 3 fault detection on (GG_FDI3D_FLOOR_MPS2), bits 4-7: number
  *             of configuration changes that follow
+ *   byte 1    aiding sources: bit 0 the gradient-map UKF (aid_mmukf.h), bit 1
+ *             the cold-atom particle filter (aid_pf.h), bit 2 the filter's
+ *             velocity feedback, bit 3 its INS process model, bit 4 the UKF's
+ *             NIS gate; both read one map storage of a single tile (the
+ *             reference field at rest: the point-mass gradient, constant over
+ *             the tile), handed to the task through the HAL
  *   changes   field index (1 byte) + value (fz_value): one of the reference
- *             configuration's numbers replaced (raw bits or a small change)
+ *             configuration's numbers replaced (raw bits or a small change),
+ *             the aids' numbers among them
  *   frames    up to 64 ops of 1 byte each and their operands: 0 the
  *             reference frame of the next step; 1 that frame with readings,
  *             statuses, gyro or barometer changed; 2 raw bytes over the whole
@@ -22,21 +29,28 @@
  *             that coast are reachable.
  * The reference is a platform at rest relative to inertial space at the
  * equator (point-mass field, body = ECEF axes), so unchanged frames are
- * accepted and mutations start from plausible input.
+ * accepted and mutations start from plausible input; with the particle filter
+ * on, every 100th reference frame carries a cold-atom shot (a fringe pair).
  * Invariants (abort = a finding): no crash or sanitizer report; a refused
  * configuration makes every step GG_ERR_NOT_INIT; a rejected frame leaves the
- * navigation state byte for byte as it was (apart from the stream follower
- * and, during an outage longer than the bridge, the coasting), and is flagged
+ * navigation state byte for byte as it was (apart from the stream follower,
+ * during an outage longer than the bridge the coasting, and with the particle
+ * filter on its time-sliced work and the correction it may feed back at that
+ * step, flagged pf_corrected), and is flagged
  * FRAME_REJECTED; no NaN/Inf in any output or in the state's position,
  * velocity, G, gradient and specific force; no freeze: with the reference
  * configuration, TAIL_FRAMES consistent reference frames after the fuzzed
- * ones end with a frame used (or the outage being coasted through). */
+ * ones end with a frame used (or the outage being coasted through); the
+ * particle filter switched off, its state never changes. */
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "ggins/gmap.h"
+#include "ggins/hal.h"
 #include "ggins/nav3d.h"
 #include "ggins/navtask.h"
 #include "fuzz_bytes.h"
@@ -47,6 +61,7 @@
 #define MAX_OPS 64
 #define MAX_FRAMES 256
 #define TAIL_FRAMES (2 * GG_TASK_RESYNC_FRAMES + 2)
+#define SHOT_EVERY 100 /* a cold-atom shot per second at 100 Hz */
 
 #define FAIL(...)                                                   \
     do {                                                            \
@@ -55,9 +70,55 @@
         abort();                                                    \
     } while (0)
 
-static void ref_config(gg_nav3d_config_t *c, uint8_t sel)
+static void ref_aids(gg_nav3d_config_t *c, uint8_t aid)
+{
+    gg_aid_mm_config_t *m = &c->aid_mm;
+    gg_aid_pf_config_t *a = &c->aid_pf;
+    m->enable = (aid & 1u) ? 1 : 0;
+    m->update_steps = 12;
+    m->max_passes = 2;
+    m->sigma_meas_s2 = 1e-11;
+    m->sigma_db_s2 = 1e-12;
+    m->offdiag_ratio = 0.70710678118654752;
+    m->sig0_pos_m = 50.0;
+    m->sig0_vel_mps = 0.05;
+    m->sig0_att_rad = 1e-6;
+    m->sig0_g_mps2 = 1e-7;
+    m->q_vel_mps_rts = 1e-6;
+    m->q_att_rad_rts = 1e-9;
+    m->q_g_mps2_rts = 1e-9;
+    m->gate_nis = (aid & 16u) ? 30.0 : 0.0;
+    m->average_steps = 4;
+    m->sigma_gyro_rps = 1e-8;
+    a->enable = (aid & 2u) ? 1 : 0;
+    a->chunk = 8;
+    a->end_chunk = 16;
+    a->feedback = (aid & 4u) ? GG_AID_PF_FB_POS_VEL : GG_AID_PF_FB_POS;
+    a->pf.n = 16;
+    a->pf.seed = 7u;
+    a->pf.k_eff = 4.0 * 3.14159265358979323846 / 852.347e-9;
+    a->pf.T = 0.16;
+    a->pf.dz = 1.0;
+    a->pf.contrast = 0.5;
+    a->pf.c0 = 0.5;
+    a->pf.c1 = 0.5;
+    a->pf.sigma = 0.005;
+    a->pf.sigma0_pos = 100.0;
+    a->pf.sigma0_vel = 0.1;
+    a->pf.q_pos = 1.0;
+    a->pf.q_vel = 0.01;
+    a->pf.model = (aid & 8u) ? GG_PF_MODEL_INS : GG_PF_MODEL_RW;
+    a->pf.sigma0_acc = 1e-4;
+    a->pf.q_acc = 1e-6;
+    a->pf.dt = 1.0;
+    a->pf.gain = 1.0;
+    a->pf.ess_frac = 0.5;
+}
+
+static void ref_config(gg_nav3d_config_t *c, uint8_t sel, uint8_t aid)
 {
     memset(c, 0, sizeof *c);
+    ref_aids(c, aid);
     for (int j = 0; j < 3; ++j) c->geometry.half_base_m[j] = 0.5L;
     c->platform = (sel & 1u) ? GG_PLATFORM_STRAPDOWN : GG_PLATFORM_STABILIZED;
     c->dt_us = DT_US;
@@ -91,7 +152,7 @@ static void ref_config(gg_nav3d_config_t *c, uint8_t sel)
 /* pointers to the configuration's numbers the fuzzer may change */
 static void change_config(gg_nav3d_config_t *c, fz_cur_t *cur)
 {
-    const unsigned idx = fz_u8(cur) % 24u;
+    const unsigned idx = fz_u8(cur) % 36u;
     gg_real_t *lr[] = {&c->geometry.half_base_m[0], &c->geometry.half_base_m[1],
                        &c->geometry.half_base_m[2], &c->r0_e[0], &c->r0_e[1], &c->r0_e[2],
                        &c->v0_e[0], &c->v0_e[1], &c->v0_e[2], &c->g0_e[0], &c->g0_e[1],
@@ -107,8 +168,22 @@ static void change_config(gg_nav3d_config_t *c, fz_cur_t *cur)
         c->fdi_parity_f_max = fz_value(cur, c->fdi_parity_f_max);
     } else if (idx == 22u) {
         c->dt_us = fz_i64(cur);
-    } else {
+    } else if (idx == 23u) {
         c->dt_tol_us = fz_i64(cur);
+    } else {
+        /* the aids' numbers */
+        double *ad[] = {&c->aid_mm.sigma_meas_s2, &c->aid_mm.sig0_pos_m, &c->aid_mm.sig0_att_rad,
+                        &c->aid_mm.q_g_mps2_rts, &c->aid_mm.gate_nis, &c->aid_mm.lambda,
+                        &c->aid_pf.pf.sigma, &c->aid_pf.pf.sigma0_pos, &c->aid_pf.pf.q_pos,
+                        &c->aid_pf.pf.dz};
+        const unsigned a = idx - 24u;
+        if (a < 10u) {
+            *ad[a] = fz_value(cur, *ad[a]);
+        } else if (a == 10u) {
+            c->aid_mm.update_steps = (int32_t)(int8_t)fz_u8(cur);
+        } else {
+            c->aid_pf.pf.n = (int)(int8_t)fz_u8(cur);
+        }
     }
 }
 
@@ -135,13 +210,70 @@ static void ref_frame(int64_t k, gg_frame_t *f)
     f->baro_alt_m = 0.0;
     f->baro_utime = f->utime;
     f->baro_status = (k % 10 == 0) ? GG_SENSOR_OK : GG_SENSOR_ABSENT;
+    f->ca_status = GG_SENSOR_ABSENT;
+    if (k % SHOT_EVERY == 0) {
+        /* a pair on the ellipse of the reference field's Gamma_zz (phase 0.3 rad) */
+        const double kd = 4.0 * 3.14159265358979323846 / 852.347e-9 * 1.0 * 0.16 * 0.16;
+        const double gzz = 2.0 * GM / (R0 * R0 * R0);
+        f->ca_s[0] = 0.5 - 0.25 * cos(0.3);
+        f->ca_s[1] = 0.5 - 0.25 * cos(0.3 + kd * gzz);
+        f->ca_utime = f->utime;
+        f->ca_status = GG_SENSOR_OK;
+    }
+}
+
+/* the map storage: one tile of the reference field at rest around (0, 0),
+ * the point-mass gradient in NED axes, constant over the tile */
+static gg_gmap_tile_t g_tile;
+static gg_gmap_t g_map;
+static int g_map_ok;
+
+static gg_status_t tile_at(void *ctx, double lat, double lon, const gg_gmap_t **tile)
+{
+    (void)ctx;
+    const gg_gmap_tile_t *t = &g_map.tile;
+    if (!(lat >= t->lat0_rad && lat <= t->lat0_rad + (t->nlat - 1) * t->dlat_rad &&
+          lon >= t->lon0_rad && lon <= t->lon0_rad + (t->nlon - 1) * t->dlon_rad))
+        return GG_ERR_RANGE;
+    *tile = &g_map;
+    return GG_OK;
+}
+
+static const gg_hal_t *map_hal(void)
+{
+    static gg_hal_map_t hm;
+    static gg_hal_t hal;
+    if (!g_map_ok) {
+        const double gr = GM / (R0 * R0 * R0);
+        memset(&g_tile, 0, sizeof g_tile);
+        g_tile.nlat = 8;
+        g_tile.nlon = 8;
+        g_tile.dlat_rad = 2e-4;
+        g_tile.dlon_rad = 2e-4;
+        g_tile.lat0_rad = -3.5 * g_tile.dlat_rad;
+        g_tile.lon0_rad = -3.5 * g_tile.dlon_rad;
+        g_tile.h0_m = 0.0;
+        g_tile.h_range_m = 1000.0;
+        for (int i = 0; i < 64; ++i) {
+            g_tile.node[i][GG_GMAP_C_NN] = -gr;
+            g_tile.node[i][GG_GMAP_C_EE] = -gr;
+            g_tile.node[i][GG_GMAP_C_DD] = 2.0 * gr;
+        }
+        if (gg_gmap_init(&g_map, &g_tile) != GG_OK) FAIL("the reference map tile is refused");
+        hm.ctx = NULL;
+        hm.tile_at = tile_at;
+        memset(&hal, 0, sizeof hal);
+        hal.map = &hm;
+        g_map_ok = 1;
+    }
+    return &hal;
 }
 
 static void change_frame(gg_frame_t *f, fz_cur_t *cur)
 {
     const unsigned n = 1u + (fz_u8(cur) & 7u);
     for (unsigned i = 0; i < n; ++i) {
-        const unsigned idx = fz_u8(cur) % 46u;
+        const unsigned idx = fz_u8(cur) % 49u;
         if (idx < 18u) {
             f->f[idx / 3u][idx % 3u] = fz_value(cur, f->f[idx / 3u][idx % 3u]);
         } else if (idx < 36u) {
@@ -151,11 +283,16 @@ static void change_frame(gg_frame_t *f, fz_cur_t *cur)
             f->acc_status[idx - 36u] = (int32_t)(int8_t)fz_u8(cur);
         } else if (idx < 45u) {
             f->omega_b[idx - 42u] = fz_value(cur, 1e-3);
-        } else {
+        } else if (idx < 46u) {
             f->gyro_status = (int32_t)(int8_t)fz_u8(cur);
             f->n_acc = (int32_t)(int8_t)fz_u8(cur);
             f->baro_alt_m = fz_value(cur, f->baro_alt_m);
             f->baro_status = (int32_t)(int8_t)fz_u8(cur);
+        } else if (idx < 48u) {
+            f->ca_s[idx - 46u] = fz_value(cur, f->ca_s[idx - 46u]);
+        } else {
+            f->ca_status = (int32_t)(int8_t)fz_u8(cur);
+            f->ca_utime = f->utime + (int64_t)(int16_t)(fz_u8(cur) | (fz_u8(cur) << 8));
         }
     }
 }
@@ -175,7 +312,10 @@ static void check_output(const gg_nav3d_output_t *o)
         !fin(o->f_b, 3) || !fin(o->q_b_e, 4) || !fin(o->rpy_rad, 3) || !fin(o->omega_b, 3) ||
         !fin(o->omega_dot_b, 3) || !fin(o->parity, 4) || !isfinite(o->h_ins_m) ||
         !isfinite(o->baro_innov_m) || !isfinite(o->g_up_corr) || !isfinite(o->t_s) ||
-        !isfinite(o->outage_s) || !isfinite(o->state_lag_s))
+        !isfinite(o->outage_s) || !isfinite(o->state_lag_s) || !isfinite(o->mm_nis) ||
+        !fin(o->mm_sigma, 12) || !fin(o->mm_corr_m, 3) || !fin(o->mm_innov, 6) ||
+        !fin(o->mm_pcov, 18) || !isfinite(o->pf_ess) || !fin(o->pf_spread_m, 2) ||
+        !fin(o->pf_corr_m, 2) || !fin(o->pf_mean_m, 2) || !isfinite(o->pf_gzz_s2))
         FAIL("non-finite value in the 3-D output of seq %lld (status %d, health 0x%x)",
              (long long)o->seq, (int)o->status, (unsigned)o->health);
 }
@@ -196,16 +336,38 @@ static void check_state(const gg_nav3d_t *nav)
         if (!isfinite(nav->q_b_i[j])) FAIL("non-finite attitude in the 3-D state");
 }
 
+/* The task state without the particle filter's own (GG_PF_MAX particles, most
+ * of gg_nav3d_t): a rejected frame may advance the filter's time-sliced work;
+ * when the filter is off its state is checked once per input instead. */
+#define PF_LO offsetof(gg_nav3d_t, aid_pf)
+#define PF_HI (offsetof(gg_nav3d_t, aid_pf) + sizeof(gg_aid_pf_t))
+
+static void save_state(gg_nav3d_t *dst, const gg_nav3d_t *src)
+{
+    memcpy(dst, src, PF_LO);
+    memcpy((uint8_t *)dst + PF_HI, (const uint8_t *)src + PF_HI, sizeof *src - PF_HI);
+}
+
+static int same_state(const gg_nav3d_t *a, const gg_nav3d_t *b)
+{
+    return memcmp(a, b, PF_LO) == 0 &&
+           memcmp((const uint8_t *)a + PF_HI, (const uint8_t *)b + PF_HI, sizeof *a - PF_HI) == 0;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static gg_nav3d_t nav, saved, cmp;
+    static gg_aid_pf_t pf_after_init;
     gg_nav3d_config_t cfg;
     fz_cur_t cur = {data, size, 0};
     const uint8_t sel = fz_u8(&cur);
-    ref_config(&cfg, sel);
+    const uint8_t aid = fz_u8(&cur);
+    const gg_hal_t *hal = map_hal();
+    ref_config(&cfg, sel, aid);
     const unsigned nchg = sel >> 4;
     for (unsigned i = 0; i < nchg; ++i) change_config(&cfg, &cur);
     const gg_status_t st_init = gg_nav3d_init(&nav, &cfg);
+    memcpy(&pf_after_init, &nav.aid_pf, sizeof pf_after_init);
     int64_t k = 0;
     int64_t seq_off = 0;
     int64_t ut_off = 0;
@@ -245,16 +407,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 continue;
             }
             ++k;
-            memcpy(&saved, &nav, sizeof nav);
-            const gg_status_t st = gg_nav3d_step(&nav, &f, NULL, &out);
+            save_state(&saved, &nav);
+            const gg_status_t st = gg_nav3d_step(&nav, &f, hal, &out);
             if (st_init != GG_OK) {
                 if (st != GG_ERR_NOT_INIT) FAIL("refused configuration (status %d), but a step ran (status %d)", (int)st_init, (int)st);
                 continue;
             }
             if (st != GG_OK) {
-                memcpy(&cmp, &nav, sizeof nav);
+                save_state(&cmp, &nav);
                 memcpy(&cmp.seq, &saved.seq, sizeof saved.seq);
-                if (!(out.health & GG_HEALTH_COAST) && memcmp(&saved, &cmp, sizeof cmp) != 0)
+                if (nav.aid_pf.initialized != 0) {
+                    /* the particle filter's time-sliced work goes on (a shot of a rejected
+                     * frame is taken and dropped as stale) */
+                    cmp.pf_last_utime = saved.pf_last_utime;
+                    cmp.pf_have_shot = saved.pf_have_shot;
+                }
+                if (!(out.health & GG_HEALTH_COAST) && (out.pf_corrected == 0) &&
+                    !same_state(&saved, &cmp))
                     FAIL("3-D frame seq %lld rejected (status %d) but the state changed", (long long)f.seq, (int)st);
                 if (!(out.health & GG_HEALTH_FRAME_REJECTED)) FAIL("rejected 3-D frame not flagged FRAME_REJECTED");
             }
@@ -262,6 +431,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check_output(&out);
         }
     }
+    /* the particle filter switched off: its state never moves */
+    if ((st_init == GG_OK) && (nav.aid_pf.initialized == 0) &&
+        (memcmp(&pf_after_init, &nav.aid_pf, sizeof pf_after_init) != 0))
+        FAIL("the particle filter is off, but its state changed");
     /* No freeze: whatever came before, a reference configuration that then
      * gets TAIL_FRAMES consistent reference frames uses the last one (or is
      * still coasting through an outage it re-synchronised to). */
@@ -277,7 +450,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             f.seq += seq_off;
             f.utime += ut_off;
             f.baro_utime += ut_off;
-            (void)gg_nav3d_step(&nav, &f, NULL, &out);
+            (void)gg_nav3d_step(&nav, &f, hal, &out);
             check_state(&nav);
             check_output(&out);
         }
