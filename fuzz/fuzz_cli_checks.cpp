@@ -1,4 +1,4 @@
-// libFuzzer harness: the shared command-line checks (host_tools/common/ggins/cli_checks.hpp)
+// libFuzzer harness: the shared command-line checks (host_tools/lib/cli/ggins/cli_checks.hpp)
 // and ggins covariance's scenario reader. The input's first byte picks the target:
 //  - a command line (NUL-separated arguments) parsed by a CLI11 app whose options carry
 //    every kind of validator: a parse either fails with CLI::ParseError (exit 2 of the tools)

@@ -1,5 +1,5 @@
 // libFuzzer harness: the bounded LCM event log reader of ggins replay
-// (host_tools/replay/lcmlog_reader.cpp) on arbitrary bytes.
+// (host_tools/apps/replay/lcmlog_reader.cpp) on arbitrary bytes.
 //
 // Invariants (abort = a finding), besides no crash and no sanitizer report:
 //  - every event read lies inside the input: header, channel and data;

@@ -2,7 +2,7 @@
  * the filters. Built with -DPF_BENCH: STEPS shots of the cold-atom particle
  * filter (pf.h; 500 particles, INS error model, regularised
  * resampling, candidates from a gmap tile: the settings of
- * host_tools/coldatom/pf_bench.cpp). Otherwise the map-matching filter
+ * host_tools/apps/coldatom/pf_bench.cpp). Otherwise the map-matching filter
  * (mmukf.h): STEPS filter steps at 10 Hz
  * on a level platform at rest over a synthetic 50 x 50 gradient tile, then
  * exit through semihosting. MM_UPDATE = 0: propagation only (31 sigma
@@ -124,7 +124,7 @@ int main(void)
     const gg_mm_imu_t imu = {{7.0e-5, 0.0, -3.0e-5}, {0.0, 0.0, -9.79}};
     int32_t i;
     int32_t k;
-    /* smooth synthetic tile (same values as host_tools/mapnav/bench_mapnav.c) */
+    /* smooth synthetic tile (same values as host_tools/apps/mapnav/bench_mapnav.c) */
     g_tile.nlat = 50;
     g_tile.nlon = 50;
     g_tile.lat0_rad = 0.5;

@@ -14,7 +14,7 @@ import sys
 import util
 from util import Checks
 
-sys.path.insert(0, os.path.join(util.SRC, "host_tools", "campaign"))
+sys.path.insert(0, os.path.join(util.SRC, "host_tools", "apps", "campaign"))
 from ggins_campaign.report import GAO_COLS  # noqa: E402
 
 C = Checks("check_documented")

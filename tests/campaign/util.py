@@ -9,7 +9,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SRC = os.path.abspath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, os.path.join(SRC, "host_tools", "campaign"))
+sys.path.insert(0, os.path.join(SRC, "host_tools", "apps", "campaign"))
 
 import pyarrow.parquet as pq  # noqa: E402
 
@@ -21,7 +21,7 @@ def env():
     e = dict(os.environ)
     e["GGINS_BIN"] = BIN
     e["GGINS_SOURCE_DIR"] = SRC
-    e["PYTHONPATH"] = os.path.join(SRC, "host_tools", "campaign")
+    e["PYTHONPATH"] = os.path.join(SRC, "host_tools", "apps", "campaign")
     return e
 
 

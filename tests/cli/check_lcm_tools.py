@@ -15,9 +15,9 @@ import tempfile
 import time
 
 mode, src, bindir, pytypes = sys.argv[1:5]
-sys.path.insert(0, os.path.join(src, "host_tools", "python"))
+sys.path.insert(0, os.path.join(src, "host_tools", "lib", "python"))
 os.environ["GGINS_LCMTYPES_PYTHON"] = pytypes
-os.environ["PYTHONPATH"] = os.path.join(src, "host_tools", "python")
+os.environ["PYTHONPATH"] = os.path.join(src, "host_tools", "lib", "python")
 tmp = tempfile.mkdtemp(prefix="ggins-lcm-")
 failures = []
 passes = []

@@ -1,5 +1,5 @@
 // ggins mapnav --gradiometer diff3d: six-accelerometer readings (rigid-body
-// kinematics + the field at every sensor, host_tools/mapnav/diff3d_sim) through
+// kinematics + the field at every sensor, host_tools/apps/mapnav/diff3d_sim) through
 // the firmware's gg_diff3d, checked against independent truth:
 //  1. noise-free, EGM96 to degree 360 (the mapnav field): the diff3d tensor
 //     equals the gravity library's Gamma at the centre (eval().gamma, never

@@ -123,7 +123,7 @@ def main():
     L.append("")
     L.append("One run per fault: welker-perfect's flight (300 m/s north, point-mass Earth, perfect sensors), "
              "%g s at %d Hz, the fault injected by the truth generator (`[sensor_faults]`, "
-             "`host_tools/truth/include/ggins/truth/sensor_faults.hpp`) from t = %g s (step %d). "
+             "`host_tools/lib/truth/include/ggins/truth/sensor_faults.hpp`) from t = %g s (step %d). "
              "Parity checks on: `fdi_parity_f_max_mps2 = 1e-11`, `fdi_asym_max_ps2 = 1e-11` (as in "
              "tests/unit/test_fdi2d.c), `f_max_mps2 = 50`. *Detected after* = steps from the first faulty frame "
              "to the first navigation output whose health word carries all the listed bits (read from every "
@@ -200,7 +200,7 @@ def main():
     if os.path.exists(p3):
         q3 = subprocess.run([p3], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         L.append("Faults injected by the 3-D truth generator (`[sensor_faults]`, "
-                 "`host_tools/truth3d/include/ggins/truth3d/faults3d.hpp`, keys in docs/hil3d.md) on a 30 s strapdown "
+                 "`host_tools/lib/truth3d/include/ggins/truth3d/faults3d.hpp`, keys in docs/hil3d.md) on a 30 s strapdown "
                  "route leg (45 N eastbound, 150 m/s, perfect sensors, baro loop, default fault detection threshold "
                  "derived from the sensor errors: 2e-12 m/s^2 here); `gg_nav3d_step` called as `ggins run3d --direct` "
                  "does (`%s/bin/test_faults3d`, exit %d). Excluded mask: bit 3*sensor+axis (fdi3d.h). The same flights "

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The host's one table of health-bit names (host_tools/hil_common/frame_names.hpp)
+"""The host's one table of health-bit names (host_tools/lib/hil/frame_names.hpp)
 against firmware/include/ggins/frame.h: every GG_HEALTH_* bit of frame.h has
 exactly one row, named as its macro, each value a single distinct bit; no row
 names a bit frame.h does not define. Both files parsed here as text."""
@@ -9,7 +9,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 frame_h = open(os.path.join(ROOT, "firmware/include/ggins/frame.h")).read()
-table = open(os.path.join(ROOT, "host_tools/hil_common/frame_names.hpp")).read()
+table = open(os.path.join(ROOT, "host_tools/lib/hil/frame_names.hpp")).read()
 defs = {m.group(1): int(m.group(2), 16) for m in re.finditer(r"#define\s+GG_HEALTH_(\w+)\s+(0x[0-9A-Fa-f]+)u", frame_h)}
 body = table[table.index("kHealthBits[] = {"):]
 body = body[:body.index("};")]

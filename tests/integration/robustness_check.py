@@ -40,7 +40,7 @@ K_FAULT = int(round(T_FAULT * RATE))
 # (~3e-13 m/s^2 at 0.5 m), far below what a 1e-12 m/s^2-class accelerometer must notice
 FDI = "fdi_parity_f_max_mps2 = 1e-11\nfdi_asym_max_ps2 = 1e-11\n"
 # the control case turns the checks off explicitly (a scenario without the keys
-# gets thresholds derived from its sensors and field: host_tools/truth fdi_thresholds.hpp)
+# gets thresholds derived from its sensors and field: host_tools/lib/truth fdi_thresholds.hpp)
 FDI_OFF = "fdi_parity_f_max_mps2 = 0\nfdi_asym_max_ps2 = 0\n"
 
 HEALTH = {

@@ -1,4 +1,4 @@
-// The runner's evaluation and report pieces (host_tools/hil_common) against
+// The runner's evaluation and report pieces (host_tools/lib/hil) against
 // independent truth: order statistics against a sorted copy of the sample,
 // the running final/max, the 2-D error definition on hand-made values, the
 // health word against frame.h's documented bit values (written here as

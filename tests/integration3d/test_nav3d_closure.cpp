@@ -1,5 +1,5 @@
 // Direct-call closure test of the 3-D system: the 3-D truth
-// generator (host_tools/truth3d) feeds the firmware's gg_nav3d_step in
+// generator (host_tools/lib/truth3d) feeds the firmware's gg_nav3d_step in
 // process, no LCM; errors against the truth (run3d/compare3d.hpp). The bounds
 // are the acceptance figures, given on the command line by CTest:
 //   --max-pos-m X      final AND max position error over the run < X (m)

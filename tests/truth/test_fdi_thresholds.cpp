@@ -1,4 +1,4 @@
-// Default 2-D fault-detection thresholds (host_tools/truth fdi_thresholds.hpp)
+// Default 2-D fault-detection thresholds (host_tools/lib/truth fdi_thresholds.hpp)
 // for the built-in 2-D scenarios: printed, and checked against what they
 // must do - leave the field's own parity residual (curvature beyond the point
 // mass: the anomaly scenarios) and the scenario's biases below the threshold

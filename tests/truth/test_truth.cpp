@@ -1,4 +1,4 @@
-// Unit tests of the truth generator (host_tools/truth): trajectory consistency,
+// Unit tests of the truth generator (host_tools/lib/truth): trajectory consistency,
 // sensor readings against the field, error model, scenarios. Independent
 // checks: finite differences of the trajectory, the closed-form point-mass
 // gradient, sample statistics of the counter-based generator.

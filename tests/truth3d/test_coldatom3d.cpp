@@ -1,4 +1,4 @@
-// The cold-atom gradiometer of a 3-D scenario (host_tools/truth3d coldatom3d.hpp):
+// The cold-atom gradiometer of a 3-D scenario (host_tools/lib/truth3d coldatom3d.hpp):
 //  * shots at the configured rate only (ca_status ABSENT between them, ca_utime the shot's);
 //  * without noise every pair lies on the ellipse x^2 - 2 x y cos(dphi) + y^2 = sin^2(dphi)
 //    (paper eq. 3 form, x = (1/2 - s_0)/(eta/2), y likewise) whose dphi = k_eff dz T^2 Gamma_zz

@@ -1,4 +1,4 @@
-// Sensor faults in 3-D scenarios (host_tools/truth3d faults3d.hpp):
+// Sensor faults in 3-D scenarios (host_tools/lib/truth3d faults3d.hpp):
 //  * each kind changes exactly the reading it names, by what it says, against
 //    the same scenario without faults (frames are pure functions of k);
 //  * the parser's errors name the key and its line;

@@ -1,4 +1,4 @@
-// Route trajectory (host_tools/truth3d route3d.hpp) against independent truth:
+// Route trajectory (host_tools/lib/truth3d route3d.hpp) against independent truth:
 //  * derivatives: v, a, omega_b, omega_b' from the jets against central finite
 //    differences of r, v, C_b_i, omega_b (in turns, speed changes, climbs);
 //  * geodesy: each leg against the WGS-84 geodesic between its waypoints by

@@ -1,4 +1,4 @@
-// Unit tests of the 3-D truth generator (host_tools/truth3d). Independent
+// Unit tests of the 3-D truth generator (host_tools/lib/truth3d). Independent
 // checks only:
 //  - the jet arithmetic against closed-form derivatives of known functions;
 //  - r, v, a (ECI, ECEF) and C_b_i, C_b_i', C_b_i'' against central finite

@@ -1,0 +1,596 @@
+// ggins run3d (ggins-run3d): fly one 3-D scenario (scenarios/3d-*.toml,
+// host_tools/lib/truth3d) against the 3-D firmware (nav3d.h): the front-end of the
+// runner (hil_common/runner.hpp) with the 3-D task's model. Host-in-the-loop
+// over LCM through hal_sim (default) or in process (--direct); writes the
+// report (hil_common/report.hpp: summary.json), timeseries.csv, errors.png,
+// run.lcmlog.
+//
+// LCM protocol (hal_sim in 3-D mode, see hal_sim --help): nav3d_config_t on
+// P+CONFIG3D until hal_sim reports CONFIGURED, START on P+CONTROL, then the
+// shared transport (hil_common/link.hpp): frame batches on P+FRAMES, output
+// batches (nav3d_output_batch_t) on P+NAV3DS, negative acknowledgements on
+// P+NAK, truth3d_t on P+TRUTH3D (decimated), STOP.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <Eigen/Cholesky>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "compare3d.hpp"
+#include "aids3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
+#include "ggins/nav3d_config_t.hpp"
+#include "ggins/nav3d_output_t.hpp"
+#include "ggins/sensor_frame_t.hpp"
+#include "ggins/truth3d_t.hpp"
+#include "runner.hpp"
+#include "tile_digest.hpp"
+#include "pf3d.hpp"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using ggins::truth3d::Real;
+using ggins::truth3d::Vec3;
+using ggins::truth3d::Mat3;
+using ggins::hil::Fail;
+using ggins::hil::hilo;
+using ggins::hil::MaxFinal;
+using ggins::hil::wall_us;
+
+namespace {
+
+// The 3-D task for the runner: frames from the 3-D truth generator, the
+// firmware configuration, the evaluation of every output against the truth.
+class Model3D {
+ public:
+  using Task = ggins::hil::Task3D;
+
+  Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc) : opt_(o), sc_(sc), gen_(sc) {
+    if (sc_.aid_ukf.enabled)  // the onboard map tiles of the map aid: the computer's map storage
+      for (const auto& p : ggins::run3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
+        maps_.push_back(fs::absolute(p).string());
+    if (sc_.aid_pf.enabled)  // the Gamma_zz tiles of the cold-atom aid (pf3d.hpp)
+      for (const auto& p : ggins::truth3d::aid_pf_map_paths(sc_.aid_pf, sc_.source)) maps_.push_back(fs::absolute(p).string());
+  }
+
+  int64_t n_steps() const { return gen_.n_steps(); }
+  int64_t dt_us() const { return gen_.dt_us(); }
+  double rate_hz() const { return sc_.rate_hz; }
+  double duration_s() const { return sc_.duration_s; }
+  std::string name() const { return sc_.name; }
+  std::string source() const { return sc_.source; }
+  std::string description() const { return sc_.description; }
+  uint64_t scenario_id() const { return 0; }
+  std::vector<std::string> maps() const { return maps_; }
+  ggins::hil::Faults faults() const {
+    ggins::hil::Faults f;
+    f.drop = opt_.drop.value_or(0);
+    f.dup = opt_.dup.value_or(0);
+    f.reorder = opt_.reorder.value_or(0);
+    f.drop_output = opt_.drop_output.value_or(0);
+    f.garbage = opt_.garbage.value_or(0);
+    f.conflict = opt_.conflict;
+    if (opt_.fault_seed) f.seed = *opt_.fault_seed;
+    return f;
+  }
+  std::string truth_channel() const { return opt_.prefix + "TRUTH3D"; }
+  int64_t truth_published() const { return truth_published_; }
+  double progress_error_m() const { return pos_.final; }
+
+  ggins::nav3d_config_t config();
+  void begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run_id);
+  ggins::sensor_frame_t frame(int64_t k);
+  void take(const ggins::nav3d_output_t& m, bool latest);
+  void end() {
+    csv_.close();
+    if (ep_csv_.is_open()) ep_csv_.close();
+  }
+  void report(json& s);
+  static std::string final_line(const json& s);
+
+ private:
+  void consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos);
+  static void from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o);
+  json aid_ukf_block() const;
+  void aid_epoch(const ggins::nav3d_output_t& m, bool accepted);
+
+  const ggins::hil::RunOptions& opt_;
+  ggins::truth3d::Scenario3 sc_;
+  ggins::truth3d::Generator3 gen_;
+  std::vector<std::string> maps_;
+  ggins::hil::LinkBase* link_ = nullptr;  // over LCM (none with --direct)
+  int64_t run_id_ = 0;
+  int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
+  int64_t aid_closed_ = 0;           // map-aid epochs closed (updated or rejected)
+  double aid_nis_sum_ = 0;           // sum of their NIS
+  ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
+  ggins::run3d::PfReport3 pf_;        // the cold-atom aid's counters and consistency (pf3d.hpp)
+  bool pf_on_ = false;
+  static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
+  std::vector<ggins::truth3d::Truth3> truth_ring_;
+  // statistics
+  MaxFinal pos_, vel_, att_, grav_, gam_e_, gam_b_, hgt_, par_asym_, par_trace_, wdot_;
+  std::array<double, 3> fpos_n_{}, fvel_n_{}, fatt_n_{}, fg_n_{};
+  std::ofstream csv_;
+  std::ofstream ep_csv_;                  // aid_epochs.csv (map aid on)
+  std::array<double, 3> nees_sum_{};      // position, velocity, attitude NEES summed over epochs
+  int64_t nees_n_ = 0;
+};
+
+// NEES of one 3 x 3 block: d^T P^-1 d with P from its upper triangle (xx yy zz xy xz yz);
+// NaN if P is not positive definite.
+double nees3(const double* p6, const ggins::truth3d::Vec3& d) {
+  Eigen::Matrix3d P;
+  P << p6[0], p6[3], p6[4], p6[3], p6[1], p6[5], p6[4], p6[5], p6[2];
+  const Eigen::LLT<Eigen::Matrix3d> llt(P);
+  if (llt.info() != Eigen::Success) return std::nan("");
+  const Eigen::Vector3d dd(static_cast<double>(d(0)), static_cast<double>(d(1)), static_cast<double>(d(2)));
+  return dd.dot(llt.solve(dd));
+}
+
+// One closed epoch of the map aid against the truth of its step: the aid's error state is
+// x = true - estimate in ECI (aid_mmukf.h), so the errors are formed the same way, after the
+// correction the step applied, and weighed with the covariance the step reports.
+void Model3D::aid_epoch(const ggins::nav3d_output_t& m, bool accepted) {
+  const ggins::truth3d::Truth3& t = truth_ring_[static_cast<size_t>(m.seq % kTruthRing)];
+  using ggins::truth3d::Vec3;
+  const double w_ie = 7.292115e-5;  // WGS-84, the rate the task uses by default
+  Vec3 r, v;
+  for (int i = 0; i < 3; ++i) {
+    r(i) = static_cast<ggins::truth3d::Real>(m.r_e[i]) + static_cast<ggins::truth3d::Real>(m.r_e_lo[i]);
+    v(i) = m.v_e[i];
+  }
+  const Vec3 w(0, 0, w_ie);
+  const Vec3 dr_i = t.s.C_e_i * (t.s.r_e - r);
+  const Vec3 dv_i = t.s.v_i - t.s.C_e_i * (v + w.cross(r));
+  const Mat3 Cn = ggins::run3d::dcm_from_quat(m.q_b_e);
+  const Vec3 psi_i = t.s.C_e_i * ggins::run3d::rotation_vector(t.s.C_b_e * Cn.transpose());
+  const double ne[3] = {nees3(&m.mm_pcov[0], dr_i), nees3(&m.mm_pcov[6], dv_i), nees3(&m.mm_pcov[12], psi_i)};
+  if (accepted && std::isfinite(ne[0]) && std::isfinite(ne[1]) && std::isfinite(ne[2])) {
+    for (int b = 0; b < 3; ++b) nees_sum_[static_cast<size_t>(b)] += ne[b];
+    ++nees_n_;
+  }
+  const ggins::run3d::Errors3 e = ggins::run3d::compare(t, [&] {
+    gg_nav3d_output_t o;
+    from_lcm(m, o);
+    return o;
+  }());
+  ep_csv_ << m.t_s << "," << m.seq << "," << m.mm_epochs << "," << (accepted ? 1 : 0) << "," << m.mm_n_avg << ","
+          << m.mm_nis;
+  for (int j = 0; j < 6; ++j) ep_csv_ << "," << m.mm_innov[j] * 1e9;
+  for (int j = 0; j < 3; ++j) ep_csv_ << "," << (accepted ? m.mm_corr_m[j] : 0.0);
+  for (int j = 0; j < 3; ++j) ep_csv_ << "," << static_cast<double>(e.dr_n(j));
+  for (int j = 0; j < 3; ++j) ep_csv_ << "," << std::sqrt(m.mm_pcov[j]);
+  ep_csv_ << "," << ne[0] << "," << ne[1] << "," << ne[2] << "\n";
+}
+
+void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run_id) {
+  link_ = link;
+  run_id_ = run_id;
+  n_ = gen_.n_steps();
+  truth_ring_.resize(static_cast<size_t>(kTruthRing));
+  csv_every_ = std::max<int64_t>(1, std::llround(sc_.rate_hz / (opt_.csv_rate ? *opt_.csv_rate : sc_.csv_rate_hz)));
+  const double truth_rate = opt_.truth_rate.value_or(10.0);
+  truth_every_ = truth_rate > 0 ? std::max<int64_t>(1, std::llround(sc_.rate_hz / truth_rate)) : 1;
+  csv_.open(out / "timeseries.csv");
+  if (!csv_) throw Fail("cannot write " + (out / "timeseries.csv").string());
+  csv_ << "t_s,seq,lat_deg,lon_deg,h_m,roll_deg,pitch_deg,yaw_deg,speed_mps,nav_lat_deg,nav_lon_deg,nav_h_m,"
+          "err_n_m,err_e_m,err_d_m,err_r_m,err_vn_mps,err_ve_mps,err_vd_mps,err_v_mps,"
+          "att_err_n_rad,att_err_e_rad,att_err_d_rad,att_err_rad,err_gn_mps2,err_ge_mps2,err_gd_mps2,err_g_mps2,"
+          "err_gamma_e_E,err_gamma_b_E,err_h_m,parity_x_radps2,parity_y_radps2,parity_z_radps2,parity_trace_ps2,"
+          "baro_innov_m,a_c_mps2,status,health,health_bits";
+  if (sc_.aid_ukf.enabled) csv_ << ",aid_sig_r_x_m,aid_sig_r_y_m,aid_sig_r_z_m,aid_sig_r_rss_m";
+  csv_ << "\n";
+  if (sc_.aid_ukf.enabled) {  // one row per closed epoch of the map aid
+    ep_csv_.open(out / "aid_epochs.csv");
+    if (!ep_csv_) throw Fail("cannot write " + (out / "aid_epochs.csv").string());
+    ep_csv_ << std::setprecision(10);
+    ep_csv_ << "t_s,seq,epoch,accepted,n_avg,nis,innov_xx_E,innov_yy_E,innov_zz_E,innov_xy_E,innov_xz_E,innov_yz_E,"
+               "corr_x_eci_m,corr_y_eci_m,corr_z_eci_m,err_n_m,err_e_m,err_d_m,sig_x_eci_m,sig_y_eci_m,sig_z_eci_m,"
+               "nees_pos,nees_vel,nees_att\n";
+  }
+}
+
+void Model3D::from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
+  std::memset(&o, 0, sizeof o);
+  o.utime = m.utime;
+  o.seq = m.seq;
+  o.status = m.status;
+  o.health = static_cast<uint32_t>(m.health);
+  for (int i = 0; i < 3; ++i) {
+    o.r_e[i] = m.r_e[i];
+    o.r_e_lo[i] = m.r_e_lo[i];
+    o.v_e[i] = m.v_e[i];
+    o.v_n[i] = m.v_n[i];
+    o.g_e[i] = m.g_e[i];
+    o.g_e_lo[i] = m.g_e_lo[i];
+    o.f_b[i] = m.f_b[i];
+    o.rpy_rad[i] = m.rpy_rad[i];
+    o.omega_b[i] = m.omega_b[i];
+    o.omega_dot_b[i] = m.omega_dot_b[i];
+    for (int j = 0; j < 3; ++j) {
+      o.gamma_e[i][j] = m.gamma_e[i][j];
+      o.gamma_b[i][j] = m.gamma_b[i][j];
+    }
+  }
+  for (int i = 0; i < 4; ++i) {
+    o.q_b_e[i] = m.q_b_e[i];
+    o.parity[i] = m.parity[i];
+  }
+  o.lat_rad = m.lat_rad;
+  o.lon_rad = m.lon_rad;
+  o.h_m = m.h_m;
+  o.h_ins_m = m.h_ins_m;
+  o.baro_innov_m = m.baro_innov_m;
+  o.g_up_corr = m.g_up_corr;
+  o.t_s = m.t_s;
+  for (int i = 0; i < GG_MOD_COUNT && i < m.n_cycles && i < 8; ++i) o.cycles[i] = static_cast<uint32_t>(m.cycles[i]);
+  ggins::run3d::aid_pf_output_from_lcm(m, o);
+}
+
+void Model3D::take(const ggins::nav3d_output_t& m, bool latest) {
+  if (m.mm_updates + m.mm_rejected > aid_closed_) {  // a map-aid epoch finished: its NIS
+    const bool accepted = m.mm_updates + m.mm_rejected == aid_closed_ + 1 && m.mm_corrected != 0;
+    aid_closed_ = m.mm_updates + m.mm_rejected;
+    aid_nis_sum_ += m.mm_nis;
+    if (ep_csv_.is_open()) aid_epoch(m, accepted);
+  }
+  if (latest) aid_last_ = m;
+  gg_nav3d_output_t o;
+  from_lcm(m, o);
+  consume(m.seq, truth_ring_[static_cast<size_t>(m.seq % kTruthRing)], o, m.mm_sigma);
+}
+
+ggins::sensor_frame_t Model3D::frame(int64_t k) {
+  gg_frame_t f;
+  ggins::truth3d::Truth3 t;
+  gen_.frame(k, f, &t);
+  const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, 0);
+  if (link_ && (k % truth_every_ == 0 || k == n_ - 1)) {
+    ggins::truth3d_t tm{};
+    tm.utime = t.utime;
+    tm.seq = k;
+    tm.run_id = run_id_;
+    tm.t_s = static_cast<double>(t.t_s);
+    const auto q = ggins::truth3d::quat_from_dcm(t.s.C_b_e);
+    for (int j = 0; j < 3; ++j) {
+      hilo(t.s.r_e(j), tm.r_e_hi[j], tm.r_e_lo[j]);
+      hilo(t.s.r_i(j), tm.r_i_hi[j], tm.r_i_lo[j]);
+      hilo(t.g_e(j), tm.g_e_hi[j], tm.g_e_lo[j]);
+      tm.v_e[j] = static_cast<double>(t.s.v_e(j));
+      tm.a_e[j] = static_cast<double>(t.s.a_e(j));
+      tm.v_i[j] = static_cast<double>(t.s.v_i(j));
+      tm.a_i[j] = static_cast<double>(t.s.a_i(j));
+      tm.omega_b[j] = static_cast<double>(t.s.omega_b(j));
+      tm.omega_dot_b[j] = static_cast<double>(t.s.omega_dot_b(j));
+      tm.f_b[j] = static_cast<double>(t.f_b(j));
+      for (int i = 0; i < 3; ++i) {
+        tm.gamma_e[j][i] = static_cast<double>(t.gamma_e(j, i));
+        tm.gamma_b[j][i] = static_cast<double>(t.gamma_b(j, i));
+      }
+    }
+    for (int j = 0; j < 4; ++j) tm.q_b_e[j] = static_cast<double>(q[static_cast<size_t>(j)]);
+    tm.rpy_rad[0] = static_cast<double>(t.s.roll);
+    tm.rpy_rad[1] = static_cast<double>(t.s.pitch);
+    tm.rpy_rad[2] = static_cast<double>(t.s.yaw);
+    tm.lat_rad = static_cast<double>(t.s.lat);
+    tm.lon_rad = static_cast<double>(t.s.lon);
+    tm.h_m = static_cast<double>(t.s.h);
+    link_->publish(truth_channel(), tm);
+    ++truth_published_;
+  }
+  truth_ring_[static_cast<size_t>(k % kTruthRing)] = t;
+  return m;
+}
+
+ggins::nav3d_config_t Model3D::config() {
+  gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
+  ggins::run3d::apply_aid_pf(sc_.aid_pf, sc_.coldatom, c);
+  ggins::nav3d_config_t m{};
+  m.utime = wall_us();
+  m.seq = 0;
+  std::memcpy(m.scenario, sc_.name.data(), std::min<size_t>(sc_.name.size(), 63));
+  for (int i = 0; i < 3; ++i) {
+    m.half_base_m[i] = static_cast<double>(c.geometry.half_base_m[i]);
+    hilo(c.r0_e[i], m.r0_hi[i], m.r0_lo[i]);
+    hilo(c.v0_e[i], m.v0_hi[i], m.v0_lo[i]);
+    hilo(c.g0_e[i], m.g0_hi[i], m.g0_lo[i]);
+    m.baro_poles[i] = static_cast<double>(c.baro.poles[i]);
+  }
+  for (int i = 0; i < 4; ++i) hilo(c.q0_b_e[i], m.q0_hi[i], m.q0_lo[i]);
+  m.platform = c.platform;
+  m.dt_us = c.dt_us;
+  m.dt_tol_us = c.dt_tol_us;
+  hilo(c.omega_ie, m.omega_ie_hi, m.omega_ie_lo);
+  m.f_max = c.f_max;
+  m.asym_max = c.asym_max;
+  m.fdi_parity_f_max = c.fdi_parity_f_max;
+  m.gravity_mode = static_cast<int8_t>(c.gravity_mode);
+  hilo(c.model.gm, m.model_gm_hi, m.model_gm_lo);
+  m.model_a_m = static_cast<double>(c.model.a_m);
+  for (int n = 0; n < 9 && n <= GG_GMODEL_MAX_DEGREE; ++n) m.model_j[n] = static_cast<double>(c.model.j[n]);
+  m.baro_enable = static_cast<int8_t>(c.baro_enable);
+  m.baro_omega_s2 = static_cast<double>(c.baro.omega_s2);
+  m.baro_period_us = c.baro.period_us;
+  m.baro_max_age_us = c.baro.max_age_us;
+  m.baro_coast_us = c.baro.coast_us;
+  m.baro_alt_min_m = c.baro.alt_min_m;
+  m.baro_alt_max_m = c.baro.alt_max_m;
+  m.baro_gate_m = c.baro.gate_m;
+  m.baro_max_rejects = c.baro.max_rejects;
+  m.aid_mm_enable = static_cast<int8_t>(c.aid_mm.enable);  // the map aid (aids3d.hpp)
+  m.aid_mm_update_steps = c.aid_mm.update_steps;
+  m.aid_mm_max_passes = c.aid_mm.max_passes;
+  m.aid_mm_sigma_meas_s2 = c.aid_mm.sigma_meas_s2;
+  m.aid_mm_sigma_db_s2 = c.aid_mm.sigma_db_s2;
+  m.aid_mm_offdiag_ratio = c.aid_mm.offdiag_ratio;
+  m.aid_mm_sig0_pos_m = c.aid_mm.sig0_pos_m;
+  m.aid_mm_sig0_vel_mps = c.aid_mm.sig0_vel_mps;
+  m.aid_mm_sig0_att_rad = c.aid_mm.sig0_att_rad;
+  m.aid_mm_sig0_g_mps2 = c.aid_mm.sig0_g_mps2;
+  m.aid_mm_q_vel_mps_rts = c.aid_mm.q_vel_mps_rts;
+  m.aid_mm_q_att_rad_rts = c.aid_mm.q_att_rad_rts;
+  m.aid_mm_q_g_mps2_rts = c.aid_mm.q_g_mps2_rts;
+  m.aid_mm_lambda = c.aid_mm.lambda;
+  m.aid_mm_gate_nis = c.aid_mm.gate_nis;
+  m.aid_mm_average_steps = c.aid_mm.average_steps;
+  m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
+  m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
+  // the tiles of the map storage, for a replay to load the same ones
+  // (the configuration records at most 16; a larger storage, as the cold-atom aid's Gamma_zz
+  // tiles, is not recorded and a replay of the run reports the difference)
+  const size_t n_rec = maps_.size() <= 16 ? maps_.size() : 0;
+  if (n_rec < maps_.size())
+    std::fprintf(stderr, "run3d: %zu map tiles: more than the 16 the configuration records; a replay will not load them\n",
+                 maps_.size());
+  m.aid_mm_n_tiles = static_cast<int8_t>(n_rec);
+  for (size_t i = 0; i < n_rec; ++i) {
+    if (maps_[i].size() > 255) throw Fail("map tile path longer than 255 bytes: " + maps_[i]);
+    std::memcpy(m.aid_mm_tile_path[i], maps_[i].data(), maps_[i].size());
+    const auto d = ggins::run3d::tile_digest(maps_[i]);
+    if (!d) throw Fail("cannot read map tile " + maps_[i]);
+    m.aid_mm_tile_bytes[i] = d->bytes;
+    std::memcpy(m.aid_mm_tile_blake2b[i], d->blake2b.data(), 32);
+  }
+  ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
+  pf_on_ = c.aid_pf.enable != 0;
+  return m;
+}
+
+void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos) {
+  const ggins::run3d::Errors3 e = ggins::run3d::compare(t, o);
+  if (pf_on_) pf_.take(o, static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)));
+  pos_.add(static_cast<double>(e.dr));
+  vel_.add(static_cast<double>(e.dv));
+  att_.add(static_cast<double>(e.psi));
+  grav_.add(static_cast<double>(e.dg));
+  hgt_.add(static_cast<double>(e.dh));
+  if (k > 0) {  // the first output may carry no gradient yet
+    gam_e_.add(static_cast<double>(e.dgamma_e));
+    gam_b_.add(static_cast<double>(e.dgamma_b));
+    par_asym_.add(std::sqrt(o.parity[0] * o.parity[0] + o.parity[1] * o.parity[1] + o.parity[2] * o.parity[2]));
+    par_trace_.add(o.parity[3]);
+    const Vec3 wd(o.omega_dot_b[0], o.omega_dot_b[1], o.omega_dot_b[2]);
+    wdot_.add(static_cast<double>((wd - t.s.omega_dot_b).norm()));
+  }
+  for (int i = 0; i < 3; ++i) {
+    fvel_n_[static_cast<size_t>(i)] = static_cast<double>(e.dv_n(i));
+    fpos_n_[static_cast<size_t>(i)] = static_cast<double>(e.dr_n(i));
+    fatt_n_[static_cast<size_t>(i)] = static_cast<double>(e.psi_n(i));
+    fg_n_[static_cast<size_t>(i)] = static_cast<double>(e.dg_n(i));
+  }
+  if (k % csv_every_ == 0 || k == n_ - 1) {
+    const double deg = 180.0 / M_PI;
+    char line[1024];
+    std::snprintf(line, sizeof line,
+                  "%.6f,%lld,%.10f,%.10f,%.4f,%.6f,%.6f,%.6f,%.4f,%.10f,%.10f,%.4f,"
+                  "%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,"
+                  "%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%d,%u,%s",
+                  static_cast<double>(t.t_s), static_cast<long long>(k), static_cast<double>(t.s.lat) * deg,
+                  static_cast<double>(t.s.lon) * deg, static_cast<double>(t.s.h), static_cast<double>(t.s.roll) * deg,
+                  static_cast<double>(t.s.pitch) * deg, static_cast<double>(t.s.yaw) * deg, static_cast<double>(t.s.v_e.norm()),
+                  o.lat_rad * deg, o.lon_rad * deg, o.h_m, static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)),
+                  static_cast<double>(e.dr_n(2)), static_cast<double>(e.dr), static_cast<double>(e.dv_n(0)),
+                  static_cast<double>(e.dv_n(1)), static_cast<double>(e.dv_n(2)), static_cast<double>(e.dv),
+                  static_cast<double>(e.psi_n(0)), static_cast<double>(e.psi_n(1)), static_cast<double>(e.psi_n(2)),
+                  static_cast<double>(e.psi), static_cast<double>(e.dg_n(0)), static_cast<double>(e.dg_n(1)),
+                  static_cast<double>(e.dg_n(2)), static_cast<double>(e.dg), static_cast<double>(e.dgamma_e) * 1e9,
+                  static_cast<double>(e.dgamma_b) * 1e9, static_cast<double>(e.dh), o.parity[0], o.parity[1], o.parity[2],
+                  o.parity[3], o.baro_innov_m, o.g_up_corr, o.status, o.health, ggins::hil::health_csv(o.health).c_str());
+    csv_ << line;
+    if (sc_.aid_ukf.enabled)  // the aid's one-sigma of the position error (ECI axes) and their root sum square
+      csv_ << "," << sig_pos[0] << "," << sig_pos[1] << "," << sig_pos[2] << ","
+           << std::sqrt(sig_pos[0] * sig_pos[0] + sig_pos[1] * sig_pos[1] + sig_pos[2] * sig_pos[2]);
+    csv_ << "\n";
+  }
+}
+
+
+json Model3D::aid_ukf_block() const {  // the map aid's counters at the last step flown
+  json a;
+  a["name"] = "aid_ukf";
+  a["description"] = "gradient-map UKF (aid_mmukf.h)";
+  a["epochs"] = aid_last_.mm_epochs;
+  a["updates"] = aid_last_.mm_updates;
+  a["rejected"] = aid_last_.mm_rejected;
+  a["no_map"] = aid_last_.mm_no_map;
+  a["nis_mean"] = aid_closed_ > 0 ? aid_nis_sum_ / static_cast<double>(aid_closed_) : 0.0;
+  a["nis_dof"] = 6;
+  a["sigma_pos_final_m"] = {{"x", aid_last_.mm_sigma[0]}, {"y", aid_last_.mm_sigma[1]}, {"z", aid_last_.mm_sigma[2]}};
+  a["sigma_frame"] = "ECI";
+  a["tiles"] = maps_.size();
+  json tf = json::array();  // as recorded in the configuration message (a replay loads these)
+  for (const auto& p : maps_) {
+    const auto d = ggins::run3d::tile_digest(p);
+    tf.push_back({{"path", p}, {"bytes", d ? d->bytes : -1}, {"blake2b", d ? ggins::run3d::hex(d->blake2b) : ""}});
+  }
+  a["tile_files"] = tf;
+  // NEES per block (3 dof each) against the truth after each accepted epoch's correction,
+  // mean over the epochs, and the 95 % band of such a mean if the epochs were independent
+  const double n = static_cast<double>(nees_n_);
+  json ne;
+  ne["epochs"] = nees_n_;
+  ne["dof"] = 3;
+  ne["frame"] = "ECI (error state of aid_mmukf.h: true - estimate)";
+  if (nees_n_ > 0) {
+    ne["position"] = nees_sum_[0] / n;
+    ne["velocity"] = nees_sum_[1] / n;
+    ne["attitude"] = nees_sum_[2] / n;
+    // Wilson-Hilferty quantiles of chi^2(3n) / n
+    auto q = [&](double z) {
+      const double k = 3.0 * n, c = 2.0 / (9.0 * k);
+      return k * std::pow(1.0 - c + z * std::sqrt(c), 3) / n;
+    };
+    ne["band95"] = {q(-1.959963984540054), q(1.959963984540054)};
+  }
+  a["nees"] = ne;
+  a["epochs_csv"] = "aid_epochs.csv";
+  return a;
+}
+
+void Model3D::report(json& s) {
+  using ggins::hil::axes_json;
+  s["platform"] = sc_.platform;
+  s["trajectory"] = sc_.trajectory.type;
+  s["gravity_model"] = sc_.gravity.model;
+  s["navigation_gravity"] = sc_.nav_gravity;
+  s["baro_loop"] = sc_.baro_loop_enabled();
+  json& e = s["errors"];
+  e["frame"] = "NED at the true position (north, east, down)";
+  e["definition"] = "nav - truth at the same step (run3d/compare3d.hpp); gravity: G estimated - true gravitation at the "
+                    "TRUE position; attitude: rotation vector of C_b_e(nav) C_b_e(true)^T; gradient: largest |element|";
+  e["position_error_m"] = pos_.json();
+  e["position_error_final_m"] = axes_json(fpos_n_, "n", "e", "d");
+  e["velocity_error_mps"] = vel_.json();
+  e["velocity_error_final_mps"] = axes_json(fvel_n_, "n", "e", "d");
+  e["height_error_m"] = hgt_.json();
+  e["attitude_error_rad"] = att_.json();
+  e["attitude_error_final_rad"] = axes_json(fatt_n_, "n", "e", "d");
+  e["gravity_error_mps2"] = grav_.json();
+  e["gravity_error_final_mps2"] = axes_json(fg_n_, "n", "e", "d");
+  e["gradient_error_ecef_E"] = gam_e_.json(1e9);
+  e["gradient_error_body_E"] = gam_b_.json(1e9);
+  e["omega_dot_error_radps2"] = wdot_.json();
+  s["parity"] = {{"antisym_radps2", par_asym_.json()}, {"trace_ps2", par_trace_.json()}};
+  s["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
+  // one block per aid of the flight, each named ({"name": ..., its counters})
+  if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
+  if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
+}
+
+std::string Model3D::final_line(const json& s) {
+  const json& e = s["errors"];
+  char b[512];
+  std::snprintf(b, sizeof b,
+                "ggins run3d: %s %s: %lld steps, position error %.3e m (max %.3e), attitude %.3e rad, G %.3e m/s^2, "
+                "Gamma %.3e E (max %.3e)",
+                s["scenario"].get<std::string>().c_str(), s["status"].get<std::string>().c_str(),
+                static_cast<long long>(s["steps_flown"].get<int64_t>()), e["position_error_m"]["final"].get<double>(),
+                e["position_error_m"]["max"].get<double>(), e["attitude_error_rad"]["final"].get<double>(),
+                e["gravity_error_mps2"]["final"].get<double>(), e["gradient_error_ecef_E"]["final"].get<double>(),
+                e["gradient_error_ecef_E"]["max"].get<double>());
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ggins::hil::RunOptions o;
+  o.tool = "ggins run3d";
+  o.python = GGINS_PLOT_PYTHON;
+  o.logger = GGINS_LCM_LOGGER;
+  std::string scenario = "3d-stabilized-1h";
+  bool list = false, print_scenario = false, no_aids = false;
+  CLI::App app{
+      "ggins run3d: fly one 3-D scenario (six tri-axis accelerometers, rotating WGS-84 Earth,\n"
+      "stabilized or strapdown platform) against the 3-D firmware (nav3d.h).\n\n"
+      "The 3-D truth generator (host_tools/lib/truth3d, this process) evaluates the scenario's\n"
+      "analytic trajectory on Taylor jets (r, v, a, attitude, body rate and its derivative\n"
+      "mutually exact), each accelerometer's f = C_i_b (a_j - G(r_j)) with the field at the\n"
+      "sensor, the gyro rate and the barometer, and sends sensor frames; hal_sim (own process,\n"
+      "3-D mode) steps gg_nav3d once per frame in lockstep over LCM. --direct steps the\n"
+      "firmware in this process instead (no LCM; same numbers).\n\n"
+      "Writes to the output folder (default out/<scenario>-<UTC>/):\n"
+      "  summary.json     the flight report (docs/hil.md, the same shape as ggins run's): status\n"
+      "                   (completed, degraded, failed, interrupted), steps flown and unflown,\n"
+      "                   health seen (raw and named bits), errors (final = last step flown, and\n"
+      "                   max): position (NED), velocity, attitude, gravity, gradient (Eotvos);\n"
+      "                   parity, step time, transport counters, acceptance, aids (a list)\n"
+      "  timeseries.csv   truth, navigation and errors at --csv-rate, units in every column\n"
+      "  errors.png       position error N/E/D, attitude error, G error, Gamma error vs time\n"
+      "  run.lcmlog       every LCM message of the run (not with --direct or --no-log)\n"
+      "  scenario.toml (as flown: effective values, overrides applied), hal_sim.log\n\n"
+      "Exit status: 0 completed; 1 failed; 2 bad arguments or scenario; 3 multicast on loopback\n"
+      "unavailable; 4 completed but degraded; 130 interrupted (Ctrl-C: hal_sim is stopped, the\n"
+      "report is written with status \"interrupted\" and the unflown steps)."};
+  app.get_formatter()->column_width(34);
+  app.add_option("-s,--scenario", scenario, "3-D scenario: built-in name (--list-scenarios) or TOML path")
+      ->capture_default_str();
+  ggins::hil::add_run_options(app, o);
+  app.add_flag("--no-aids", no_aids,
+               "fly the scenario without its aids ([aid_ukf] off): the unaided reference of an aided flight\n"
+               "(plot both on one figure: plot_run3d.py AIDED_DIR --unaided THIS_DIR)");
+  app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
+  bool print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+  if (list) {
+    for (const auto& n : ggins::truth3d::builtin_scenario3_names()) {
+      auto s = ggins::truth3d::load_scenario3(n, {GGINS_SCENARIO_DIR});
+      std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
+    }
+    return 0;
+  }
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "%s: --defaults: allowed only with --print-scenario\n", o.tool.c_str());
+    return 2;
+  }
+  if (print_scenario && print_defaults) {
+    std::fputs(ggins::truth3d::scenario3_to_toml(ggins::truth3d::Scenario3{}, true).c_str(), stdout);
+    return 0;
+  }
+  ggins::truth3d::Scenario3 sc;
+  try {
+    sc = ggins::truth3d::load_scenario3(scenario, {GGINS_SCENARIO_DIR});
+    if (o.duration_s) sc.duration_s = *o.duration_s;
+    if (o.seed) sc.accel.seed = *o.seed;
+    if (o.csv_rate) sc.csv_rate_hz = *o.csv_rate;
+    if (no_aids) sc.aid_ukf.enabled = false;
+    if (no_aids) sc.aid_pf.enabled = false;
+    if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
+    if (sc.n_steps() > 100000000)
+      throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +
+                               "): shorten the duration or lower the rate");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins run3d: %s\n", e.what());
+    return 2;
+  }
+  if (print_scenario) {
+    std::fputs(ggins::truth3d::scenario3_to_toml(sc).c_str(), stdout);
+    return 0;
+  }
+  // scenario.toml as flown: every key, the effective values (overrides applied)
+  const std::string as_flown = ggins::truth3d::scenario3_to_toml(sc);
+  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
+                                           [&] { return std::make_unique<Model3D>(o, sc); });
+}

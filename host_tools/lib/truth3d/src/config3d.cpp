@@ -1,0 +1,54 @@
+#include "ggins/truth3d/config3d.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "aids3d.hpp"  // host_tools/apps/run3d: [aid_ukf] onto gg_nav3d_config_t.aid_mm
+#include "ggins/gravity/normal.hpp"
+#include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth/config2d.hpp"
+
+namespace ggins::truth3d {
+
+gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
+  gg_nav3d_config_t c;
+  std::memset(&c, 0, sizeof c);
+  c.geometry.half_base_m[0] = s.a_m;
+  c.geometry.half_base_m[1] = s.b_m;
+  c.geometry.half_base_m[2] = s.c_m;
+  c.platform = s.strapdown() ? GG_PLATFORM_STRAPDOWN : GG_PLATFORM_STABILIZED;
+  c.dt_us = s.dt_us();
+  c.dt_tol_us = s.firmware.dt_tol_us;
+  const Truth3 t0 = g.truth(0);
+  for (int i = 0; i < 3; ++i) {
+    c.r0_e[i] = t0.s.r_e(i);
+    c.v0_e[i] = t0.s.v_e(i);
+    c.g0_e[i] = t0.g_e(i);
+  }
+  const auto q = quat_from_dcm(t0.s.C_b_e);
+  for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[static_cast<size_t>(i)];
+  c.omega_ie = kOmegaIe;
+  c.f_max = s.firmware.f_max_mps2;
+  c.asym_max = s.firmware.asym_max_ps2;
+  c.fdi_parity_f_max = s.fdi_parity_f_max_mps2;
+  c.gravity_mode = s.nav_gravity == "model" ? GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER;
+  if (s.gravity.model == "point-mass") {
+    c.model.gm = s.gravity.gm_m3ps2;
+    c.model.a_m = gravity::wgs84::kA;
+  } else {  // the WGS-84 normal field's zonal series J2..J8
+    const gravity::NormalField n;
+    c.model.gm = n.params().gm;
+    c.model.a_m = n.params().a;
+    for (int k = 1; 2 * k <= 8 && 2 * k <= GG_GMODEL_MAX_DEGREE; ++k) c.model.j[2 * k] = n.j2n(k);
+  }
+  c.baro_enable = s.baro_loop_enabled() ? 1 : 0;
+  const auto& l = s.nav_baro;
+  truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
+                      c.baro);
+  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
+  return c;
+}
+
+gg_nav3d_config_t config3d(const Scenario3& s) { return config3d(s, Generator3(s)); }
+
+}  // namespace ggins::truth3d
