@@ -116,6 +116,11 @@ CASES = [
     ("ggins-run", ["--defaults"], 2, "--defaults"),
     ("ggins-run3d", ["-s", empty, "--print-scenario"], 2, "sets no key"),
     ("ggins-run3d", ["-s", nan_rate, "--print-scenario"], 2, "time.rate_hz = nan"),
+    ("ggins-spy", ["--check", "--bogus"], 2, "--bogus"),
+    ("ggins-spy", ["--check", "--lcm-url=udp://x"], 2, "udp://x"),
+    ("ggins-spy", ["--check", "--lcm-url="], 2, "--lcm-url"),
+    ("ggins-spy", ["--check", "-l"], 2, "-l"),
+    ("ggins-spy", ["--check", "-l", "udpm://a", "--lcm-url=udpm://b"], 2, "twice"),
 ]
 # controls: valid command lines still run (the checks do not refuse good input)
 CONTROLS = [
@@ -126,6 +131,8 @@ CONTROLS = [
     ("ggins-field", ["--model", "normal", "--at", "45,10,1000"], 0, ""),
     ("ggins-run", ["--print-scenario", "--defaults"], 0, ""),
     ("ggins-run3d", ["-s", "3d-route-45n", "--print-scenario"], 0, ""),
+    ("ggins-spy", ["--check", "--lcm-url=udpm://239.255.76.67:7667?ttl=0"], 0, ""),
+    ("ggins-spy", ["--check", "-l", "file:///tmp/x.lcmlog"], 0, ""),
 ]
 
 failed = 0
