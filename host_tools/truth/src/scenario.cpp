@@ -14,6 +14,7 @@
 #include "ggins/gravity/normal.hpp"
 #include "ggins/truth/scenario_keys.hpp"
 #include "ggins/truth/scenario_schema.hpp"
+#include "ggins/truth/scenario_toml.hpp"
 #include "sensor_faults_parse.hpp"
 
 namespace ggins::truth {
@@ -294,7 +295,6 @@ std::string scenario_to_toml(const Scenario& s, bool template_comments) {
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source) {
-  const sch::Ctx c{source};
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -304,6 +304,12 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
        << e.source().begin.line << ", column " << e.source().begin.column << ")";
     throw std::runtime_error(os.str());
   }
+  return parse_scenario_table(root, text, fallback_name, source);
+}
+
+Scenario parse_scenario_table(const toml::table& root, const std::string& text, const std::string& fallback_name,
+                              const std::string& source) {
+  const sch::Ctx c{source};
   Scenario s;
   s.source = source;
   s.text = text;
