@@ -176,8 +176,11 @@ json ensemble_report(const std::string& tool, const std::string& task, const std
   e["definition"] = definition;
   json per_run = json::array();
   json rms = json::object();
-  if (!runs.empty()) {
-    for (const auto& [k, v0] : runs[0].errors.items()) {
+  const EnsembleRun* first = nullptr;  // the first run with errors gives the keys
+  for (const auto& r : runs)
+    if (!first && !r.errors.empty()) first = &r;
+  if (first) {
+    for (const auto& [k, v0] : first->errors.items()) {
       if (is_final_max(v0)) {
         double ss = 0, mx = 0;
         int n = 0;
@@ -224,12 +227,14 @@ json ensemble_report(const std::string& tool, const std::string& task, const std
   }
   s["errors"] = e;
   s["aids"] = json::array();
-  int failed = 0;
-  for (const auto& r : runs)
+  int failed = 0, flown = 0;
+  for (const auto& r : runs) {
     if (r.status != "completed" && r.status != "degraded") ++failed;
+    if (r.counts.steps_flown > 0) ++flown;
+  }
   json en = {{"runs", runs_requested},
-             {"runs_flown", static_cast<int>(runs.size())},
-             {"runs_failed", failed + (runs_requested - static_cast<int>(runs.size()))},
+             {"runs_flown", flown},  // runs with a step flown
+             {"runs_failed", failed + (runs_requested - static_cast<int>(runs.size()))},  // not completed
              {"errors_over_runs", "final: RMS over the runs of each run's final value; max: the largest of any run"},
              {"rms", rms},
              {"per_run", per_run},

@@ -13,7 +13,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -103,7 +105,7 @@ Ensemble2 read_ensemble(const fs::path& outp, const std::string& name, const std
   int n_interrupted = 0, n_failed = 0;
   for (int i = 0; i < runs; ++i) {
     const int rc = run_rc[size_t(i)];
-    if (WIFSIGNALED(rc) || (WIFEXITED(rc) && WEXITSTATUS(rc) == 130)) ++n_interrupted;
+    if ((WIFSIGNALED(rc) && WTERMSIG(rc) == SIGINT) || (WIFEXITED(rc) && WEXITSTATUS(rc) == 130)) ++n_interrupted;
     json r;
     try {
       std::ifstream f(outp / "runs" / std::to_string(i) / "summary.json");
@@ -150,7 +152,25 @@ Ensemble2 read_ensemble(const fs::path& outp, const std::string& name, const std
     en.runs.push_back(std::move(x));
   }
   if (n_interrupted > 0) {
-    en.end.error = std::to_string(n_interrupted) + " of " + std::to_string(runs) + " runs interrupted";
+    // the runs never started (or without a report) are unflown, each with the steps of a run
+    int64_t per_run = 0;
+    for (const auto& x : en.runs) per_run = std::max(per_run, x.counts.steps_expected);
+    int unflown = 0;
+    for (int i = 0; i < runs; ++i) {
+      bool have = false;
+      for (const auto& x : en.runs) have = have || x.index == i;
+      if (have) continue;
+      ggins::hil::EnsembleRun x;
+      x.index = i;
+      x.seed = uint64_t(seed0 + i);
+      x.status = "interrupted";
+      x.counts.steps_expected = per_run;
+      en.runs.push_back(std::move(x));
+      ++unflown;
+    }
+    std::sort(en.runs.begin(), en.runs.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+    en.end.error = "interrupted: " + std::to_string(n_interrupted) + " run(s) stopped, " + std::to_string(unflown) +
+                   " of " + std::to_string(runs) + " not flown";
     en.end.code = 130;
   } else if (n_failed > 0) {
     en.end.error = std::to_string(n_failed) + " of " + std::to_string(runs) + " runs failed (see runs/<i>.log)";
@@ -219,10 +239,11 @@ int main(int argc, char** argv) {
 
   // 1. The flights, `jobs` at a time.
   std::atomic<int> next{0}, failed{0}, done{0};
+  std::atomic<bool> stop{false};  // Ctrl-C reached a run: launch no further run
   std::vector<int> run_rc(size_t(std::max(runs, 0)), 0);
   std::mutex io;
   auto worker = [&] {
-    for (int i; (i = next++) < runs;) {
+    for (int i; !stop && (i = next++) < runs;) {
       const fs::path rd = outp / "runs" / std::to_string(i);
       std::ostringstream cmd;
       cmd << "'" << run_exe << "' --scenario '" << scen << "' --seed " << (seed0 + i)
@@ -231,6 +252,9 @@ int main(int argc, char** argv) {
       cmd << " > '" << rd.string() << ".log' 2>&1";
       const int rc = std::system(cmd.str().c_str());
       run_rc[size_t(i)] = rc;
+      // a terminal's SIGINT reaches the runs (one process group): the run exits 130, or
+      // its shell dies of the signal; the runs not yet started stay unflown
+      if ((WIFSIGNALED(rc) && WTERMSIG(rc) == SIGINT) || (WIFEXITED(rc) && WEXITSTATUS(rc) == 130)) stop = true;
       const int d = ++done;
       if (rc != 0) {
         ++failed;

@@ -4,7 +4,10 @@
 (report_schema.json, JSON Schema; the Monte Carlo reports also against its `ensemble`
 definition), units in every CSV column, and the ensemble's numbers against its own runs:
 steps summed, errors.final the RMS of the runs' finals, max the largest, the chi-square
-band recomputed here (Wilson-Hilferty, independently of truth/stats.cpp).
+band recomputed here (Wilson-Hilferty, independently of truth/stats.cpp). And Ctrl-C
+(SIGINT to the process group, as a terminal sends it) during `ggins montecarlo`: no run
+starts after it, exit 130, a report marked interrupted whose unflown steps include the
+runs never started.
 
 usage: report_shape_check.py --bin DIR --workdir DIR
 """
@@ -15,8 +18,10 @@ import math
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 FAILS = []
 UNIT = re.compile(r"_(m|mps|mps2|rad|radps|radps2|ps2|E|s|hz|ns|ppm|deg|1)$")
@@ -131,6 +136,43 @@ def ensemble_numbers(rep, what):
     check(c["all_within"] == all(s["within"] for s in c["states"].values()), f"{what}: all_within")
 
 
+def interrupt_montecarlo(exe, d):
+    n = 8
+    p = subprocess.Popen([exe, "-s", "welker-table1", "-n", str(n), "-j", "1", "--duration", "600", "--no-plot",
+                          "--keep-runs", "-o", d], start_new_session=True, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    t_end = time.time() + 60
+    while time.time() < t_end and not os.path.exists(os.path.join(d, "runs", "1", "timeseries.csv")) and p.poll() is None:
+        time.sleep(0.05)
+    time.sleep(0.3)  # run 1 under way
+    started = sorted(int(x) for x in os.listdir(os.path.join(d, "runs")) if x.isdigit()) if os.path.isdir(
+        os.path.join(d, "runs")) else []
+    os.killpg(p.pid, signal.SIGINT)
+    t0 = time.time()
+    try:
+        _, err = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        _, err = p.communicate()
+    dt = time.time() - t0
+    check(p.returncode == 130 and dt < 30, f"montecarlo Ctrl-C: exit {p.returncode} after {dt:.1f} s (want 130)")
+    after = sorted(int(x) for x in os.listdir(os.path.join(d, "runs")) if x.isdigit())
+    check(len(after) <= len(started) + 1 and len(after) < n,
+          f"montecarlo Ctrl-C: no run started after it (runs {started} before, {after} after, of {n})")
+    p_rep = os.path.join(d, "summary.json")
+    if not os.path.exists(p_rep):
+        check(False, "montecarlo Ctrl-C: a report is written\n" + err[-800:])
+        return
+    r = json.load(open(p_rep))
+    per = r["steps_expected"] // n
+    check(r["status"] == "interrupted" and r["interrupted"] and not r["completed"] and r["frames_lost"] == 0,
+          f"montecarlo Ctrl-C: status {r['status']}, frames_lost {r['frames_lost']}")
+    check(r["steps_expected"] == n * per and r["steps_flown"] + r["steps_unflown"] == r["steps_expected"] and
+          r["steps_unflown"] >= (n - len(after)) * per,
+          f"montecarlo Ctrl-C: {r['steps_flown']} flown + {r['steps_unflown']} unflown = {r['steps_expected']} "
+          f"= {n} runs x {per} steps, the {n - len(after)} runs never started among the unflown")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bin", required=True)
@@ -181,6 +223,8 @@ def main():
         if what == "montecarlo3d":
             csv_units(os.path.join(d, "montecarlo3d.csv"), what)
             ensemble_numbers(rep, what)
+    if os.path.exists(b("ggins-montecarlo")):
+        interrupt_montecarlo(b("ggins-montecarlo"), os.path.join(w, "mc-int"))
     print(f"{len(FAILS)} failure(s)")
     return 1 if FAILS else 0
 
