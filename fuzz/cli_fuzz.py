@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Command-line fuzzing of the host tools (every ggins command but the GUI `spy`): random
+"""Command-line fuzzing of the host tools (every ggins command): random
 adversarial values (NaN, inf, signs, huge numbers, junk text, paths under a file, broken
 2-D and 3-D scenario files) on each tool's options, run as a user would run the program.
 run/run3d are fuzzed with --print-scenario (every option and the scenario parsed, checked
-and applied; no flight).
+and applied; no flight), spy with --check (its arguments and class path checked; no window).
 Every run must end with an exit code of the scheme in `ggins --help` (0 done, 1 failed,
 2 bad arguments, 3 machine lacks a need, 4 degraded or corrupt log, 5 incomplete record),
 with a message when not 0: a signal (abort, segfault), an uncaught exception ('terminate')
@@ -116,6 +116,13 @@ TOOLS = {
         "opts": {"-s": ["gc3d-stabilized", "{scenario3}", "{missing}"], "-n": ["2"], "--seed": ["1"], "--rate-hz": ["10"],
                  "--duration": ["10"], "--output-dt": ["5"], "-j": ["1"], "--speed": ["100"], "--lat0-deg": ["45"],
                  "--acc-bias-sigma": ["1e-9"], "--gyro-bias-sigma": ["1e-8"], "-o": ["{out}", "{under_file}"]},
+    },
+    "ggins-spy": {
+        "base": ["--check"],
+        "opts": {"--lcm-url": ["udpm://239.255.76.67:7667?ttl=0", "file://{a_file}", "memq://", "udp://x", "{a_file}"],
+                 "-l": ["udpm://239.255.76.67:7667?ttl=0", "tcpq://127.0.0.1:7700", "-h"],
+                 "--lcm-url=udpm://239.255.76.67:7667?ttl=0": [""], "--lcm-url=": [""], "-h": [""], "--check": [""],
+                 "--bogus": [""], "-p": ["x"]},
     },
     "ggins-rw-eq8": {
         "base": ["--runs", "2", "--hours", "0.01", "--rate-hz", "1"],

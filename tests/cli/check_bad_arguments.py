@@ -43,6 +43,16 @@ axes = scen("axes", BASE.replace("bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [
 empty = scen("empty", "# nothing\n")
 nan_rate = scen("nan_rate", "[time]\nrate_hz = nan\n")
 good = scen("good", BASE + "[initial]\ngravity_sigma_mps2 = [1e-12, 3e-12]\n")
+# A user's file with comments, blank lines and the covariance-only [initial] table before
+# the others: an error names the user's file and the key's line there (counted by hand).
+HEAD = '# a user\'s scenario\n\nname = "cli-test"\n\n[initial]\nposition_sigma_m = 1.0\n\n'  # 7 lines
+BODY = BASE[BASE.index("[trajectory]"):]  # line 8 on: [trajectory], type, speed_mps, [time], duration_s, rate_hz, ...
+typo_line = scen("typo_line", HEAD + BODY.replace("speed_mps", "sped_mps"))  # line 10
+bad_value_line = scen("bad_value_line", HEAD + BODY.replace("rate_hz = 10.0", "rate_hz = -10.0"))  # line 13
+typo_initial_line = scen("typo_initial_line", HEAD.replace("position_sigma_m", "position_sigma") + BODY)  # line 6
+bad_axis_line = scen("bad_axis_line", HEAD + BODY.replace(  # bias_sigma_mps2 on line 15, its element 5 on line 17
+    "bias_sigma_mps2 = 2e-12", "bias_sigma_mps2 = [\n  1e-12, 1e-12, 1e-12, 1e-12,\n  1e-12, -1e-12, 1e-12, 1e-12]"))
+bad_initial_line = scen("bad_initial_line", "# x\n" + BASE + "\n[initial]\nvelocity_sigma_mps = nan\n")  # line 13
 
 GMAP = ["--lat-min", "45", "--lat-max", "45.05", "--lon-min", "10", "--lon-max", "10.05"]
 
@@ -82,6 +92,14 @@ CASES = [
     ("ggins-covariance", ["-s", neg_sigma, "--no-plot", "-o", out + "/c5"], 2, "initial.velocity_sigma_mps"),
     ("ggins-covariance", ["-s", nan_axis, "--no-plot", "-o", out + "/c7"], 2, "bias_sigma_mps2"),
     ("ggins-covariance", ["-s", empty, "--no-plot", "-o", out + "/c6"], 2, "sets no key"),
+    ("ggins-covariance", ["-s", typo_line, "--no-plot", "-o", out + "/c8"], 2, "typo_line.toml:10: unknown key 'trajectory.sped_mps'"),
+    ("ggins-covariance", ["-s", bad_value_line, "--no-plot", "-o", out + "/c9"], 2, "bad_value_line.toml:13: time.rate_hz = -10"),
+    ("ggins-covariance", ["-s", bad_initial_line, "--no-plot", "-o", out + "/c10"], 2,
+     "bad_initial_line.toml:13: initial.velocity_sigma_mps = nan"),
+    ("ggins-covariance", ["-s", typo_initial_line, "--no-plot", "-o", out + "/c11"], 2,
+     "typo_initial_line.toml:6: unknown key 'initial.position_sigma'"),
+    ("ggins-covariance", ["-s", bad_axis_line, "--no-plot", "-o", out + "/c12"], 2,
+     "bad_axis_line.toml:17: accel.bias_sigma_mps2[5] = -1e-12"),
     ("ggins-covariance", ["--duration", "nan"], 2, "--duration"),
     ("ggins-covariance", ["--dt", "nan"], 2, "--dt"),
     ("ggins-covariance", ["--sigma-g0", "nan"], 2, "--sigma-g0"),
@@ -116,6 +134,11 @@ CASES = [
     ("ggins-run", ["--defaults"], 2, "--defaults"),
     ("ggins-run3d", ["-s", empty, "--print-scenario"], 2, "sets no key"),
     ("ggins-run3d", ["-s", nan_rate, "--print-scenario"], 2, "time.rate_hz = nan"),
+    ("ggins-spy", ["--check", "--bogus"], 2, "--bogus"),
+    ("ggins-spy", ["--check", "--lcm-url=udp://x"], 2, "udp://x"),
+    ("ggins-spy", ["--check", "--lcm-url="], 2, "--lcm-url"),
+    ("ggins-spy", ["--check", "-l"], 2, "-l"),
+    ("ggins-spy", ["--check", "-l", "udpm://a", "--lcm-url=udpm://b"], 2, "twice"),
 ]
 # controls: valid command lines still run (the checks do not refuse good input)
 CONTROLS = [
@@ -126,6 +149,8 @@ CONTROLS = [
     ("ggins-field", ["--model", "normal", "--at", "45,10,1000"], 0, ""),
     ("ggins-run", ["--print-scenario", "--defaults"], 0, ""),
     ("ggins-run3d", ["-s", "3d-route-45n", "--print-scenario"], 0, ""),
+    ("ggins-spy", ["--check", "--lcm-url=udpm://239.255.76.67:7667?ttl=0"], 0, ""),
+    ("ggins-spy", ["--check", "-l", "file:///tmp/x.lcmlog"], 0, ""),
 ]
 
 failed = 0

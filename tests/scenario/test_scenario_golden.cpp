@@ -105,6 +105,45 @@ int main(int argc, char** argv) {
     for (const auto& s : s3)
       round_trip(s.name + " round trip", scenario_dump::dump(s),
                  scenario_dump::dump(truth3d::parse_scenario3(truth3d::scenario3_to_toml(s), "x", "as-flown")));
+    // arrays of tables are written as TOML arrays of tables: one [[header]] per entry of
+    // the parsed struct, no inline array in their place
+    auto count = [](const std::string& text, const std::string& what) {
+      size_t n = 0;
+      for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+      return n;
+    };
+    size_t seen_faults = 0, seen_waypoints = 0, seen_maneuvers = 0;
+    auto headers = [&](const std::string& name, const std::string& text, const std::string& key, size_t n_struct) {
+      const size_t n = count(text, "\n[[" + key + "]]\n");
+      const std::string leaf = key.substr(key.rfind('.') + 1);
+      const bool inline_left = text.find("\n" + leaf + " = [") != std::string::npos;
+      if (n != n_struct || inline_left) {
+        std::printf("FAIL %s: %zu [[%s]] headers for %zu entries%s\n", name.c_str(), n, key.c_str(), n_struct,
+                    inline_left ? ", an inline array left" : "");
+        ++fails;
+      }
+    };
+    for (const auto& s : s2) {
+      headers(s.name, truth::scenario_to_toml(s), "sensor_faults.fault", s.sensor_faults.faults.size());
+      seen_faults += s.sensor_faults.faults.size();
+    }
+    for (const auto& s : s3) {
+      const std::string t = truth3d::scenario3_to_toml(s);
+      headers(s.name, t, "sensor_faults.fault", s.sensor_faults.faults.size());
+      headers(s.name, t, "trajectory.waypoint", s.trajectory.waypoints.size());
+      headers(s.name, t, "trajectory.maneuver", s.trajectory.maneuvers.size());
+      seen_faults += s.sensor_faults.faults.size();
+      seen_waypoints += s.trajectory.waypoints.size();
+      seen_maneuvers += s.trajectory.maneuvers.size();
+    }
+    if (seen_faults == 0 || seen_waypoints == 0 || seen_maneuvers == 0) {
+      std::printf("FAIL the scenarios read have no faults, waypoints or maneuvers to write (%zu, %zu, %zu)\n",
+                  seen_faults, seen_waypoints, seen_maneuvers);
+      ++fails;
+    } else {
+      std::printf("ok   arrays of tables written as [[...]]: %zu faults, %zu waypoints, %zu maneuvers\n", seen_faults,
+                  seen_waypoints, seen_maneuvers);
+    }
     // the template (--print-scenario --defaults) is a scenario that flies the defaults
     const truth::Scenario d2;
     const truth3d::Scenario3 d3;

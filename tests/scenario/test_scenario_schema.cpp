@@ -64,6 +64,37 @@ static void defaults_accepted(const truth::sch::Schema<R>& sc, Parse parse, cons
   std::printf("ok   %s: %d documented defaults accepted\n", sc.title.c_str(), n);
 }
 
+// every fault kind the reference documents for [sensor_faults] is one the reader takes
+// (with a sensor and axis the reference allows; status_bad without an axis, as documented)
+template <class R, class Parse>
+static void documented_fault_kinds_accepted(const truth::sch::Schema<R>& sc, Parse parse, const std::string& sensor) {
+  const auto* sec = sc.find("sensor_faults");
+  std::string kinds;
+  for (const auto& row : sec ? sec->rows : std::vector<truth::sch::Row>{})
+    if (row.key == "fault.kind") kinds = row.range;
+  if (kinds.empty()) {
+    std::printf("FAIL %s: no documented fault.kind\n", sc.title.c_str());
+    ++g_fail;
+    return;
+  }
+  int n = 0;
+  for (size_t p = 0; (p = kinds.find('"', p)) != std::string::npos;) {
+    const size_t q = kinds.find('"', p + 1);
+    const std::string k = kinds.substr(p + 1, q - p - 1);
+    p = q + 1;
+    const bool time = k.rfind("time_", 0) == 0;
+    const std::string text = "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"" + k + "\"\n" +
+                             (time ? "" : "sensor = " + sensor + "\n") + (time || k == "status_bad" ? "" : "axis = \"x\"\n") +
+                             "size = 1.0\n";
+    accepted(parse, text, sc.title.substr(0, 3) + " documented fault kind " + k);
+    ++n;
+  }
+  if (n < 5) {
+    std::printf("FAIL %s: %d documented fault kinds\n", sc.title.c_str(), n);
+    ++g_fail;
+  }
+}
+
 int main() {
   auto p2 = [](const std::string& t) { return truth::parse_scenario(t, "t", "test"); };
   auto p3 = [](const std::string& t) { return truth3d::parse_scenario3(t, "t", "test"); };
@@ -121,6 +152,8 @@ int main() {
 
   defaults_accepted(truth::scenario_schema(), p2, "");
   defaults_accepted(truth3d::scenario3_schema(), p3, "");
+  documented_fault_kinds_accepted(truth::scenario_schema(), p2, "1");
+  documented_fault_kinds_accepted(truth3d::scenario3_schema(), p3, "0");
   if (g_fail) std::printf("%d check(s) failed\n", g_fail);
   return g_fail ? 1 : 0;
 }

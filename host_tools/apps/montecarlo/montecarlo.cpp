@@ -9,10 +9,13 @@
 // s / sigma is the two-sided chi-square interval at +-z standard normal
 // quantiles (default z = 3, 99.73 %), via the Wilson-Hilferty approximation
 // chi^2_p ~ N (1 - 2/(9N) + z_p sqrt(2/(9N)))^3.
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +33,7 @@
 #include "ggins/covariance/welker2d.hpp"
 #include "ggins/gravity/field.hpp"
 #include "ggins/truth/stats.hpp"
+#include "report.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -86,6 +90,95 @@ RunData read_run(const fs::path& csv) {
 }
 
 
+// Every run's own report (summary.json, ggins run) read back as a flight of the ensemble;
+// scenario.toml: the scenario as flown by the first run that reported.
+struct Ensemble2 {
+  std::vector<ggins::hil::EnsembleRun> runs;
+  std::string mode = "lockstep", frame, definition, source, description;
+  ggins::hil::FlightEnd end;
+};
+
+Ensemble2 read_ensemble(const fs::path& outp, const std::string& name, const std::string& scen, int runs, int64_t seed0,
+                        const std::vector<int>& run_rc) {
+  Ensemble2 en;
+  en.source = scen;
+  int n_interrupted = 0, n_failed = 0;
+  for (int i = 0; i < runs; ++i) {
+    const int rc = run_rc[size_t(i)];
+    if ((WIFSIGNALED(rc) && WTERMSIG(rc) == SIGINT) || (WIFEXITED(rc) && WEXITSTATUS(rc) == 130)) ++n_interrupted;
+    json r;
+    try {
+      std::ifstream f(outp / "runs" / std::to_string(i) / "summary.json");
+      if (f) r = json::parse(f);
+    } catch (const json::exception&) {
+      r = json();
+    }
+    if (!r.is_object() || !r.contains("status")) {
+      ++n_failed;
+      continue;
+    }
+    ggins::hil::EnsembleRun x;
+    x.index = i;
+    x.seed = uint64_t(seed0 + i);
+    x.status = r["status"].get<std::string>();
+    if (x.status != "completed" && x.status != "degraded") ++n_failed;
+    x.counts.steps_expected = r.value("steps_expected", int64_t(0));
+    x.counts.steps_flown = r.value("steps_flown", int64_t(0));
+    x.counts.steps_rejected = r.value("steps_rejected", int64_t(0));
+    x.counts.frames_recovered = r.value("frames_recovered", int64_t(0));
+    x.counts.final_seq = r.value("final_seq", int64_t(-1));
+    x.counts.dt_s = r.value("dt_s", 0.0);
+    if (r.contains("health_seen")) x.health_or = r["health_seen"].value("raw", 0u);
+    if (r.contains("health_counts"))
+      for (const auto& [k, v] : r["health_counts"].items()) x.health_counts[k] = v.get<int64_t>();
+    if (r.contains("errors")) {
+      x.errors = r["errors"];
+      en.frame = x.errors.value("frame", en.frame);
+      en.definition = x.errors.value("definition", en.definition);
+      x.errors.erase("frame");
+      x.errors.erase("definition");
+    }
+    en.mode = r.value("mode", en.mode);
+    en.source = r.value("scenario_source", en.source);
+    en.description = r.value("description", en.description);
+    if (en.runs.empty()) {  // the scenario as flown by the first run (run i: accel seed seed0 + i)
+      std::ifstream sf(outp / "runs" / std::to_string(i) / "scenario.toml");
+      std::stringstream st;
+      st << sf.rdbuf();
+      ggins::hil::write_effective_scenario(outp / "scenario.toml", name, en.source, st.str(),
+                                           json{{"accel.seed", seed0 + i}});
+    }
+    en.end.degraded = en.end.degraded || x.status == "degraded";
+    en.runs.push_back(std::move(x));
+  }
+  if (n_interrupted > 0) {
+    // the runs never started (or without a report) are unflown, each with the steps of a run
+    int64_t per_run = 0;
+    for (const auto& x : en.runs) per_run = std::max(per_run, x.counts.steps_expected);
+    int unflown = 0;
+    for (int i = 0; i < runs; ++i) {
+      bool have = false;
+      for (const auto& x : en.runs) have = have || x.index == i;
+      if (have) continue;
+      ggins::hil::EnsembleRun x;
+      x.index = i;
+      x.seed = uint64_t(seed0 + i);
+      x.status = "interrupted";
+      x.counts.steps_expected = per_run;
+      en.runs.push_back(std::move(x));
+      ++unflown;
+    }
+    std::sort(en.runs.begin(), en.runs.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+    en.end.error = "interrupted: " + std::to_string(n_interrupted) + " run(s) stopped, " + std::to_string(unflown) +
+                   " of " + std::to_string(runs) + " not flown";
+    en.end.code = 130;
+  } else if (n_failed > 0) {
+    en.end.error = std::to_string(n_failed) + " of " + std::to_string(runs) + " runs failed (see runs/<i>.log)";
+    en.end.code = 1;
+  }
+  return en;
+}
+
 std::string self_dir() {
   std::error_code ec;
   fs::path self = fs::read_symlink("/proc/self/exe", ec);
@@ -97,8 +190,10 @@ std::string self_dir() {
 int main(int argc, char** argv) {
   CLI::App app{
       "ggins montecarlo: N host-in-the-loop flights (ggins-run) with fresh random accelerometer errors,\n"
-      "in parallel, against the covariance prediction (ggins-covariance's model). Writes montecarlo.csv,\n"
-      "montecarlo.json, run_errors.csv and montecarlo.png to --out; --json prints the summary.",
+      "in parallel, against the covariance prediction (ggins-covariance's model). Writes to --out the\n"
+      "report summary.json (the shape of ggins run's, docs/hil.md, with the ensemble block), scenario.toml\n"
+      "(as flown by run 0; run i flies accel seed seed0 + i), montecarlo.csv, montecarlo.json (the\n"
+      "comparison), run_errors.csv and montecarlo.png; --json prints montecarlo.json.",
       "ggins-montecarlo"};
   std::string scen = "welker-table1", out_dir, run_exe, python;
   int runs = 200, jobs = int(std::thread::hardware_concurrency());
@@ -144,9 +239,11 @@ int main(int argc, char** argv) {
 
   // 1. The flights, `jobs` at a time.
   std::atomic<int> next{0}, failed{0}, done{0};
+  std::atomic<bool> stop{false};  // Ctrl-C reached a run: launch no further run
+  std::vector<int> run_rc(size_t(std::max(runs, 0)), 0);
   std::mutex io;
   auto worker = [&] {
-    for (int i; (i = next++) < runs;) {
+    for (int i; !stop && (i = next++) < runs;) {
       const fs::path rd = outp / "runs" / std::to_string(i);
       std::ostringstream cmd;
       cmd << "'" << run_exe << "' --scenario '" << scen << "' --seed " << (seed0 + i)
@@ -154,6 +251,10 @@ int main(int argc, char** argv) {
       if (duration) cmd << " --duration " << *duration;
       cmd << " > '" << rd.string() << ".log' 2>&1";
       const int rc = std::system(cmd.str().c_str());
+      run_rc[size_t(i)] = rc;
+      // a terminal's SIGINT reaches the runs (one process group): the run exits 130, or
+      // its shell dies of the signal; the runs not yet started stay unflown
+      if ((WIFSIGNALED(rc) && WTERMSIG(rc) == SIGINT) || (WIFEXITED(rc) && WEXITSTATUS(rc) == 130)) stop = true;
       const int d = ++done;
       if (rc != 0) {
         ++failed;
@@ -177,8 +278,19 @@ int main(int argc, char** argv) {
     if (r.ok) data.push_back(std::move(r));
   }
   const int n = int(data.size());
-  if (n < 2) {
+  if (n < 2) {  // the report says which runs failed; no ensemble statistics
     std::fprintf(stderr, "ggins-montecarlo: fewer than 2 usable runs\n");
+    try {
+      Ensemble2 en = read_ensemble(outp, sc.name, scen, runs, seed0, run_rc);
+      if (en.end.error.empty()) en.end = {"fewer than 2 usable runs", 1, false};
+      json rep = ggins::hil::ensemble_report("ggins montecarlo", "2-D", sc.name, en.source, en.description, en.mode,
+                                             sc.rate_hz, sc.duration_s, en.runs, runs, en.end, en.frame, en.definition,
+                                             json(nullptr), json{{"seed0", seed0}});
+      rep["output_dir"] = outp.string();
+      ggins::hil::write_json(outp / "summary.json", rep);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ggins-montecarlo: %s\n", e.what());
+    }
     return 1;
   }
   size_t nt = data[0].t.size();
@@ -275,7 +387,36 @@ int main(int argc, char** argv) {
   }
   j["ratio_every_600s"] = marks;
   j["agree_final"] = agree;
-  std::ofstream(outp / "montecarlo.json") << j.dump(2) << '\n';
+  int code = agree && failed == 0 ? 0 : 1;
+  try {
+    ggins::hil::write_json(outp / "montecarlo.json", j);
+    // The report, in the shape of ggins run's (report.hpp): every run's own report read back.
+    Ensemble2 en = read_ensemble(outp, sc.name, scen, runs, seed0, run_rc);
+    auto& er = en.runs;
+    std::vector<ggins::hil::ConsistencyState> cs;
+    for (int k = 0; k < 6; ++k)
+      cs.push_back({kKeys[k], fin[kKeys[k]]["montecarlo"].get<double>(), fin[kKeys[k]]["covariance"].get<double>()});
+    const json cons = ggins::hil::consistency_block(cs, n, z, lo, hi,
+                                                    "s/sigma, s = sqrt(sum e^2/N) at the last common time (zero-mean "
+                                                    "errors, N dof); the flight's inertial frame, x equatorial, z polar");
+    json extra = {{"seed0", seed0},
+                  {"seeds", "run i: accel seed seed0 + i"},
+                  {"t_s", j["t_s"]},
+                  {"ratio_every_600s", marks}};
+    json rep = ggins::hil::ensemble_report("ggins montecarlo", "2-D", sc.name, en.source, en.description, en.mode,
+                                           sc.rate_hz, sc.duration_s, er, runs, en.end, en.frame, en.definition, cons,
+                                           extra);
+    rep["files"] = {{"summary", "summary.json"}, {"scenario", "scenario.toml"}, {"comparison", "montecarlo.json"},
+                    {"sigma_vs_time", "montecarlo.csv"}, {"run_errors", "run_errors.csv"}};
+    rep["output_dir"] = outp.string();
+    ggins::hil::write_json(outp / "summary.json", rep);
+    // the flights' status (1 failed, 130 interrupted, 4 degraded) before the comparison's verdict
+    const int st = ggins::hil::exit_status(rep);
+    if (st != 0 && (code == 0 || st != 4)) code = st;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-montecarlo: %s\n", e.what());
+    return ggins::cli::kExitFailed;
+  }
   if (!keep) {
     std::error_code ec;
     fs::remove_all(outp / "runs", ec);
@@ -306,5 +447,5 @@ int main(int argc, char** argv) {
                   fin[kKeys[s]]["ratio"].get<double>(), fin[kKeys[s]]["within"].get<bool>() ? "ok" : "OUTSIDE");
     std::printf("wrote %s\n", outp.c_str());
   }
-  return agree && failed == 0 ? 0 : 1;
+  return code;
 }

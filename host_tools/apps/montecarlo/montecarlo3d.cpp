@@ -21,6 +21,8 @@
 #include "ggins/cli_checks.hpp"
 #include "ggins/covariance/propagate.hpp"
 #include "ggins/truth/stats.hpp"
+#include "frame_names.hpp"
+#include "report.hpp"
 #include "sim3d.hpp"
 #ifdef GGINS_HAVE_TRUTH3D
 #include "ggins/covariance/cov3d_truth3d.hpp"
@@ -40,7 +42,9 @@ int main(int argc, char** argv) {
       "ggins montecarlo3d: N runs of the 3-D firmware (gg_nav3d_step, direct calls) along the analytic\n"
       "great-circle flight (or truth3d scenario) of ggins covariance3d with seeded sensor errors, against\n"
       "the covariance; "
-      "chi-square band for N. Writes montecarlo3d.json/.csv to --out. docs/error-analysis.md.",
+      "chi-square band for N. Writes to --out the report summary.json (the shape of ggins run3d's,\n"
+      "docs/hil.md, with the ensemble block), scenario.toml (as flown), montecarlo3d.json (the comparison)\n"
+      "and montecarlo3d.csv. docs/error-analysis.md.",
       "ggins-montecarlo3d"};
   std::string scen = "gc3d-stabilized", out_dir, platform_s, field_s;
   int runs = 100, jobs = 0;
@@ -132,6 +136,7 @@ int main(int argc, char** argv) {
 
   const Sim3D sim(s, rate);
   std::vector<std::vector<ErrSample>> res(size_t(runs) + 1);
+  std::vector<Sim3D::FlyCounts> fc(size_t(runs) + 1);
   std::atomic<int> next{0};
   std::mutex err_mu;
   std::string err;
@@ -158,7 +163,7 @@ int main(int argc, char** argv) {
         }
       }
       try {
-        res[size_t(i)] = sim.fly(e, s.duration_s, output_dt);
+        res[size_t(i)] = sim.fly(e, s.duration_s, output_dt, &fc[size_t(i)]);
       } catch (const std::exception& ex) {
         std::lock_guard<std::mutex> l(err_mu);
         err = ex.what();
@@ -170,8 +175,87 @@ int main(int argc, char** argv) {
   for (int j = 0; j < jobs; ++j) th.emplace_back(worker);
   for (auto& t : th) t.join();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  // The report (report.hpp: the shape of ggins run3d's): runs 1..N are the ensemble (run 0,
+  // perfect sensors, is the deterministic floor, in the comparison only).
+  std::vector<ggins::hil::EnsembleRun> er;
+  for (int i = 1; i <= runs; ++i) {
+    ggins::hil::EnsembleRun x;
+    x.index = i;
+    x.seed = seed + uint64_t(i) - 1;
+    const auto& rs = res[size_t(i)];
+    x.counts.steps_expected = sim.steps(s.duration_s);
+    x.counts.steps_flown = fc[size_t(i)].steps;
+    x.counts.final_seq = fc[size_t(i)].steps - 1;
+    x.counts.dt_s = 1.0 / rate;
+    x.status = !rs.empty() && x.counts.steps_flown == x.counts.steps_expected ? "completed" : "failed";
+    x.health_or = fc[size_t(i)].health_or;
+    for (int b = 0; b < 32; ++b)
+      if (fc[size_t(i)].health_count[size_t(b)] > 0)
+        x.health_counts[ggins::hil::health_bit_name(1u << b)] = fc[size_t(i)].health_count[size_t(b)];
+    if (!rs.empty()) {  // |error| final and max over the output samples; per-axis finals in NED
+      auto fm = [&](auto pick) {
+        double mx = 0;
+        for (const auto& e : rs) mx = std::max(mx, pick(e).norm());
+        return json{{"final", pick(rs.back()).norm()}, {"max", mx}};
+      };
+      const Eigen::Matrix3d Cne = model->ned_to_ecef(rs.back().t);
+      auto ned = [&](const Eigen::Vector3d& v) {
+        const Eigen::Vector3d n = Cne.transpose() * v;
+        return json{{"n", n(0)}, {"e", n(1)}, {"d", n(2)}};
+      };
+      x.errors["position_error_m"] = fm([](const ErrSample& e) { return e.dr; });
+      x.errors["position_error_final_m"] = ned(rs.back().dr);
+      x.errors["velocity_error_mps"] = fm([](const ErrSample& e) { return e.dv; });
+      x.errors["velocity_error_final_mps"] = ned(rs.back().dv);
+      x.errors["gravity_error_mps2"] = fm([](const ErrSample& e) { return e.dg; });
+      x.errors["gravity_error_final_mps2"] = ned(rs.back().dg);
+      if (sd) {
+        x.errors["attitude_error_rad"] = fm([](const ErrSample& e) { return e.psi; });
+        x.errors["attitude_error_final_rad"] = ned(rs.back().psi);
+      }
+    }
+    er.push_back(std::move(x));
+  }
+  const std::string frame = "NED at the true position (north, east, down)";
+  const std::string definition =
+      "nav - truth (sim3d.hpp); gravity: G estimated - true gravitation at the TRUE position; attitude: the small "
+      "rotation psi of C(nav) C(true)^T; final: the last step, max: the largest over the samples every output_dt_s";
+  auto write_report = [&](const ggins::hil::FlightEnd& end, const json& cons, const json& extra) {
+    json rep = ggins::hil::ensemble_report("ggins montecarlo3d", "3-D", s.name, scen, s.name, "direct", rate,
+                                           s.duration_s, er, runs, end, frame, definition, cons, extra);
+    rep["platform"] = sd ? "strapdown" : "stabilized";
+    rep["gravity_model"] = s.field;
+    rep["baro_loop"] = s.model.baro.on;
+    rep["wall_s"] = wall;
+    rep["files"] = {{"summary", "summary.json"}, {"scenario", "scenario.toml"}, {"comparison", "montecarlo3d.json"},
+                    {"sigma_vs_time", "montecarlo3d.csv"}};
+    rep["output_dir"] = fs::absolute(out_dir).string();
+    // the scenario as flown: the values this ensemble flew (a built-in has no file)
+    ggins::hil::write_effective_scenario(
+        fs::path(out_dir) / "scenario.toml", s.name, scen, "",
+        json{{"name", s.name},
+             {"time.rate_hz", rate},
+             {"time.duration_s", s.duration_s},
+             {"montecarlo3d.platform", sd ? "strapdown" : "stabilized"},
+             {"montecarlo3d.field", s.field},
+             {"montecarlo3d.omega_ie_radps", s.omega_ie},
+             {"montecarlo3d.speed_mps", s.speed_mps},
+             {"montecarlo3d.lat0_deg", s.lat0_deg},
+             {"montecarlo3d.acc_bias_sigma_mps2", s.acc_bias_sigma_mps2},
+             {"montecarlo3d.gyro_bias_sigma_radps", sd ? s.gyro_bias_sigma_radps : 0.0},
+             {"montecarlo3d.acc_noise_sigma_mps2", s.model.acc_noise_sigma_mps2},
+             {"montecarlo3d.gyro_noise_sigma_radps", sd ? s.model.gyro_noise_sigma_radps : 0.0},
+             {"montecarlo3d.baro", s.model.baro.on},
+             {"montecarlo3d.output_dt_s", output_dt},
+             {"montecarlo3d.seed", seed}});
+    ggins::hil::write_json(fs::path(out_dir) / "summary.json", rep);
+    return rep;
+  };
   if (!err.empty()) {
     std::fprintf(stderr, "ggins-montecarlo3d: %s\n", err.c_str());
+    write_report({err, 1, false}, json(nullptr), json{{"seed", seed}});
     return 1;
   }
 
@@ -187,8 +271,6 @@ int main(int argc, char** argv) {
   }
   const ggins::truth::Chi2Band b3 = ggins::truth::chi2_band(runs, 3.0);  // truth/stats.hpp
   const std::pair<double, double> band{b3.rms_lo, b3.rms_hi};
-  std::error_code ec;
-  fs::create_directories(out_dir, ec);
   std::ofstream csv(fs::path(out_dir) / "montecarlo3d.csv");
   csv << "t_s";
   std::vector<std::string> keys;
@@ -253,8 +335,30 @@ int main(int argc, char** argv) {
   j["final"] = fin;
   j["wall_s"] = wall;
   j["jobs"] = jobs;
-  std::ofstream(fs::path(out_dir) / "montecarlo3d.json") << j.dump(2) << '\n';
   csv.close();
+  if (!csv) throw std::runtime_error("cannot write " + (fs::path(out_dir) / "montecarlo3d.csv").string());
+  ggins::hil::write_json(fs::path(out_dir) / "montecarlo3d.json", j);
+  int code = all_in ? 0 : 3;
+  {
+    std::vector<ggins::hil::ConsistencyState> cs;
+    for (const auto& k : keys) cs.push_back({k, fin[k]["mc"].get<double>(), fin[k]["cov"].get<double>()});
+    const json cons = ggins::hil::consistency_block(
+        cs, runs, 3.0, band.first, band.second,
+        "s/sigma per NED component at the last output, s = sqrt(sum e^2/N) (zero-mean errors, N dof)");
+    const json rep = write_report(ggins::hil::FlightEnd{}, cons,
+                                  json{{"seed", seed},
+                                       {"seeds", "run i (1..N): seed + i - 1; run 0 perfect sensors"},
+                                       {"t_s", j["t_s"]},
+                                       {"ratio_min", rmin},
+                                       {"ratio_max", rmax},
+                                       {"perfect_run_final", [&] {
+                                          json p;
+                                          for (const auto& k : keys) p[k] = fin[k]["perfect_run_error"];
+                                          return p;
+                                        }()}});
+    const int st = ggins::hil::exit_status(rep);  // the flights' status before the comparison's verdict
+    if (st != 0 && (code == 0 || st != 4)) code = st;
+  }
   if (!no_plot) {
     std::vector<std::string> cands;
     if (!python.empty()) cands.push_back(python);
@@ -283,7 +387,7 @@ int main(int argc, char** argv) {
                   fin[k]["in_band"].get<bool>() ? "in" : "OUT", fin[k]["perfect_run_error"].get<double>());
     std::printf("%s\n", all_in ? "all inside the band" : "NOT all inside the band");
   }
-  return all_in ? 0 : 3;
+  return code;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ggins-montecarlo3d: %s\n", e.what());
     return ggins::cli::kExitFailed;

@@ -106,7 +106,8 @@ gg_nav3d_config_t Sim3D::config(const SensorErrors& e) const {
   return c;
 }
 
-std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, double output_dt_s) const {
+std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, double output_dt_s,
+                                  FlyCounts* counts) const {
   gg_nav3d_t nav;
   const gg_nav3d_config_t cfg = config(e);
   if (gg_nav3d_init(&nav, &cfg) != GG_OK) throw std::runtime_error("gg_nav3d_init failed");
@@ -121,6 +122,12 @@ std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, doub
     gen.frame(k, fr, &t);
     const gg_status_t st = gg_nav3d_step(&nav, &fr, nullptr, &o);
     if (st != GG_OK) throw std::runtime_error("gg_nav3d_step failed at step " + std::to_string(k));
+    if (counts) {
+      ++counts->steps;
+      counts->health_or |= o.health;
+      for (size_t b = 0; b < 32; ++b)
+        if (o.health & (1u << b)) ++counts->health_count[b];
+    }
     if (k % every == 0 || k == K) {
       ErrSample s;
       s.t = double(t.t_s);

@@ -13,6 +13,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -53,8 +55,18 @@ struct ErrSample {
 class Sim3D {
  public:
   Sim3D(const Cov3DScenario& s, double rate_hz);
+  // What a flight counted: steps flown, the OR of every output's health word and, per
+  // bit, the outputs that had it set.
+  struct FlyCounts {
+    int64_t steps = 0;
+    uint32_t health_or = 0;
+    std::array<int64_t, 32> health_count{};
+  };
   // Flies [0, duration] and returns the errors every output_dt. Throws on a firmware error.
-  std::vector<ErrSample> fly(const SensorErrors& e, double duration_s, double output_dt_s) const;
+  std::vector<ErrSample> fly(const SensorErrors& e, double duration_s, double output_dt_s,
+                             FlyCounts* counts = nullptr) const;
+  // Steps of a flight of duration_s (steps 0..K: K + 1 outputs).
+  int64_t steps(double duration_s) const { return std::llround(duration_s * 1e6 / double(dt_us_)) + 1; }
   gg_nav3d_config_t config(const SensorErrors& e) const;
   // The frame generator of a run with errors e over n_steps steps.
   truth3d::Generator3 generator(const SensorErrors& e, int64_t n_steps) const;

@@ -1,10 +1,13 @@
 #include "report.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include <toml++/toml.h>
 
+#include "frame_names.hpp"
 #include "hil_common.hpp"
 
 namespace ggins::hil {
@@ -106,6 +109,139 @@ void write_effective_scenario(const std::filesystem::path& p, const std::string&
   f << os.str();
   f.close();
   if (!f) throw Fail("cannot write " + p.string());
+}
+
+json consistency_block(const std::vector<ConsistencyState>& states, int dof, double z, double ratio_lo, double ratio_hi,
+                       const std::string& statistic) {
+  json c;
+  c["statistic"] = statistic;
+  c["dof"] = dof;
+  c["z"] = z;
+  c["ratio_lo"] = ratio_lo;
+  c["ratio_hi"] = ratio_hi;
+  c["method"] = "two-sided chi-square interval at +-z standard normal quantiles, Wilson-Hilferty (truth/stats.hpp)";
+  bool all = !states.empty();
+  json st = json::object();
+  for (const auto& x : states) {
+    const double r = x.sample_rms / x.predicted_sigma;
+    const bool in = r >= ratio_lo && r <= ratio_hi;  // a NaN ratio is outside
+    all = all && in;
+    st[x.key] = {{"sample_rms", x.sample_rms}, {"predicted_sigma", x.predicted_sigma}, {"ratio", r}, {"within", in}};
+  }
+  c["states"] = st;
+  c["all_within"] = all;
+  return c;
+}
+
+namespace {
+bool is_final_max(const json& v) { return v.is_object() && v.contains("final") && v.contains("max"); }
+bool is_axes(const json& v) {
+  if (!v.is_object() || v.empty()) return false;
+  for (const auto& [k, x] : v.items())
+    if (!x.is_number()) return false;
+  return true;
+}
+}  // namespace
+
+json ensemble_report(const std::string& tool, const std::string& task, const std::string& scenario,
+                     const std::string& source, const std::string& description, const std::string& mode, double rate_hz,
+                     double duration_s, const std::vector<EnsembleRun>& runs, int runs_requested, const FlightEnd& end,
+                     const std::string& frame, const std::string& definition, const json& consistency,
+                     const json& extra) {
+  FlightCounts c;
+  uint32_t health_or = 0;
+  std::map<std::string, int64_t> hc;
+  int64_t least_seq = -1;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const FlightCounts& r = runs[i].counts;
+    c.steps_expected += r.steps_expected;
+    c.steps_flown += r.steps_flown;
+    c.steps_rejected += r.steps_rejected;
+    c.frames_recovered += r.frames_recovered;
+    if (r.dt_s > 0) c.dt_s = r.dt_s;
+    least_seq = i == 0 ? r.final_seq : std::min(least_seq, r.final_seq);
+    health_or |= runs[i].health_or;
+    for (const auto& [k, n] : runs[i].health_counts) hc[k] += n;
+  }
+  c.final_seq = least_seq;
+  json s = report_head(tool, task, scenario, source, description, mode, rate_hz, duration_s, c, end);
+  s["health_seen"] = health_word(health_or);
+  json hcj = json::object();
+  for (const auto& [k, n] : hc) hcj[k] = n;
+  s["health_counts"] = hcj;
+
+  // errors over the runs: the keys of the first run's block
+  json e;
+  e["frame"] = frame;
+  e["definition"] = definition;
+  json per_run = json::array();
+  json rms = json::object();
+  const EnsembleRun* first = nullptr;  // the first run with errors gives the keys
+  for (const auto& r : runs)
+    if (!first && !r.errors.empty()) first = &r;
+  if (first) {
+    for (const auto& [k, v0] : first->errors.items()) {
+      if (is_final_max(v0)) {
+        double ss = 0, mx = 0;
+        int n = 0;
+        for (const auto& r : runs) {
+          if (!r.errors.contains(k)) continue;
+          const double f = r.errors[k].value("final", std::nan("")), m = r.errors[k].value("max", std::nan(""));
+          ss += f * f;
+          mx = (std::isnan(m) || std::isnan(mx)) ? std::nan("") : std::max(mx, m);
+          ++n;
+        }
+        const double q = n > 0 ? std::sqrt(ss / n) : std::nan("");
+        e[k] = {{"final", q}, {"max", mx}};
+        rms[k] = q;
+      } else if (is_axes(v0)) {
+        json ax;
+        for (const auto& [a, x0] : v0.items()) {
+          (void)x0;
+          double ss = 0;
+          int n = 0;
+          for (const auto& r : runs)
+            if (r.errors.contains(k) && r.errors[k].contains(a)) {
+              const double x = r.errors[k][a].get<double>();
+              ss += x * x;
+              ++n;
+            }
+          ax[a] = n > 0 ? std::sqrt(ss / n) : std::nan("");
+        }
+        e[k] = ax;
+        rms[k] = ax;
+      }
+    }
+    for (const auto& r : runs) {
+      json pr = {{"run", r.index}, {"seed", r.seed}, {"status", r.status}, {"steps_flown", r.counts.steps_flown},
+                 {"health_seen_raw", r.health_or}};
+      for (const auto& [k, v] : r.errors.items()) {
+        if (is_final_max(v)) {
+          // position_error_m -> position_error_final_m: the unit stays last
+          const auto us = k.rfind('_');
+          pr[k.substr(0, us) + "_final" + k.substr(us)] = v["final"];
+        }
+      }
+      per_run.push_back(pr);
+    }
+  }
+  s["errors"] = e;
+  s["aids"] = json::array();
+  int failed = 0, flown = 0;
+  for (const auto& r : runs) {
+    if (r.status != "completed" && r.status != "degraded") ++failed;
+    if (r.counts.steps_flown > 0) ++flown;
+  }
+  json en = {{"runs", runs_requested},
+             {"runs_flown", flown},  // runs with a step flown
+             {"runs_failed", failed + (runs_requested - static_cast<int>(runs.size()))},  // not completed
+             {"errors_over_runs", "final: RMS over the runs of each run's final value; max: the largest of any run"},
+             {"rms", rms},
+             {"per_run", per_run},
+             {"consistency", consistency}};
+  for (const auto& [k, v] : extra.items()) en[k] = v;
+  s["ensemble"] = en;
+  return s;
 }
 
 }  // namespace ggins::hil

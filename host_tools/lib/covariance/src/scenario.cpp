@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <toml++/toml.h>
 
 #include "ggins/truth/scenario.hpp"
+#include "ggins/truth/scenario_schema.hpp"
 #include "ggins/truth/scenario_toml.hpp"
 
 namespace ggins::covariance {
@@ -30,25 +32,45 @@ std::optional<CovScenario> builtin_scenario(const std::string& name) {
 
 namespace {
 
-double num(const toml::node* n, const std::string& key) {
-  if (!n) throw std::runtime_error("missing " + key);
+// "scenario <path>:<line>" of a node (its line in the user's file, when known)
+std::string at(const std::string& path, const toml::node* n) {
+  const auto line = n ? n->source().begin.line : 0;
+  return "scenario " + path + (line > 0 ? ":" + std::to_string(line) : "");
+}
+
+// where: "scenario <path>[:<line>]"
+void check_sigma(double v, const std::string& where, const std::string& key) {
+  if (!(std::isfinite(v) && v >= 0.0))
+    throw std::runtime_error(where + ": " + key + " = " + ggins::truth::sch::num_text(v) +
+                             " (allowed: a finite number >= 0)");
+}
+
+double num(const toml::node* n, const std::string& key, const std::string& path) {
+  if (!n) throw std::runtime_error("scenario " + path + ": missing " + key);
   if (auto v = n->value<double>()) {
-    if (!std::isfinite(*v)) throw std::runtime_error(key + " = " + std::to_string(*v) + " is not finite (allowed: a finite number)");
+    if (!std::isfinite(*v))
+      throw std::runtime_error(at(path, n) + ": " + key + " = " + ggins::truth::sch::num_text(*v) +
+                               " is not finite (allowed: a finite number >= 0)");
     return *v;
   }
-  throw std::runtime_error(key + " is not a number");
+  throw std::runtime_error(at(path, n) + ": " + key + " is not a number (allowed: a finite number >= 0)");
 }
 
 // The file is a scenario of the truth generator (the same keys, types and ranges: an
 // unknown key or section, a NaN, a value out of range is an error there) plus the
 // covariance-only [initial] table, checked here. Returns the truth parser's scenario:
 // every shared key's value and default comes from there (truth/scenario.hpp).
-ggins::truth::Scenario parse_as_truth_scenario(const toml::table& tbl, const std::string& path) {
-  if (tbl.empty())
+ggins::truth::Scenario parse_as_truth_scenario(const std::string& text, const std::string& path) {
+  toml::table rest;
+  try {
+    rest = toml::parse(text, path);  // the nodes keep their lines in the user's file
+  } catch (const toml::parse_error& e) {
+    throw std::runtime_error(path + ": " + std::string(e.description()));
+  }
+  if (rest.empty())
     throw std::runtime_error("scenario " + path + ": the file sets no key (allowed: a scenario table; for the defaults "
                              "use the built-in welker-table1)");
-  toml::table rest = tbl;
-  if (const toml::node* n = tbl.get("initial")) {
+  if (const toml::node* n = rest.get("initial")) {
     if (!n->is_table()) throw std::runtime_error("scenario " + path + ": 'initial' must be a table ([initial])");
     ggins::truth::scenario_toml::check_keys(*n->as_table(), "initial",
                                             {"gravity_sigma_mps2", "position_sigma_m", "velocity_sigma_mps"}, path);
@@ -59,27 +81,23 @@ ggins::truth::Scenario parse_as_truth_scenario(const toml::table& tbl, const std
   if (toml::table* acc = rest["accel"].as_table())
     for (const char* k : {"bias_sigma_mps2", "noise_sigma_mps2"})
       if (acc->get(k) && acc->get(k)->is_array()) acc->insert_or_assign(k, 0.0);
-  std::ostringstream os;
-  os << rest;
-  return ggins::truth::parse_scenario(os.str(), fs::path(path).stem().string(), path);
+  return ggins::truth::parse_scenario_table(rest, text, fs::path(path).stem().string(), path);
 }
 
-void check_sigma(double v, const std::string& path, const std::string& key) {
-  if (!(std::isfinite(v) && v >= 0.0))
-    throw std::runtime_error("scenario " + path + ": " + key + " = " + std::to_string(v) +
-                             " (allowed: a finite number >= 0)");
-}
 
 }  // namespace
 
 CovScenario load_scenario_toml(const std::string& path) {
-  toml::table tbl;
-  try {
-    tbl = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    throw std::runtime_error(path + ": " + std::string(e.description()));
+  std::string text;
+  {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error("scenario " + path + ": cannot read the file");
+    std::ostringstream os;
+    os << f.rdbuf();
+    text = os.str();
   }
-  const ggins::truth::Scenario t = parse_as_truth_scenario(tbl, path);
+  const ggins::truth::Scenario t = parse_as_truth_scenario(text, path);
+  const toml::table tbl = toml::parse(text, path);  // parsed above: well-formed
   // Keys shared with the truth generator / ggins run take their values and defaults from
   // the truth parser (no accelerometer errors unless given); the keys the file leaves out
   // are listed in `defaulted`. The firmware starts from the true G(r0) in host-in-the-loop
@@ -143,13 +161,11 @@ CovScenario load_scenario_toml(const std::string& path) {
     }
     if (const toml::array* arr = node(dotted)->as_array()) {
       if (arr->size() != 8)
-        throw std::runtime_error(path + ": " + dotted + " needs 8 values (f1x f2x f3x f4x f1z f2z f3z f4z)");
+        throw std::runtime_error(at(path, arr) + ": " + dotted +
+                                 " must have 8 values (allowed: f1x f2x f3x f4x f1z f2z f3z f4z, or one number)");
       for (size_t i = 0; i < 8; ++i) {
-        try {
-          dst[i] = num(arr->get(i), dotted);
-        } catch (const std::runtime_error& e) {
-          throw std::runtime_error("scenario " + path + ": " + e.what());
-        }
+        dst[i] = num(arr->get(i), std::string(dotted) + "[" + std::to_string(i) + "]", path);
+        check_sigma(dst[i], at(path, arr->get(i)), std::string(dotted) + "[" + std::to_string(i) + "]");
       }
     } else {
       dst.assign(8, truth_value);
@@ -162,34 +178,26 @@ CovScenario load_scenario_toml(const std::string& path) {
   // the covariance-only [initial] table
   auto get = [&](const char* dotted, double& dst) {
     if (!given(dotted)) return;
-    try {
-      dst = num(node(dotted), dotted);
-    } catch (const std::exception& e) {
-      throw std::runtime_error(path + ": " + e.what());
-    }
+    dst = num(node(dotted), dotted, path);
+    check_sigma(dst, at(path, node(dotted)), dotted);
   };
   if (const toml::node* n = node("initial.gravity_sigma_mps2")) {
     if (const toml::array* arr = n->as_array()) {
-      if (arr->size() != 2) throw std::runtime_error(path + ": initial.gravity_sigma_mps2 needs [x, z]");
-      s.gravity0_sigma_x_mps2 = num(arr->get(0), "initial.gravity_sigma_mps2[0]");
-      s.gravity0_sigma_z_mps2 = num(arr->get(1), "initial.gravity_sigma_mps2[1]");
+      if (arr->size() != 2)
+        throw std::runtime_error(at(path, arr) + ": initial.gravity_sigma_mps2 must have 2 values (allowed: [x, z], or one number)");
+      s.gravity0_sigma_x_mps2 = num(arr->get(0), "initial.gravity_sigma_mps2[0]", path);
+      s.gravity0_sigma_z_mps2 = num(arr->get(1), "initial.gravity_sigma_mps2[1]", path);
     } else {
-      s.gravity0_sigma_x_mps2 = s.gravity0_sigma_z_mps2 = num(n, "initial.gravity_sigma_mps2");
+      s.gravity0_sigma_x_mps2 = s.gravity0_sigma_z_mps2 = num(n, "initial.gravity_sigma_mps2", path);
     }
+    check_sigma(s.gravity0_sigma_x_mps2, at(path, n), "initial.gravity_sigma_mps2");
+    check_sigma(s.gravity0_sigma_z_mps2, at(path, n), "initial.gravity_sigma_mps2");
   } else {
     s.defaulted.emplace_back("initial.gravity_sigma_mps2");
   }
   get("initial.position_sigma_m", s.pos0_sigma_m);
   get("initial.velocity_sigma_mps", s.vel0_sigma_mps);
-  for (size_t i = 0; i < 8; ++i) {
-    check_sigma(s.bias_sigma_mps2[i], path, "accel.bias_sigma_mps2[" + std::to_string(i) + "]");
-    check_sigma(s.noise_sigma_mps2[i], path, "accel.noise_sigma_mps2[" + std::to_string(i) + "]");
-  }
-  check_sigma(s.gravity0_sigma_x_mps2, path, "initial.gravity_sigma_mps2");
-  check_sigma(s.gravity0_sigma_z_mps2, path, "initial.gravity_sigma_mps2");
-  check_sigma(s.pos0_sigma_m, path, "initial.position_sigma_m");
-  check_sigma(s.vel0_sigma_mps, path, "initial.velocity_sigma_mps");
-  if (s.baro_loop) check_sigma(s.baro_bias_m, path, "baro.bias_m");  // the linear model's sigma of the constant bias
+  if (s.baro_loop) check_sigma(s.baro_bias_m, at(path, node("baro.bias_m")), "baro.bias_m");  // the linear model's sigma of the constant bias
   return s;
 }
 

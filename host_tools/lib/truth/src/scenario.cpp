@@ -14,6 +14,7 @@
 #include "ggins/gravity/normal.hpp"
 #include "ggins/truth/scenario_keys.hpp"
 #include "ggins/truth/scenario_schema.hpp"
+#include "ggins/truth/scenario_toml.hpp"
 #include "sensor_faults_parse.hpp"
 
 namespace ggins::truth {
@@ -57,23 +58,6 @@ namespace {
 
 namespace sch = ggins::truth::sch;
 using S = Scenario;
-
-// [sensor_faults]: read by parse_sensor_faults (sensor_faults.cpp), documented here.
-std::vector<sch::Row> sensor_fault_rows() {
-  return {{"seed", "integer", "", "1", ">= 0", "seed of the faults' random occurrence (prob < 1)"},
-          {"fault", "array of tables", "", "none", "[[sensor_faults.fault]]", "one entry per injected fault:"},
-          {"fault.kind", "string", "", "(required)",
-           "\"nan\", \"inf\", \"range\", \"saturate\", \"stuck\", \"step\", \"drift\", \"noise\", \"status_bad\", "
-           "\"time_jump\", \"time_repeat\", \"time_back\"",
-           "what happens to the reading (time_*: to the frame's time stamp)"},
-          {"fault.sensor", "integer", "", "(required, not time_*)", "[1, 4]", "accelerometer"},
-          {"fault.axis", "string", "", "(required, not time_*)", "\"x\", \"z\"", "its axis"},
-          {"fault.start_s", "number", "s", "0.0", ">= 0", "onset"},
-          {"fault.duration_s", "number", "s", "0.0", ">= 0", "length (0: to the end)"},
-          {"fault.size", "number", "m/s^2 (time_*: us)", "0.0", "finite; time_jump/back: whole us in [1, 1e12]",
-           "the fault's size: reading, step, drift rate, noise sigma, or time jump"},
-          {"fault.prob", "number", "1", "1.0", "(0, 1]", "probability per frame while active"}};
-}
 
 std::vector<std::pair<std::string, std::optional<std::string>>> write_sensor_faults(const SensorFaultParams& p) {
   std::vector<std::pair<std::string, std::optional<std::string>>> out;
@@ -265,7 +249,7 @@ sch::Schema<S> build_schema() {
     secs.push_back(sch::section<S>(t, &S::baro, [](const S& s) { return s.baro.enable; }));
   }
   secs.push_back(sch::delegated_section<S>(
-      "sensor_faults", "Injected sensor faults (sensor_faults.hpp).", sensor_fault_rows(),
+      "sensor_faults", "Injected sensor faults (sensor_faults.hpp).", keys::sensor_fault_rows(fault_instrument2d()),
       [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults(t, c.source); },
       [](const S& s) { return write_sensor_faults(s.sensor_faults); },
       [](const S& s) { return !s.sensor_faults.faults.empty(); }));
@@ -294,7 +278,6 @@ std::string scenario_to_toml(const Scenario& s, bool template_comments) {
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source) {
-  const sch::Ctx c{source};
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -304,6 +287,12 @@ Scenario parse_scenario(const std::string& text, const std::string& fallback_nam
        << e.source().begin.line << ", column " << e.source().begin.column << ")";
     throw std::runtime_error(os.str());
   }
+  return parse_scenario_table(root, text, fallback_name, source);
+}
+
+Scenario parse_scenario_table(const toml::table& root, const std::string& text, const std::string& fallback_name,
+                              const std::string& source) {
+  const sch::Ctx c{source};
   Scenario s;
   s.source = source;
   s.text = text;

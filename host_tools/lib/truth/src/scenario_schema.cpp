@@ -201,6 +201,43 @@ std::string comment_of(const Row& row) {
   return s;
 }
 
+namespace {
+// A node as TOML text, complete (value_text shortens long arrays for messages).
+std::string toml_text(const toml::node& n) {
+  if (const toml::array* a = n.as_array()) {
+    std::string s = "[";
+    for (size_t i = 0; i < a->size(); ++i) s += (i ? ", " : "") + toml_text((*a)[i]);
+    return s + "]";
+  }
+  if (const toml::table* t = n.as_table()) {
+    std::string s = "{";
+    bool first = true;
+    for (const auto& [k, v] : *t) {
+      s += (first ? "" : ", ") + std::string(k.str()) + " = " + toml_text(v);
+      first = false;
+    }
+    return s + "}";
+  }
+  return value_text(n);
+}
+}  // namespace
+
+std::string array_of_tables_text(const std::string& table, const std::string& key, const std::string& inline_value,
+                                 const std::string& prefix) {
+  const toml::table doc = toml::parse(key + " = " + inline_value);  // the writers' own text: well-formed
+  const toml::array* a = doc[key].as_array();
+  if (!a) return "";
+  const std::string head = prefix + "[[" + (table.empty() ? key : table + "." + key) + "]]\n";
+  std::string out;
+  for (const auto& e : *a) {
+    const toml::table* t = e.as_table();
+    if (!t) continue;
+    out += "\n" + head;
+    for (const auto& [k, v] : *t) out += prefix + std::string(k.str()) + " = " + toml_text(v) + "\n";
+  }
+  return out;
+}
+
 std::string md_escape(const std::string& s) {
   std::string o;
   for (char ch : s) {

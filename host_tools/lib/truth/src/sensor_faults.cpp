@@ -19,8 +19,6 @@ constexpr uint64_t kStreamFault = 40;  // counter_uniform stream of the per-step
   throw std::runtime_error("scenario " + source + ": " + what);
 }
 
-const std::set<std::string> kKinds = {"nan",  "inf",   "range",      "saturate",  "stuck",      "step",
-                                      "drift", "status_bad", "time_jump", "time_repeat", "time_back"};
 
 bool is_time_kind(const std::string& k) { return k.rfind("time_", 0) == 0; }
 
@@ -33,7 +31,20 @@ void add_to_reading(double& hi, double& lo, long double d) {
 
 }  // namespace
 
+const keys::FaultInstrument& fault_instrument2d() {
+  static const keys::FaultInstrument f{
+      {"nan", "inf", "range", "saturate", "stuck", "step", "drift", "status_bad", "time_jump", "time_repeat", "time_back"},
+      "integer",
+      "[1, 4]",
+      "accelerometer",
+      {"x", "z"},
+      "(required, not time_*, status_bad)",
+      "m/s^2"};
+  return f;
+}
+
 SensorFaultParams parse_sensor_faults(const toml::table& t, const std::string& source) {
+  static const std::set<std::string> kKinds(fault_instrument2d().kinds.begin(), fault_instrument2d().kinds.end());
   SensorFaultParams p;
   for (const auto& [k, v] : t) {
     (void)v;

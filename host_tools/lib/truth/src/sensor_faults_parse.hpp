@@ -4,9 +4,12 @@
 #include <string>
 #include <toml++/toml.h>
 
+#include "ggins/truth/scenario_keys.hpp"
 #include "ggins/truth/sensor_faults.hpp"
 
 namespace ggins::truth {
+// The 2-D instrument of [sensor_faults]: accelerometers 1..4, axes x and z.
+const keys::FaultInstrument& fault_instrument2d();
 // Throws std::runtime_error("scenario <source>: ...") naming the offending key.
 SensorFaultParams parse_sensor_faults(const toml::table& t, const std::string& source);
 }  // namespace ggins::truth

@@ -16,8 +16,6 @@ namespace {
 
 constexpr uint64_t kStreamFaultProb = 51, kStreamFaultNoise = 52;  // distinct from the generator's streams
 
-const std::set<std::string> kKinds = {"nan",   "inf",        "range",     "saturate",    "stuck",    "step",
-                                      "drift", "noise",      "status_bad", "time_jump", "time_repeat", "time_back"};
 
 bool is_time_kind(const std::string& k) { return k.rfind("time_", 0) == 0; }
 
@@ -35,7 +33,20 @@ thread_local bool t_reference = false;
 
 }  // namespace
 
+const truth::keys::FaultInstrument& fault_instrument3d() {
+  static const truth::keys::FaultInstrument f{{"nan", "inf", "range", "saturate", "stuck", "step", "drift", "noise",
+                                               "status_bad", "time_jump", "time_repeat", "time_back"},
+                                              "integer or \"gyro\"",
+                                              "[0, 5], \"gyro\"",
+                                              "accelerometer or the gyro",
+                                              {"x", "y", "z"},
+                                              "(required, not time_*, status_bad)",
+                                              "m/s^2, rad/s"};
+  return f;
+}
+
 SensorFaults3 parse_sensor_faults3(const toml::table& t, const std::string& source) {
+  static const std::set<std::string> kKinds(fault_instrument3d().kinds.begin(), fault_instrument3d().kinds.end());
   auto fail = [&](const std::string& what) -> void { throw std::runtime_error("scenario " + source + ": " + what); };
   SensorFaults3 p;
   for (const auto& [k, v] : t) {

@@ -214,22 +214,6 @@ std::vector<std::pair<std::string, std::optional<std::string>>> write_aid_pf3(co
           {"reg_bw", n(a.reg_bw)}, {"gain", n(a.gain)}, {"ess_frac", n(a.ess_frac)}};
 }
 
-std::vector<sch::Row> sensor_fault3_rows() {
-  return {{"seed", "integer", "", "1", ">= 0", "seed of the faults' random occurrence (prob < 1)"},
-          {"fault", "array of tables", "", "none", "[[sensor_faults.fault]]", "one entry per injected fault:"},
-          {"fault.kind", "string", "", "(required)",
-           "\"nan\", \"inf\", \"range\", \"saturate\", \"stuck\", \"step\", \"drift\", \"noise\", \"status_bad\", "
-           "\"time_jump\", \"time_repeat\", \"time_back\"",
-           "what happens to the reading (time_*: to the frame's time stamp)"},
-          {"fault.sensor", "integer or \"gyro\"", "", "(required, not time_*)", "[0, 5], \"gyro\"", "accelerometer or the gyro"},
-          {"fault.axis", "string", "", "(required, not time_*, status_bad)", "\"x\", \"y\", \"z\"", "its axis"},
-          {"fault.start_s", "number", "s", "0.0", ">= 0", "onset"},
-          {"fault.duration_s", "number", "s", "0.0", ">= 0", "length (0: to the end)"},
-          {"fault.size", "number", "m/s^2, rad/s (time_*: us)", "0.0", "finite; time_jump/back: whole us in [1, 1e12]",
-           "the fault's size: reading, step, drift rate, noise sigma, or time jump"},
-          {"fault.prob", "number", "1", "1.0", "(0, 1]", "probability per frame while active"}};
-}
-
 std::vector<std::pair<std::string, std::optional<std::string>>> write_sensor_faults3(const SensorFaults3& p) {
   std::vector<std::pair<std::string, std::optional<std::string>>> out;
   out.emplace_back("seed", std::to_string(p.seed));
@@ -381,7 +365,7 @@ sch::Schema<S> build_schema3() {
     secs.push_back(sch::section<S>(t));
   }
   secs.push_back(sch::delegated_section<S>(
-      "sensor_faults", "Injected sensor faults (faults3d.hpp).", sensor_fault3_rows(),
+      "sensor_faults", "Injected sensor faults (faults3d.hpp).", keys::sensor_fault_rows(fault_instrument3d()),
       [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults3(t, c.source); },
       [](const S& s) { return write_sensor_faults3(s.sensor_faults); },
       [](const S& s) { return !s.sensor_faults.faults.empty(); }));

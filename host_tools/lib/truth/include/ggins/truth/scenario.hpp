@@ -173,6 +173,7 @@ struct Scenario {
 // `name`. Throws std::runtime_error with the offending key on bad input.
 Scenario parse_scenario(const std::string& toml_text, const std::string& fallback_name,
                         const std::string& source);
+// (parse_scenario_table, in scenario_toml.hpp: the same on a table already parsed)
 
 // Resolve `name_or_path`: an existing file path; else <dir>/<name>.toml for each
 // dir in `search_dirs`; else a built-in. Throws with the list of known names.

@@ -134,4 +134,35 @@ inline sch::Table<AccelErrorParams> accel_table(size_t bias_rows_min, size_t bia
   return t;
 }
 
+// [sensor_faults]: injected sensor faults, one table in 2-D and 3-D; what differs is the
+// task's instrument: the fault kinds its injector has, the sensors and axes a fault names.
+// The rows document the keys its reader (2-D: sensor_faults.cpp, 3-D: faults3d.cpp) checks
+// with the same instrument description.
+struct FaultInstrument {
+  std::vector<std::string> kinds;  // fault kinds, in documented order
+  std::string sensor_type;         // "integer", "integer or \"gyro\""
+  std::string sensor_range;        // "[1, 4]"
+  std::string sensor_meaning;
+  std::vector<std::string> axes;   // {"x", "z"}
+  std::string axis_required;       // when the axis is required
+  std::string size_unit;           // the unit of a reading's fault size
+};
+
+inline std::vector<sch::Row> sensor_fault_rows(const FaultInstrument& f) {
+  std::string kinds, axes;
+  for (const auto& k : f.kinds) kinds += (kinds.empty() ? "" : ", ") + sch::str_text(k);
+  for (const auto& a : f.axes) axes += (axes.empty() ? "" : ", ") + sch::str_text(a);
+  return {{"seed", "integer", "", "1", ">= 0", "seed of the faults' random occurrence (prob < 1)"},
+          {"fault", "array of tables", "", "none", "[[sensor_faults.fault]]", "one entry per injected fault:"},
+          {"fault.kind", "string", "", "(required)", kinds,
+           "what happens to the reading (time_*: to the frame's time stamp)"},
+          {"fault.sensor", f.sensor_type, "", "(required, not time_*)", f.sensor_range, f.sensor_meaning},
+          {"fault.axis", "string", "", f.axis_required, axes, "its axis"},
+          {"fault.start_s", "number", "s", "0.0", ">= 0", "onset"},
+          {"fault.duration_s", "number", "s", "0.0", ">= 0", "length (0: to the end)"},
+          {"fault.size", "number", f.size_unit + " (time_*: us)", "0.0", "finite; time_jump/back: whole us in [1, 1e12]",
+           "the fault's size: reading, step, drift rate, noise sigma, or time jump"},
+          {"fault.prob", "number", "1", "1.0", "(0, 1]", "probability per frame while active"}};
+}
+
 }  // namespace ggins::truth::keys

@@ -411,6 +411,11 @@ namespace detail {
 std::string allowed_list(const std::set<std::string>& names);
 const toml::node* node_at(const toml::table& root, const std::string& dotted);
 std::string comment_of(const Row& row);
+// An array of tables written by a key's writer as an inline array of inline tables
+// ("[{a = 1}, {a = 2}]") as TOML arrays of tables: one "[[table.key]]" header per entry,
+// its keys below (each line prefixed with `prefix`, "# " for a commented-out table).
+std::string array_of_tables_text(const std::string& table, const std::string& key, const std::string& inline_value,
+                                 const std::string& prefix);
 std::string md_escape(const std::string& s);
 }  // namespace detail
 
@@ -466,10 +471,16 @@ std::string Schema<R>::to_toml(const R& r, bool tc) const {
       out += cm + "[" + s.name + "]\n";
     }
     const auto kv = s.write(r);
+    std::string tables;  // arrays of tables: after the table's own keys (TOML puts keys below a [[header]] in it)
     for (size_t i = 0; i < kv.size(); ++i) {
       Row row;
       for (const auto& w : s.rows)
         if (w.key == kv[i].first) row = w;
+      if (row.type == "array of tables") {
+        if (tc) tables += "# " + kv[i].first + ": " + detail::comment_of(row) + "\n";
+        if (kv[i].second) tables += detail::array_of_tables_text(s.name, kv[i].first, *kv[i].second, cm);
+        continue;
+      }
       std::string line;
       if (kv[i].second) {
         line = (tc && row.derived_default ? "# " : cm) + kv[i].first + " = " + *kv[i].second;
@@ -483,6 +494,7 @@ std::string Schema<R>::to_toml(const R& r, bool tc) const {
       }
       out += line + "\n";
     }
+    out += tables;
   }
   return out;
 }

@@ -11,6 +11,16 @@
 #include <string>
 #include <toml++/toml.h>
 
+#include "ggins/truth/scenario.hpp"
+
+namespace ggins::truth {
+// parse_scenario (scenario.hpp) on a table already parsed from `text` (the nodes keep their lines in the
+// source: an error names source:line of the user's file). A reader that takes a table
+// of its own out first (ggins covariance's [initial]) passes the rest here.
+Scenario parse_scenario_table(const toml::table& root, const std::string& text, const std::string& fallback_name,
+                              const std::string& source);
+}  // namespace ggins::truth
+
 namespace ggins::truth::scenario_toml {
 
 [[noreturn]] inline void fail(const std::string& source, const std::string& what) {
@@ -21,12 +31,13 @@ namespace ggins::truth::scenario_toml {
 inline void check_keys(const toml::table& t, const std::string& where, const std::set<std::string>& allowed,
                        const std::string& source) {
   for (const auto& [k, v] : t) {
-    (void)v;
     const std::string key(k.str());
     if (!allowed.count(key)) {
       std::string list;
       for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(source, "unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
+      const auto line = v.source().begin.line;  // the key's line in the file, when known
+      fail(source + (line > 0 ? ":" + std::to_string(line) : ""),
+           "unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
     }
   }
 }

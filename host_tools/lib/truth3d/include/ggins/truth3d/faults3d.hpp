@@ -41,6 +41,8 @@
 
 #include <toml++/toml.h>
 
+#include "ggins/truth/scenario_keys.hpp"
+
 extern "C" {
 #include "ggins/frame.h"
 }
@@ -64,6 +66,10 @@ struct SensorFaults3 {
   std::vector<SensorFault3> faults;
   bool empty() const { return faults.empty(); }
 };
+
+// The 3-D instrument of [sensor_faults] (the rows of the scenario reference and the
+// reader's checks): accelerometers 0..5 or the gyro, axes x, y, z.
+const truth::keys::FaultInstrument& fault_instrument3d();
 
 // The [sensor_faults] table; throws std::runtime_error("scenario <source>: ...") naming the
 // offending key and its line.
