@@ -132,7 +132,6 @@ class MonteCarlo3D(Tool):
     """ggins montecarlo3d: one whole 3-D Monte Carlo (its --runs runs, seeds S..S+N-1) per seed."""
     name = "montecarlo3d"
     default_seed0 = 1
-    ok_codes = [0, 3]  # 3: a final component outside the chi-square band (a result, not a failure)
 
     def task(self, c, scenario, opts, seed):
         argv = ["{bin}/ggins-montecarlo3d", "--seed", str(seed), "-j", "1", "--no-plot", "--out", "{out}"] + c.args + opts
