@@ -27,7 +27,9 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   }
   const auto q = quat_from_dcm(t0.s.C_b_e);
   for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[static_cast<size_t>(i)];
-  c.omega_ie = kOmegaIe;
+  // the Earth rate of the truth flown (nav3d.h: negative for a non-rotating Earth)
+  const Real w_ie = g.trajectory().omega_ie();
+  c.omega_ie = w_ie > 0 ? w_ie : -1.0L;
   c.f_max = s.firmware.f_max_mps2;
   c.asym_max = s.firmware.asym_max_ps2;
   c.fdi_parity_f_max = s.fdi_parity_f_max_mps2;

@@ -3,7 +3,7 @@
 // of nav3d.h (ggins run3d over LCM or in process, Monte Carlo, the tests):
 // geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
 // position, known as in Welker et al.), q0_b_e from the truth at t = 0, the
-// Earth rate, gravity mode and onboard model (the WGS-84 normal field's zonal
+// Earth rate of the trajectory flown, gravity mode and onboard model (the WGS-84 normal field's zonal
 // series J2..J8, or the point mass), barometric loop, the aiding sources
 // ([aid_ukf]: run3d/aids3d.hpp).
 #pragma once
