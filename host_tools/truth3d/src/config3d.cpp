@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "aids3d.hpp"  // host_tools/run3d: [aid_ukf] onto gg_nav3d_config_t.aid_mm
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/wgs84.hpp"
 #include "ggins/truth/config2d.hpp"
@@ -47,7 +46,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   const auto& l = s.nav_baro;
   truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
                       c.baro);
-  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
+  apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.cpp
   return c;
 }
 
