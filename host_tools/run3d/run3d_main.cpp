@@ -145,7 +145,7 @@ double nees3(const double* p6, const ggins::truth3d::Vec3& d) {
 void Model3D::aid_epoch(const ggins::nav3d_output_t& m, bool accepted) {
   const ggins::truth3d::Truth3& t = truth_ring_[static_cast<size_t>(m.seq % kTruthRing)];
   using ggins::truth3d::Vec3;
-  const double w_ie = 7.292115e-5;  // WGS-84, the rate the task uses by default
+  const double w_ie = static_cast<double>(ggins::truth3d::kOmegaIe);  // WGS-84, the rate the task uses by default
   Vec3 r, v;
   for (int i = 0; i < 3; ++i) {
     r(i) = static_cast<ggins::truth3d::Real>(m.r_e[i]) + static_cast<ggins::truth3d::Real>(m.r_e_lo[i]);
