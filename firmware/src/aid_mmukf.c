@@ -258,23 +258,6 @@ static void mat_mul(int32_t n, double a[NXM][NXM], double b[NXM][NXM], double o[
     }
 }
 
-/* o = a b^T (n x n used) */
-static void mat_mul_t(int32_t n, double a[NXM][NXM], double b[NXM][NXM], double o[NXM][NXM])
-{
-    int32_t j;
-    int32_t k;
-    int32_t l;
-    for (j = 0; j < n; ++j) {
-        for (k = 0; k < n; ++k) {
-            double s = 0.0;
-            for (l = 0; l < n; ++l) {
-                s += a[j][l] * b[k][l];
-            }
-            o[j][k] = s;
-        }
-    }
-}
-
 /* One step's transition F = I + A h + (A h)^2 / 2 of the error dynamics
  * (aid_mmukf.h) with the INS quantities of this step. */
 static void transition(const gg_aid_mm_t *a, const gg_aid_ins_t *ins, double F[NXM][NXM])
@@ -322,7 +305,6 @@ static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
 {
     double F[NXM][NXM];
     double T[NXM][NXM];
-    double U[NXM][NXM];
     const int32_t n = a->nx;
     const double qv = a->cfg.q_vel_mps_rts * a->cfg.q_vel_mps_rts * ins->dt_s;
     /* angle random walk: the configured one plus the gyro's (sigma_w h per step) */
@@ -334,9 +316,14 @@ static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     int32_t k;
     transition(a, ins, F);
     for (i = 0; (i < ins->n_steps) && (i < GG_LIM_AID_MM_STEPS_MAX); ++i) {
+        gg_status_t st;
         mat_mul(n, F, a->phi, T);
-        mat_mul(n, F, a->q, U);
-        mat_mul_t(n, U, F, a->q);
+        /* Q <- F Q F^T */
+        /* cppcheck-suppress misra-c2012-17.7 */
+        st = gg_ukf_congruence(n, (const double(*)[NXM])F, (const double(*)[NXM])a->q, a->q);
+        if (st != GG_OK) {
+            return st;
+        }
         for (j = 0; j < n; ++j) {
             for (k = 0; k < n; ++k) {
                 a->phi[j][k] = T[j][k];
@@ -562,7 +549,7 @@ static void sim3(const double c[3][3], const double m[3][3], double o[3][3])
 /* The six-component map of X -> c X c^T on symmetric matrices: column m is
  * the image of the m-th basis matrix (E_jj, or E_jk + E_kj off the diagonal,
  * so that X = sum of its six components times the basis). */
-static void sym_map6(const double c[3][3], double t6[6][6])
+static void sym_map6(const double c[3][3], double t6[NXM][NXM])
 {
     static const size_t rj[6] = {0U, 1U, 2U, 0U, 0U, 1U};
     static const size_t rk[6] = {0U, 1U, 2U, 1U, 2U, 2U};
@@ -660,8 +647,6 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
 {
     double cbe[3][3];
     double ceb[3][3];
-    double t6[6][6];
-    double ss[6][6];
     const double n = (double)a->av_n;
     const double sw2 = a->cfg.sigma_gyro_rps * a->cfg.sigma_gyro_rps;
     const double sb2 = a->cfg.sigma_gyro_bias_rps * a->cfg.sigma_gyro_bias_rps;
@@ -722,6 +707,8 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
         a->ep_r[3U + j][3U + j] = (((ratio * sm) * (ratio * sm)) / n) + rdb;
     }
     if ((ins->w_gyro != 0) && ((sw2 > 0.0) || (sb2 > 0.0))) {
+        double t6[NXM][NXM];
+        double ss[NXM][NXM];
         /* the rate terms, ECEF -> body axes of the epoch */
         for (j = 0U; j < 6U; ++j) {
             for (k = 0U; k < 6U; ++k) {
@@ -732,30 +719,17 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
                 ss[j][k] = sum;
             }
         }
-        double tmp[6][6];
+        /* T S T^T, T the map of X -> C_e_b X C_b_e on the six components */
         sym_map6((const double(*)[3])ceb, t6);
-        for (j = 0U; j < 6U; ++j) {
-            for (k = 0U; k < 6U; ++k) {
-                double sum = 0.0;
-                for (size_t l = 0U; l < 6U; ++l) {
-                    sum += t6[j][l] * ss[l][k];
+        /* cppcheck-suppress misra-c2012-17.7 */
+        if (gg_ukf_congruence(6, (const double(*)[NXM])t6, (const double(*)[NXM])ss, ss) == GG_OK) {
+            for (j = 0U; j < 6U; ++j) {
+                for (k = 0U; k < 6U; ++k) {
+                    a->ep_r[j][k] += 0.5 * (ss[j][k] + ss[k][j]);
                 }
-                tmp[j][k] = sum;
             }
-        }
-        for (j = 0U; j < 6U; ++j) {
-            for (k = 0U; k < 6U; ++k) {
-                double sum = 0.0;
-                for (size_t l = 0U; l < 6U; ++l) {
-                    sum += tmp[j][l] * t6[k][l];
-                }
-                ss[j][k] = sum;
-            }
-        }
-        for (j = 0U; j < 6U; ++j) {
-            for (k = 0U; k < 6U; ++k) {
-                a->ep_r[j][k] += 0.5 * (ss[j][k] + ss[k][j]);
-            }
+        } else {
+            a->health |= GG_AID_MM_H_FAIL;
         }
     }
     a->last_n_avg = a->av_n;

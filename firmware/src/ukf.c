@@ -72,6 +72,36 @@ gg_status_t gg_ukf_cholesky(int32_t n, const double A[NX][NX], double L[NX][NX])
 }
 
 /* Cholesky of a small nz x nz matrix (same algorithm, own storage). */
+gg_status_t gg_ukf_congruence(int32_t n, const double T[NX][NX], const double S[NX][NX], double O[NX][NX])
+{
+    if ((T == NULL) || (S == NULL) || (O == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if ((n < 1) || (n > NX)) {
+        return GG_ERR_CONFIG;
+    }
+    double U[NX][NX];
+    for (int32_t j = 0; j < n; ++j) {
+        for (int32_t k = 0; k < n; ++k) {
+            double s = 0.0;
+            for (int32_t l = 0; l < n; ++l) {
+                s += T[j][l] * S[l][k];
+            }
+            U[j][k] = s;
+        }
+    }
+    for (int32_t j = 0; j < n; ++j) {
+        for (int32_t k = 0; k < n; ++k) {
+            double s = 0.0;
+            for (int32_t l = 0; l < n; ++l) {
+                s += U[j][l] * T[k][l];
+            }
+            O[j][k] = s;
+        }
+    }
+    return GG_OK;
+}
+
 static gg_status_t chol_nz(int32_t n, const double A[NZ][NZ], double L[NZ][NZ])
 {
     double B[NX][NX];

@@ -319,6 +319,50 @@ static void test_cholesky_known(void **state)
     assert_int_equal(gg_ukf_cholesky(2, (const double(*)[N])A, L), GG_ERR_RANGE);
 }
 
+/* O = T S T^T against the closed form: a rotation by th in the x-y plane of
+ * diag(s1, s2, s3) is [[c^2 s1 + s^2 s2, c s (s1 - s2), 0], [., s^2 s1 + c^2 s2, 0],
+ * [0, 0, s3]]; a shear [[1, 2], [0, 1]] of I is [[5, 2], [2, 1]]; O may be S. */
+static void test_congruence_known(void **state)
+{
+    (void)state;
+    static double T[N][N], S[N][N], O[N][N];
+    const double th = 0.3, c = cos(th), s = sin(th), s1 = 4.0, s2 = 0.25, s3 = 9.0;
+    memset(T, 0, sizeof T);
+    memset(S, 0, sizeof S);
+    T[0][0] = c;
+    T[0][1] = -s;
+    T[1][0] = s;
+    T[1][1] = c;
+    T[2][2] = 1.0;
+    S[0][0] = s1;
+    S[1][1] = s2;
+    S[2][2] = s3;
+    assert_int_equal(gg_ukf_congruence(3, (const double(*)[N])T, (const double(*)[N])S, O), GG_OK);
+    assert_near(O[0][0], c * c * s1 + s * s * s2, 1e-15);
+    assert_near(O[0][1], c * s * (s1 - s2), 1e-15);
+    assert_near(O[1][0], c * s * (s1 - s2), 1e-15);
+    assert_near(O[1][1], s * s * s1 + c * c * s2, 1e-15);
+    assert_near(O[2][2], s3, 0.0);
+    assert_near(O[0][2], 0.0, 0.0);
+    assert_near(O[1][2], 0.0, 0.0);
+    /* in place (O = S), exact in binary */
+    memset(T, 0, sizeof T);
+    memset(S, 0, sizeof S);
+    T[0][0] = 1.0;
+    T[0][1] = 2.0;
+    T[1][1] = 1.0;
+    S[0][0] = 1.0;
+    S[1][1] = 1.0;
+    assert_int_equal(gg_ukf_congruence(2, (const double(*)[N])T, (const double(*)[N])S, S), GG_OK);
+    assert_true(S[0][0] == 5.0 && S[0][1] == 2.0 && S[1][0] == 2.0 && S[1][1] == 1.0);
+    /* dimension out of range or NULL: O untouched */
+    O[0][0] = 42.0;
+    assert_int_equal(gg_ukf_congruence(0, (const double(*)[N])T, (const double(*)[N])S, O), GG_ERR_CONFIG);
+    assert_int_equal(gg_ukf_congruence(N + 1, (const double(*)[N])T, (const double(*)[N])S, O), GG_ERR_CONFIG);
+    assert_int_equal(gg_ukf_congruence(2, NULL, (const double(*)[N])S, O), GG_ERR_NULL);
+    assert_true(O[0][0] == 42.0);
+}
+
 static gg_status_t nan_h(void *ctx, const double *x, double *z)
 {
     (void)ctx;
@@ -424,6 +468,7 @@ int main(void)
         cmocka_unit_test(test_quadratic_mean_exact),
         cmocka_unit_test(test_range_vs_grid_posterior),
         cmocka_unit_test(test_cholesky_known),
+        cmocka_unit_test(test_congruence_known),
         cmocka_unit_test(test_failures_keep_state),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -145,4 +145,14 @@ gg_status_t gg_ukf_set_mean(gg_ukf_t *st, const double *x);
 gg_status_t gg_ukf_cholesky(int32_t n, const double A[GG_UKF_NX_MAX][GG_UKF_NX_MAX],
                             double L[GG_UKF_NX_MAX][GG_UKF_NX_MAX]);
 
+/** Congruence O = T S T^T of n x n matrices (n = 1..GG_UKF_NX_MAX, top-left
+ *  n x n used): the covariance of T x for x of covariance S. Computed as
+ *  U = T S, then O = U T^T, each element a sum over l = 0 .. n-1 in that
+ *  order (so a caller that wrote the two products out gets the same bits).
+ *  O may be S (S is read only while U is formed), not T. GG_ERR_NULL,
+ *  GG_ERR_CONFIG for n out of range (O untouched). */
+gg_status_t gg_ukf_congruence(int32_t n, const double T[GG_UKF_NX_MAX][GG_UKF_NX_MAX],
+                              const double S[GG_UKF_NX_MAX][GG_UKF_NX_MAX],
+                              double O[GG_UKF_NX_MAX][GG_UKF_NX_MAX]);
+
 #endif /* GGINS_UKF_H */

@@ -35,10 +35,12 @@
 #include "diff3d_sim.hpp"
 #include "ggins/cli_checks.hpp"
 #include "ggins/gmap_gen.hpp"
+#include "ggins/gravity/wgs84.hpp"
 
 extern "C" {
 #include "ggins/limits.h"
 #include "ggins/mmukf.h"
+#include "ggins/quat.h"
 }
 
 #ifndef GGINS_DATA_DIR
@@ -47,7 +49,7 @@ extern "C" {
 
 namespace {
 
-constexpr double kD2R = M_PI / 180.0, kE = 1e-9, kW = 7.292115e-5, kG0 = 9.80665;
+constexpr double kD2R = M_PI / 180.0, kE = 1e-9, kW = static_cast<double>(ggins::gravity::wgs84::kOmega), kG0 = 9.80665;
 
 struct Opt {
   double hours = 10, dt = 0.1, update = 60, meas_e = 0.01, db_e = 0.001, att_deg = 0.5, vel = 1, pos = 10;
@@ -85,16 +87,21 @@ Cmd command(double t, double v) {
   return c;
 }
 
+// C_b_n of the mechanization's q_b_n (firmware quat.h, in gg_real_t as the filter forms it)
 void dcm(const double q[4], Eigen::Matrix3d& C) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  C << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 2 * (x * y + w * z), 1 - 2 * (x * x + z * z),
-      2 * (y * z - w * x), 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
+  const gg_real_t ql[4] = {q[0], q[1], q[2], q[3]};
+  gg_real_t c[3][3];
+  gg_quat_to_dcm(ql, c);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C(i, j) = static_cast<double>(c[i][j]);
 }
 
 // ideal IMU that makes the mechanization follow the command from state x
 gg_mm_imu_t ideal_imu(const gg_mm_nav_t& x, const Cmd& c) {
-  const double s = std::sin(x.lat), co = std::cos(x.lat), e2 = 6.69437999014e-3, a = 6378137.0;
-  const double rn = a / std::sqrt(1 - e2 * s * s), rm = rn * (1 - e2) / (1 - e2 * s * s);
+  const double s = std::sin(x.lat), co = std::cos(x.lat);
+  ggins::gravity::Real rm_l, rn_l;  // meridian, prime-vertical radius (WGS-84)
+  ggins::gravity::wgs84::radii(x.lat, rm_l, rn_l);
+  const double rn = static_cast<double>(rn_l), rm = static_cast<double>(rm_l);
   double g;
   gg_mm_normal_gravity(x.lat, x.h, &g);
   Eigen::Vector3d v(x.v[0], x.v[1], x.v[2]);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ggins/covariance/cov3d_truth3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 extern "C" {
 #include "ggins/quat.h"
 }
@@ -12,6 +13,49 @@ extern "C" {
 namespace ggins::montecarlo3d {
 
 using covariance::skew;
+
+namespace {
+
+// The firmware settings of a run as a 3-D scenario, for the one scenario -> configuration
+// mapping (truth3d::config3d): the covariance scenario's platform, half-baselines, rate and
+// barometric loop (its poles, period and omega_s2; the gate wide open at 1e4 m, a sample valid for
+// one period, coasting for ten), gravity from the gradiometers; accelerometer range 100 m/s^2,
+// parity flag threshold 1 s^-2 and the pair-mean fault detection off (the seeded biases raise no
+// flag), the step tolerance a tenth of the step. omega_s2 = 0 takes the model's value
+// |G(r0)| / |r0| in double (nav3d_model.cpp), so that firmware and model run the same loop.
+truth3d::Scenario3 firmware_scenario(const Cov3DScenario& s, double rate_hz, int64_t dt_us, const truth3d::Truth3& t0) {
+  truth3d::Scenario3 f;
+  f.name = s.name;
+  f.source = s.source;
+  f.platform = s.platform == covariance::Platform::kStrapdown ? "strapdown" : "stabilized";
+  f.a_m = s.model.half_base_m[0];
+  f.b_m = s.model.half_base_m[1];
+  f.c_m = s.model.half_base_m[2];
+  f.rate_hz = rate_hz;
+  f.duration_s = s.duration_s;
+  f.nav_gravity = "gradiometer";
+  if (s.field == "point-mass") f.gravity.model = "point-mass";
+  f.firmware.f_max_mps2 = 100.0;
+  f.firmware.asym_max_ps2 = 1.0;
+  f.firmware.dt_tol_us = dt_us / 10;
+  f.fdi_parity_f_max_mps2 = 0;
+  f.nav_baro.enable = s.model.baro.on ? 1 : 0;
+  if (s.model.baro.on) {
+    auto& l = f.nav_baro;
+    l.poles_radps = s.model.baro.poles_radps;
+    l.period_s = s.model.baro.period_s;
+    l.omega_s2 = s.model.baro.omega_s2 > 0 ? s.model.baro.omega_s2 : double(t0.g_e.norm() / t0.s.r_e.norm());
+    l.max_age_s = l.period_s;
+    l.coast_s = 10 * l.period_s;
+    l.alt_min_m = -1000;
+    l.alt_max_m = 30000;
+    l.gate_m = 1e4;
+    l.max_rejects = 5;
+  }
+  return f;
+}
+
+}  // namespace
 
 Sim3D::Sim3D(const Cov3DScenario& s, double rate_hz) : s_(s) {
   field_ = covariance::make_field3d(s);
@@ -33,6 +77,7 @@ Sim3D::Sim3D(const Cov3DScenario& s, double rate_hz) : s_(s) {
     traj_ = std::make_shared<truth3d::GreatCircle3>(
         g, s.platform == covariance::Platform::kStrapdown ? truth3d::Attitude::Coordinated : truth3d::Attitude::Stabilized);
   }
+  fw_ = firmware_scenario(s, rate_hz, dt_us_, generator(SensorErrors{}, 1).truth(0));
 }
 
 truth3d::Generator3 Sim3D::generator(const SensorErrors& e, int64_t n_steps) const {
@@ -64,44 +109,21 @@ truth3d::Generator3 Sim3D::generator(const SensorErrors& e, int64_t n_steps) con
 }
 
 gg_nav3d_config_t Sim3D::config(const SensorErrors& e) const {
-  gg_nav3d_config_t c{};
-  const truth3d::Truth3 t0 = generator(SensorErrors{}, 1).truth(0);
-  for (int j = 0; j < 3; ++j) c.geometry.half_base_m[j] = s_.model.half_base_m[size_t(j)];
-  c.platform = s_.platform == covariance::Platform::kStrapdown ? GG_PLATFORM_STRAPDOWN : GG_PLATFORM_STABILIZED;
-  c.dt_us = dt_us_;
-  c.dt_tol_us = dt_us_ / 10;
+  const truth3d::Generator3 g0 = generator(SensorErrors{}, 1);
+  const truth3d::Truth3 t0 = g0.truth(0);
+  gg_nav3d_config_t c = truth3d::config3d(fw_, g0);
   for (int j = 0; j < 3; ++j) {
-    c.r0_e[j] = t0.s.r_e(j) + e.dr0[size_t(j)];
-    c.v0_e[j] = t0.s.v_e(j) + e.dv0[size_t(j)];
-    c.g0_e[j] = t0.g_e(j) + e.dg0[size_t(j)];
+    c.r0_e[j] += e.dr0[size_t(j)];
+    c.v0_e[j] += e.dv0[size_t(j)];
+    c.g0_e[j] += e.dg0[size_t(j)];
   }
   const Vec3 psi(e.dpsi0[0], e.dpsi0[1], e.dpsi0[2]);
-  Mat3 C0 = t0.s.C_b_e;
   if (psi.norm() > 0) {  // C^ = exp(-[psi x]) C (exact rotation; the small-angle form to first order)
     const Real a = psi.norm();
     const Mat3 K = skew(psi / a);
     const Mat3 R = Mat3::Identity() - std::sin(a) * K + (1 - std::cos(a)) * K * K;
-    C0 = R * C0;
-  }
-  const std::array<Real, 4> q = truth3d::quat_from_dcm(C0);
-  for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[size_t(i)];
-  c.omega_ie = s_.omega_ie > 0 ? Real(s_.omega_ie) : -1.0L;
-  c.f_max = 100.0;
-  c.asym_max = 1.0;
-  c.gravity_mode = GG_GRAVITY_GRADIOMETER;
-  c.baro_enable = 0;
-  if (s_.model.baro.on) {
-    c.baro_enable = 1;
-    for (int i = 0; i < 3; ++i) c.baro.poles[i] = s_.model.baro.poles_radps[size_t(i)];
-    const double ws2 = s_.model.baro.omega_s2 > 0 ? s_.model.baro.omega_s2 : double(t0.g_e.norm() / t0.s.r_e.norm());
-    c.baro.omega_s2 = ws2;  // the model's default too (nav3d_model.cpp)
-    c.baro.period_us = std::llround(s_.model.baro.period_s * 1e6);
-    c.baro.max_age_us = c.baro.period_us;
-    c.baro.coast_us = 10 * c.baro.period_us;
-    c.baro.alt_min_m = -1000;
-    c.baro.alt_max_m = 30000;
-    c.baro.gate_m = 1e4;
-    c.baro.max_rejects = 5;
+    const std::array<Real, 4> q = truth3d::quat_from_dcm(Mat3(R * t0.s.C_b_e));
+    for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[size_t(i)];
   }
   return c;
 }

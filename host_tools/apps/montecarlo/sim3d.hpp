@@ -9,7 +9,9 @@
 // The errors drawn per run (18 accelerometer biases, gyro biases, barometer
 // bias) are handed to the sensor models as fixed values; white noise and the
 // barometer's Gauss-Markov error come from the models' counter-based streams
-// under the run's noise seed.
+// under the run's noise seed. The firmware configuration is the simulation
+// library's one mapping (truth3d::config3d) of the firmware settings the
+// covariance scenario implies, plus the run's initial-state errors.
 #pragma once
 
 #include <array>
@@ -20,6 +22,7 @@
 
 #include "ggins/covariance/cov3d.hpp"
 #include "ggins/truth3d/generator3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
 
 extern "C" {
 #include "ggins/frame.h"
@@ -78,6 +81,7 @@ class Sim3D {
   std::shared_ptr<const truth3d::Trajectory3> traj_;
   std::shared_ptr<const covariance::Nav3DModel> model_;
   int64_t dt_us_;
+  truth3d::Scenario3 fw_;  // the firmware settings, for truth3d::config3d
 };
 
 }  // namespace ggins::montecarlo3d

@@ -17,6 +17,7 @@
 
 extern "C" {
 #include "ggins/nav3d.h"
+#include "ggins/quat.h"
 }
 #include "ggins/truth3d/generator3d.hpp"
 
@@ -34,12 +35,14 @@ struct Errors3 {
   Real dh = 0;
 };
 
+// The DCM of the task's published quaternion (firmware quat.h).
 inline Mat3 dcm_from_quat(const double q[4]) {
-  const Real w = q[0], x = q[1], y = q[2], z = q[3];
+  const gg_real_t ql[4] = {q[0], q[1], q[2], q[3]};
+  gg_real_t c[3][3];
+  gg_quat_to_dcm(ql, c);
   Mat3 C;
-  C << 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),  //
-      2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),   //
-      2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) C(i, j) = c[i][j];
   return C;
 }
 

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "compare3d.hpp"
-#include "aids3d.hpp"
+#include "ggins/truth3d/aids3d.hpp"
 #include "ggins/truth3d/config3d.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
@@ -58,7 +58,7 @@ class Model3D {
 
   Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc) : opt_(o), sc_(sc), gen_(sc) {
     if (sc_.aid_ukf.enabled)  // the onboard map tiles of the map aid: the computer's map storage
-      for (const auto& p : ggins::run3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
+      for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         maps_.push_back(fs::absolute(p).string());
     if (sc_.aid_pf.enabled)  // the Gamma_zz tiles of the cold-atom aid (pf3d.hpp)
       for (const auto& p : ggins::truth3d::aid_pf_map_paths(sc_.aid_pf, sc_.source)) maps_.push_back(fs::absolute(p).string());
@@ -145,7 +145,7 @@ double nees3(const double* p6, const ggins::truth3d::Vec3& d) {
 void Model3D::aid_epoch(const ggins::nav3d_output_t& m, bool accepted) {
   const ggins::truth3d::Truth3& t = truth_ring_[static_cast<size_t>(m.seq % kTruthRing)];
   using ggins::truth3d::Vec3;
-  const double w_ie = 7.292115e-5;  // WGS-84, the rate the task uses by default
+  const double w_ie = static_cast<double>(ggins::truth3d::kOmegaIe);  // WGS-84, the rate the task uses by default
   Vec3 r, v;
   for (int i = 0; i < 3; ++i) {
     r(i) = static_cast<ggins::truth3d::Real>(m.r_e[i]) + static_cast<ggins::truth3d::Real>(m.r_e_lo[i]);
@@ -329,7 +329,7 @@ ggins::nav3d_config_t Model3D::config() {
   m.baro_alt_max_m = c.baro.alt_max_m;
   m.baro_gate_m = c.baro.gate_m;
   m.baro_max_rejects = c.baro.max_rejects;
-  m.aid_mm_enable = static_cast<int8_t>(c.aid_mm.enable);  // the map aid (aids3d.hpp)
+  m.aid_mm_enable = static_cast<int8_t>(c.aid_mm.enable);  // the map aid (truth3d/aids3d.hpp)
   m.aid_mm_update_steps = c.aid_mm.update_steps;
   m.aid_mm_max_passes = c.aid_mm.max_passes;
   m.aid_mm_sigma_meas_s2 = c.aid_mm.sigma_meas_s2;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ggins/coldatom/ellipse_fit.hpp"
+#include "ggins/gravity/wgs84.hpp"
 
 extern "C" {
 #include "ggins/gmap.h"
@@ -20,12 +21,18 @@ namespace ggins::coldatom {
 
 namespace {
 constexpr double kG0 = 9.80665;
-constexpr double kWgsA = 6378137.0, kWgsE2 = 6.69437999014e-3;
 using V3 = Eigen::Vector3d;
 using M3 = Eigen::Matrix3d;
 
 gg_status_t map_gzz(const void* ctx, double lat, double lon, double h, double* g) {
   return static_cast<const RouteMap*>(ctx)->gzz(lat, lon, h, g) ? GG_OK : GG_ERR_RANGE;
+}
+// Meridian and prime-vertical radii (WGS-84) at latitude lat, m.
+void radii(double lat, double& rm, double& rn) {
+  gravity::Real m, n;
+  gravity::wgs84::radii(lat, m, n);
+  rm = static_cast<double>(m);
+  rn = static_cast<double>(n);
 }
 M3 skew_offdiag(std::mt19937_64& rng, double sd) {
   std::normal_distribution<double> n(0, sd);
@@ -40,8 +47,8 @@ M3 skew_offdiag(std::mt19937_64& rng, double sd) {
 // Fill a gmap tile (DD and its height derivative) from the route map around (lat_c, lon_c).
 bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile) {
   const int n = 50;
-  const double sl = std::sin(lat_c), w2 = 1 - kWgsE2 * sl * sl, RN = kWgsA / std::sqrt(w2);
-  const double RM = RN * (1 - kWgsE2) / w2;
+  double RM, RN;
+  radii(lat_c, RM, RN);
   std::memset(tile, 0, sizeof *tile);
   tile->nlat = n; tile->nlon = n;
   tile->dlat_rad = step / (RM + h);
@@ -186,7 +193,8 @@ FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
     map.route_point(v * t, 0, &lat, &lon);
     const double hd = map.heading(v * t);
     const double sl = std::sin(lat), cl = std::cos(lat);
-    const double w2 = 1 - kWgsE2 * sl * sl, RN = kWgsA / std::sqrt(w2), RM = RN * (1 - kWgsE2) / w2;
+    double RM, RN;
+    radii(lat, RM, RN);
     const double vN = v * std::cos(hd), vE = v * std::sin(hd);
     const V3 Om(kOm * cl, 0, -kOm * sl);
     const V3 rho(vE / (RN + h), -vN / (RM + h), -vE * sl / cl / (RN + h));

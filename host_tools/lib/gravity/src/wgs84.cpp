@@ -35,6 +35,12 @@ void ecef_to_geodetic(const Vec3& r, Real& lat, Real& lon, Real& h) {
   h = (std::fabs(c) > 1e-3L) ? p / c - n : r.z() / s - n * (1.0L - kE2);
 }
 
+void radii(Real lat, Real& m, Real& n) {
+  const Real s = std::sin(lat), w = 1 - kE2 * s * s;
+  n = kA / std::sqrt(w);
+  m = kA * (1 - kE2) / (w * std::sqrt(w));
+}
+
 Mat3 enu_to_ecef(Real lat, Real lon) {
   const Real sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
   Mat3 c;

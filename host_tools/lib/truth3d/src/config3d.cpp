@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "aids3d.hpp"  // host_tools/apps/run3d: [aid_ukf] onto gg_nav3d_config_t.aid_mm
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/wgs84.hpp"
 #include "ggins/truth/config2d.hpp"
@@ -27,7 +26,9 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   }
   const auto q = quat_from_dcm(t0.s.C_b_e);
   for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[static_cast<size_t>(i)];
-  c.omega_ie = kOmegaIe;
+  // the Earth rate of the truth flown (nav3d.h: negative for a non-rotating Earth)
+  const Real w_ie = g.trajectory().omega_ie();
+  c.omega_ie = w_ie > 0 ? w_ie : -1.0L;
   c.f_max = s.firmware.f_max_mps2;
   c.asym_max = s.firmware.asym_max_ps2;
   c.fdi_parity_f_max = s.fdi_parity_f_max_mps2;
@@ -45,7 +46,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   const auto& l = s.nav_baro;
   truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
                       c.baro);
-  run3d::apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.hpp
+  apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.cpp
   return c;
 }
 

@@ -39,11 +39,6 @@ JM constant(const JM& m) {
     for (int j = 0; j < 3; ++j) r[i][j] = J(m[i][j].val());
   return r;
 }
-void radii(Real lat, Real& M, Real& N) {
-  const Real s = std::sin(lat), w = 1 - wgs::kE2 * s * s;
-  N = wgs::kA / std::sqrt(w);
-  M = wgs::kA * (1 - wgs::kE2) / (w * std::sqrt(w));
-}
 Vec3 vee(const Mat3& w) { return Vec3(w(2, 1), w(0, 2), w(1, 0)); }
 
 }  // namespace
@@ -146,7 +141,7 @@ State3 Trajectory3::at(Real t) const {
 Flight3::Flight3(const FlightParams& p, Attitude att) : p_(p), att_(att) {
   if (!std::isfinite(p.lat0) || std::fabs(p.lat0) > 1.5L) throw std::invalid_argument("flight: |lat0| must be < 86 deg");
   Real M, N;
-  radii(p.lat0, M, N);
+  wgs::radii(p.lat0, M, N);
   rate_scale_[0] = 1 / (M + p.h0);
   rate_scale_[1] = 1 / ((N + p.h0) * std::cos(p.lat0));
   rate_scale_[2] = -1;
@@ -195,7 +190,7 @@ void Flight3::jets(Real t, JV& r_e, JM& C_b_i) const {
 Circle3::Circle3(const CircleParams& p, Attitude att) : p_(p), att_(att) {
   if (!(p.radius_m > 0) || !(std::fabs(p.speed_mps) > 1)) throw std::invalid_argument("circle: radius > 0, |speed| > 1");
   Real M, N;
-  radii(p.lat_c, M, N);
+  wgs::radii(p.lat_c, M, N);
   alat_ = p.radius_m / (M + p.h);
   alon_ = p.radius_m / ((N + p.h) * std::cos(p.lat_c));
   w_ = p.speed_mps / p.radius_m;

@@ -22,6 +22,7 @@
 
 #include "ggins/coldatom/gradiometer.hpp"
 #include "ggins/coldatom/route_map.hpp"
+#include "ggins/gravity/wgs84.hpp"
 
 extern "C" {
 #include "ggins/gmap.h"
@@ -43,7 +44,7 @@ struct InsErrorParams {
   double gyro_noise = 2.0e-6;   // rad/s / sqrt(Hz)
   double dt = 0.1;              // s, error-model step
   bool random = true;           // false: biases = +value on every body axis (tests), no scale/non-orthogonality draw
-  double earth_rate = 7.292115e-5;  // rad/s (0 in the closed-form tests)
+  double earth_rate = static_cast<double>(gravity::wgs84::kOmega);  // rad/s (0 in the closed-form tests)
 };
 
 struct FlightConfig {

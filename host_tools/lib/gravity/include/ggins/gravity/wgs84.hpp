@@ -28,6 +28,9 @@ constexpr Real kPubE2 = 6.69437999014e-3L;         // e^2
 Vec3 geodetic_to_ecef(Real lat, Real lon, Real h);
 // Earth-fixed -> geodetic (iterative, converged to long-double precision).
 void ecef_to_geodetic(const Vec3& r, Real& lat, Real& lon, Real& h);
+// Meridian (m) and prime-vertical (n) radii of curvature at geodetic latitude lat (rad), m:
+// n = a / sqrt(1 - e^2 sin^2 lat), m = a (1 - e^2) / (1 - e^2 sin^2 lat)^(3/2).
+void radii(Real lat, Real& m, Real& n);
 // Rotation whose columns are the local east, north, up unit vectors at (lat, lon),
 // i.e. C_n_e^T: r_e = C * r_enu.
 Mat3 enu_to_ecef(Real lat, Real lon);

@@ -1,6 +1,6 @@
 // The aiding sources of a 3-D scenario, as the scenario file states them (read once, by
-// parse_scenario3, into Scenario3::aid_ukf); run3d/aids3d.hpp maps them onto the firmware
-// configuration. One table per aid source:
+// parse_scenario3, into Scenario3::aid_ukf); src/aids3d.cpp maps them onto the firmware
+// configuration (apply_aid_ukf, config3d.hpp). One table per aid source:
 //
 //   [aid_ukf]
 //   enabled = true
@@ -48,9 +48,12 @@ struct AidUkf3 {
   double lambda = 0.0;
   double gate_nis = 0.0;
   double average_s = 0.0;
-  double sigma_gyro_rps = -1.0;       // < 0: from the scenario's [gyro] (run3d/aids3d.hpp)
+  double sigma_gyro_rps = -1.0;       // < 0: from the scenario's [gyro] (apply_aid_ukf)
   double sigma_gyro_bias_rps = -1.0;  // < 0: from the scenario's [gyro]
 };
+
+// The map files with relative names resolved against the scenario's directory.
+std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::string& scenario_source);
 
 // The [aid_ukf] table of a scenario (scenario_schema.hpp): absent, the defaults (aid off).
 inline truth::sch::Table<AidUkf3> aid_ukf_table() {

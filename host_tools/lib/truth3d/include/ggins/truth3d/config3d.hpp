@@ -3,9 +3,9 @@
 // of nav3d.h (ggins run3d over LCM or in process, Monte Carlo, the tests):
 // geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
 // position, known as in Welker et al.), q0_b_e from the truth at t = 0, the
-// Earth rate, gravity mode and onboard model (the WGS-84 normal field's zonal
+// Earth rate of the trajectory flown, gravity mode and onboard model (the WGS-84 normal field's zonal
 // series J2..J8, or the point mass), barometric loop, the aiding sources
-// ([aid_ukf]: run3d/aids3d.hpp).
+// ([aid_ukf]: apply_aid_ukf, src/aids3d.cpp).
 #pragma once
 
 extern "C" {
@@ -20,5 +20,12 @@ namespace ggins::truth3d {
 gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g);
 // The same from the scenario alone (builds its generator).
 gg_nav3d_config_t config3d(const Scenario3& s);
+
+// [aid_ukf] onto c.aid_mm (1 E = 1e-9 s^-2); the firmware validates the values
+// (gg_nav3d_init). The gyro's noise and bias one-sigma, unless [aid_ukf] states
+// them, are the sensor's as [gyro] specifies it (the per-step white noise
+// noise_sigma_radps; the bias sqrt(bias_sigma_radps^2 + the largest fixed
+// bias_radps^2)).
+void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, gg_nav3d_config_t& c);
 
 }  // namespace ggins::truth3d

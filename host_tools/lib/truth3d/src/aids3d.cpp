@@ -1,29 +1,18 @@
-// The aiding sources of a 3-D scenario (Scenario3::aid_ukf, parsed with the
-// scenario: ggins/truth3d/aids3d.hpp) mapped onto the firmware configuration
-// (gg_nav3d_config_t.aid_mm): the [aid_ukf] table is the gradient-map UKF of
-// aid_mmukf.h (its keys: ggins/truth3d/aids3d.hpp). A second aid source (the
-// cold-atom particle filter) gets its own table there and its apply here.
-#pragma once
-
+// The aiding sources of a 3-D scenario (Scenario3::aid_ukf, its keys in
+// aids3d.hpp) mapped onto the firmware configuration (gg_nav3d_config_t.aid_mm):
+// the [aid_ukf] table is the gradient-map UKF of aid_mmukf.h.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
-#include <toml++/toml.h>
 
-extern "C" {
-#include "ggins/nav3d.h"
-}
 #include "ggins/truth3d/aids3d.hpp"
-#include "ggins/truth3d/scenario3d.hpp"
+#include "ggins/truth3d/config3d.hpp"
 
-namespace ggins::run3d {
+namespace ggins::truth3d {
 
-using truth3d::AidUkf3;
-
-// The map files with relative names resolved against the scenario's directory.
-inline std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::string& scenario_source) {
+std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::string& scenario_source) {
   namespace fs = std::filesystem;
   std::vector<std::string> out;
   const fs::path dir = fs::path(scenario_source).parent_path();
@@ -34,13 +23,7 @@ inline std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::s
   return out;
 }
 
-// [aid_ukf] onto the firmware configuration (1 E = 1e-9 s^-2); the firmware
-// validates the values (gg_nav3d_init). The gyro's noise and bias one-sigma,
-// unless [aid_ukf] states them, are the sensor's as [gyro] specifies it (the
-// per-step white noise noise_sigma_radps; the bias sqrt(bias_sigma_radps^2 +
-// the largest fixed bias_radps^2)).
-inline void apply_aid_ukf(const AidUkf3& a, double rate_hz, const truth3d::GyroErrorParams& gyro,
-                          gg_nav3d_config_t& c) {
+void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, gg_nav3d_config_t& c) {
   gg_aid_mm_config_t& m = c.aid_mm;
   m = gg_aid_mm_config_t{};
   m.enable = a.enabled ? 1 : 0;
@@ -67,4 +50,4 @@ inline void apply_aid_ukf(const AidUkf3& a, double rate_hz, const truth3d::GyroE
   m.sigma_gyro_bias_rps = a.sigma_gyro_bias_rps >= 0 ? a.sigma_gyro_bias_rps : std::sqrt(b2 + bmax2);
 }
 
-}  // namespace ggins::run3d
+}  // namespace ggins::truth3d
