@@ -103,19 +103,8 @@ AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
   return a;
 }
 
-std::vector<std::string> aid_pf_map_paths(const AidPf3& a, const std::string& scenario_source) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> out;
-  if (a.map_dir.empty()) return out;
-  const fs::path dir = fs::path(scenario_source).parent_path();
-  const fs::path p(a.map_dir);
-  const fs::path d = p.is_absolute() || dir.empty() ? p : dir / p;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(d, ec))
-    if (e.is_regular_file() && e.path().extension() == ".gmap") out.push_back(e.path().string());
-  if (ec) throw std::runtime_error("aid_pf.map_dir " + d.string() + ": " + ec.message());
-  std::sort(out.begin(), out.end());
-  return out;
+std::string aid_pf_map_dir(const AidPf3& a, const std::string& scenario_source) {
+  return from_scenario_dir(a.map_dir, scenario_source);
 }
 
 std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c) {

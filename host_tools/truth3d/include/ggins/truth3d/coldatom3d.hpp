@@ -72,8 +72,9 @@ struct AidPf3 {
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source);
 AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source);
 
-// The tile files of [aid_pf].map_dir (*.gmap, sorted), relative names from the scenario's directory.
-std::vector<std::string> aid_pf_map_paths(const AidPf3& a, const std::string& scenario_source);
+// The directory of [aid_pf].map_dir (its *.gmap tiles: run3d/map_storage.hpp), a relative name
+// from the scenario's directory.
+std::string aid_pf_map_dir(const AidPf3& a, const std::string& scenario_source);
 
 // The map of the true Gamma_zz the sensor samples.
 std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c);
