@@ -605,7 +605,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   // scenario.toml as flown: every key, the effective values (overrides applied)
-  const std::string as_flown = ggins::truth3d::scenario3_to_toml(sc);
+  // (every file it names absolute: it flies again from the output folder)
+  const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
   return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
                                            [&] { return std::make_unique<Model3D>(o, sc); });
 }

@@ -9,7 +9,8 @@ pf:  the cold-atom aid on its storage of Gamma_zz tiles along Phillips' route (~
      replay reloads it and is bit-exact. A storage that is not the one the run flew is
      refused with exit 2 and the source named: one bit flipped in a tile the flight never
      reads, a tile missing, a tile added; the same tiles moved and named with --map-dir:
-     bit-exact.
+     bit-exact. The copy of the scenario as flown names the map directory absolute and flies
+     again (5 s, --direct, from another working directory) on the same storage.
 all: every aid on at once: the barometer loop, the map UKF (one EGM96 degree-36 tile of the
      whole tensor around Liverpool, `ggins gmap`; the truth field the same degree-36 EGM96,
      exact accelerometers and gyros so that the differenced tensor is the field's) and the
@@ -31,6 +32,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCEN = os.path.join(HERE, "..", "..", "scenarios", "3d-liverpool-toulouse-pf.toml")
@@ -116,6 +118,18 @@ def main():
         check(ukf.get("nis_mean", 1e99) < 18.0, "the map UKF's mean NIS %.3g < 18 (6 dof)" % ukf.get("nis_mean", 1e99))
         check(len(ms) == 2 and ms[0].get("kind") == "file" and ms[0].get("tiles") == 1,
               "the UKF's tile recorded as a file source before the directory")
+    if a.mode == "pf":  # the copy as flown names its map directory absolute: it flies again from the output folder
+        flown = os.path.join(out, "scenario.toml")
+        md = tomllib.load(open(flown, "rb")).get("aid_pf", {}).get("map_dir")
+        check(md == tiles, "scenario.toml as flown names the map directory absolute: %s" % md)
+        again = os.path.join(w, "again")
+        r = subprocess.run([a.ggins_run3d, "-s", flown, "-o", again, "--duration", "5", "--direct", "--no-plots", "-q"],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd="/")
+        s2 = json.load(open(os.path.join(again, "summary.json"))) if os.path.exists(
+            os.path.join(again, "summary.json")) else {}
+        check(r.returncode == 0 and s2.get("map_storage") == ms,
+              "the copy as flown flies again from another working directory on the same storage (exit %d)%s" %
+              (r.returncode, "" if r.returncode == 0 else "\n" + r.stdout))
     log = os.path.join(out, "run.lcmlog")
     rj = os.path.join(w, "r.json")
 

@@ -1,5 +1,6 @@
 // The cold-atom gradiometer of a 3-D flight and its scenario tables (coldatom3d.hpp).
 #include "ggins/truth3d/coldatom3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,13 +24,7 @@ constexpr uint64_t kStreamCa = 61;  // the shots' draws (streams of generator3d.
 }
 
 namespace {
-// A relative file name of the scenario, from the scenario file's directory.
-std::string from_scenario_dir(const std::string& name, const std::string& source) {
-  namespace fs = std::filesystem;
-  if (name.empty()) return name;
-  const fs::path p(name), dir = fs::path(source).parent_path();
-  return (p.is_absolute() || dir.empty() ? p : dir / p).string();
-}
+std::string from_scenario_dir(const std::string& name, const std::string& source) { return scenario_file(name, source); }
 }  // namespace
 
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {

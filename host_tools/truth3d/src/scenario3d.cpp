@@ -493,6 +493,24 @@ std::vector<std::string> builtin_scenario3_names() {
   return v;
 }
 
+std::string scenario_file(const std::string& name, const std::string& source) {
+  namespace fs = std::filesystem;
+  if (name.empty()) return name;
+  const fs::path p(name), dir = fs::path(source).parent_path();
+  return (p.is_absolute() || dir.empty() ? p : dir / p).string();
+}
+
+Scenario3 with_absolute_files(Scenario3 s) {
+  namespace fs = std::filesystem;
+  auto abs = [](const std::string& f) { return f.empty() ? f : fs::absolute(f).lexically_normal().string(); };
+  for (auto& m : s.aid_ukf.maps) m = abs(scenario_file(m, s.source));
+  s.aid_pf.map_dir = abs(scenario_file(s.aid_pf.map_dir, s.source));
+  s.coldatom.egm96 = abs(s.coldatom.egm96);  // resolved against the scenario's directory when read
+  s.coldatom.cache = abs(s.coldatom.cache);
+  s.sh.path = abs(s.sh.path);  // as read (from the working directory)
+  return s;
+}
+
 Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {
   namespace fs = std::filesystem;
   auto read = [](const fs::path& f) {
