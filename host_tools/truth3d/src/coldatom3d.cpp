@@ -51,8 +51,8 @@ ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   g.cloud_rw = st::get_num(*t, w, "cloud_rw_m_rts", g.cloud_rw, source);
   g.beam_radius = st::get_num(*t, w, "beam_radius_m", g.beam_radius, source);
   c.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(c.seed), source));
-  if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal")
-    st::fail(source, "coldatom.gzz_map must be \"phillips-route\" or \"phillips-route-normal\"");
+  if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal" && c.gzz_map != "field")
+    st::fail(source, "coldatom.gzz_map must be \"phillips-route\", \"phillips-route-normal\" or \"field\"");
   if (!(g.rate_hz > 0) || !(g.dz > 0) || !(g.T > 0) || !(g.n_atoms > 0) || !(g.contrast > 0) || g.contrast > 1 ||
       g.phase_noise < 0 || g.p_fail < 0 || g.p_fail > 1 || g.cloud_rw < 0 || !(g.beam_radius > 0))
     st::fail(source, "coldatom: rate_hz, dz_m, T_s, n_atoms, beam_radius_m > 0, contrast in (0, 1], p_fail in [0, 1], "
@@ -145,14 +145,15 @@ coldatom::Shot ColdAtomSensor3::shot(int64_t n, double gzz) const {
   return coldatom::shot_from(c_.grad, gzz, d);
 }
 
-void ColdAtomSensor3::frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out) const {
+void ColdAtomSensor3::frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out,
+                            double field_gzz) const {
   out.ca_status = GG_SENSOR_ABSENT;
   out.ca_s[0] = 0;
   out.ca_s[1] = 0;
   if (k < every_ || k % every_ != 0) return;
   out.ca_utime = out.utime;
-  double g = 0;
-  if (!map().gzz(lat_rad, lon_rad, h_m, &g)) {  // off the map's corridor: no gradient to measure
+  double g = field_gzz;
+  if (!samples_field() && !map().gzz(lat_rad, lon_rad, h_m, &g)) {  // off the map's corridor: no gradient to measure
     out.ca_status = GG_SENSOR_BAD;
     return;
   }

@@ -145,8 +145,9 @@ std::vector<sch::Row> coldatom3_rows() {
   const ColdAtom3 d;
   const auto& g = d.grad;
   return {{"enabled", "boolean", "", "false", "", "the cold-atom gradiometer is carried (a shot per 1/rate_hz)"},
-          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\"",
-           "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only)"},
+          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\", \"field\"",
+           "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only; or the "
+           "scenario's own [gravity] field, on any route)"},
           {"egm96", "string", "", "data/egm96_to360.ascii.txt", "file name", "EGM96 coefficients (scenario-relative)"},
           {"cache", "string", "", "\"\" (none)", "file name", "cache of the route map grid (scenario-relative)"},
           {"rate_hz", "number", "Hz", sch::num_text(g.rate_hz), "> 0", "shot rate (fringe pairs)"},
