@@ -19,7 +19,13 @@ static double edge_margin(const gg_gmap_tile_t *t, double lat, double lon)
     return m;
 }
 
-static gg_status_t tile_at(void *ctx, double lat_rad, double lon_rad, const gg_gmap_t **tile)
+/* the kind of a tile (GG_GMAP_KIND_*, gmap.h) */
+static uint32_t kind_of(const gg_gmap_t *m)
+{
+    return (m->tile.flags & GG_GMAP_GZZ_ONLY) != 0u ? GG_GMAP_KIND_GZZ : GG_GMAP_KIND_TENSOR;
+}
+
+static gg_status_t tile_at(void *ctx, uint32_t kind, double lat_rad, double lon_rad, const gg_gmap_t **tile)
 {
     hal_map_store_t *s = (hal_map_store_t *)ctx;
     int best = -1;
@@ -27,6 +33,7 @@ static gg_status_t tile_at(void *ctx, double lat_rad, double lon_rad, const gg_g
     s->lookups++;
     if (tile == NULL) return GG_ERR_NULL;
     for (int k = 0; k < s->n_tiles; ++k) {
+        if (kind_of(s->tiles[k]) != kind) continue;
         const double m = edge_margin(&s->tiles[k]->tile, lat_rad, lon_rad);
         if (m >= 0.0 && (best < 0 || m > best_m)) {
             best = k;

@@ -3,10 +3,12 @@
  * (gg_hal_map_t, firmware/include/ggins/hal.h). hal_sim loads the gradient
  * map tiles given with --map FILE (the gmap binary format of gmap.h, written
  * by `ggins gmap`) at start-up, as a vehicle's computer holds its tiles in
- * flash; the 3-D task asks for the tile covering its estimated position at
- * each epoch of its map aid. Of several tiles covering a point the one whose
- * nearest edge is farthest from it (in node spacings) is given, so the
- * aid's sigma points stay inside.
+ * flash; each aid of the 3-D task asks for the tile of its kind (the whole
+ * tensor for the map UKF, Gamma_DD alone for the cold-atom aid: the flag
+ * GG_GMAP_GZZ_ONLY, gmap.h) covering its estimated position at each of its
+ * measurements, and is served only tiles of that kind. Of several such tiles
+ * covering a point the one whose nearest edge is farthest from it (in node
+ * spacings) is given, so the aid's sigma points or particles stay inside.
  */
 #ifndef GGINS_HAL_MAP_H
 #define GGINS_HAL_MAP_H

@@ -36,6 +36,30 @@ static int geometry_ok(int32_t nlat, int32_t nlon, double lat0, double lon0, dou
     return 1;
 }
 
+/* value k of a node may be non-zero in a tile of these flags: every value, or
+ * with GG_GMAP_GZZ_ONLY the DD component and its height derivative alone */
+static int value_allowed(uint32_t flags, size_t k, double v)
+{
+    int ok = 1;
+    if (((flags & GG_GMAP_GZZ_ONLY) != 0u) && (k != (size_t)GG_GMAP_C_DD) &&
+        (k != ((size_t)GG_GMAP_NCOMP + (size_t)GG_GMAP_C_DD)) && (v != 0.0)) {
+        ok = 0;
+    }
+    return ok;
+}
+
+static int nodes_of_kind(const double (*node)[GG_GMAP_NVAL], int32_t n, uint32_t flags)
+{
+    for (int32_t i = 0; i < n; ++i) {
+        for (size_t k = 0u; k < (size_t)GG_GMAP_NVAL; ++k) {
+            if (value_allowed(flags, k, node[i][k]) == 0) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
 static int nodes_finite(const double (*node)[GG_GMAP_NVAL], int32_t n)
 {
     for (int32_t i = 0; i < n; ++i) {
@@ -56,12 +80,15 @@ gg_status_t gg_gmap_init(gg_gmap_t *st, const gg_gmap_tile_t *tile)
     }
     if ((geometry_ok(tile->nlat, tile->nlon, tile->lat0_rad, tile->lon0_rad, tile->dlat_rad,
                      tile->dlon_rad, tile->h0_m, tile->h_range_m) == 0) ||
-        ((tile->flags & ~GG_GMAP_ANOMALY) != 0u)) {
+        ((tile->flags & ~GG_GMAP_FLAGS_KNOWN) != 0u)) {
         return GG_ERR_CONFIG;
     }
     const int32_t n = tile->nlat * tile->nlon;
     if (nodes_finite(tile->node, n) == 0) {
         return GG_ERR_NONFINITE;
+    }
+    if (nodes_of_kind(tile->node, n, tile->flags) == 0) {
+        return GG_ERR_CONFIG;
     }
     if (&st->tile != tile) { /* in-place init (host filled st->tile) needs no copy */
         (void)memcpy(&st->tile, tile, sizeof st->tile);
@@ -128,7 +155,7 @@ gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len)
     const double noise = rd_f64(buf, 72u);
     const uint64_t seed = rd_u64(buf, 80u);
     if ((geometry_ok(nlat, nlon, lat0, lon0, dlat, dlon, h0, hr) == 0) ||
-        ((flags & ~GG_GMAP_ANOMALY) != 0u) || !GG_ISFINITE(noise)) {
+        ((flags & ~GG_GMAP_FLAGS_KNOWN) != 0u) || !GG_ISFINITE(noise)) {
         return GG_ERR_CONFIG;
     }
     const size_t n = (size_t)nlat * (size_t)nlon;
@@ -140,6 +167,9 @@ gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len)
         const double v = rd_f64(buf, GG_GMAP_HEADER_BYTES + (8u * i));
         if (!GG_ISFINITE(v) || (v > GG_GMAP_VALUE_MAX) || (v < -GG_GMAP_VALUE_MAX)) {
             return GG_ERR_NONFINITE;
+        }
+        if (value_allowed(flags, i % (size_t)GG_GMAP_NVAL, v) == 0) {
+            return GG_ERR_CONFIG;
         }
     }
     gg_gmap_tile_t *t = &st->tile;

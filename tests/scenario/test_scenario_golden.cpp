@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     const fs::path g = golden / (name + ".txt");
     // built-ins written after the values were recorded from the parsers the schema replaced
     // have no recording to agree with: the round trip below checks them
-    static const std::set<std::string> newer = {"3d-liverpool-toulouse-pf"};
+    static const std::set<std::string> newer = {"3d-liverpool-toulouse-pf", "3d-route-45n-map", "3d-route-45n-pf"};
     if (!fs::exists(g) && newer.count(name)) {
       std::printf("--   %s: written after the recording (round trip only)\n", name.c_str());
       continue;

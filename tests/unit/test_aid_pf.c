@@ -87,11 +87,12 @@ typedef struct {
     int calls;
 } store_t;
 
-static gg_status_t store_tile_at(void *ctx, double lat, double lon, const gg_gmap_t **tile)
+static gg_status_t store_tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
 {
     store_t *s = (store_t *)ctx;
     const gg_gmap_tile_t *t = &s->map->tile;
     s->calls++;
+    if (kind != GG_GMAP_KIND_GZZ) return GG_ERR_RANGE; /* the aid asks for the tiles of its kind */
     if (lat < t->lat0_rad || lat > t->lat0_rad + (t->nlat - 1) * t->dlat_rad || lon < t->lon0_rad ||
         lon > t->lon0_rad + (t->nlon - 1) * t->dlon_rad)
         return GG_ERR_RANGE;

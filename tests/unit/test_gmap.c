@@ -153,7 +153,9 @@ static void test_rejects(void **state)
     g_tile.lat0_rad = 1.56;
     assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG); /* beyond 89 deg */
     g_tile.lat0_rad = kLat0;
-    g_tile.flags = 2u;
+    g_tile.flags = 4u; /* no such flag */
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG);
+    g_tile.flags = GG_GMAP_GZZ_ONLY; /* says Gamma_DD alone, carries all six */
     assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG);
     g_tile.flags = GG_GMAP_ANOMALY;
     g_tile.node[20][7] = NAN;
@@ -250,6 +252,32 @@ static void test_load_blob(void **state)
     gg_gmap_sample_t s;
     assert_int_equal(gg_gmap_eval(&g_map, kLat0 + 2.2 * kD, kLon0 + 3.1 * kD, kH0 + 10, GG_GMAP_MASK_ALL, 0, &s), GG_OK);
     assert_near(s.gamma[4], poly(4, 2.2L, 3.1L, 10), 1e-20L);
+    /* a Gamma_DD-only tile: with every other value zero it loads; one non-zero
+     * value of another component (NE of node 7) or of its height derivative
+     * (d/dh ED of node 12): refused, state untouched */
+    put_u32(g_blob + 16, GG_GMAP_GZZ_ONLY);
+    for (int i = 0; i < 30; ++i)
+        for (int k = 0; k < 12; ++k)
+            put_f64(g_blob + 88 + 8 * (12 * i + k), (k == GG_GMAP_C_DD || k == 6 + GG_GMAP_C_DD) ? g_tile.node[i][k] : 0.0);
+    memset(&g_map, 0, sizeof g_map);
+    put_f64(g_blob + 88 + 8 * (12 * 7 + GG_GMAP_C_NE), 1e-12);
+    assert_int_equal(gg_gmap_load(&g_map, g_blob, sizeof g_blob), GG_ERR_CONFIG);
+    put_f64(g_blob + 88 + 8 * (12 * 7 + GG_GMAP_C_NE), 0.0);
+    put_f64(g_blob + 88 + 8 * (12 * 12 + 6 + GG_GMAP_C_ED), -1e-15);
+    assert_int_equal(gg_gmap_load(&g_map, g_blob, sizeof g_blob), GG_ERR_CONFIG);
+    assert_int_equal(g_map.initialized, 0);
+    put_f64(g_blob + 88 + 8 * (12 * 12 + 6 + GG_GMAP_C_ED), 0.0);
+    assert_int_equal(gg_gmap_load(&g_map, g_blob, sizeof g_blob), GG_OK);
+    assert_int_equal(g_map.tile.flags, GG_GMAP_GZZ_ONLY);
+    assert_int_equal(gg_gmap_eval(&g_map, kLat0 + 2.2 * kD, kLon0 + 3.1 * kD, kH0 + 10, GG_GMAP_MASK_DD, 0, &s), GG_OK);
+    assert_near(s.gamma[GG_GMAP_C_DD], poly(GG_GMAP_C_DD, 2.2L, 3.1L, 10), 1e-20L);
+    /* and through gg_gmap_init the same */
+    memcpy(&g_tile, &g_map.tile, sizeof g_tile);
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_OK);
+    g_tile.node[3][GG_GMAP_C_NN] = 1e-9;
+    memset(&g_map, 0, sizeof g_map);
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG);
+    assert_int_equal(g_map.initialized, 0);
 }
 
 int main(void)

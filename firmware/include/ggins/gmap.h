@@ -14,7 +14,11 @@
  *   0 NN, 1 EE, 2 DD, 3 NE, 4 ND, 5 ED   (GG_GMAP_C_*).
  * A tile holds either the total gravitation gradient (flags = 0) or the
  * anomaly, i.e. total minus the WGS-84 normal gravitation (GG_GMAP_ANOMALY);
- * the filter uses the TOTAL field (the gradiometer measures it).
+ * the filter uses the TOTAL field (the gradiometer measures it). Its kind:
+ * the whole tensor (the map UKF's map), or Gamma_DD alone (GG_GMAP_GZZ_ONLY:
+ * the five other components and their height derivatives zero; the map of a
+ * single-axis gradiometer, the cold-atom particle filter's). The map storage
+ * (hal.h) serves each aid the tiles of its kind.
  *
  * Nodes: i = 0..nlat-1 (north), j = 0..nlon-1 (east), at
  *   lat_i = lat0 + i dlat,  lon_j = lon0 + j dlon,  height h0,
@@ -40,7 +44,8 @@
  * by `ggins gmap` and read by gg_gmap_load:
  *   offset  0  char[8]  magic "GGMAP001"
  *           8  int32    nlat        12 int32  nlon
- *          16  uint32   flags       20 int32  nmax (SH degree, metadata)
+ *          16  uint32   flags (GG_GMAP_ANOMALY | GG_GMAP_GZZ_ONLY)
+ *                               20 int32  nmax (SH degree, metadata)
  *          24  double   lat0_rad    32 double lon0_rad
  *          40  double   dlat_rad    48 double dlon_rad
  *          56  double   h0_m        64 double h_range_m
@@ -90,11 +95,22 @@
 
 /** Tile flag: values are total minus the WGS-84 normal gravitation gradient. */
 #define GG_GMAP_ANOMALY 0x1u
+/** Tile flag: the tile carries Gamma_DD and its height derivative alone (every
+ *  other value zero; gg_gmap_init / gg_gmap_load refuse a tile that says so and
+ *  is not). */
+#define GG_GMAP_GZZ_ONLY 0x2u
+/** The flags a tile may carry. */
+#define GG_GMAP_FLAGS_KNOWN (GG_GMAP_ANOMALY | GG_GMAP_GZZ_ONLY)
+
+/** Tile kinds an aid asks the map storage for (hal.h): the whole tensor (tiles
+ *  without GG_GMAP_GZZ_ONLY) or Gamma_DD alone (tiles with it). */
+#define GG_GMAP_KIND_TENSOR 0u
+#define GG_GMAP_KIND_GZZ 1u
 
 typedef struct {
     int32_t nlat;          /**< nodes along latitude (>= 4) */
     int32_t nlon;          /**< nodes along longitude (>= 4), nlat * nlon <= GG_GMAP_MAX_NODES */
-    uint32_t flags;        /**< GG_GMAP_ANOMALY or 0 */
+    uint32_t flags;        /**< GG_GMAP_ANOMALY, GG_GMAP_GZZ_ONLY or 0 */
     int32_t nmax;          /**< SH degree of the source model (metadata) */
     double lat0_rad;       /**< south-west node, geodetic latitude, rad (|lat| < 89 deg) */
     double lon0_rad;       /**< south-west node, longitude, rad (tile does not cross +-pi) */
@@ -118,13 +134,15 @@ typedef struct {
     gg_real_t dgamma[GG_GMAP_NCOMP][3];   /**< d/dlat (s^-2/rad), d/dlon (s^-2/rad), d/dh (s^-2/m) */
 } gg_gmap_sample_t;
 
-/** Validate and copy a tile. GG_ERR_CONFIG on bad geometry, GG_ERR_NONFINITE
- *  on a non-finite node value (state untouched on error). */
+/** Validate and copy a tile. GG_ERR_CONFIG on bad geometry, an unknown flag or
+ *  a GG_GMAP_GZZ_ONLY tile with another value non-zero, GG_ERR_NONFINITE on a
+ *  non-finite node value (state untouched on error). */
 gg_status_t gg_gmap_init(gg_gmap_t *st, const gg_gmap_tile_t *tile);
 
 /** Parse the binary tile format above from a byte buffer (len bytes) into st.
- *  GG_ERR_CONFIG on a bad magic, size or geometry; GG_ERR_NONFINITE on a
- *  non-finite value or one beyond GG_GMAP_VALUE_MAX; state untouched on error. */
+ *  GG_ERR_CONFIG on a bad magic, size, geometry or flag, or a GG_GMAP_GZZ_ONLY
+ *  tile with another value non-zero; GG_ERR_NONFINITE on a non-finite value or
+ *  one beyond GG_GMAP_VALUE_MAX; state untouched on error. */
 gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len);
 
 /** Interpolate at geodetic (lat, lon) rad, height h m. mask selects the

@@ -17,16 +17,19 @@
 
 struct gg_nav3d_output_s; /* nav3d.h */
 
-/** Onboard map storage: the tiles of the gradient map (gmap.h) the computer
+/** Onboard map storage: the tiles of the gradient maps (gmap.h) the computer
  *  carries (flash, a file system), paged by the navigation task as it flies.
- *  The task asks for the tile covering its estimated position at each
- *  measurement epoch and reads it through gg_gmap_eval; the storage chooses
- *  among overlapping tiles the one whose edge is farthest from the point. */
+ *  An aid asks for the tile of its kind (GG_GMAP_KIND_TENSOR: the map UKF;
+ *  GG_GMAP_KIND_GZZ: the cold-atom particle filter) covering its estimated
+ *  position at each measurement and reads it through gg_gmap_eval; the storage
+ *  chooses among the overlapping tiles of that kind the one whose edge is
+ *  farthest from the point. */
 typedef struct {
     void *ctx; /**< implementation's own state */
-    /** The tile covering geodetic (lat, lon), rad: GG_OK with *tile set (valid
-     *  until the next call), GG_ERR_RANGE when no tile covers the point. */
-    gg_status_t (*tile_at)(void *ctx, double lat_rad, double lon_rad, const gg_gmap_t **tile);
+    /** The tile of the kind asked for covering geodetic (lat, lon), rad: GG_OK
+     *  with *tile set (valid until the next call), GG_ERR_RANGE when no tile of
+     *  that kind covers the point. */
+    gg_status_t (*tile_at)(void *ctx, uint32_t kind, double lat_rad, double lon_rad, const gg_gmap_t **tile);
 } gg_hal_map_t;
 
 typedef struct {

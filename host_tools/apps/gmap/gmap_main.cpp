@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
       ->check(cli::FiniteRange(0, 1e6, cli::kOpenLow));
   app.add_option("--degree", sp.nmax, "spherical-harmonic degree (2..360)")->capture_default_str()->check(cli::IntRange(2, 360));
   app.add_flag("--anomaly", sp.anomaly, "store total minus the WGS-84 normal field");
+  bool gzz_only = false;
+  app.add_flag("--gzz-only", gzz_only,
+               "a tile of Gamma_DD alone (its height derivative kept, the other values zero; flag GG_GMAP_GZZ_ONLY): "
+               "the map kind of the cold-atom aid");
   app.add_option("--noise-e", sp.noise_e, "database noise sigma, E (1 E = 1e-9 s^-2)")
       ->capture_default_str()
       ->check(cli::FiniteRange(0, 1e6));
@@ -61,6 +65,12 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     auto field = ggins::gmap::make_egm96_field(egm, sp.nmax, sp.anomaly);
     auto tile = ggins::gmap::make_tile(*field, sp);
+    if (gzz_only) {
+      tile->flags |= GG_GMAP_GZZ_ONLY;
+      for (int n = 0; n < tile->nlat * tile->nlon; ++n)
+        for (int k = 0; k < GG_GMAP_NVAL; ++k)
+          if (k != GG_GMAP_C_DD && k != GG_GMAP_NCOMP + GG_GMAP_C_DD) tile->node[n][k] = 0.0;
+    }
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!out_bin.empty()) {
       const auto b = ggins::gmap::encode(*tile);
@@ -69,7 +79,7 @@ int main(int argc, char** argv) {
     if (!out_json.empty()) cli::write_file(out_json, ggins::gmap::to_json(*tile).dump(1) + "\n");
     std::printf("gmap: %d x %d nodes (%d of %d), %.4f deg, alt %.1f m, degree %d, %s, noise %.4g E, seed %llu, %.1f s\n",
                 tile->nlat, tile->nlon, tile->nlat * tile->nlon, GG_GMAP_MAX_NODES, sp.spacing_deg, sp.alt_m, sp.nmax,
-                sp.anomaly ? "anomaly" : "total", sp.noise_e, static_cast<unsigned long long>(sp.seed), s);
+                gzz_only ? (sp.anomaly ? "anomaly Gamma_DD" : "total Gamma_DD") : (sp.anomaly ? "anomaly" : "total"), sp.noise_e, static_cast<unsigned long long>(sp.seed), s);
     return 0;
   });
 }

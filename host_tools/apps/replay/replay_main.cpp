@@ -61,7 +61,7 @@
 #include "hal_lcm3d.h"
 #include "hal_map.h"
 #include "lcmlog_reader.hpp"
-#include "tile_digest.hpp"
+#include "map_storage.hpp"
 
 using json = nlohmann::json;
 using namespace ggins::replay;
@@ -560,8 +560,9 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
     if (encoded(a, D::cfg_encode, D::cfg_size) != encoded(b, D::cfg_encode, D::cfg_size)) config_copies_differ = true;
   }
 
-  // ---- the computer's map storage (3-D, map aid): the tiles the configuration records, each
-  // checked against its recorded size and BLAKE2b-256 before it is loaded
+  // ---- the computer's map storage (3-D, aids with maps): the sources the configuration records
+  // (map_storage.hpp), each read again and checked against its recorded tiles, bytes and
+  // BLAKE2b-256 before its tiles are loaded in the recorded order
   struct MapStore {
     hal_map_store_t s;
     MapStore() { hal_map_init(&s); }
@@ -570,30 +571,44 @@ int replay(const Options& o, const LcmLog& log, std::vector<Problem> problems, i
   bool have_maps = false;
   if constexpr (std::is_same_v<D, Dim3>) {
     const auto& cm = configs.front();
-    json tl = json::array();
+    json sl = json::array(), tl = json::array();
     std::string bad;
-    for (int i = 0; i < cm.aid_mm_n_tiles && i < 16 && bad.empty(); ++i) {
-      const char* p = reinterpret_cast<const char*>(cm.aid_mm_tile_path[i]);
-      std::string path(p, strnlen(p, 256));
-      if (!o.map_dir.empty()) path = (std::filesystem::path(o.map_dir) / std::filesystem::path(path).filename()).string();
+    const int n_src = std::clamp<int>(cm.map_n_sources, 0, ggins::run3d::kMaxSources);
+    if (cm.map_n_sources != n_src)
+      bad = "the configuration records " + std::to_string(cm.map_n_sources) + " map storage sources (0.." +
+            std::to_string(ggins::run3d::kMaxSources) + " allowed)";
+    for (int i = 0; i < n_src && bad.empty(); ++i) {
+      const char* p = reinterpret_cast<const char*>(cm.map_source_path[i]);
+      ggins::run3d::MapSource src{std::string(p, strnlen(p, 256)),
+                                  cm.map_source_kind[i] == 1 ? ggins::run3d::SourceKind::kDir
+                                                             : ggins::run3d::SourceKind::kFile};
+      if (!o.map_dir.empty())
+        src.path = (std::filesystem::path(o.map_dir) / std::filesystem::path(src.path).filename()).string();
       std::array<uint8_t, 32> want{};
-      std::memcpy(want.data(), cm.aid_mm_tile_blake2b[i], 32);
-      const auto d = ggins::run3d::tile_digest(path);
-      char err[256] = "";
-      if (!d)
-        bad = "map tile " + path + " (recorded for the run) cannot be read";
-      else if (d->bytes != cm.aid_mm_tile_bytes[i] || d->blake2b != want)
-        bad = "map tile " + path + " is not the one the run flew: " + std::to_string(d->bytes) + " bytes, BLAKE2b " +
-              ggins::run3d::hex(d->blake2b) + "; recorded " + std::to_string(cm.aid_mm_tile_bytes[i]) +
-              " bytes, " + ggins::run3d::hex(want);
-      else if (hal_map_load(&maps.s, path.c_str(), err, sizeof err) != 0)
-        bad = "map tile " + path + ": " + err;
-      else
-        have_maps = true;
-      tl.push_back({{"path", path}, {"bytes", cm.aid_mm_tile_bytes[i]}, {"blake2b", ggins::run3d::hex(want)}});
+      std::memcpy(want.data(), cm.map_source_blake2b[i], 32);
+      const std::string what = std::string("map storage ") + ggins::run3d::kind_name(src.kind) + " " + src.path;
+      const std::string recorded = std::to_string(cm.map_source_tiles[i]) + " tiles, " +
+                                   std::to_string(cm.map_source_bytes[i]) + " bytes, BLAKE2b " + ggins::run3d::hex(want);
+      ggins::run3d::SourceRecord got;
+      if (const std::string why = ggins::run3d::read_source(src, got); !why.empty())
+        bad = what + " (recorded for the run: " + recorded + ") cannot be read: " + why;
+      else if (got.tiles != cm.map_source_tiles[i] || got.bytes != cm.map_source_bytes[i] || got.blake2b != want)
+        bad = what + " is not the one the run flew: " + std::to_string(got.tiles) + " tiles, " +
+              std::to_string(got.bytes) + " bytes, BLAKE2b " + ggins::run3d::hex(got.blake2b) + "; recorded " + recorded;
+      for (size_t k = 0; k < got.files.size() && bad.empty(); ++k) {
+        char err[256] = "";
+        if (hal_map_load(&maps.s, got.files[k].c_str(), err, sizeof err) != 0)
+          bad = "map tile " + got.files[k] + ": " + err;
+        else
+          have_maps = true;
+        tl.push_back(got.files[k]);
+      }
+      sl.push_back({{"path", src.path}, {"kind", ggins::run3d::kind_name(src.kind)}, {"tiles", cm.map_source_tiles[i]},
+                    {"bytes", cm.map_source_bytes[i]}, {"blake2b", ggins::run3d::hex(want)}});
     }
+    r["map_storage"] = sl;
     r["map_tiles"] = tl;
-    if (!bad.empty()) {  // a replay over other tiles would not be the run: refused
+    if (!bad.empty()) {  // a replay over another storage would not be the run: refused
       problems.push_back({kUnreadable, bad});
       const int code = worst(kUnreadable);
       print_problems();
@@ -762,10 +777,12 @@ int main(int argc, char** argv) {
       "of one frame must be identical but for `resent`). If hal_sim reported frames it gave\n"
       "up on (hal_status_t.frames_lost > 0), only the frames with a recorded output are\n"
       "replayed.\n\n"
-      "3-D runs with the gradient-map aid: the computer's map storage is loaded with the\n"
-      "tiles the configuration message records (path, size, BLAKE2b-256 of each file; from\n"
-      "--map-dir by file name if the files moved); a tile that cannot be read or whose\n"
-      "size or digest differs is refused (exit 2): a replay over other tiles is not the run.\n\n"
+      "3-D runs with aids that read maps: the computer's map storage is loaded again from the\n"
+      "sources the configuration message records (each a tile file or a directory of *.gmap\n"
+      "tiles, with the number of tiles, their bytes and one BLAKE2b-256 over their names and\n"
+      "contents; from --map-dir by name if they moved); a source that cannot be read or whose\n"
+      "tiles, size or digest differ is refused (exit 2): a replay over another storage is not\n"
+      "the run.\n\n"
       "Compared: every field of the output message (doubles by bit pattern) except cycles[],\n"
       "the HAL cycle-counter timing, and republished. The recorded cycles[GG_MOD_TOTAL] is\n"
       "fed back through the replay HAL's cycle counter so the firmware's deadline check\n"
@@ -801,8 +818,8 @@ int main(int argc, char** argv) {
           "FILE (writable)", "WritableFile"));
   app.add_option("--show", o.show, "mismatches listed in full")->capture_default_str()->check(ggins::cli::IntRange(0, 1000000));
   app.add_option("--map-dir", o.map_dir,
-                 "3-D: take the map tiles the run recorded (path, size, BLAKE2b) from this folder, by file name "
-                 "(a tile whose size or digest differs is refused)");
+                 "3-D: take the map storage's sources the run recorded (tile files and directories of tiles) "
+                 "from this folder, by name (a source whose tiles, size or digest differ is refused)");
   app.add_flag("-q,--quiet", o.quiet, "print only the problems and the verdict line");
   try {
     app.parse(argc, argv);

@@ -35,7 +35,7 @@
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
 #include "runner.hpp"
-#include "tile_digest.hpp"
+#include "map_storage.hpp"
 #include "pf3d.hpp"
 
 namespace fs = std::filesystem;
@@ -57,11 +57,29 @@ class Model3D {
   using Task = ggins::hil::Task3D;
 
   Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc) : opt_(o), sc_(sc), gen_(sc) {
-    if (sc_.aid_ukf.enabled)  // the onboard map tiles of the map aid: the computer's map storage
+    // the computer's map storage (map_storage.hpp): the map aid's tile files, then the
+    // directory of the cold-atom aid's Gamma_zz tiles (pf3d.hpp)
+    using ggins::run3d::MapSource;
+    using ggins::run3d::SourceKind;
+    if (sc_.aid_ukf.enabled)
       for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
-        maps_.push_back(fs::absolute(p).string());
-    if (sc_.aid_pf.enabled)  // the Gamma_zz tiles of the cold-atom aid (pf3d.hpp)
-      for (const auto& p : ggins::truth3d::aid_pf_map_paths(sc_.aid_pf, sc_.source)) maps_.push_back(fs::absolute(p).string());
+        sources_.push_back({fs::absolute(p).lexically_normal().string(), SourceKind::kFile});
+    if (sc_.aid_pf.enabled)
+      sources_.push_back(
+          {fs::absolute(ggins::truth3d::aid_pf_map_dir(sc_.aid_pf, sc_.source)).lexically_normal().string(), SourceKind::kDir});
+    if (sources_.size() > static_cast<size_t>(ggins::run3d::kMaxSources))
+      throw Fail("the map storage has " + std::to_string(sources_.size()) + " sources; the configuration records " +
+                 std::to_string(ggins::run3d::kMaxSources) + " at most (put the tiles into a directory)");
+    for (const auto& src : sources_) {
+      ggins::run3d::SourceRecord r;
+      if (const std::string why = ggins::run3d::read_source(src, r); !why.empty())
+        throw Fail("map storage: " + std::string(ggins::run3d::kind_name(src.kind)) + " " + src.path + ": " + why);
+      maps_.insert(maps_.end(), r.files.begin(), r.files.end());
+      records_.push_back(r);
+    }
+    if (maps_.size() > static_cast<size_t>(ggins::run3d::kMaxTiles))
+      throw Fail("the map storage would hold " + std::to_string(maps_.size()) + " tiles; it holds " +
+                 std::to_string(ggins::run3d::kMaxTiles) + " at most");
   }
 
   int64_t n_steps() const { return gen_.n_steps(); }
@@ -108,7 +126,9 @@ class Model3D {
   const ggins::hil::RunOptions& opt_;
   ggins::truth3d::Scenario3 sc_;
   ggins::truth3d::Generator3 gen_;
-  std::vector<std::string> maps_;
+  std::vector<ggins::run3d::MapSource> sources_;     // the map storage's sources (map_storage.hpp)
+  std::vector<ggins::run3d::SourceRecord> records_;  // and their records
+  std::vector<std::string> maps_;                    // its tile files in load order
   ggins::hil::LinkBase* link_ = nullptr;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
@@ -347,21 +367,16 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_average_steps = c.aid_mm.average_steps;
   m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
   m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
-  // the tiles of the map storage, for a replay to load the same ones
-  // (the configuration records at most 16; a larger storage, as the cold-atom aid's Gamma_zz
-  // tiles, is not recorded and a replay of the run reports the difference)
-  const size_t n_rec = maps_.size() <= 16 ? maps_.size() : 0;
-  if (n_rec < maps_.size())
-    std::fprintf(stderr, "run3d: %zu map tiles: more than the 16 the configuration records; a replay will not load them\n",
-                 maps_.size());
-  m.aid_mm_n_tiles = static_cast<int8_t>(n_rec);
-  for (size_t i = 0; i < n_rec; ++i) {
-    if (maps_[i].size() > 255) throw Fail("map tile path longer than 255 bytes: " + maps_[i]);
-    std::memcpy(m.aid_mm_tile_path[i], maps_[i].data(), maps_[i].size());
-    const auto d = ggins::run3d::tile_digest(maps_[i]);
-    if (!d) throw Fail("cannot read map tile " + maps_[i]);
-    m.aid_mm_tile_bytes[i] = d->bytes;
-    std::memcpy(m.aid_mm_tile_blake2b[i], d->blake2b.data(), 32);
+  // the map storage as a whole, for a replay to load the same one (map_storage.hpp)
+  m.map_n_sources = static_cast<int8_t>(sources_.size());
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    const std::string& p = sources_[i].path;
+    if (p.size() > 255) throw Fail("map storage path longer than 255 bytes: " + p);
+    m.map_source_kind[i] = static_cast<int8_t>(sources_[i].kind);
+    std::memcpy(m.map_source_path[i], p.data(), p.size());
+    m.map_source_tiles[i] = records_[i].tiles;
+    m.map_source_bytes[i] = records_[i].bytes;
+    std::memcpy(m.map_source_blake2b[i], records_[i].blake2b.data(), 32);
   }
   ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
   pf_on_ = c.aid_pf.enable != 0;
@@ -430,12 +445,6 @@ json Model3D::aid_ukf_block() const {  // the map aid's counters at the last ste
   a["sigma_pos_final_m"] = {{"x", aid_last_.mm_sigma[0]}, {"y", aid_last_.mm_sigma[1]}, {"z", aid_last_.mm_sigma[2]}};
   a["sigma_frame"] = "ECI";
   a["tiles"] = maps_.size();
-  json tf = json::array();  // as recorded in the configuration message (a replay loads these)
-  for (const auto& p : maps_) {
-    const auto d = ggins::run3d::tile_digest(p);
-    tf.push_back({{"path", p}, {"bytes", d ? d->bytes : -1}, {"blake2b", d ? ggins::run3d::hex(d->blake2b) : ""}});
-  }
-  a["tile_files"] = tf;
   // NEES per block (3 dof each) against the truth after each accepted epoch's correction,
   // mean over the epochs, and the 95 % band of such a mean if the epochs were independent
   const double n = static_cast<double>(nees_n_);
@@ -484,6 +493,12 @@ void Model3D::report(json& s) {
   e["omega_dot_error_radps2"] = wdot_.json();
   s["parity"] = {{"antisym_radps2", par_asym_.json()}, {"trace_ps2", par_trace_.json()}};
   s["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
+  json ms = json::array();  // the map storage as the configuration message records it (a replay loads it)
+  for (size_t i = 0; i < sources_.size(); ++i)
+    ms.push_back({{"path", sources_[i].path}, {"kind", ggins::run3d::kind_name(sources_[i].kind)},
+                  {"tiles", records_[i].tiles}, {"bytes", records_[i].bytes},
+                  {"blake2b", ggins::run3d::hex(records_[i].blake2b)}});
+  s["map_storage"] = ms;
   // one block per aid of the flight, each named ({"name": ..., its counters})
   if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
   if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
@@ -590,7 +605,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   // scenario.toml as flown: every key, the effective values (overrides applied)
-  const std::string as_flown = ggins::truth3d::scenario3_to_toml(sc);
+  // (every file it names absolute: it flies again from the output folder)
+  const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
   return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
                                            [&] { return std::make_unique<Model3D>(o, sc); });
 }

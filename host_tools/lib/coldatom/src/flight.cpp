@@ -44,7 +44,8 @@ M3 skew_offdiag(std::mt19937_64& rng, double sd) {
 }
 }  // namespace
 
-// Fill a gmap tile (DD and its height derivative) from the route map around (lat_c, lon_c).
+// Fill a gmap tile of Gamma_DD alone (DD and its height derivative; GG_GMAP_GZZ_ONLY) from the route
+// map around (lat_c, lon_c).
 bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile) {
   const int n = 50;
   double RM, RN;
@@ -57,6 +58,7 @@ bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, doubl
   tile->lon0_rad = lon_c - 0.5 * (n - 1) * tile->dlon_rad;
   tile->h0_m = h;
   tile->h_range_m = 1000.0;
+  tile->flags = GG_GMAP_GZZ_ONLY;  // the map of the cold-atom aid's kind (gmap.h)
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       double g = 0;

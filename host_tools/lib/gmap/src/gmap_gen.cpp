@@ -142,6 +142,7 @@ nlohmann::json to_json(const gg_gmap_tile_t& t) {
   j["nlat"] = t.nlat;
   j["nlon"] = t.nlon;
   j["anomaly"] = (t.flags & GG_GMAP_ANOMALY) != 0;
+  j["gzz_only"] = (t.flags & GG_GMAP_GZZ_ONLY) != 0;
   j["nmax"] = t.nmax;
   j["lat0_rad"] = t.lat0_rad;
   j["lon0_rad"] = t.lon0_rad;
@@ -162,7 +163,7 @@ std::unique_ptr<gg_gmap_tile_t> from_json(const nlohmann::json& j) {
   std::memset(t.get(), 0, sizeof(gg_gmap_tile_t));
   t->nlat = j.at("nlat").get<int>();
   t->nlon = j.at("nlon").get<int>();
-  t->flags = j.at("anomaly").get<bool>() ? GG_GMAP_ANOMALY : 0u;
+  t->flags = (j.at("anomaly").get<bool>() ? GG_GMAP_ANOMALY : 0u) | (j.value("gzz_only", false) ? GG_GMAP_GZZ_ONLY : 0u);
   t->nmax = j.at("nmax").get<int>();
   t->lat0_rad = j.at("lat0_rad").get<double>();
   t->lon0_rad = j.at("lon0_rad").get<double>();

@@ -15,11 +15,7 @@ namespace ggins::truth3d {
 std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::string& scenario_source) {
   namespace fs = std::filesystem;
   std::vector<std::string> out;
-  const fs::path dir = fs::path(scenario_source).parent_path();
-  for (const auto& m : a.maps) {
-    const fs::path p(m);
-    out.push_back((p.is_absolute() || dir.empty() ? p : dir / p).string());
-  }
+  for (const auto& m : a.maps) out.push_back(truth3d::scenario_file(m, scenario_source));
   return out;
 }
 

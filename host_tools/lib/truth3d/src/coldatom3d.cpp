@@ -1,5 +1,6 @@
 // The cold-atom gradiometer of a 3-D flight and its scenario tables (coldatom3d.hpp).
 #include "ggins/truth3d/coldatom3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -23,13 +24,7 @@ constexpr uint64_t kStreamCa = 61;  // the shots' draws (streams of generator3d.
 }
 
 namespace {
-// A relative file name of the scenario, from the scenario file's directory.
-std::string from_scenario_dir(const std::string& name, const std::string& source) {
-  namespace fs = std::filesystem;
-  if (name.empty()) return name;
-  const fs::path p(name), dir = fs::path(source).parent_path();
-  return (p.is_absolute() || dir.empty() ? p : dir / p).string();
-}
+std::string from_scenario_dir(const std::string& name, const std::string& source) { return scenario_file(name, source); }
 }  // namespace
 
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
@@ -56,8 +51,8 @@ ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   g.cloud_rw = st::get_num(*t, w, "cloud_rw_m_rts", g.cloud_rw, source);
   g.beam_radius = st::get_num(*t, w, "beam_radius_m", g.beam_radius, source);
   c.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(c.seed), source));
-  if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal")
-    st::fail(source, "coldatom.gzz_map must be \"phillips-route\" or \"phillips-route-normal\"");
+  if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal" && c.gzz_map != "field")
+    st::fail(source, "coldatom.gzz_map must be \"phillips-route\", \"phillips-route-normal\" or \"field\"");
   if (!(g.rate_hz > 0) || !(g.dz > 0) || !(g.T > 0) || !(g.n_atoms > 0) || !(g.contrast > 0) || g.contrast > 1 ||
       g.phase_noise < 0 || g.p_fail < 0 || g.p_fail > 1 || g.cloud_rw < 0 || !(g.beam_radius > 0))
     st::fail(source, "coldatom: rate_hz, dz_m, T_s, n_atoms, beam_radius_m > 0, contrast in (0, 1], p_fail in [0, 1], "
@@ -103,19 +98,8 @@ AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
   return a;
 }
 
-std::vector<std::string> aid_pf_map_paths(const AidPf3& a, const std::string& scenario_source) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> out;
-  if (a.map_dir.empty()) return out;
-  const fs::path dir = fs::path(scenario_source).parent_path();
-  const fs::path p(a.map_dir);
-  const fs::path d = p.is_absolute() || dir.empty() ? p : dir / p;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(d, ec))
-    if (e.is_regular_file() && e.path().extension() == ".gmap") out.push_back(e.path().string());
-  if (ec) throw std::runtime_error("aid_pf.map_dir " + d.string() + ": " + ec.message());
-  std::sort(out.begin(), out.end());
-  return out;
+std::string aid_pf_map_dir(const AidPf3& a, const std::string& scenario_source) {
+  return from_scenario_dir(a.map_dir, scenario_source);
 }
 
 std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c) {
@@ -161,14 +145,15 @@ coldatom::Shot ColdAtomSensor3::shot(int64_t n, double gzz) const {
   return coldatom::shot_from(c_.grad, gzz, d);
 }
 
-void ColdAtomSensor3::frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out) const {
+void ColdAtomSensor3::frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out,
+                            double field_gzz) const {
   out.ca_status = GG_SENSOR_ABSENT;
   out.ca_s[0] = 0;
   out.ca_s[1] = 0;
   if (k < every_ || k % every_ != 0) return;
   out.ca_utime = out.utime;
-  double g = 0;
-  if (!map().gzz(lat_rad, lon_rad, h_m, &g)) {  // off the map's corridor: no gradient to measure
+  double g = field_gzz;
+  if (!samples_field() && !map().gzz(lat_rad, lon_rad, h_m, &g)) {  // off the map's corridor: no gradient to measure
     out.ca_status = GG_SENSOR_BAD;
     return;
   }

@@ -239,7 +239,14 @@ void Generator3::frame(int64_t k, gg_frame_t& out, Truth3* truth_out) const {
     }
   }
   out.ca_status = GG_SENSOR_ABSENT;
-  if (ca_) ca_->frame(k, static_cast<double>(t.s.lat), static_cast<double>(t.s.lon), static_cast<double>(t.s.h), out);
+  if (ca_) {
+    double gzz = 0;  // gzz_map "field": the truth field's Gamma_DD, d^T Gamma_e d with d the geodetic down
+    if (ca_->samples_field()) {
+      const Vec3 d(-std::cos(t.s.lat) * std::cos(t.s.lon), -std::cos(t.s.lat) * std::sin(t.s.lon), -std::sin(t.s.lat));
+      gzz = static_cast<double>(d.dot(t.gamma_e * d));
+    }
+    ca_->frame(k, static_cast<double>(t.s.lat), static_cast<double>(t.s.lon), static_cast<double>(t.s.h), out, gzz);
+  }
   apply_sensor_faults3(opt_.faults, *this, k, out);
   if (truth_out) *truth_out = t;
 }

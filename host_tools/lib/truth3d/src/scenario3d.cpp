@@ -145,8 +145,9 @@ std::vector<sch::Row> coldatom3_rows() {
   const ColdAtom3 d;
   const auto& g = d.grad;
   return {{"enabled", "boolean", "", "false", "", "the cold-atom gradiometer is carried (a shot per 1/rate_hz)"},
-          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\"",
-           "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only)"},
+          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\", \"field\"",
+           "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only; or the "
+           "scenario's own [gravity] field, on any route)"},
           {"egm96", "string", "", "data/egm96_to360.ascii.txt", "file name", "EGM96 coefficients (scenario-relative)"},
           {"cache", "string", "", "\"\" (none)", "file name", "cache of the route map grid (scenario-relative)"},
           {"rate_hz", "number", "Hz", sch::num_text(g.rate_hz), "> 0", "shot rate (fringe pairs)"},
@@ -475,6 +476,24 @@ std::vector<std::string> builtin_scenario3_names() {
   std::vector<std::string> v;
   for (int i = 0; i < kBuiltinScenario3Count; ++i) v.emplace_back(kBuiltinScenarios3[i].name);
   return v;
+}
+
+std::string scenario_file(const std::string& name, const std::string& source) {
+  namespace fs = std::filesystem;
+  if (name.empty()) return name;
+  const fs::path p(name), dir = fs::path(source).parent_path();
+  return (p.is_absolute() || dir.empty() ? p : dir / p).string();
+}
+
+Scenario3 with_absolute_files(Scenario3 s) {
+  namespace fs = std::filesystem;
+  auto abs = [](const std::string& f) { return f.empty() ? f : fs::absolute(f).lexically_normal().string(); };
+  for (auto& m : s.aid_ukf.maps) m = abs(scenario_file(m, s.source));
+  s.aid_pf.map_dir = abs(scenario_file(s.aid_pf.map_dir, s.source));
+  s.coldatom.egm96 = abs(s.coldatom.egm96);  // resolved against the scenario's directory when read
+  s.coldatom.cache = abs(s.coldatom.cache);
+  s.sh.path = abs(s.sh.path);  // as read (from the working directory)
+  return s;
 }
 
 Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {

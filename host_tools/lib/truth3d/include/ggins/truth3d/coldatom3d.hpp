@@ -4,8 +4,10 @@
 //   [coldatom]                  # the sensor (frame.h ca_*): one shot every 1 / rate_hz s
 //   enabled = true
 //   gzz_map = "phillips-route"  # the TRUE Gamma_zz: "phillips-route" (EGM96 + synthetic terrain
-//                               # along Liverpool -> Toulouse, coldatom/route_map.hpp) or
-//                               # "phillips-route-normal" (its WGS-84 normal part alone)
+//                               # along Liverpool -> Toulouse, coldatom/route_map.hpp),
+//                               # "phillips-route-normal" (its WGS-84 normal part alone) or
+//                               # "field" (the scenario's [gravity] field: Gamma_DD of its
+//                               # tensor along the geodetic down, any route)
 //   egm96 = "..."               # EGM96 coefficients (default: the data directory's)
 //   cache = "..."               # directory caching the map's EGM96 grid (default: none)
 //                               # (relative names of both: from the scenario file's directory)
@@ -72,8 +74,9 @@ struct AidPf3 {
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source);
 AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source);
 
-// The tile files of [aid_pf].map_dir (*.gmap, sorted), relative names from the scenario's directory.
-std::vector<std::string> aid_pf_map_paths(const AidPf3& a, const std::string& scenario_source);
+// The directory of [aid_pf].map_dir (its *.gmap tiles: run3d/map_storage.hpp), a relative name
+// from the scenario's directory.
+std::string aid_pf_map_dir(const AidPf3& a, const std::string& scenario_source);
 
 // The map of the true Gamma_zz the sensor samples.
 std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c);
@@ -82,8 +85,11 @@ class ColdAtomSensor3 {
  public:
   ColdAtomSensor3(const ColdAtom3& c, int64_t dt_us);
   // The frame's ca_* for step k with the true geodetic position (rad, rad, m): a shot at
-  // the steps of the shots, ABSENT between them.
-  void frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out) const;
+  // the steps of the shots, ABSENT between them. With gzz_map "field" the shot samples
+  // field_gzz, the truth field's Gamma_DD at the position (the caller's).
+  void frame(int64_t k, double lat_rad, double lon_rad, double h_m, gg_frame_t& out,
+             double field_gzz = 0.0) const;
+  bool samples_field() const { return c_.gzz_map == "field"; }
   // Shot n at the true Gamma_zz gzz (the draws of (seed, n)).
   coldatom::Shot shot(int64_t n, double gzz) const;
   // The map, built at its first use (the EGM96 grid takes seconds even when cached).

@@ -102,6 +102,12 @@ struct Scenario3 {
 };
 
 Scenario3 parse_scenario3(const std::string& toml_text, const std::string& fallback_name, const std::string& source);
+// A file the scenario names: a relative name from the directory of the scenario's file (source).
+std::string scenario_file(const std::string& name, const std::string& source);
+// The scenario with every file it names absolute (the tiles of [aid_ukf].map, [aid_pf].map_dir,
+// [coldatom] egm96 and cache, [gravity.sh] path): the copy "as flown" an output folder keeps
+// names them so, and flies again from anywhere.
+Scenario3 with_absolute_files(Scenario3 s);
 // A file path, <dir>/<name>.toml in search_dirs, or a built-in (scenarios/3d-*.toml).
 Scenario3 load_scenario3(const std::string& name_or_path, const std::vector<std::string>& search_dirs);
 std::vector<std::string> builtin_scenario3_names();
