@@ -10,7 +10,8 @@
  *             velocity feedback, bit 3 its INS process model, bit 4 the UKF's
  *             NIS gate; both read one map storage of a single tile (the
  *             reference field at rest: the point-mass gradient, constant over
- *             the tile), handed to the task through the HAL
+ *             the tile; a tensor tile and a Gamma_zz-only one, each aid served
+ *             its kind), handed to the task through the HAL
  *   changes   field index (1 byte) + value (fz_value): one of the reference
  *             configuration's numbers replaced (raw bits or a small change),
  *             the aids' numbers among them
@@ -222,20 +223,24 @@ static void ref_frame(int64_t k, gg_frame_t *f)
     }
 }
 
-/* the map storage: one tile of the reference field at rest around (0, 0),
- * the point-mass gradient in NED axes, constant over the tile */
-static gg_gmap_tile_t g_tile;
-static gg_gmap_t g_map;
+/* the map storage: a tile of each kind of the reference field at rest around
+ * (0, 0), the point-mass gradient in NED axes, constant over the tile: the
+ * whole tensor (the map UKF's kind) and Gamma_DD alone (GG_GMAP_GZZ_ONLY, the
+ * cold-atom aid's kind) */
+static gg_gmap_tile_t g_tile, g_tile_gzz;
+static gg_gmap_t g_map, g_map_gzz;
 static int g_map_ok;
 
-static gg_status_t tile_at(void *ctx, double lat, double lon, const gg_gmap_t **tile)
+static gg_status_t tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
 {
     (void)ctx;
-    const gg_gmap_tile_t *t = &g_map.tile;
+    const gg_gmap_t *m = (kind == GG_GMAP_KIND_GZZ) ? &g_map_gzz : (kind == GG_GMAP_KIND_TENSOR) ? &g_map : NULL;
+    if (m == NULL) return GG_ERR_RANGE;
+    const gg_gmap_tile_t *t = &m->tile;
     if (!(lat >= t->lat0_rad && lat <= t->lat0_rad + (t->nlat - 1) * t->dlat_rad &&
           lon >= t->lon0_rad && lon <= t->lon0_rad + (t->nlon - 1) * t->dlon_rad))
         return GG_ERR_RANGE;
-    *tile = &g_map;
+    *tile = m;
     return GG_OK;
 }
 
@@ -260,6 +265,13 @@ static const gg_hal_t *map_hal(void)
             g_tile.node[i][GG_GMAP_C_DD] = 2.0 * gr;
         }
         if (gg_gmap_init(&g_map, &g_tile) != GG_OK) FAIL("the reference map tile is refused");
+        memcpy(&g_tile_gzz, &g_tile, sizeof g_tile_gzz);
+        g_tile_gzz.flags = GG_GMAP_GZZ_ONLY;
+        for (int i = 0; i < 64; ++i) {
+            g_tile_gzz.node[i][GG_GMAP_C_NN] = 0.0;
+            g_tile_gzz.node[i][GG_GMAP_C_EE] = 0.0;
+        }
+        if (gg_gmap_init(&g_map_gzz, &g_tile_gzz) != GG_OK) FAIL("the reference Gamma_zz tile is refused");
         hm.ctx = NULL;
         hm.tile_at = tile_at;
         memset(&hal, 0, sizeof hal);
