@@ -1,5 +1,5 @@
 // The cold-atom particle-filter aid of a 3-D flight (aid_pf.h) on the host side of
-// run3d: its configuration onto the LCM message, its output fields from it, and the
+// run3d: its configuration (truth3d::apply_aid_pf) onto the LCM message, its output fields from it, and the
 // report block: counters and the filter's consistency (err / spread)^2 per shot, err
 // the horizontal error of the filter's estimate (state + pf_mean_m) and spread^2 the
 // sum of the cloud's variances along north and east (1 = consistent; Gaussian: the
@@ -20,46 +20,6 @@ extern "C" {
 #include "ggins/truth3d/coldatom3d.hpp"
 
 namespace ggins::run3d {
-
-// [aid_pf] with the sensor's [coldatom] parameters onto the firmware configuration (the
-// filter's ellipse model is the sensor's: k_eff, T, dz, contrast, centre 1/2 + bias;
-// likelihood sigma 0 = the sensor's expected scatter, at least 1e-3); the firmware
-// validates the values (gg_nav3d_init).
-inline void apply_aid_pf(const truth3d::AidPf3& a, const truth3d::ColdAtom3& ca, gg_nav3d_config_t& c) {
-  gg_aid_pf_config_t& m = c.aid_pf;
-  m = gg_aid_pf_config_t{};
-  m.enable = a.enabled ? 1 : 0;
-  if (!a.enabled) return;
-  m.chunk = a.chunk;
-  m.end_chunk = a.end_chunk;
-  m.feedback = a.feedback == "position" ? GG_AID_PF_FB_POS : GG_AID_PF_FB_POS_VEL;
-  gg_pf_config_t& p = m.pf;
-  const coldatom::GradiometerParams& g = ca.grad;
-  p.n = a.particles;
-  p.seed = a.seed;
-  p.model = a.model == "rw" ? GG_PF_MODEL_RW : (a.model == "ins" ? GG_PF_MODEL_INS : GG_PF_MODEL_RBPF);
-  p.k_eff = g.k_eff();
-  p.T = g.T;
-  p.dz = g.dz;
-  p.contrast = g.contrast;
-  p.c0 = 0.5 + g.bias0;
-  p.c1 = 0.5 + g.bias1;
-  p.sigma = a.sigma > 0 ? a.sigma : std::fmax(1e-3, coldatom::Gradiometer(g, 0).expected_sigma());
-  p.sigma0_pos = a.sigma0_pos_m;
-  p.sigma0_vel = a.sigma0_vel_mps;
-  p.sigma0_acc = a.sigma0_tilt_mps2;
-  p.sigma0_jerk = a.sigma0_gyro_mps3;
-  p.sigma0_bias = a.sigma0_accel_mps2;
-  p.q_pos = a.q_pos_m;
-  p.q_vel = a.q_vel_mps;
-  p.q_acc = a.q_tilt_mps2;
-  p.q_jerk = a.q_gyro_mps3;
-  p.q_bias = a.q_accel_mps2;
-  p.reg_bw = a.reg_bw;
-  p.dt = 1.0 / g.rate_hz;
-  p.gain = a.gain;
-  p.ess_frac = a.ess_frac;
-}
 
 inline void aid_pf_config_to_lcm(const gg_aid_pf_config_t& a, ggins::nav3d_config_t& m) {
   const gg_pf_config_t& p = a.pf;

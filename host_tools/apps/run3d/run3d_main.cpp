@@ -316,7 +316,6 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
 
 ggins::nav3d_config_t Model3D::config() {
   gg_nav3d_config_t c = ggins::truth3d::config3d(sc_, gen_);  // truth3d/config3d.hpp
-  ggins::run3d::apply_aid_pf(sc_.aid_pf, sc_.coldatom, c);
   ggins::nav3d_config_t m{};
   m.utime = wall_us();
   m.seq = 0;

@@ -98,6 +98,42 @@ AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
   return a;
 }
 
+void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
+  gg_aid_pf_config_t& m = c.aid_pf;
+  m = gg_aid_pf_config_t{};
+  m.enable = a.enabled ? 1 : 0;
+  if (!a.enabled) return;
+  m.chunk = a.chunk;
+  m.end_chunk = a.end_chunk;
+  m.feedback = a.feedback == "position" ? GG_AID_PF_FB_POS : GG_AID_PF_FB_POS_VEL;
+  gg_pf_config_t& p = m.pf;
+  const coldatom::GradiometerParams& g = ca.grad;
+  p.n = a.particles;
+  p.seed = a.seed;
+  p.model = a.model == "rw" ? GG_PF_MODEL_RW : (a.model == "ins" ? GG_PF_MODEL_INS : GG_PF_MODEL_RBPF);
+  p.k_eff = g.k_eff();
+  p.T = g.T;
+  p.dz = g.dz;
+  p.contrast = g.contrast;
+  p.c0 = 0.5 + g.bias0;
+  p.c1 = 0.5 + g.bias1;
+  p.sigma = a.sigma > 0 ? a.sigma : std::fmax(1e-3, coldatom::Gradiometer(g, 0).expected_sigma());
+  p.sigma0_pos = a.sigma0_pos_m;
+  p.sigma0_vel = a.sigma0_vel_mps;
+  p.sigma0_acc = a.sigma0_tilt_mps2;
+  p.sigma0_jerk = a.sigma0_gyro_mps3;
+  p.sigma0_bias = a.sigma0_accel_mps2;
+  p.q_pos = a.q_pos_m;
+  p.q_vel = a.q_vel_mps;
+  p.q_acc = a.q_tilt_mps2;
+  p.q_jerk = a.q_gyro_mps3;
+  p.q_bias = a.q_accel_mps2;
+  p.reg_bw = a.reg_bw;
+  p.dt = 1.0 / g.rate_hz;
+  p.gain = a.gain;
+  p.ess_frac = a.ess_frac;
+}
+
 std::string aid_pf_map_dir(const AidPf3& a, const std::string& scenario_source) {
   return from_scenario_dir(a.map_dir, scenario_source);
 }

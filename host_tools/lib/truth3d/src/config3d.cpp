@@ -47,6 +47,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
                       c.baro);
   apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.cpp
+  apply_aid_pf(s.aid_pf, s.coldatom, c);           // [aid_pf] with [coldatom], coldatom3d.cpp
   return c;
 }
 

@@ -42,6 +42,7 @@
 
 extern "C" {
 #include "ggins/frame.h"
+#include "ggins/nav3d.h"
 }
 #include "ggins/coldatom/gradiometer.hpp"
 #include "ggins/coldatom/route_map.hpp"
@@ -73,6 +74,12 @@ struct AidPf3 {
 
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source);
 AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source);
+
+// [aid_pf] with the sensor's [coldatom] parameters onto c.aid_pf (the filter's ellipse
+// model is the sensor's: k_eff, T, dz, contrast, centre 1/2 + bias; likelihood sigma 0 = the
+// sensor's expected scatter, at least 1e-3); the firmware validates the values
+// (gg_nav3d_init). Part of the scenario -> configuration mapping (config3d.hpp).
+void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c);
 
 // The directory of [aid_pf].map_dir (its *.gmap tiles: run3d/map_storage.hpp), a relative name
 // from the scenario's directory.

@@ -5,7 +5,8 @@
 // position, known as in Welker et al.), q0_b_e from the truth at t = 0, the
 // Earth rate of the trajectory flown, gravity mode and onboard model (the WGS-84 normal field's zonal
 // series J2..J8, or the point mass), barometric loop, the aiding sources
-// ([aid_ukf]: apply_aid_ukf, src/aids3d.cpp).
+// ([aid_ukf]: apply_aid_ukf, src/aids3d.cpp; [aid_pf] with [coldatom]: apply_aid_pf,
+// src/coldatom3d.cpp).
 #pragma once
 
 extern "C" {
