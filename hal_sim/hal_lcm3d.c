@@ -51,6 +51,11 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_mm.average_steps = m->aid_mm_average_steps;
     c->aid_mm.sigma_gyro_rps = m->aid_mm_sigma_gyro_rps;
     c->aid_mm.sigma_gyro_bias_rps = m->aid_mm_sigma_gyro_bias_rps;
+    c->aid_mm.bias_states = m->aid_mm_bias_states;
+    c->aid_mm.sig0_gyro_bias_rps = m->aid_mm_sig0_gyro_bias_rps;
+    c->aid_mm.sig0_acc_bias_mps2 = m->aid_mm_sig0_acc_bias_mps2;
+    c->aid_mm.q_gyro_bias_rps_rts = m->aid_mm_q_gyro_bias_rps_rts;
+    c->aid_mm.q_acc_bias_mps2_rts = m->aid_mm_q_acc_bias_mps2_rts;
     c->aid_pf.enable = m->aid_pf_enable;
     c->aid_pf.chunk = m->aid_pf_chunk;
     c->aid_pf.end_chunk = m->aid_pf_end_chunk;
@@ -132,7 +137,8 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->mm_rejected = (int64_t)o->mm_rejected;
     m->mm_no_map = (int64_t)o->mm_no_map;
     m->mm_nis = o->mm_nis;
-    for (int i = 0; i < 12; ++i) m->mm_sigma[i] = o->mm_sigma[i];
+    for (int i = 0; i < 18; ++i) m->mm_sigma[i] = o->mm_sigma[i];
+    for (int i = 0; i < 6; ++i) m->mm_bias[i] = o->mm_bias[i];
     for (int i = 0; i < 3; ++i) m->mm_corr_m[i] = o->mm_corr_m[i];
     for (int i = 0; i < 6; ++i) m->mm_innov[i] = o->mm_innov[i];
     for (int i = 0; i < 18; ++i) m->mm_pcov[i] = o->mm_pcov[i];

@@ -49,7 +49,14 @@ static gg_status_t aid_cfg_ok(const gg_aid_mm_config_t *c)
         !GG_ISFINITE(c->gate_nis) || (c->average_steps < 0) || (c->average_steps > c->update_steps) ||
         (nonneg_finite(c->sigma_gyro_rps) == 0) || (c->sigma_gyro_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS) ||
         (nonneg_finite(c->sigma_gyro_bias_rps) == 0) ||
-        (c->sigma_gyro_bias_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS)) {
+        (c->sigma_gyro_bias_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS) || (c->bias_states < 0) ||
+        (c->bias_states > 1)) {
+        st = GG_ERR_CONFIG;
+    }
+    if ((st == GG_OK) && (c->bias_states == 1) &&
+        ((pos_finite(c->sig0_gyro_bias_rps) == 0) || (c->sig0_gyro_bias_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS) ||
+         (pos_finite(c->sig0_acc_bias_mps2) == 0) || (c->sig0_acc_bias_mps2 > GG_LIM_AID_MM_ACC_BIAS_MAX_MPS2) ||
+         (nonneg_finite(c->q_gyro_bias_rps_rts) == 0) || (nonneg_finite(c->q_acc_bias_mps2_rts) == 0))) {
         st = GG_ERR_CONFIG;
     }
     return st;
@@ -125,6 +132,7 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
     if (gravity_state != 0) {
         nx = GG_AID_MM_NX_DR;
     }
+    a->nb = nx;
     mat_zero(P0);
     for (j = 0; j < 3; ++j) {
         P0[j][j] = cfg->sig0_pos_m * cfg->sig0_pos_m;
@@ -133,6 +141,13 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
         if (nx == GG_AID_MM_NX_DR) {
             P0[9 + j][9 + j] = cfg->sig0_g_mps2 * cfg->sig0_g_mps2;
         }
+        if (cfg->bias_states != 0) {
+            P0[a->nb + j][a->nb + j] = cfg->sig0_gyro_bias_rps * cfg->sig0_gyro_bias_rps;
+            P0[a->nb + 3 + j][a->nb + 3 + j] = cfg->sig0_acc_bias_mps2 * cfg->sig0_acc_bias_mps2;
+        }
+    }
+    if (cfg->bias_states != 0) {
+        nx += GG_AID_MM_NX_BIAS;
     }
     uc.nx = nx;
     uc.lambda = cfg->lambda;
@@ -196,7 +211,7 @@ gg_status_t gg_aid_mm_start(gg_aid_mm_t *a, const double gamma_i[3][3])
     if (a->initialized == 0) {
         return GG_ERR_NOT_INIT;
     }
-    if (a->nx != GG_AID_MM_NX_DR) {
+    if (a->nb != GG_AID_MM_NX_DR) {
         return GG_OK;
     }
     for (j = 0; j < 3; ++j) {
@@ -284,13 +299,23 @@ static void transition(const gg_aid_mm_t *a, const gg_aid_ins_t *ins, double F[N
     A[4][8] = f[0] * h;
     A[5][6] = f[1] * h;
     A[5][7] = -f[0] * h;
-    if (n == GG_AID_MM_NX_DR) {
+    if (a->nb == GG_AID_MM_NX_DR) {
         for (j = 0; j < 3; ++j) {
             A[3 + j][9 + j] = h;
         }
         /* [w_ie x] dg, w_ie along z */
         A[9][10] = -w * h;
         A[10][9] = w * h;
+    }
+    if (n > a->nb) {
+        /* psi' = -C_b_i db_w, dv' = -C_b_i db_f */
+        const int32_t nb = a->nb;
+        for (j = 0; j < 3; ++j) {
+            for (k = 0; k < 3; ++k) {
+                A[6 + j][nb + k] = -ins->c_b_i[j][k] * h;
+                A[3 + j][nb + 3 + k] = -ins->c_b_i[j][k] * h;
+            }
+        }
     }
     mat_mul(n, A, A, A2);
     for (j = 0; j < n; ++j) {
@@ -311,6 +336,8 @@ static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     const double qa = (a->cfg.q_att_rad_rts * a->cfg.q_att_rad_rts * ins->dt_s) +
                       (a->cfg.sigma_gyro_rps * a->cfg.sigma_gyro_rps * ins->dt_s * ins->dt_s);
     const double qg = a->cfg.q_g_mps2_rts * a->cfg.q_g_mps2_rts * ins->dt_s;
+    const double qbw = a->cfg.q_gyro_bias_rps_rts * a->cfg.q_gyro_bias_rps_rts * ins->dt_s;
+    const double qbf = a->cfg.q_acc_bias_mps2_rts * a->cfg.q_acc_bias_mps2_rts * ins->dt_s;
     int32_t i;
     int32_t j;
     int32_t k;
@@ -332,8 +359,12 @@ static gg_status_t propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
         for (j = 0; j < 3; ++j) {
             a->q[3 + j][3 + j] += qv;
             a->q[6 + j][6 + j] += qa;
-            if (n == GG_AID_MM_NX_DR) {
+            if (a->nb == GG_AID_MM_NX_DR) {
                 a->q[9 + j][9 + j] += qg;
+            }
+            if (n > a->nb) {
+                a->q[a->nb + j][a->nb + j] += qbw;
+                a->q[a->nb + 3 + j][a->nb + 3 + j] += qbf;
             }
         }
     }
@@ -503,6 +534,15 @@ static gg_status_t aid_meas_model(void *ctx, const double *x, double *z)
             z[j] = 0.5 * (z[j] + z2[j]);
         }
     }
+    if ((st == GG_OK) && (a->nx > a->nb)) {
+        /* the gyro bias left in the [w x]^2 removal: sum_i db_w,i S_i (window mean, body axes) */
+        const size_t nb = (size_t)a->nb;
+        for (j = 0U; j < 6U; ++j) {
+            for (k = 0U; k < 3U; ++k) {
+                z[j] += x[nb + k] * a->ep_sb[k][j];
+            }
+        }
+    }
     return st;
 }
 
@@ -649,7 +689,7 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     double ceb[3][3];
     const double n = (double)a->av_n;
     const double sw2 = a->cfg.sigma_gyro_rps * a->cfg.sigma_gyro_rps;
-    const double sb2 = a->cfg.sigma_gyro_bias_rps * a->cfg.sigma_gyro_bias_rps;
+    double sb2 = a->cfg.sigma_gyro_bias_rps * a->cfg.sigma_gyro_bias_rps;
     const double sm = a->cfg.sigma_meas_s2;
     const double rdb = a->cfg.sigma_db_s2 * a->cfg.sigma_db_s2;
     double ratio = a->cfg.offdiag_ratio;
@@ -658,10 +698,29 @@ static void window_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     if (!(ratio > 0.0)) {
         ratio = 1.0;
     }
+    if (a->nx > a->nb) {
+        sb2 = 0.0; /* the bias is a state, in the measurement model */
+    }
     for (j = 0U; j < 3U; ++j) {
         for (k = 0U; k < 3U; ++k) {
             cbe[j][k] = (double)ins->c_b_e[j][k];
             ceb[k][j] = cbe[j][k];
+        }
+    }
+    (void)memset(a->ep_sb, 0, sizeof a->ep_sb);
+    if ((ins->w_gyro != 0) && (a->av_n > 0)) {
+        /* the window's mean rate sensitivities S_i, ECEF -> the epoch's body axes */
+        double t6[NXM][NXM];
+        size_t i;
+        sym_map6((const double(*)[3])ceb, t6);
+        for (i = 0U; i < 3U; ++i) {
+            for (j = 0U; j < 6U; ++j) {
+                double sum = 0.0;
+                for (k = 0U; k < 6U; ++k) {
+                    sum += t6[j][k] * (a->av_s[i][k] / n);
+                }
+                a->ep_sb[i][j] = sum;
+            }
         }
     }
     for (j = 0U; j < 3U; ++j) {
@@ -752,7 +811,8 @@ static int ins_ok(const gg_aid_ins_t *ins)
             ok = 0;
         }
         for (k = 0U; k < 3U; ++k) {
-            if (!GG_ISFINITE(ins->c_b_e[j][k]) || !GG_ISFINITE(ins->gamma_i[j][k])) {
+            if (!GG_ISFINITE(ins->c_b_e[j][k]) || !GG_ISFINITE(ins->gamma_i[j][k]) ||
+                !GG_ISFINITE(ins->c_b_i[j][k])) {
                 ok = 0;
             }
         }
@@ -919,8 +979,14 @@ static void do_finish(gg_aid_mm_t *a, gg_aid_corr_t *corr)
         corr->dv_i[j] = a->ukf.x[3U + j];
         corr->psi_i[j] = a->ukf.x[6U + j];
         corr->dg_i[j] = 0.0;
-        if (a->nx == GG_AID_MM_NX_DR) {
+        corr->db_w[j] = 0.0;
+        corr->db_f[j] = 0.0;
+        if (a->nb == GG_AID_MM_NX_DR) {
             corr->dg_i[j] = a->ukf.x[9U + j];
+        }
+        if (a->nx > a->nb) {
+            corr->db_w[j] = a->ukf.x[(size_t)a->nb + j];
+            corr->db_f[j] = a->ukf.x[(size_t)a->nb + 3U + j];
         }
     }
     corr->valid = a->accepted_any;

@@ -120,9 +120,14 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
     nav->pf_last_utime = 0;
     nav->pf_have_shot = 0;
     nav->aid_step = -1;
-    nav->aid_corr_m[0] = 0.0;
-    nav->aid_corr_m[1] = 0.0;
-    nav->aid_corr_m[2] = 0.0;
+    {
+        size_t j;
+        for (j = 0U; j < 3U; ++j) {
+            nav->aid_corr_m[j] = 0.0;
+            nav->bias_w[j] = 0.0;
+            nav->bias_f[j] = 0.0;
+        }
+    }
     nav->cfg = *cfg;
     nav->diff = diff;
     nav->omega_ie = (cfg->omega_ie == 0.0L) ? GG_WGS84_OMEGA_IE
@@ -652,8 +657,9 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
         }
     }
     for (j = 0U; j < 3U; ++j) {
-        di.omega_b[j] = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) ? (gg_real_t)fr->omega_b[j]
-                                                                      : 0.0L;
+        di.omega_b[j] = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN)
+                            ? ((gg_real_t)fr->omega_b[j] - (gg_real_t)nav->bias_w[j])
+                            : 0.0L;
     }
     st = gg_diff3d_step(&nav->diff, &di, &d);
     for (i = 0U; (i < 3U) && (st == GG_OK); ++i) {
@@ -666,7 +672,7 @@ static gg_status_t difference(const gg_nav3d_t *nav, const gg_frame_t *fr, step_
     if (st == GG_OK) {
         for (j = 0U; j < 3U; ++j) {
             size_t k;
-            in->f_b[j] = d.f_c[j];
+            in->f_b[j] = d.f_c[j] - (gg_real_t)nav->bias_f[j];
             in->w[j] = di.omega_b[j];
             in->omega_dot[j] = d.omega_dot[j];
             for (k = 0U; k < 3U; ++k) {

@@ -37,6 +37,11 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
     gg_mat3_similarity(cb, nav->gamma_b, gi);
     gg_mat3_vec(cb, nav->f_b, fi);
     for (j = 0U; j < 3U; ++j) {
+        for (k = 0U; k < 3U; ++k) {
+            ins->c_b_i[j][k] = (double)cb[j][k];
+        }
+    }
+    for (j = 0U; j < 3U; ++j) {
         ins->f_i[j] = (double)fi[j];
         for (k = 0U; k < 3U; ++k) {
             ins->gamma_i[j][k] = (double)gi[j][k];
@@ -64,7 +69,8 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
  * velocity to the mechanization (its stored acceleration moves by
  * Gamma_i dr + dg + psi x f_i), the gravitation (dead reckoning) by
  * Gamma_e dr_e + dg_e so it stays the value at the corrected position, the
- * attitude by q_b_i <- q(psi) (x) q_b_i. */
+ * attitude by q_b_i <- q(psi) (x) q_b_i, the bias estimates by db_w, db_f
+ * (subtracted from the next readings on). */
 gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
 {
     gg_real_t dr[3];
@@ -85,7 +91,7 @@ gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
         psi[j] = (gg_real_t)corr->psi_i[j];
         dg[j] = (gg_real_t)corr->dg_i[j];
         if (!GG_ISFINITE(dr[j]) || !GG_ISFINITE(dv[j]) || !GG_ISFINITE(psi[j]) ||
-            !GG_ISFINITE(dg[j])) {
+            !GG_ISFINITE(dg[j]) || !GG_ISFINITE(corr->db_w[j]) || !GG_ISFINITE(corr->db_f[j])) {
             return GG_ERR_NONFINITE;
         }
     }
@@ -119,6 +125,10 @@ gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
     if (st == GG_OK) {
         for (j = 0U; j < 4U; ++j) {
             nav->q_b_i[j] = q[j];
+        }
+        for (j = 0U; j < 3U; ++j) {
+            nav->bias_w[j] += corr->db_w[j];
+            nav->bias_f[j] += corr->db_f[j];
         }
     }
     return st;
@@ -203,9 +213,13 @@ void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     out->mm_rejected = a->n_rejected;
     out->mm_no_map = a->n_no_map;
     out->mm_nis = a->last_nis;
-    for (j = 0; (j < a->nx) && (j < 12); ++j) {
+    for (j = 0; (j < a->nx) && (j < 18); ++j) {
         const double p = a->ukf.P[j][j];
         out->mm_sigma[j] = sqrt(p);
+    }
+    for (j = 0; j < 3; ++j) {
+        out->mm_bias[j] = nav->bias_w[j];
+        out->mm_bias[3 + j] = nav->bias_f[j];
     }
     for (j = 0; j < 3; ++j) {
         out->mm_corr_m[j] = nav->aid_corr_m[j];

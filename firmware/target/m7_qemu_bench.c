@@ -166,6 +166,10 @@ int main(void)
     cfg.aid_mm.average_steps = AID_EPOCH; /* the worst case: every step in the window, two map nodes */
     cfg.aid_mm.sigma_gyro_rps = 2.9e-6;
     cfg.aid_mm.sigma_gyro_bias_rps = 4.85e-8;
+    /* the largest filter: 18 states with the bias states (Gao Table 1 sigmas) */
+    cfg.aid_mm.bias_states = 1;
+    cfg.aid_mm.sig0_gyro_bias_rps = 4.85e-8;
+    cfg.aid_mm.sig0_acc_bias_mps2 = 9.8e-5;
 #endif
 #ifdef PF
     /* the cold-atom aid (aid_pf.h) with the flights' filter: 500 particles, Rao-Blackwellised,

@@ -50,6 +50,7 @@ def main():
     for k in ("--ggins-run3d", "--ggins-replay", "--ggins-coldatom", "--workdir"):
         ap.add_argument(k, required=True)
     ap.add_argument("--ggins-gmap")
+    ap.add_argument("--ggins-profile")
     ap.add_argument("--egm96")
     a = ap.parse_args()
     if a.mode == "all" and not (a.egm96 and os.path.exists(a.egm96)):
@@ -118,6 +119,16 @@ def main():
         check(ukf.get("nis_mean", 1e99) < 18.0, "the map UKF's mean NIS %.3g < 18 (6 dof)" % ukf.get("nis_mean", 1e99))
         check(len(ms) == 2 and ms[0].get("kind") == "file" and ms[0].get("tiles") == 1,
               "the UKF's tile recorded as a file source before the directory")
+        if a.ggins_profile:  # the profile of the same flight: a row of step time for each aid of the task
+            flown = os.path.join(out, "scenario.toml")
+            r = subprocess.run([a.ggins_profile, "-s", flown, "--task", "3d", "--duration", "20", "--no-filters"],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            rows = {ln.split()[0]: ln.split()[1:] for ln in r.stdout.splitlines() if len(ln.split()) == 4}
+            have = all(m in rows and all(x.isdigit() for x in rows[m]) and int(rows[m][2]) > 0
+                       for m in ("diff", "mech", "aid_mm", "aid_pf", "total"))
+            check(r.returncode == 0 and have and int(rows["total"][2]) >= int(rows["aid_mm"][2]),
+                  "ggins profile --task 3d: rows diff, mech, aid_mm, aid_pf, total, the aids inside the total "
+                  "(exit %d)\n%s" % (r.returncode, r.stdout))
     if a.mode == "pf":  # the copy as flown names its map directory absolute: it flies again from the output folder
         flown = os.path.join(out, "scenario.toml")
         md = tomllib.load(open(flown, "rb")).get("aid_pf", {}).get("map_dir")

@@ -228,6 +228,9 @@ inline std::string dump(const ggins::truth3d::Scenario3& s) {
   baro_loop(d, s.nav_baro);
   firmware(d, s.firmware);
   d.v("firmware.fdi_parity_f_max_mps2(3d)", s.fdi_parity_f_max_mps2);
+  d.arr("initial_error.position_ned_m", s.initial_error.position_ned_m);
+  d.arr("initial_error.velocity_ned_mps", s.initial_error.velocity_ned_mps);
+  d.arr("initial_error.attitude_ned_rad", s.initial_error.attitude_ned_rad);
   d.v("output.csv_rate_hz", s.csv_rate_hz);
   d.v("sensor_faults.seed", s.sensor_faults.seed);
   for (size_t i = 0; i < s.sensor_faults.faults.size(); ++i) {
@@ -261,6 +264,11 @@ inline std::string dump(const ggins::truth3d::Scenario3& s) {
   d.v("aid_ukf.average_s", a.average_s);
   d.v("aid_ukf.sigma_gyro_rps", a.sigma_gyro_rps);
   d.v("aid_ukf.sigma_gyro_bias_rps", a.sigma_gyro_bias_rps);
+  d.v("aid_ukf.bias_states", a.bias_states);
+  d.v("aid_ukf.sig0_gyro_bias_rps", a.sig0_gyro_bias_rps);
+  d.v("aid_ukf.sig0_acc_bias_mps2", a.sig0_acc_bias_mps2);
+  d.v("aid_ukf.q_gyro_bias_rps_rts", a.q_gyro_bias_rps_rts);
+  d.v("aid_ukf.q_acc_bias_mps2_rts", a.q_acc_bias_mps2_rts);
   return d.str();
 }
 

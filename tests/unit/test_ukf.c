@@ -405,7 +405,7 @@ static void test_failures_keep_state(void **state)
     cfg.lambda = -1;
     assert_int_equal(gg_ukf_init(&g_f, &cfg, x0, (const double(*)[N])P0), GG_ERR_CONFIG);
     cfg.lambda = 0;
-    cfg.nx = 17;
+    cfg.nx = N + 1; /* beyond GG_UKF_NX_MAX */
     assert_int_equal(gg_ukf_init(&g_f, &cfg, x0, (const double(*)[N])P0), GG_ERR_CONFIG);
     cfg.nx = 2;
     assert_int_equal(gg_ukf_init(&g_f, &cfg, x0, (const double(*)[N])P0), GG_OK);

@@ -23,6 +23,15 @@
  *            (gravity dead reckoning only; in model mode the gravitation is
  *            evaluated at the estimated position and dG = Gamma dr is already
  *            in the position term, so there is no such state: nx = 9)
+ *   with bias states (cfg.bias_states = 1), after those (index nb = 12 or 9):
+ *   x[nb..nb+2]   db_w  gyro bias, body axes, rad/s (true minus the task's estimate)
+ *   x[nb+3..nb+5] db_f  accelerometer bias common to the six, body axes, m/s^2
+ *            (a bias common to the six cancels in the differences: it is the
+ *            centre specific force's; a differential one is the gradient's
+ *            and is left to the fault isolation, fdi3d.h)
+ *   so nx = 18 (dead reckoning) or 15 (model). The task subtracts its bias
+ *   estimates from every gyro and accelerometer reading (nav3d.h) and the aid
+ *   corrects those estimates with the rest of the state (closed loop).
  * Error dynamics (linearised r''_i = f_i + G_i):
  *   dr' = dv,
  *   dv' = Gamma_i dr - [f_i x] psi + dg       (Gamma_i = C_b_i Gamma_b C_i_b,
@@ -30,6 +39,9 @@
  *   psi' = n_psi,                             (gyro white noise: q_att and sigma_gyro)
  *   dg' = [w_ie x] dg + n_g                   (dg is fixed in ECEF; n_g the
  *                                              gradient noise times the speed)
+ * and with bias states dv' gains - C_b_i db_f, psi' gains - C_b_i db_w (the
+ * task integrates the reading minus its estimate, so a bias it has not yet
+ * learnt turns the estimate by -db_w), db_w' = n_bw, db_f' = n_bf (random walks).
  * The vertical block dr'' = Gamma_zz dr with Gamma_zz ~ +2 w_s^2 is Welker's
  * +sqrt(2) w_s mode: dead reckoning alone lets it grow, the map bounds it.
  * Per navigation step of h the transition is F = I + A h + (A h)^2 / 2 (its
@@ -43,6 +55,10 @@
  * point x as Gamma_b = C_n_b Gamma_n(map at r_e + R3(-theta) dr_i) C_b_n with
  * C_b_n = C_e_n (I + [psi_e x]) C_b_e, psi_e = R3(-theta) psi_i. The tile must
  * hold the total gravitation gradient.
+ * With bias states the gyro bias is also in the measurement: the [w x]^2
+ * removal used the task's corrected rate, w + db_w, so the measured gradient
+ * carries sum_i db_w,i S_i (S_i below; the window's mean of S_i in the epoch's
+ * body axes), and R carries no rate-bias share.
  * Epoch average (average_steps = n > 1): the valid samples of the last n steps
  * before the epoch are rotated to ECEF with the task's attitude of their step
  * (C_b_e Gamma_b C_e_b: the field does not turn with the body there), averaged,
@@ -96,7 +112,9 @@
 #define GG_AID_MM_NX_DR 12
 /** Error-state dimension in model mode. */
 #define GG_AID_MM_NX_MODEL 9
-#if GG_AID_MM_NX_DR > GG_UKF_NX_MAX
+/** Bias states (gyro and accelerometer, three each) added by cfg.bias_states. */
+#define GG_AID_MM_NX_BIAS 6
+#if (GG_AID_MM_NX_DR + GG_AID_MM_NX_BIAS) > GG_UKF_NX_MAX
 #error "the map-aid error state does not fit the UKF core (GG_UKF_NX_MAX, limits.h)"
 #endif
 
@@ -132,7 +150,13 @@ typedef struct {
                                   measurement, 0..update_steps (0 or 1: the epoch's own sample) */
     double sigma_gyro_rps;   /**< gyro white noise of one navigation step's rate, rad/s (>= 0):
                                   its share of R (the [w x]^2 removal) and of Q (angle random walk) */
-    double sigma_gyro_bias_rps; /**< gyro bias one-sigma per axis, rad/s (>= 0): its share of R */
+    double sigma_gyro_bias_rps; /**< gyro bias one-sigma per axis, rad/s (>= 0): its share of R
+                                     (without bias states) */
+    int32_t bias_states;        /**< 1: gyro and accelerometer bias states (the file comment), 0: none */
+    double sig0_gyro_bias_rps;  /**< with bias states: initial one-sigma of the gyro bias, rad/s (> 0) */
+    double sig0_acc_bias_mps2;  /**< and of the accelerometers' common bias, m/s^2 (> 0) */
+    double q_gyro_bias_rps_rts; /**< gyro bias random walk, rad/s/sqrt(s) (>= 0) */
+    double q_acc_bias_mps2_rts; /**< accelerometer bias random walk, m/s^2/sqrt(s) (>= 0) */
 } gg_aid_mm_config_t;
 
 /** The task's INS solution and measurement at one navigation step. */
@@ -144,6 +168,7 @@ typedef struct {
     gg_real_t cos_th;
     gg_real_t r_e[3];         /**< estimated position, ECEF, m */
     gg_real_t c_b_e[3][3];    /**< estimated attitude C_b_e */
+    double c_b_i[3][3];       /**< estimated attitude C_b_i (bias states' dynamics) */
     double gamma_i[3][3];     /**< measured gradient, ECI axes, s^-2 (error dynamics) */
     double f_i[3];            /**< specific force, ECI axes, m/s^2 */
     double z_b[6];            /**< measured gradient, body axes: xx, yy, zz, xy, xz, yz, s^-2 */
@@ -159,11 +184,14 @@ typedef struct {
     double dv_i[3];
     double psi_i[3];
     double dg_i[3];           /**< 0 in model mode */
+    double db_w[3];           /**< gyro bias, body axes, rad/s (0 without bias states) */
+    double db_f[3];           /**< accelerometer bias, body axes, m/s^2 (0 without bias states) */
 } gg_aid_corr_t;
 
 typedef struct {
     gg_aid_mm_config_t cfg;
-    int32_t nx;                                   /**< 12 (dead reckoning) or 9 (model) */
+    int32_t nx;                                   /**< 12 (dead reckoning) or 9 (model), + 6 with bias states */
+    int32_t nb;                                   /**< index of the first bias state (= 12 or 9; nx without them) */
     gg_ukf_t ukf;                                 /**< error state and covariance */
     double phi[GG_UKF_NX_MAX][GG_UKF_NX_MAX];     /**< transition accumulated since the last predict */
     double q[GG_UKF_NX_MAX][GG_UKF_NX_MAX];       /**< process noise accumulated since then */
@@ -200,6 +228,7 @@ typedef struct {
     double av_s[3][6];                            /**< sum of the rotated rate sensitivities s_i */
     double av_ss[6][6];                           /**< sum of s_i s_i^T over i and the steps */
     double ep_r[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];    /**< R of the epoch (full, s^-4) */
+    double ep_sb[3][6];                           /**< epoch: window mean of S_i, epoch's body axes (bias states) */
     double last_innov[6];                         /**< innovation of the last epoch (first pass), s^-2 */
     int32_t last_n_avg;                           /**< steps averaged into the last epoch */
 } gg_aid_mm_t;

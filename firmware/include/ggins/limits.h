@@ -46,7 +46,7 @@
 #define GG_GMAP_MAX_NODES 2500   /**< nodes of one tile (nlat * nlon) */
 
 /* ---- unscented Kalman filter core (ukf.h): array sizes ---- */
-#define GG_UKF_NX_MAX 16         /**< state dimension */
+#define GG_UKF_NX_MAX 18         /**< state dimension (the map aid: 12 + 6 bias states) */
 #define GG_UKF_NZ_MAX 6          /**< measurement dimension */
 
 /* ---- map-matching UKF (mmukf.h) ---- */
@@ -66,6 +66,8 @@
 #define GG_LIM_AID_MM_UPDATE_STEPS_MAX 100000
 /** Gyro noise and bias one-sigma the aid accepts, rad/s (~57 deg/s: beyond any navigation gyro). */
 #define GG_LIM_AID_MM_SIGMA_W_MAX_RPS 1.0
+/** map aid (aid_mmukf.h): largest initial one-sigma of the accelerometer bias state, m/s^2 */
+#define GG_LIM_AID_MM_ACC_BIAS_MAX_MPS2 1.0
 
 /* ---- particle filter (pf.h) ---- */
 #ifndef GG_PF_MAX

@@ -179,6 +179,10 @@ typedef struct {
     gg_real_t gamma_b[3][3];     /**< last accepted gradient, body axes, s^-2 */
     gg_real_t gamma_e[3][3];     /**< same in ECEF, s^-2 */
     gg_real_t f_b[3];            /**< last accepted centre specific force, body, m/s^2 */
+    double bias_w[3];            /**< gyro bias estimate subtracted from every rate, body, rad/s
+                                      (learnt by the map aid's bias states; 0 otherwise) */
+    double bias_f[3];            /**< accelerometer bias estimate common to the six, subtracted from
+                                      every reading, body, m/s^2 (likewise) */
     gg_real_t omega_dot_b[3];    /**< angular acceleration from differencing at the last step, rad/s^2
                                       (also the Hermite start-up's end slope) */
     gg_real_t parity[4];         /**< 3 antisymmetric residuals (rad/s^2) + trace (s^-2) */
@@ -242,8 +246,11 @@ typedef struct gg_nav3d_output_s {
     uint32_t mm_rejected;        /**< epochs gated or failed so far */
     uint32_t mm_no_map;          /**< epochs without a covering map tile so far */
     double mm_nis;               /**< NIS of the last epoch (single update with R, 6 dof) */
-    double mm_sigma[12];         /**< one-sigma of the error state (aid_mmukf.h order: dr_i m,
-                                      dv_i m/s, psi_i rad, dg_i m/s^2; 0 beyond its size) */
+    double mm_sigma[18];         /**< one-sigma of the error state (aid_mmukf.h order: dr_i m,
+                                      dv_i m/s, psi_i rad, dg_i m/s^2 (dead reckoning), then the
+                                      bias states db_w rad/s, db_f m/s^2; 0 beyond its size) */
+    double mm_bias[6];           /**< the task's bias estimates subtracted from the readings: gyro,
+                                      body axes, rad/s; accelerometers' common bias, body, m/s^2 */
     double mm_corr_m[3];         /**< position correction of the last epoch, ECI axes, m */
     double mm_innov[6];          /**< innovation of the last epoch (xx yy zz xy xz yz, body axes), s^-2 */
     double mm_pcov[18];          /**< covariance after this step, upper triangles (xx yy zz xy xz yz)

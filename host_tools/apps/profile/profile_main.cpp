@@ -1,7 +1,9 @@
-// ggins profile: fly a scenario host-in-the-loop (ggins run, no log, no
+// ggins profile: fly a scenario host-in-the-loop (ggins run for the 2-D task,
+// ggins run3d for the 3-D task with the aids its scenario switches on; no log, no
 // plots) and print the firmware's per-module step time table - median, p99
 // and max, from the HAL cycle counter the firmware reads around each module
-// (host: CLOCK_MONOTONIC ns) - with the step period budget and overruns.
+// (host: CLOCK_MONOTONIC ns), the aids of the 3-D task among them - with the
+// step period budget and overruns.
 #include <sys/utsname.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -53,7 +55,9 @@ static int print_filter_rows(int shots, int chunk) {
 int main(int argc, char** argv) {
   CLI::App app{
       "ggins profile: per-module firmware step time for a scenario.\n"
-      "Runs `ggins run --no-log --no-plots` (lockstep over LCM, hal_sim in its own process),\n"
+      "Runs `ggins run --no-log --no-plots` (2-D task) or `ggins run3d --no-log --no-plots`\n"
+      "(3-D task, with the aids its scenario switches on: the gradient-map UKF aid_mm, the\n"
+      "cold-atom particle filter aid_pf), lockstep over LCM with hal_sim in its own process,\n"
       "then prints median / p99 / max ns per firmware module as the firmware measured it\n"
       "through the HAL cycle counter (CLOCK_MONOTONIC on the host; DWT CYCCNT on a board),\n"
       "the share of the step period, and the deadline overruns the firmware counted.\n"
@@ -65,7 +69,13 @@ int main(int argc, char** argv) {
   std::string keep;
   bool realtime = false, no_filters = false, filters_only = false;
   int pf_shots = 200, pf_chunk = 50;
+  std::string task = "auto";
   app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
+  app.add_option("--task", task,
+                 "which navigation task flies it: 2d (ggins run), 3d (ggins run3d), or auto: 3d when the "
+                 "scenario's name or file name begins with \"3d\"")
+      ->check(CLI::IsMember({"auto", "2d", "3d"}))
+      ->capture_default_str();
   app.add_option("--duration", duration, "override the scenario's duration, s")
       ->check(ggins::cli::FiniteRange(0, 1e7, ggins::cli::kOpenLow));
   app.add_flag("--realtime", realtime, "pace frames at the sensor rate (caches go cold between steps)");
@@ -83,11 +93,13 @@ int main(int argc, char** argv) {
     return rc == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
   }
   if (filters_only) return print_filter_rows(pf_shots, pf_chunk);
+  if (task == "auto") task = fs::path(scenario).stem().string().rfind("3d", 0) == 0 ? "3d" : "2d";
+  const bool is3d = task == "3d";
 
   std::error_code ec;
   fs::path self = fs::read_symlink("/proc/self/exe", ec);
   if (ec) self = fs::absolute(argv[0]);
-  const fs::path run = self.parent_path() / "ggins-run";
+  const fs::path run = self.parent_path() / (is3d ? "ggins-run3d" : "ggins-run");
   if (!fs::exists(run)) {
     std::fprintf(stderr, "ggins profile: %s not found (build the project)\n", run.c_str());
     return 1;
@@ -104,7 +116,7 @@ int main(int argc, char** argv) {
   std::vector<char*> cargs;
   for (auto& a : args) cargs.push_back(a.data());
   cargs.push_back(nullptr);
-  std::fprintf(stderr, "ggins profile: running %s ...\n", scenario.c_str());
+  std::fprintf(stderr, "ggins profile: running %s (%s task) ...\n", scenario.c_str(), task.c_str());
   const pid_t pid = fork();
   if (pid < 0) {
     std::perror("ggins profile: fork");
@@ -112,13 +124,13 @@ int main(int argc, char** argv) {
   }
   if (pid == 0) {
     execv(cargs[0], cargs.data());
-    std::perror("ggins profile: exec ggins-run");
+    std::perror("ggins profile: exec");
     _exit(127);
   }
   int status = 0;
   waitpid(pid, &status, 0);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::fprintf(stderr, "ggins profile: ggins run failed (status %d); see its messages above\n",
+    std::fprintf(stderr, "ggins profile: %s failed (status %d); see its messages above\n", run.filename().c_str(),
                  WIFEXITED(status) ? WEXITSTATUS(status) : -1);
     return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
   }
@@ -138,17 +150,20 @@ int main(int argc, char** argv) {
               scenario.c_str(), static_cast<long long>(s.value("steps_flown", 0)),
               realtime ? "realtime" : "lockstep", u.sysname, u.machine, sysconf(_SC_NPROCESSORS_ONLN));
   std::printf("%-10s %10s %10s %10s\n", "module", "median ns", "p99 ns", "max ns");
-  const char* order[] = {"diff", "gravdr", "mech", "vchan", "total"};
+  // the aids run inside the step (their cycles are part of "total"); rows of modules the
+  // scenario did not run (all zero) are left out
+  const char* order[] = {"diff", "gravdr", "mech", "vchan", "aid_mm", "aid_pf", "total"};
   for (const char* m : order) {
     if (!fw.contains("modules") || !fw["modules"].contains(m)) continue;
     const auto& r = fw["modules"][m];
+    if (std::string(m) != "total" && r.value("max", 0.0) <= 0.0) continue;
     std::printf("%-10s %10.0f %10.0f %10.0f\n", m, r.value("median", 0.0), r.value("p99", 0.0),
                 r.value("max", 0.0));
   }
   if (rate > 0) {
     const double period_ns = 1e9 / rate;
-    std::printf("step period %.0f ns: median total uses %.3f %% of it\n", period_ns,
-                100.0 * fw.value("median", 0.0) / period_ns);
+    std::printf("step period %.0f ns: median total uses %.3f %% of it, the largest %.3f %%\n", period_ns,
+                100.0 * fw.value("median", 0.0) / period_ns, 100.0 * fw.value("max", 0.0) / period_ns);
   }
   if (s.contains("transport") && s["transport"].contains("hal_sim") &&
       s["transport"]["hal_sim"].contains("deadline_overruns"))

@@ -192,7 +192,9 @@ void Model3D::aid_epoch(const ggins::nav3d_output_t& m, bool accepted) {
   for (int j = 0; j < 3; ++j) ep_csv_ << "," << (accepted ? m.mm_corr_m[j] : 0.0);
   for (int j = 0; j < 3; ++j) ep_csv_ << "," << static_cast<double>(e.dr_n(j));
   for (int j = 0; j < 3; ++j) ep_csv_ << "," << std::sqrt(m.mm_pcov[j]);
-  ep_csv_ << "," << ne[0] << "," << ne[1] << "," << ne[2] << "\n";
+  ep_csv_ << "," << ne[0] << "," << ne[1] << "," << ne[2];
+  for (int j = 0; j < 6; ++j) ep_csv_ << "," << m.mm_bias[j];
+  ep_csv_ << "\n";
 }
 
 void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run_id) {
@@ -218,7 +220,8 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
     ep_csv_ << std::setprecision(10);
     ep_csv_ << "t_s,seq,epoch,accepted,n_avg,nis,innov_xx_E,innov_yy_E,innov_zz_E,innov_xy_E,innov_xz_E,innov_yz_E,"
                "corr_x_eci_m,corr_y_eci_m,corr_z_eci_m,err_n_m,err_e_m,err_d_m,sig_x_eci_m,sig_y_eci_m,sig_z_eci_m,"
-               "nees_pos,nees_vel,nees_att\n";
+               "nees_pos,nees_vel,nees_att,bias_w_x_radps,bias_w_y_radps,bias_w_z_radps,bias_f_x_mps2,"
+               "bias_f_y_mps2,bias_f_z_mps2\n";
   }
 }
 
@@ -366,6 +369,11 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_average_steps = c.aid_mm.average_steps;
   m.aid_mm_sigma_gyro_rps = c.aid_mm.sigma_gyro_rps;
   m.aid_mm_sigma_gyro_bias_rps = c.aid_mm.sigma_gyro_bias_rps;
+  m.aid_mm_bias_states = static_cast<int8_t>(c.aid_mm.bias_states);
+  m.aid_mm_sig0_gyro_bias_rps = c.aid_mm.sig0_gyro_bias_rps;
+  m.aid_mm_sig0_acc_bias_mps2 = c.aid_mm.sig0_acc_bias_mps2;
+  m.aid_mm_q_gyro_bias_rps_rts = c.aid_mm.q_gyro_bias_rps_rts;
+  m.aid_mm_q_acc_bias_mps2_rts = c.aid_mm.q_acc_bias_mps2_rts;
   // the map storage as a whole, for a replay to load the same one (map_storage.hpp)
   m.map_n_sources = static_cast<int8_t>(sources_.size());
   for (size_t i = 0; i < sources_.size(); ++i) {
@@ -441,6 +449,16 @@ json Model3D::aid_ukf_block() const {  // the map aid's counters at the last ste
   a["no_map"] = aid_last_.mm_no_map;
   a["nis_mean"] = aid_closed_ > 0 ? aid_nis_sum_ / static_cast<double>(aid_closed_) : 0.0;
   a["nis_dof"] = 6;
+  if (aid_closed_ > 0) {  // 95 % band of the mean NIS if the epochs were independent: chi^2(6n) / n
+    const double k = 6.0 * static_cast<double>(aid_closed_), c = 2.0 / (9.0 * k);
+    auto q = [&](double z) { return k * std::pow(1.0 - c + z * std::sqrt(c), 3) / static_cast<double>(aid_closed_); };
+    a["nis_band95"] = {q(-1.959963984540054), q(1.959963984540054)};
+  }
+  // the task's bias estimates at the last step flown (0 without bias states) and the aid's sigmas
+  a["bias_states"] = sc_.aid_ukf.bias_states;
+  a["bias_estimate"] = {{"gyro_radps", {aid_last_.mm_bias[0], aid_last_.mm_bias[1], aid_last_.mm_bias[2]}},
+                        {"accel_mps2", {aid_last_.mm_bias[3], aid_last_.mm_bias[4], aid_last_.mm_bias[5]}},
+                        {"frame", "body"}};
   a["sigma_pos_final_m"] = {{"x", aid_last_.mm_sigma[0]}, {"y", aid_last_.mm_sigma[1]}, {"z", aid_last_.mm_sigma[2]}};
   a["sigma_frame"] = "ECI";
   a["tiles"] = maps_.size();

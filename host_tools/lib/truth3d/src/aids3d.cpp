@@ -44,6 +44,11 @@ void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro
   for (double b : gyro.bias_radps) bmax2 = std::max(bmax2, b * b);
   m.sigma_gyro_rps = a.sigma_gyro_rps >= 0 ? a.sigma_gyro_rps : gyro.noise_sigma_radps;
   m.sigma_gyro_bias_rps = a.sigma_gyro_bias_rps >= 0 ? a.sigma_gyro_bias_rps : std::sqrt(b2 + bmax2);
+  m.bias_states = a.bias_states ? 1 : 0;
+  m.sig0_gyro_bias_rps = a.sig0_gyro_bias_rps;
+  m.sig0_acc_bias_mps2 = a.sig0_acc_bias_mps2;
+  m.q_gyro_bias_rps_rts = a.q_gyro_bias_rps_rts;
+  m.q_acc_bias_mps2_rts = a.q_acc_bias_mps2_rts;
 }
 
 }  // namespace ggins::truth3d

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <Eigen/Geometry>
 
 #include "ggins/gravity/normal.hpp"
 #include "ggins/gravity/wgs84.hpp"
@@ -19,12 +20,20 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   c.dt_us = s.dt_us();
   c.dt_tol_us = s.firmware.dt_tol_us;
   const Truth3 t0 = g.truth(0);
+  // [initial_error] (x = true - estimate): estimate = truth - x, NED axes of the true start
+  const Mat3 C_n_e = ned_to_ecef(t0.s.lat, t0.s.lon);
+  const auto& ie = s.initial_error;
+  const Vec3 dr_e = C_n_e * Vec3(ie.position_ned_m[0], ie.position_ned_m[1], ie.position_ned_m[2]);
+  const Vec3 dv_e = C_n_e * Vec3(ie.velocity_ned_mps[0], ie.velocity_ned_mps[1], ie.velocity_ned_mps[2]);
+  const Vec3 psi_e = C_n_e * Vec3(ie.attitude_ned_rad[0], ie.attitude_ned_rad[1], ie.attitude_ned_rad[2]);
   for (int i = 0; i < 3; ++i) {
-    c.r0_e[i] = t0.s.r_e(i);
-    c.v0_e[i] = t0.s.v_e(i);
+    c.r0_e[i] = t0.s.r_e(i) - dr_e(i);
+    c.v0_e[i] = t0.s.v_e(i) - dv_e(i);
     c.g0_e[i] = t0.g_e(i);
   }
-  const auto q = quat_from_dcm(t0.s.C_b_e);
+  Mat3 C_est = t0.s.C_b_e;
+  if (psi_e.norm() > 0) C_est = Eigen::AngleAxis<Real>(-psi_e.norm(), psi_e / psi_e.norm()).toRotationMatrix() * C_est;
+  const auto q = quat_from_dcm(C_est);
   for (int i = 0; i < 4; ++i) c.q0_b_e[i] = q[static_cast<size_t>(i)];
   // the Earth rate of the truth flown (nav3d.h: negative for a non-rotating Earth)
   const Real w_ie = g.trajectory().omega_ie();

@@ -339,6 +339,18 @@ sch::Schema<S> build_schema3() {
           "gravity from the gradiometer, or the onboard WGS-84 zonal series (J2..J8)");
     secs.push_back(sch::section<S>(t));
   }
+  {
+    sch::Table<InitialError3> t("initial_error",
+                                "The navigation computer's initial errors, true minus estimate (the gravitation "
+                                "stays the true start's).");
+    using I = InitialError3;
+    t.vec<3>("position_ned_m", &I::position_ned_m, "m", sch::in(-1e5, 1e5),
+             "position error, local NED axes of the true start")
+        .vec<3>("velocity_ned_mps", &I::velocity_ned_mps, "m/s", sch::in(-1e3, 1e3), "velocity error, NED axes")
+        .vec<3>("attitude_ned_rad", &I::attitude_ned_rad, "rad", sch::in(-0.5, 0.5),
+                "attitude error psi, NED axes: C_b_n(estimate) = (I - [psi x]) C_b_n(true)");
+    secs.push_back(sch::section<S>(t, &S::initial_error));
+  }
   secs.push_back(sch::section<S>(keys::baro_loop_table(), &S::nav_baro));
   {
     sch::Table<truth::FirmwareParams> f("firmware", "");

@@ -18,8 +18,13 @@
 //                              # before it (0: the epoch's own sample), <= update_period_s
 //   sigma_gyro_rps             # gyro white noise of one navigation step's rate, rad/s: its
 //                              # share of R ([w x]^2 removal) and of Q; default [gyro] noise_sigma_radps
-//   sigma_gyro_bias_rps        # gyro bias one-sigma, rad/s: its share of R; default [gyro]
-//                              # bias_sigma_radps (+ the largest |bias_radps| entry)
+//   sigma_gyro_bias_rps        # gyro bias one-sigma, rad/s: its share of R (without bias
+//                              # states); default [gyro] bias_sigma_radps (+ the largest
+//                              # |bias_radps| entry)
+//   bias_states = false        # gyro and accelerometer bias states (18 states with dead
+//                              # reckoning, 15 in model mode): the task subtracts its estimates
+//   sig0_gyro_bias_rps, sig0_acc_bias_mps2            # their initial one-sigma (Gao Table 1)
+//   q_gyro_bias_rps_rts, q_acc_bias_mps2_rts          # their random walks
 #pragma once
 
 #include <string>
@@ -50,6 +55,11 @@ struct AidUkf3 {
   double average_s = 0.0;
   double sigma_gyro_rps = -1.0;       // < 0: from the scenario's [gyro] (apply_aid_ukf)
   double sigma_gyro_bias_rps = -1.0;  // < 0: from the scenario's [gyro]
+  bool bias_states = false;
+  double sig0_gyro_bias_rps = 4.85e-8;  // 0.01 deg/h (Gao Table 1)
+  double sig0_acc_bias_mps2 = 9.8e-5;   // 10 ug (Gao Table 1)
+  double q_gyro_bias_rps_rts = 0.0;
+  double q_acc_bias_mps2_rts = 0.0;
 };
 
 // The map files with relative names resolved against the scenario's directory.
@@ -106,7 +116,18 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
            "gyro white noise of one navigation step's rate: its share of R ([w x]^2 removal) and of Q", -1.0,
            "gyro.noise_sigma_radps")
       .num("sigma_gyro_bias_rps", &A::sigma_gyro_bias_rps, "rad/s", sch::in(0, 1),
-           "gyro bias one-sigma: its share of R", -1.0, "gyro.bias_sigma_radps + the largest |gyro.bias_radps| entry");
+           "gyro bias one-sigma: its share of R (without bias states)", -1.0,
+           "gyro.bias_sigma_radps + the largest |gyro.bias_radps| entry")
+      .boolean("bias_states", &A::bias_states,
+               "gyro and accelerometer bias states in the filter (the task subtracts its estimates from the readings)")
+      .num("sig0_gyro_bias_rps", &A::sig0_gyro_bias_rps, "rad/s", sch::in_lopen(0, 1),
+           "initial gyro bias sigma (bias states)")
+      .num("sig0_acc_bias_mps2", &A::sig0_acc_bias_mps2, "m/s^2", sch::in_lopen(0, 1),
+           "initial sigma of the accelerometers' common bias (bias states)")
+      .num("q_gyro_bias_rps_rts", &A::q_gyro_bias_rps_rts, "rad/s/sqrt(s)", sch::in(0, 1),
+           "gyro bias random walk (bias states)")
+      .num("q_acc_bias_mps2_rts", &A::q_acc_bias_mps2_rts, "m/s^2/sqrt(s)", sch::in(0, 1),
+           "accelerometer bias random walk (bias states)");
   return t;
 }
 

@@ -2,7 +2,8 @@
 // place where a 3-D scenario (scenario3d.hpp) becomes the gg_nav3d_config_t
 // of nav3d.h (ggins run3d over LCM or in process, Monte Carlo, the tests):
 // geometry, platform, step, the initial r0_e, v0_e, g0_e (G at the true start
-// position, known as in Welker et al.), q0_b_e from the truth at t = 0, the
+// position, known as in Welker et al.), q0_b_e from the truth at t = 0 (position,
+// velocity and attitude less the scenario's [initial_error]), the
 // Earth rate of the trajectory flown, gravity mode and onboard model (the WGS-84 normal field's zonal
 // series J2..J8, or the point mass), barometric loop, the aiding sources
 // ([aid_ukf]: apply_aid_ukf, src/aids3d.cpp; [aid_pf] with [coldatom]: apply_aid_pf,

@@ -65,6 +65,17 @@ inline truth::GravityParams default_gravity3() {
   return g;
 }
 
+// [initial_error]: the navigation computer's initial state minus nothing but these errors
+// (x = true - estimate, the aids' convention): position and velocity in the local NED
+// frame of the true start, attitude as the small rotation psi (NED) with
+// C_b_n(estimate) = (I - [psi x]) C_b_n(true). The initial gravitation stays the true
+// value at the true start (surveyed, as Welker et al.).
+struct InitialError3 {
+  std::array<double, 3> position_ned_m{0, 0, 0};
+  std::array<double, 3> velocity_ned_mps{0, 0, 0};
+  std::array<double, 3> attitude_ned_rad{0, 0, 0};
+};
+
 struct Scenario3 {
   std::string name, description, source, text;
   Trajectory3Params trajectory;
@@ -77,6 +88,7 @@ struct Scenario3 {
   GyroErrorParams gyro;
   truth::BaroParams baro;  // enable, seed, rate_hz, bias_m, gm_sigma_m, gm_tau_s, noise_sigma_m
   std::string nav_gravity = "gradiometer";
+  InitialError3 initial_error;     // [initial_error]
   truth::BaroLoopParams nav_baro;
   truth::FirmwareParams firmware;  // f_max_mps2, asym_max_ps2, dt_tol_us
   // [firmware] fdi_parity_f_max_mps2: the pair-mean fault detection threshold
