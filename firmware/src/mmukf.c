@@ -111,8 +111,9 @@ gg_status_t gg_mm_init(gg_mm_t *st, const gg_mm_config_t *cfg, const gg_gmap_t *
     if ((map != NULL) && ((map->initialized == 0) || ((map->tile.flags & GG_GMAP_ANOMALY) != 0u))) {
         return GG_ERR_CONFIG; /* the filter needs a TOTAL-field tile */
     }
-    static const double zero[GG_UKF_NX_MAX] = {0.0};
+    double zero[GG_UKF_NX_MAX];
     double P0[GG_UKF_NX_MAX][GG_UKF_NX_MAX];
+    (void)memset(zero, 0, sizeof zero);
     (void)memset(P0, 0, sizeof P0);
     const double sd[5] = {cfg->sig0_att_rad, cfg->sig0_vel_mps, cfg->sig0_pos_m, cfg->sig0_bg_rps,
                           cfg->sig0_ba_mps2};
@@ -262,7 +263,8 @@ static void update_epoch(gg_mm_t *st, const gg_mm_meas_t *meas, int32_t *updated
     for (int k = 0; k < GG_MM_NX; ++k) {
         Q[k][k] = q[k / 3];
     }
-    static const double zero[GG_UKF_NX_MAX] = {0.0};
+    double zero[GG_UKF_NX_MAX];
+    (void)memset(zero, 0, sizeof zero);
     /* cppcheck-suppress misra-c2012-17.7 */
     if ((ok == 0) || (gg_ukf_predict_finish(&st->ukf, (const double(*)[GG_UKF_NX_MAX])Q) != GG_OK)) {
         st->health |= GG_MM_H_UKF_FAIL;
