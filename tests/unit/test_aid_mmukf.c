@@ -654,6 +654,113 @@ static void test_bias_states(void **state)
     assert_true(f[1].err_h_end > 3.0 * f[0].err_h_end);
 }
 
+/* The covariance propagation against a dense reimplementation: 300 steps of
+ * the aid with fixed INS inputs (a turning body's attitude, specific force and
+ * gradient, bias states on) accumulate Phi = F^300 and Q = sum F^k Qd F^kT
+ * with F = I + A h + (A h)^2 / 2; the test builds A densely from aid_mmukf.h's
+ * error dynamics and multiplies full matrices in long double. */
+static void test_propagation_dense(void **state)
+{
+    (void)state;
+    gg_aid_mm_config_t c;
+    gg_aid_ins_t ins;
+    gg_aid_corr_t corr;
+    const int n = GG_AID_MM_NX_DR + GG_AID_MM_NX_BIAS, nb = GG_AID_MM_NX_DR, steps = 300;
+    const double h = 0.01, w = 7.292115e-5;
+    aid_config(&c);
+    c.update_steps = 100000;
+    c.bias_states = 1;
+    c.sig0_gyro_bias_rps = 1.0e-7;
+    c.sig0_acc_bias_mps2 = 1.0e-4;
+    c.q_gyro_bias_rps_rts = 3.0e-9;
+    c.q_acc_bias_mps2_rts = 2.0e-7;
+    c.sigma_gyro_rps = 2.0e-6;
+    static gg_aid_mm_t a;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
+    memset(&ins, 0, sizeof ins);
+    ins.n_steps = 1;
+    ins.dt_s = h;
+    ins.omega_ie = w;
+    ins.sin_th = 0.0L;
+    ins.cos_th = 1.0L;
+    ins.r_e[0] = 6378137.0L;
+    const double ang = 0.3;
+    const double cb[3][3] = {{cos(ang), -sin(ang), 0.0}, {sin(ang) * 0.8, cos(ang) * 0.8, -0.6},
+                             {sin(ang) * 0.6, cos(ang) * 0.6, 0.8}};
+    const double g[3][3] = {{3.1e-6, 2.0e-9, -1.0e-9}, {2.0e-9, -1.5e-6, 4.0e-9}, {-1.0e-9, 4.0e-9, -1.6e-6}};
+    const double f[3] = {0.4, -1.2, 9.81};
+    for (int j = 0; j < 3; ++j) {
+        ins.f_i[j] = f[j];
+        for (int k = 0; k < 3; ++k) {
+            ins.c_b_e[j][k] = (gg_real_t)cb[j][k];
+            ins.c_b_i[j][k] = cb[j][k];
+            ins.gamma_i[j][k] = g[j][k];
+        }
+    }
+    for (int s = 0; s < steps; ++s) assert_int_equal(gg_aid_mm_step(&a, &ins, NULL, &corr), GG_OK);
+    /* dense A h and F */
+    static long double A[18][18], F[18][18], P[18][18], Q[18][18], T[18][18];
+    memset(A, 0, sizeof A);
+    for (int j = 0; j < 3; ++j) {
+        A[j][3 + j] = h;
+        A[3 + j][9 + j] = h;
+        for (int k = 0; k < 3; ++k) {
+            A[3 + j][k] = g[j][k] * h;
+            A[6 + j][nb + k] = -cb[j][k] * h;
+            A[3 + j][nb + 3 + k] = -cb[j][k] * h;
+        }
+    }
+    A[3][7] = f[2] * h; A[3][8] = -f[1] * h; A[4][6] = -f[2] * h;
+    A[4][8] = f[0] * h; A[5][6] = f[1] * h; A[5][7] = -f[0] * h;
+    A[9][10] = -w * h; A[10][9] = w * h;
+    for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+            long double s2 = 0.0L;
+            for (int l = 0; l < n; ++l) s2 += A[j][l] * A[l][k];
+            F[j][k] = A[j][k] + 0.5L * s2 + (j == k ? 1.0L : 0.0L);
+        }
+    memset(P, 0, sizeof P);
+    memset(Q, 0, sizeof Q);
+    for (int j = 0; j < n; ++j) P[j][j] = 1.0L;
+    const long double qd[18] = {0, 0, 0, c.q_vel_mps_rts * c.q_vel_mps_rts * h, c.q_vel_mps_rts * c.q_vel_mps_rts * h,
+                                c.q_vel_mps_rts * c.q_vel_mps_rts * h, 0, 0, 0,
+                                c.q_g_mps2_rts * c.q_g_mps2_rts * h, c.q_g_mps2_rts * c.q_g_mps2_rts * h,
+                                c.q_g_mps2_rts * c.q_g_mps2_rts * h, 9e-18 * h, 9e-18 * h, 9e-18 * h,
+                                4e-14 * h, 4e-14 * h, 4e-14 * h};
+    const long double qa = c.q_att_rad_rts * c.q_att_rad_rts * h + 4e-12 * h * h;
+    for (int s = 0; s < steps; ++s) {
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < n; ++k) {
+                long double s2 = 0.0L;
+                for (int l = 0; l < n; ++l) s2 += F[j][l] * P[l][k];
+                T[j][k] = s2;
+            }
+        memcpy(P, T, sizeof P);
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < n; ++k) {
+                long double s2 = 0.0L;
+                for (int l = 0; l < n; ++l)
+                    for (int m = 0; m < n; ++m) s2 += F[j][l] * Q[l][m] * F[k][m];
+                T[j][k] = s2;
+            }
+        memcpy(Q, T, sizeof Q);
+        for (int j = 0; j < n; ++j) Q[j][j] += (j >= 6 && j < 9) ? qa : qd[j];
+    }
+    double ep = 0.0, eq = 0.0;
+    for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+            const double dp = fabs((double)(a.phi[j][k] - P[j][k])) / (1e-30 + fabs((double)P[j][k]) + 1e-12);
+            const double sq = sqrtl(Q[j][j] * Q[k][k]);
+            const double dq = sq > 0 ? fabs((double)(a.q[j][k] - Q[j][k])) / sq : fabs(a.q[j][k]);
+            if (dp > ep) ep = dp;
+            if (dq > eq) eq = dq;
+        }
+    print_message("aid propagation, 18 states, %d steps: worst Phi difference %.2e (relative), worst Q difference "
+                  "%.2e (correlation units) against the dense long-double reference\n", steps, ep, eq);
+    assert_true(ep < 1e-12);
+    assert_true(eq < 1e-12);
+}
+
 static void test_config(void **state)
 {
     (void)state;
@@ -711,6 +818,7 @@ int main(void)
         cmocka_unit_test(test_model_mode_recovers),
         cmocka_unit_test(test_gyro_share_averaged),
         cmocka_unit_test(test_bias_states),
+        cmocka_unit_test(test_propagation_dense),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
