@@ -127,17 +127,19 @@ int main(int argc, char** argv) {
     throw C::BadArgument("--duration " + std::to_string(*duration) + " s with --dt " + std::to_string(dt) +
                          " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
 
-  auto b = builtin_scenario3d(scen);
+  std::optional<Cov3DScenario> b;
   std::vector<std::string> unmodelled;
 #ifdef GGINS_HAVE_TRUTH3D
-  if (!b) {
-    try {
-      b = load_truth3d_scenario(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"}, &unmodelled);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "ggins-covariance3d: %s\n", e.what());
-      return 2;
-    }
+  try {  // a gc3d-* built-in, a great-circle file, or a truth3d scenario
+    auto in = resolve_scenario3d(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"});
+    b = in.cov;
+    unmodelled = in.unmodelled;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-covariance3d: %s\n", e.what());
+    return 2;
   }
+#else
+  b = builtin_scenario3d(scen);
 #endif
   if (!b) {
     std::fprintf(stderr, "ggins-covariance3d: unknown scenario '%s'\n", scen.c_str());
