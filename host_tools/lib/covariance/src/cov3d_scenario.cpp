@@ -55,7 +55,7 @@ sch::Schema<S> build() {
   {
     sch::Table<S> t("time", "Duration and firmware step rate.");
     t.num("duration_s", &S::duration_s, "s", sch::in_lopen(0, 1e9), "flight duration");
-    sch::Key<S> rate = sch::mk<S>("rate_hz", "number", "Hz", "> 0 and <= 10000",
+    sch::Key<S> rate = sch::mk<S>("rate_hz", "number", "Hz", sch::in_lopen(0, 1e4).text(),
                                   "step rate (white-noise densities: sigma^2 / rate_hz)", "");
     const sch::Range rr = sch::in_lopen(0, 1e4);
     rate.read = [rr](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
@@ -73,13 +73,13 @@ sch::Schema<S> build() {
   }
   {
     sch::Table<S> t("errors", "Sensor errors (each drawn per run, zero mean) and initial-state errors, one sigma.");
-    sch::Key<S> an = sch::mk<S>("acc_noise_sigma_mps2", "number", "m/s^2", ">= 0 and <= 1000",
+    sch::Key<S> an = sch::mk<S>("acc_noise_sigma_mps2", "number", "m/s^2", sch::in(0, 1e3).text(),
                                 "white noise per reading per sample", "");
     an.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
       s.model.acc_noise_sigma_mps2 = sch::read_num(n, c, p, sch::in(0, 1e3), "m/s^2");
     };
     an.write = [](const S& s) -> std::optional<std::string> { return sch::num_text(s.model.acc_noise_sigma_mps2); };
-    sch::Key<S> gn = sch::mk<S>("gyro_noise_sigma_radps", "number", "rad/s", ">= 0 and <= 10",
+    sch::Key<S> gn = sch::mk<S>("gyro_noise_sigma_radps", "number", "rad/s", sch::in(0, 10).text(),
                                 "white gyro noise per axis per sample (strapdown)", "");
     gn.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
       s.model.gyro_noise_sigma_radps = sch::read_num(n, c, p, sch::in(0, 10), "rad/s");
