@@ -76,22 +76,6 @@ double max_rel_diff(const VectorXd& a, const VectorXd& b) {
 
 json cjson(const cd& z) { return json::array({z.real(), z.imag()}); }
 
-bool python_has_matplotlib(const std::string& py) {
-  const std::string cmd = "'" + py + "' -c 'import matplotlib' >/dev/null 2>&1";
-  return std::system(cmd.c_str()) == 0;
-}
-
-std::string find_python(const std::string& requested) {
-  std::vector<std::string> cands;
-  if (!requested.empty()) cands.push_back(requested);
-  if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
-  cands.emplace_back("/usr/bin/python3");  // Debian python3-matplotlib (scripts/setup)
-  cands.emplace_back("python3");
-  for (const auto& c : cands)
-    if (python_has_matplotlib(c)) return c;
-  return "";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -397,7 +381,7 @@ int main(int argc, char** argv) {
 
   std::string plot_msg;
   if (!no_plot) {
-    const std::string py = find_python(python);
+    const std::string py = C::find_python(python);
     const fs::path png = fs::path(out_dir) / "covariance.png";
     if (py.empty()) {
       plot_msg = "no python with matplotlib found (try --python /usr/bin/python3); no plot";

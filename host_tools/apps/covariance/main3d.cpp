@@ -35,17 +35,6 @@ namespace {
 
 json cj(const cdv& z) { return json::array({z.real(), z.imag()}); }
 
-std::string find_python(const std::string& req) {
-  std::vector<std::string> c;
-  if (!req.empty()) c.push_back(req);
-  if (const char* e = std::getenv("GGINS_PYTHON")) c.emplace_back(e);
-  c.emplace_back("/usr/bin/python3");
-  c.emplace_back("python3");
-  for (const auto& p : c)
-    if (std::system(("'" + p + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0) return p;
-  return "";
-}
-
 // Predicted non-zero eigenvalues of the nav block (first order in omega_ie / omega_s):
 // +-sqrt(Gamma_up), +-j(omega_s + omega_ie sin L), +-j(omega_s - omega_ie sin L).
 std::vector<cdv> predicted(const Eigen3D& e) {
@@ -326,7 +315,7 @@ int main(int argc, char** argv) {
 
   std::string plot_msg;
   if (!no_plot) {
-    const std::string py = find_python(python);
+    const std::string py = C::find_python(python);
     const fs::path png = fs::path(out_dir) / "covariance3d.png";
     if (py.empty()) {
       plot_msg = "no python with matplotlib; no plot";

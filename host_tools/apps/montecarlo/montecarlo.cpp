@@ -450,17 +450,12 @@ int main(int argc, char** argv) {
   }
 
   if (!no_plot) {
-    std::vector<std::string> cands;
-    if (!python.empty()) cands.push_back(python);
-    if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
-    cands.emplace_back("/usr/bin/python3");
-    cands.emplace_back("python3");
-    for (const auto& py : cands) {
-      if (std::system(("'" + py + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) != 0) continue;
+    if (const std::string py = ggins::cli::find_python(python); !py.empty()) {
       const std::string cmd = "'" + py + "' '" GGINS_MC_PLOT_SCRIPT "' '" + outp.string() + "' --title '" + sc.name +
                               " (N = " + std::to_string(n) + ")' 1>&2";
       if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "ggins-montecarlo: plot failed\n");
-      break;
+    } else {
+      std::fprintf(stderr, "ggins-montecarlo: no python with matplotlib found (try --python /usr/bin/python3); no plot\n");
     }
   }
   if (want_json) {

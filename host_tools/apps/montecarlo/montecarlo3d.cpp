@@ -412,16 +412,7 @@ int main(int argc, char** argv) {
     if (st != 0 && (code == 0 || st != 4)) code = st;
   }
   if (!no_plot) {
-    std::vector<std::string> cands;
-    if (!python.empty()) cands.push_back(python);
-    if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
-    cands.emplace_back("/usr/bin/python3");
-    std::string py;
-    for (const auto& c : cands)
-      if (std::system(("'" + c + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0) {
-        py = c;
-        break;
-      }
+    const std::string py = ggins::cli::find_python(python);
     const std::string cmd = "'" + py + "' '" GGINS_MC3D_PLOT_SCRIPT "' '" + (fs::path(out_dir) / "montecarlo3d.csv").string() +
                             "' '" + (fs::path(out_dir) / "montecarlo3d.png").string() + "' --title '" + s.name +
                             " N=" + std::to_string(runs) + "' 1>&2";
