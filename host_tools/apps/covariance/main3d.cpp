@@ -78,7 +78,8 @@ int main(int argc, char** argv) {
   std::optional<bool> baro;
   std::optional<double> baro_bias;
   app.add_option("-s,--scenario", scen,
-                 "built-in great-circle scenario (gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro) "
+                 "built-in great-circle scenario (gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro), "
+                 "a great-circle file (a [great_circle] table: ggins montecarlo3d --print-scenario), "
                  "or a 3-D truth-generator scenario (scenarios/3d-*.toml name or a TOML file path)")
       ->capture_default_str();
   app.add_option("--platform", platform_s, "stabilized | strapdown (overrides the scenario)")

@@ -61,7 +61,8 @@ int main(int argc, char** argv) {
   std::optional<double> rate_opt, duration, omega_ie, speed, lat0, acc_bias, gyro_bias, acc_noise, gyro_noise;
   bool want_json = false, no_plot = false, no_baro = false;
   std::string python;
-  app.add_option("-s,--scenario", scen, "3-D scenario: gc3d-* built-in or a 3-D truth-generator scenario (ggins covariance3d --help)")->capture_default_str();
+  app.add_option("-s,--scenario", scen, "3-D scenario: gc3d-* built-in, a great-circle file ([great_circle], as --print-scenario writes), or a 3-D\n"
+                 "truth-generator scenario (ggins covariance3d --help)")->capture_default_str();
   app.add_option("-n,--runs", runs, "number of runs N")->capture_default_str()->check(CLI::Range(2, 100000));
   app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str()->check(ggins::cli::Seed());
   app.add_option("--rate-hz", rate_opt, "firmware step rate, Hz (1e6 / rate a whole number of microseconds; default: the scenario's, 100 for gc3d-*)")
@@ -162,6 +163,10 @@ int main(int argc, char** argv) {
   if (jobs <= 0) jobs = int(std::max(1u, std::thread::hardware_concurrency()));
   const bool sd = s.platform == Platform::kStrapdown;
 
+  // SIGINT/SIGTERM (a terminal's Ctrl-C) from here on: no run starts after it, the runs in
+  // flight stop at their next check, and the report says which ran (status interrupted, exit 130).
+  ggins::hil::install_interrupt_handlers();
+
   // Covariance of the same scenario.
   const auto model = make_model3d(s);
   PropagationOptions opt;
@@ -177,9 +182,6 @@ int main(int argc, char** argv) {
   std::atomic<int> next{0};
   std::mutex err_mu;
   std::string err;
-  // SIGINT/SIGTERM (a terminal's Ctrl-C): no run starts after it, the runs in flight stop
-  // at their next check, and the report says which ran (status interrupted, exit 130).
-  ggins::hil::install_interrupt_handlers();
   const std::function<bool()> stop = [] { return ggins::hil::interrupted(); };
   const auto t0 = std::chrono::steady_clock::now();
   auto worker = [&]() {
