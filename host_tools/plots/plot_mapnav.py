@@ -17,13 +17,13 @@ for j, (pre, title) in enumerate([("ggan", "GGAN (map-matching UKF)"), ("ins", "
         ax[0][j].plot(t, col(f"{pre}_{k}"), label=lab)
     ax[0][j].set_ylabel("attitude error, arcmin")
     for k in ["vE", "vN", "vU"]:
-        ax[1][j].plot(t, col(f"{pre}_{k}"), label=k)
+        ax[1][j].plot(t, col(f"{pre}_{k}_mps"), label=k)
     ax[1][j].set_ylabel("velocity error, m/s")
     for k, lab in [("lat_m", "latitude"), ("lon_m", "longitude"), ("h_m", "height")]:
         ax[2][j].plot(t, col(f"{pre}_{k}"), label=lab)
     if pre == "ggan":
-        for k, c in [("sig_N", "C0"), ("sig_E", "C1")]:
-            ax[2][j].plot(t, [3 * v for v in col(k)], c + ":", lw=0.8, label=f"3 sigma {k[-1]}")
+        for k, c in [("sig_N_m", "C0"), ("sig_E_m", "C1")]:
+            ax[2][j].plot(t, [3 * v for v in col(k)], c + ":", lw=0.8, label=f"3 sigma {k[4]}")
             ax[2][j].plot(t, [-3 * v for v in col(k)], c + ":", lw=0.8)
     ax[2][j].set_ylabel("position error, m")
     ax[2][j].set_xlabel("time, h")

@@ -2,6 +2,7 @@
 import json, math, pathlib, sys
 
 out = pathlib.Path(sys.argv[1])
+fmt = lambda v, f: "-" if v is None else format(v, f)  # a mean over no sample is null
 cols = ["pitch_arcmin", "roll_arcmin", "yaw_arcmin", "vE_mps", "vN_mps", "vU_mps", "lat_m", "lon_m", "h_m"]
 print("| run | pitch' | roll' | yaw' | vE | vN | vU | v3D | lat m | lon m | h m | p3D m | NEES/15 | NIS/6 |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -18,4 +19,4 @@ for name in order:
     p3 = math.sqrt(m["lat_m"] ** 2 + m["lon_m"] ** 2 + m["h_m"] ** 2)
     cells = [f"{m[c]:.3g} ± {s[c]:.2g}" for c in cols]
     print(f"| {name} | " + " | ".join(cells[:6]) + f" | {v3:.3g} | " + " | ".join(cells[6:]) +
-          f" | {p3:.3g} | {j['nees_mean']:.1f} | {j['nis_mean']:.2f} |")
+          f" | {p3:.3g} | {fmt(j['nees_mean'], '.1f')} | {fmt(j['nis_mean'], '.2f')} |")

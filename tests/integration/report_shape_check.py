@@ -2,12 +2,13 @@
 """One report shape for every command that flies: summary.json of a short `ggins run`,
 `ggins run3d`, `ggins montecarlo` and `ggins montecarlo3d` checked against one schema
 (report_schema.json, JSON Schema; the Monte Carlo reports also against its `ensemble`
-definition), units in every CSV column, and the ensemble's numbers against its own runs:
+definition), units in every CSV column, the scenario.toml each writes flying again with the
+same command to the same numbers, and the ensemble's numbers against its own runs:
 steps summed, errors.final the RMS of the runs' finals, max the largest, the chi-square
 band recomputed here (Wilson-Hilferty, independently of truth/stats.cpp). And Ctrl-C
 (SIGINT to the process group, as a terminal sends it) during `ggins montecarlo`: no run
 starts after it, exit 130, a report marked interrupted whose unflown steps include the
-runs never started.
+runs never started; the same for `ggins montecarlo3d`, whose runs are threads of one process.
 
 usage: report_shape_check.py --bin DIR --workdir DIR
 """
@@ -173,6 +174,82 @@ def interrupt_montecarlo(exe, d):
           f"= {n} runs x {per} steps, the {n - len(after)} runs never started among the unflown")
 
 
+def interrupt_montecarlo3d(exe, d):
+    """Ctrl-C during `ggins montecarlo3d` (in-process runs on threads): no run starts after it,
+    the run in flight stops, exit 130, a partial report marked interrupted with every requested
+    run in per_run: the completed ones, the one stopped, the unflown ones counted as such."""
+    n, per = 40, 60001  # 600 s at 100 Hz: about a second a run
+    p = subprocess.Popen([exe, "-s", "gc3d-stabilized", "-n", str(n), "-j", "1", "--rate-hz", "100", "--duration",
+                          "600", "--output-dt", "60", "--no-plot", "-o", d], start_new_session=True,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(4.0)  # the perfect-sensor run and a few of the ensemble flown
+    os.killpg(p.pid, signal.SIGINT)
+    t0 = time.time()
+    try:
+        _, err = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        _, err = p.communicate()
+    dt = time.time() - t0
+    check(p.returncode == 130 and dt < 10, f"montecarlo3d Ctrl-C: exit {p.returncode} after {dt:.1f} s (want 130)")
+    p_rep = os.path.join(d, "summary.json")
+    if not os.path.exists(p_rep):
+        check(False, "montecarlo3d Ctrl-C: a report is written\n" + err[-800:])
+        return
+    r = json.load(open(p_rep))
+    pr = r["ensemble"]["per_run"]
+    st = [("completed" if x["status"] == "completed" else "stopped" if x["steps_flown"] > 0 else "unflown")
+          for x in pr]
+    k = st.count("completed")
+    order = st == ["completed"] * k + ["stopped"] * st.count("stopped") + ["unflown"] * st.count("unflown")
+    check(r["status"] == "interrupted" and r["interrupted"] and not r["completed"] and r["frames_lost"] == 0 and
+          r["error_code"] == 130, f"montecarlo3d Ctrl-C: status {r['status']}, error {r.get('error')!r}")
+    check(r["steps_expected"] == n * per and r["steps_flown"] + r["steps_unflown"] == r["steps_expected"] and
+          r["steps_flown"] == sum(x["steps_flown"] for x in pr) and
+          all(x["steps_flown"] == per for x in pr if x["status"] == "completed"),
+          f"montecarlo3d Ctrl-C: {r['steps_flown']} flown + {r['steps_unflown']} unflown = {r['steps_expected']} "
+          f"= {n} runs x {per} steps")
+    check(len(pr) == n and order and st.count("stopped") <= 1 and st.count("unflown") >= 1 and
+          r["ensemble"]["runs_failed"] == n - k and r["ensemble"]["runs_flown"] == k + st.count("stopped"),
+          f"montecarlo3d Ctrl-C: {len(pr)} runs listed: {k} completed, {st.count('stopped')} stopped in flight, "
+          f"{st.count('unflown')} never started")
+
+
+def numbers(rep):
+    """The summary numbers a flight of the same scenario reproduces (not the wall times)."""
+    keys = ("status", "task", "rate_hz", "dt_s", "duration_s", "flown_s", "steps_expected", "steps_flown",
+            "steps_rejected", "health_seen", "health_counts", "errors")
+    out = {k: rep.get(k) for k in keys}
+    if "ensemble" in rep:
+        en = rep["ensemble"]
+        out["per_run"] = en["per_run"]
+        out["consistency"] = en["consistency"]
+    return out
+
+
+def refly(what, cmd, d, w):
+    """The written scenario.toml flies again with the same command: the same numbers."""
+    p = os.path.join(d, "scenario.toml")
+    d2 = os.path.join(w, os.path.basename(d) + "-again")
+    c = list(cmd)
+    c[c.index("-s") + 1] = p
+    for opt in ("--duration", "--rate-hz"):  # in the file now
+        if opt in c:
+            i = c.index(opt)
+            del c[i:i + 2]
+    c[c.index("--out" if "--out" in c else "-o") + 1] = d2
+    r = subprocess.run(c, capture_output=True, text=True, timeout=600)
+    q = os.path.join(d2, "summary.json")
+    if not os.path.exists(q):
+        check(False, f"{what}: its scenario.toml flies again (exit {r.returncode})\n" + r.stderr[-1500:])
+        return
+    a, b = numbers(json.load(open(os.path.join(d, "summary.json")))), numbers(json.load(open(q)))
+    diff = [k for k in a if a[k] != b[k]]
+    check(r.returncode in (0, 1, 3) and not diff and a["steps_flown"] > 0,
+          f"{what}: -s <out>/scenario.toml flies again with the same numbers (exit {r.returncode}"
+          + (f", differ: {diff}" if diff else "") + ")")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bin", required=True)
@@ -223,8 +300,11 @@ def main():
         if what == "montecarlo3d":
             csv_units(os.path.join(d, "montecarlo3d.csv"), what)
             ensemble_numbers(rep, what)
+        refly(what, cmd, d, w)
     if os.path.exists(b("ggins-montecarlo")):
         interrupt_montecarlo(b("ggins-montecarlo"), os.path.join(w, "mc-int"))
+    if os.path.exists(b("ggins-montecarlo3d")):
+        interrupt_montecarlo3d(b("ggins-montecarlo3d"), os.path.join(w, "mc3d-int"))
     print(f"{len(FAILS)} failure(s)")
     return 1 if FAILS else 0
 

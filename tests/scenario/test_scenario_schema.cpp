@@ -131,6 +131,24 @@ int main() {
   refused(p2, "[time]\nrate_hz = 7.0\n", "test:2: time.rate_hz = 7.0: must make 1e6/rate_hz an integer number of microseconds");
   refused(p2, "name = \"\"\n", "test:1: name = \"\": must have 1..63 characters");
   refused(p2, "[time\n", "test:1:");
+  // [sensor_faults]: the one reader of both tasks names file:line, the key, the value and what is allowed
+  refused(p2, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 5\naxis = \"x\"\n",
+          "test:4: sensor_faults.fault[0].sensor = 5: must be an accelerometer (allowed: [1, 4])");
+  refused(p2, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 1\naxis = \"y\"\n",
+          "test:5: sensor_faults.fault[0].axis = \"y\": unknown value (allowed: \"x\", \"z\")");
+  refused(p2, "\n[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 1\n",
+          "test:3: sensor_faults.fault[0].axis is required for kind 'step' (allowed: \"x\", \"z\")");
+  refused(p2, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 1\naxis = \"x\"\nprob = 0.0\n",
+          "test:6: sensor_faults.fault[0].prob = 0.0: out of range (allowed: (0, 1])");
+  refused(p2, "[sensor_faults]\nseed = -3\n", "test:2: sensor_faults.seed = -3: out of range (allowed: >= 0)");
+  refused(p2, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"time_jump\"\nsize = 0.5\n",
+          "test:4: sensor_faults.fault[0].size = 0.5: must be a whole number of microseconds");
+  refused(p3, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"noise\"\nsensor = \"gyro\"\naxis = \"z\"\n",
+          "test:2: sensor_faults.fault[0].size: the noise's standard deviation must be > 0");
+  accepted(p3, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = \"gyro\"\naxis = \"y\"\nsize = 1e-9\n",
+           "3-D sensor = \"gyro\"");
+  refused(p2, "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = \"gyro\"\naxis = \"x\"\n",
+          "test:4: sensor_faults.fault[0].sensor = \"gyro\": must be an accelerometer (allowed: [1, 4])");
 
   // 3-D: the same checks through the shared tables, and its own keys
   refused(p3, "[time]\nrate_hz = nan\n", "test:2: time.rate_hz = nan: must be finite (allowed: (0, 1e6] Hz)");

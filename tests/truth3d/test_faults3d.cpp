@@ -215,17 +215,23 @@ size = 5.0
   // ---------------- parser errors: key and line
   {
     const std::string e1 = parse_error(kBase + "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 6\naxis = \"x\"\n");
-    check(e1.find("sensor_faults.fault[0].sensor (line 21) must be an accelerometer 0..5 or \"gyro\"") != std::string::npos,
+    check(e1.find("test:21: sensor_faults.fault[0].sensor = 6: must be an accelerometer or the gyro (allowed: [0, 5], "
+                  "\"gyro\")") != std::string::npos,
           "sensor 6 rejected with its line: " + e1);
     const std::string e2 = parse_error(kBase + "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"wobble\"\nsensor = 1\n");
-    check(e2.find("sensor_faults.fault[0].kind 'wobble' (line 20) unknown") != std::string::npos, "unknown kind: " + e2);
+    check(e2.find("test:20: sensor_faults.fault[0].kind = \"wobble\": unknown value (allowed: \"nan\",") != std::string::npos,
+          "unknown kind: " + e2);
     const std::string e3 = parse_error(kBase + "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 1\n");
-    check(e3.find("axis (\"x\", \"y\" or \"z\") is required") != std::string::npos && e3.find("(line 19)") != std::string::npos,
+    check(e3.find("test:19: sensor_faults.fault[0].axis is required for kind 'step' (allowed: \"x\", \"y\", \"z\")") !=
+              std::string::npos,
           "missing axis: " + e3);
     const std::string e4 = parse_error(kBase + "[sensor_faults]\n[[sensor_faults.fault]]\nkind = \"step\"\nsensor = 1\naxis = \"w\"\n");
-    check(e4.find("axis (line 22) must be") != std::string::npos, "bad axis: " + e4);
+    check(e4.find("test:22: sensor_faults.fault[0].axis = \"w\": unknown value (allowed: \"x\", \"y\", \"z\")") !=
+              std::string::npos,
+          "bad axis: " + e4);
     const std::string e5 = parse_error(kBase + "[sensor_faults]\nseed = 1\nfoo = 2\n");
-    check(e5.find("unknown key 'sensor_faults.foo' (line 20)") != std::string::npos, "unknown key: " + e5);
+    check(e5.find("test:20: unknown key 'sensor_faults.foo' (allowed: fault, seed)") != std::string::npos,
+          "unknown key: " + e5);
   }
   // ---------------- the firmware: 1e-8 m/s^2 bias on one axis, flagged and isolated
   {

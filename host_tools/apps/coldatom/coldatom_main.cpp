@@ -15,8 +15,10 @@ extern "C" {
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -111,6 +113,10 @@ int main(int argc, char** argv) {
   app.add_option("--topo-rms", topo_rms, "rms height of the synthetic terrain, m (a sensitivity check; the runs use 150)")
       ->check(C::FiniteRange(1.0, 2000.0))->capture_default_str();
   app.add_flag("--no-egm96", no_egm, "normal field instead of EGM96 (quick runs without the coefficient file)");
+  bool no_plot = false;
+  std::string python;
+  app.add_flag("--no-plot", no_plot, "no matplotlib plots (plot_coldatom.py: coldatom-*.png in --out)");
+  app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
   std::string write_tiles;
   double tile_spacing = 5000.0;
   app.add_option("--write-tiles", write_tiles,
@@ -148,7 +154,7 @@ int main(int argc, char** argv) {
   std::printf("route %.1f km, map built in %.1f s; synthetic terrain: height rms %.0f m, Gamma_zz rms at %.0f m: %.2f E\n",
               map.length() / 1e3, map_s, map.topo_height_rms(), mp.h, map.topo_gzz_rms() * 1e9);
   {  // the map along the route (Fig. 1)
-    std::ofstream f(out + "/route_gzz.csv");
+    std::ostringstream f;
     f << "s_km,lat_deg,lon_deg,land,gzz_E\n";
     for (double s = 0; s <= map.length(); s += 250.0) {
       double lat, lon, g = NAN;
@@ -157,6 +163,7 @@ int main(int argc, char** argv) {
       f << s / 1e3 << "," << lat * 180 / M_PI << "," << lon * 180 / M_PI << "," << map.land(lat) << "," << g * 1e9
         << "\n";
     }
+    C::write_file(out + "/route_gzz.csv", f.str());
   }
 
   if (!write_tiles.empty()) {  // the onboard map of the 3-D task's cold-atom aid
@@ -173,12 +180,7 @@ int main(int argc, char** argv) {
       const std::vector<std::uint8_t> b = ggins::gmap::encode(tile);
       char name[32];
       std::snprintf(name, sizeof name, "/tile_%04d.gmap", n);
-      std::ofstream f(write_tiles + name, std::ios::binary);
-      f.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
-      if (!f) {
-        std::fprintf(stderr, "ggins-coldatom: cannot write %s%s\n", write_tiles.c_str(), name);
-        return 1;
-      }
+      C::write_file(write_tiles + name, std::string(b.begin(), b.end()), true);
     }
     std::printf("%d tiles (50 x 50 nodes at %.0f m, every %.0f m along the route) in %s\n", n, tile_step, tile_spacing,
                 write_tiles.c_str());
@@ -236,7 +238,7 @@ int main(int argc, char** argv) {
     if (dump_flights)
       for (std::size_t i = 0; i < res.size(); ++i) {
         const FlightResult& r = res[i];
-        std::ofstream g(out + "/flight_" + st.tag + "_" + std::to_string(i) + ".csv");
+        std::ostringstream g;
         g << "t_s,unaided_m,aided_m,pmean_err_m,spread_m,ess,vmean_err_mps,vspread_mps,ins_dv_mps\n";
         for (std::size_t j = 0; j < r.t.size(); ++j) {
           g << r.t[j] << "," << r.err_unaided[j] << "," << r.err_aided[j];
@@ -245,10 +247,11 @@ int main(int argc, char** argv) {
               << r.d_vspread[j] << "," << r.d_ins_dv[j];
           g << "\n";
         }
+        C::write_file(out + "/flight_" + st.tag + "_" + std::to_string(i) + ".csv", g.str());
       }
     // mean error against time over the flights
     const std::size_t nt = res[0].t.size();
-    std::ofstream f(out + "/error_vs_time_" + st.tag + ".csv");
+    std::ostringstream f;
     f << "t_s,unaided_mean_m,aided_mean_m,aided_p90_m\n";
     for (std::size_t j = 0; j < nt; ++j) {
       std::vector<double> a, u;
@@ -256,6 +259,7 @@ int main(int argc, char** argv) {
       std::sort(a.begin(), a.end());
       f << res[0].t[j] << "," << mean(u) << "," << mean(a) << "," << a[static_cast<std::size_t>(0.9 * (a.size() - 1))] << "\n";
     }
+    C::write_file(out + "/error_vs_time_" + st.tag + ".csv", f.str());
     // gradient estimates (all flights): error of ellipse fit and PF against the batch-mean truth
     std::vector<double> efit, epf, mean_a, mean_u, fin_u, step;
     int shots = 0, failed = 0, degen = 0, tiles = 0, miss = 0;
@@ -269,11 +273,12 @@ int main(int argc, char** argv) {
       shots += r.shots; failed += r.failed; degen += r.degenerate; tiles += r.tiles; miss += r.map_miss;
     }
     {
-      std::ofstream g(out + "/gradient_" + st.tag + "_flight0.csv");
+      std::ostringstream g;
       g << "t_s,true_E,ellipse_fit_E,pf_E\n";
       for (std::size_t j = 0; j < res[0].g_true.size(); ++j)
         g << res[0].batch_t[j] << "," << res[0].g_true[j] * 1e9 << "," << res[0].g_fit[j] * 1e9 << ","
           << res[0].g_pf[j] * 1e9 << "\n";
+      C::write_file(out + "/gradient_" + st.tag + "_flight0.csv", g.str());
     }
     std::sort(step.begin(), step.end());
     json js = {{"setting", st.tag}, {"phase_noise_mrad", st.phase_mrad}, {"p_fail", st.p_fail},
@@ -289,6 +294,15 @@ int main(int argc, char** argv) {
     summary.push_back(js);
   }
   C::write_file(out + "/summary_" + sweep + ".json", summary.dump(2) + "\n");
+  if (!no_plot) {  // plot_coldatom.py: the route, error against time, sweeps, diagnostics, gradient
+    const std::string py = C::find_python(python);
+    if (py.empty()) {
+      std::fprintf(stderr, "ggins-coldatom: no python with matplotlib found (try --python /usr/bin/python3); no plot\n");
+    } else {
+      const std::string cmd = "'" + py + "' '" GGINS_COLDATOM_PLOT_SCRIPT "' '" + out + "' 1>&2";
+      if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "ggins-coldatom: plot script failed: %s\n", cmd.c_str());
+    }
+  }
   std::printf("report: %s\n", out.c_str());
   return 0;
   });

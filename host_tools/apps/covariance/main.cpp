@@ -76,22 +76,6 @@ double max_rel_diff(const VectorXd& a, const VectorXd& b) {
 
 json cjson(const cd& z) { return json::array({z.real(), z.imag()}); }
 
-bool python_has_matplotlib(const std::string& py) {
-  const std::string cmd = "'" + py + "' -c 'import matplotlib' >/dev/null 2>&1";
-  return std::system(cmd.c_str()) == 0;
-}
-
-std::string find_python(const std::string& requested) {
-  std::vector<std::string> cands;
-  if (!requested.empty()) cands.push_back(requested);
-  if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
-  cands.emplace_back("/usr/bin/python3");  // Debian python3-matplotlib (scripts/setup)
-  cands.emplace_back("python3");
-  for (const auto& c : cands)
-    if (python_has_matplotlib(c)) return c;
-  return "";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -133,11 +117,22 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "override the scenario duration, s")->check(C::FiniteRange(0, 1e9, C::kOpenLow));
   app.add_flag("--no-plot", no_plot, "do not run the matplotlib plot script");
   app.add_option("--python", python, "python interpreter with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
+  bool print_scenario = false, print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
   return C::run("ggins-covariance", app, argc, argv, [&]() -> int {
   if (duration && *duration / dt > 1e8)
     throw C::BadArgument("--duration " + std::to_string(*duration) + " s with --dt " + std::to_string(dt) +
                          " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
 
+  if (print_defaults && !print_scenario) throw C::BadArgument("--defaults: allowed only with --print-scenario");
+  if (print_scenario && print_defaults) {
+    std::fputs(cov_scenario_to_toml(CovScenario{}, true).c_str(), stdout);
+    return C::kExitOk;
+  }
   CovScenario sc;
   try {
     if (builtin_only) {
@@ -154,6 +149,10 @@ int main(int argc, char** argv) {
   if (g_override) sc.gm_m3ps2 = *g_override * sc.radius_m * sc.radius_m;
   if (sigma_g0) sc.gravity0_sigma_x_mps2 = sc.gravity0_sigma_z_mps2 = *sigma_g0;
   if (duration) sc.duration_s = *duration;
+  if (print_scenario) {
+    std::fputs(cov_scenario_to_toml(sc).c_str(), stdout);
+    return C::kExitOk;
+  }
   if (dt > sc.duration_s)
     throw C::BadArgument("--dt " + std::to_string(dt) + " s is longer than the duration " + std::to_string(sc.duration_s) +
                          " s (allowed: --dt <= duration)");
@@ -382,7 +381,7 @@ int main(int argc, char** argv) {
 
   std::string plot_msg;
   if (!no_plot) {
-    const std::string py = find_python(python);
+    const std::string py = C::find_python(python);
     const fs::path png = fs::path(out_dir) / "covariance.png";
     if (py.empty()) {
       plot_msg = "no python with matplotlib found (try --python /usr/bin/python3); no plot";

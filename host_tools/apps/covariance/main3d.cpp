@@ -35,17 +35,6 @@ namespace {
 
 json cj(const cdv& z) { return json::array({z.real(), z.imag()}); }
 
-std::string find_python(const std::string& req) {
-  std::vector<std::string> c;
-  if (!req.empty()) c.push_back(req);
-  if (const char* e = std::getenv("GGINS_PYTHON")) c.emplace_back(e);
-  c.emplace_back("/usr/bin/python3");
-  c.emplace_back("python3");
-  for (const auto& p : c)
-    if (std::system(("'" + p + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0) return p;
-  return "";
-}
-
 // Predicted non-zero eigenvalues of the nav block (first order in omega_ie / omega_s):
 // +-sqrt(Gamma_up), +-j(omega_s + omega_ie sin L), +-j(omega_s - omega_ie sin L).
 std::vector<cdv> predicted(const Eigen3D& e) {
@@ -89,7 +78,8 @@ int main(int argc, char** argv) {
   std::optional<bool> baro;
   std::optional<double> baro_bias;
   app.add_option("-s,--scenario", scen,
-                 "built-in great-circle scenario (gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro) "
+                 "built-in great-circle scenario (gc3d-stabilized, gc3d-strapdown, gc3d-nonrotating, gc3d-baro), "
+                 "a great-circle file (a [great_circle] table: ggins montecarlo3d --print-scenario), "
                  "or a 3-D truth-generator scenario (scenarios/3d-*.toml name or a TOML file path)")
       ->capture_default_str();
   app.add_option("--platform", platform_s, "stabilized | strapdown (overrides the scenario)")
@@ -127,17 +117,19 @@ int main(int argc, char** argv) {
     throw C::BadArgument("--duration " + std::to_string(*duration) + " s with --dt " + std::to_string(dt) +
                          " s is more than 1e8 steps (allowed: duration / dt <= 1e8)");
 
-  auto b = builtin_scenario3d(scen);
+  std::optional<Cov3DScenario> b;
   std::vector<std::string> unmodelled;
 #ifdef GGINS_HAVE_TRUTH3D
-  if (!b) {
-    try {
-      b = load_truth3d_scenario(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"}, &unmodelled);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "ggins-covariance3d: %s\n", e.what());
-      return 2;
-    }
+  try {  // a gc3d-* built-in, a great-circle file, or a truth3d scenario
+    auto in = resolve_scenario3d(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"});
+    b = in.cov;
+    unmodelled = in.unmodelled;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-covariance3d: %s\n", e.what());
+    return 2;
   }
+#else
+  b = builtin_scenario3d(scen);
 #endif
   if (!b) {
     std::fprintf(stderr, "ggins-covariance3d: unknown scenario '%s'\n", scen.c_str());
@@ -324,7 +316,7 @@ int main(int argc, char** argv) {
 
   std::string plot_msg;
   if (!no_plot) {
-    const std::string py = find_python(python);
+    const std::string py = C::find_python(python);
     const fs::path png = fs::path(out_dir) / "covariance3d.png";
     if (py.empty()) {
       plot_msg = "no python with matplotlib; no plot";

@@ -497,18 +497,21 @@ int main(int argc, char** argv) {
         }
       for (double v : r.nis) { sni += v; ++cni; }
     }
-    for (int b = 0; b < 5; ++b) J["nees_block_mean"][std::vector<std::string>{"att", "vel", "pos", "bg", "ba"}[b]] = cn ? sb[b] / cn : 0;
+    // a mean over no sample is no number: null (a flight too short for an update, or a first hour not over)
+    auto mean_or_null = [](double sum, long n) { return n > 0 ? nlohmann::json(sum / double(n)) : nlohmann::json(nullptr); };
+    for (int b = 0; b < 5; ++b)
+      J["nees_block_mean"][std::vector<std::string>{"att", "vel", "pos", "bg", "ba"}[b]] = mean_or_null(sb[b], cn);
     for (int r = 0; r < o.runs; ++r) {
       const auto& x = res[r];
       double a = 0, b = 0, c2 = 0; long n = 0;
       for (std::size_t i = 0; i < x.nees.size(); ++i) if (x.series[i][0] > 3600 || o.hours <= 1) { a += x.nees[i]; b += x.nees_pos[i]; ++n; }
       for (double v : x.nis) c2 += v;
-      J["per_run"].push_back({{"run", o.first_run + r}, {"nees_mean", n ? a / n : 0}, {"nees_pos_mean", n ? b / n : 0},
-                              {"nis_mean", x.nis.empty() ? 0 : c2 / x.nis.size()}, {"final", x.ggan_final}, {"rms_last2h", x.ggan_rms2h}});
+      J["per_run"].push_back({{"run", o.first_run + r}, {"nees_mean", mean_or_null(a, n)}, {"nees_pos_mean", mean_or_null(b, n)},
+                              {"nis_mean", mean_or_null(c2, long(x.nis.size()))}, {"final", x.ggan_final}, {"rms_last2h", x.ggan_rms2h}});
     }
-    J["nees_mean"] = cn ? sn / cn : 0; J["nees_dof"] = GG_MM_NX;
-    J["nees_pos_mean"] = cn ? snp / cn : 0; J["nees_pos_dof"] = 3;
-    J["nis_mean"] = cni ? sni / cni : 0; J["nis_dof"] = 6; J["nees_samples"] = cn; J["nis_samples"] = cni;
+    J["nees_mean"] = mean_or_null(sn, cn); J["nees_dof"] = GG_MM_NX;
+    J["nees_pos_mean"] = mean_or_null(snp, cn); J["nees_pos_dof"] = 3;
+    J["nis_mean"] = mean_or_null(sni, cni); J["nis_dof"] = 6; J["nees_samples"] = cn; J["nis_samples"] = cni;
     J["updates"] = res[0].n_updates; J["gated"] = res[0].n_gated; J["offmap"] = res[0].n_offmap; J["fail"] = res[0].n_fail;
     J["filter_step_ns_median"] = res[0].step_ns_median;
     J["filter_update_step_us_median"] = res[0].update_us_median;
@@ -535,9 +538,12 @@ int main(int argc, char** argv) {
     J["tile_nodes"] = map->tile.nlat * map->tile.nlon; J["tile_s"] = t_tile; J["wall_s"] = wall;
     C::write_file(o.out + "/summary.json", J.dump(2) + "\n");
     {
+      // errors: attitude in arcmin (am), velocity east/north/up in m/s, position in m; sig_*: the
+      // filter's position one-sigma (north, east, down), m; nis, nees: dimensionless (_1)
       std::ofstream f(o.out + "/timeseries.csv");
-      f << "t_s,ggan_pitch_am,ggan_roll_am,ggan_yaw_am,ggan_vE,ggan_vN,ggan_vU,ggan_lat_m,ggan_lon_m,ggan_h_m,"
-           "ins_pitch_am,ins_roll_am,ins_yaw_am,ins_vE,ins_vN,ins_vU,ins_lat_m,ins_lon_m,ins_h_m,sig_N,sig_E,sig_D,nis,nees\n";
+      f << "t_s,ggan_pitch_am,ggan_roll_am,ggan_yaw_am,ggan_vE_mps,ggan_vN_mps,ggan_vU_mps,ggan_lat_m,ggan_lon_m,ggan_h_m,"
+           "ins_pitch_am,ins_roll_am,ins_yaw_am,ins_vE_mps,ins_vN_mps,ins_vU_mps,ins_lat_m,ins_lon_m,ins_h_m,"
+           "sig_N_m,sig_E_m,sig_D_m,nis_1,nees_1\n";
       for (auto& row : res[0].series) {
         for (int j = 0; j < 24; ++j) f << (j ? "," : "") << row[j];
         f << "\n";
@@ -554,9 +560,15 @@ int main(int argc, char** argv) {
       for (int c = 0; c < 9; ++c) std::printf(c == 3 || c == 6 ? " | %7.3g" : " %8.3g", J[k][names[c]]["mean_abs"].get<double>());
       std::printf("\n");
     }
-    std::printf("NEES %.2f (dof 15), position NEES %.2f (dof 3), NIS %.2f (dof 6); updates %u gated %u off-map %u fail %u\n",
-                J["nees_mean"].get<double>(), J["nees_pos_mean"].get<double>(), J["nis_mean"].get<double>(), res[0].n_updates,
-                res[0].n_gated, res[0].n_offmap, res[0].n_fail);
+    auto num_or_none = [](const nlohmann::json& v) {
+      char b[32];
+      if (v.is_null()) return std::string("none (no sample)");
+      std::snprintf(b, sizeof b, "%.2f", v.get<double>());
+      return std::string(b);
+    };
+    std::printf("NEES %s (dof 15), position NEES %s (dof 3), NIS %s (dof 6); updates %u gated %u off-map %u fail %u\n",
+                num_or_none(J["nees_mean"]).c_str(), num_or_none(J["nees_pos_mean"]).c_str(),
+                num_or_none(J["nis_mean"]).c_str(), res[0].n_updates, res[0].n_gated, res[0].n_offmap, res[0].n_fail);
     std::printf("NEES per block (dof 3 each): %s\n", J["nees_block_mean"].dump().c_str());
     if (J.contains("diff3d"))
       std::printf("diff3d (a = %.3g m, sigma_a = %.3g m/s^2, omega %s): Gamma_b - field, sd per component (E): %s\n", o.half_base,

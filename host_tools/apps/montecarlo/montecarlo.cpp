@@ -32,6 +32,7 @@
 #include "ggins/covariance/scenario.hpp"
 #include "ggins/covariance/welker2d.hpp"
 #include "ggins/gravity/field.hpp"
+#include "ggins/truth/scenario.hpp"
 #include "ggins/truth/stats.hpp"
 #include "report.hpp"
 
@@ -218,12 +219,38 @@ int main(int argc, char** argv) {
   app.add_flag("--json", want_json, "print the JSON summary on stdout");
   app.add_flag("--no-plot", no_plot, "no PNG");
   app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
+  bool print_scenario = false, print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as every run flies it (ggins run's: every key, defaults filled in,\n"
+               "overrides applied; run i's accel seed seed0 + i) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
   try {  // bad arguments: CLI11's message naming the option, exit 2 (ggins/cli_checks.hpp)
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
   }
 
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "ggins-montecarlo: --defaults: allowed only with --print-scenario\n");
+    return ggins::cli::kExitBadArgs;
+  }
+  if (print_scenario) {  // what ggins run --print-scenario prints for the runs (the same library calls)
+    try {
+      if (print_defaults) {
+        std::fputs(ggins::truth::scenario_to_toml(ggins::truth::Scenario{}, true).c_str(), stdout);
+      } else {
+        ggins::truth::Scenario t = ggins::truth::load_scenario(scen, {GGINS_SCENARIO_DIR});
+        if (duration) t.duration_s = *duration;  // (run i flies accel.seed = seed0 + i)
+        std::fputs(ggins::truth::scenario_to_toml(t).c_str(), stdout);
+      }
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ggins-montecarlo: %s\n", e.what());
+      return ggins::cli::kExitBadArgs;
+    }
+    return ggins::cli::kExitOk;
+  }
   CovScenario sc;
   try {
     sc = resolve_scenario(scen, GGINS_SOURCE_DIR);
@@ -423,17 +450,12 @@ int main(int argc, char** argv) {
   }
 
   if (!no_plot) {
-    std::vector<std::string> cands;
-    if (!python.empty()) cands.push_back(python);
-    if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
-    cands.emplace_back("/usr/bin/python3");
-    cands.emplace_back("python3");
-    for (const auto& py : cands) {
-      if (std::system(("'" + py + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) != 0) continue;
+    if (const std::string py = ggins::cli::find_python(python); !py.empty()) {
       const std::string cmd = "'" + py + "' '" GGINS_MC_PLOT_SCRIPT "' '" + outp.string() + "' --title '" + sc.name +
                               " (N = " + std::to_string(n) + ")' 1>&2";
       if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "ggins-montecarlo: plot failed\n");
-      break;
+    } else {
+      std::fprintf(stderr, "ggins-montecarlo: no python with matplotlib found (try --python /usr/bin/python3); no plot\n");
     }
   }
   if (want_json) {

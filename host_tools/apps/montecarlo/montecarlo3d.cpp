@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iostream>
 #include <mutex>
@@ -22,16 +23,23 @@
 #include "ggins/covariance/propagate.hpp"
 #include "ggins/truth/stats.hpp"
 #include "frame_names.hpp"
+#include "hil_common.hpp"
 #include "report.hpp"
 #include "sim3d.hpp"
-#ifdef GGINS_HAVE_TRUTH3D
 #include "ggins/covariance/cov3d_truth3d.hpp"
-#endif
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using namespace ggins::covariance;
 using namespace ggins::montecarlo3d;
+
+namespace {
+std::string sch_num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+}  // namespace
 
 #ifndef GGINS_MC3D_PLOT_SCRIPT
 #define GGINS_MC3D_PLOT_SCRIPT ""
@@ -50,14 +58,14 @@ int main(int argc, char** argv) {
   int runs = 100, jobs = 0;
   uint64_t seed = 1;
   double rate = 100.0, output_dt = 60.0;
-  std::optional<double> duration, omega_ie, speed, lat0, acc_bias, gyro_bias, acc_noise, gyro_noise;
+  std::optional<double> rate_opt, duration, omega_ie, speed, lat0, acc_bias, gyro_bias, acc_noise, gyro_noise;
   bool want_json = false, no_plot = false, no_baro = false;
   std::string python;
-  app.add_option("-s,--scenario", scen, "3-D scenario: gc3d-* built-in or a 3-D truth-generator scenario (ggins covariance3d --help)")->capture_default_str();
+  app.add_option("-s,--scenario", scen, "3-D scenario: gc3d-* built-in, a great-circle file ([great_circle], as --print-scenario writes), or a 3-D\n"
+                 "truth-generator scenario (ggins covariance3d --help)")->capture_default_str();
   app.add_option("-n,--runs", runs, "number of runs N")->capture_default_str()->check(CLI::Range(2, 100000));
   app.add_option("--seed", seed, "first seed (run i uses seed + i)")->capture_default_str()->check(ggins::cli::Seed());
-  app.add_option("--rate-hz", rate, "firmware step rate, Hz (1e6 / rate a whole number of microseconds)")
-      ->capture_default_str()
+  app.add_option("--rate-hz", rate_opt, "firmware step rate, Hz (1e6 / rate a whole number of microseconds; default: the scenario's, 100 for gc3d-*)")
       ->check(ggins::cli::FiniteRange(0.0, 1e4, ggins::cli::kOpenLow));
   app.add_option("--duration", duration, "s")->check(ggins::cli::FiniteRange(0.0, 1e6, ggins::cli::kOpenLow));
   app.add_option("--output-dt", output_dt, "comparison spacing, s")
@@ -78,52 +86,86 @@ int main(int argc, char** argv) {
   app.add_flag("--no-plot", no_plot, "no matplotlib plot");
   app.add_flag("--no-baro", no_baro, "fly (and analyse) a scenario that has the barometric loop without it");
   app.add_option("--python", python, "python with matplotlib (default: $GGINS_PYTHON, /usr/bin/python3)");
+  bool print_scenario = false, print_defaults = false;
+  app.add_flag("--print-scenario", print_scenario,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+  app.add_flag("--defaults", print_defaults,
+               "with --print-scenario: a complete great-circle template instead (every key at its default,\n"
+               "commented with unit, allowed range and meaning)");
   try {  // bad arguments: CLI11's message naming the option, exit 2 (ggins/cli_checks.hpp)
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? ggins::cli::kExitOk : ggins::cli::kExitBadArgs;
   }
+  if (print_defaults && !print_scenario) {
+    std::fprintf(stderr, "ggins-montecarlo3d: --defaults: allowed only with --print-scenario\n");
+    return ggins::cli::kExitBadArgs;
+  }
+  if (print_scenario && print_defaults) {
+    std::fputs(great_circle_scenario_to_toml(Cov3DScenario{}, true).c_str(), stdout);
+    return ggins::cli::kExitOk;
+  }
+  try {
+  // the scenario (scenario3d_to_toml writes it back as flown) and the overrides: a truth3d
+  // scenario takes them in its own keys, a great circle in its own
+  Scenario3DInput in;
+  try {
+    in = resolve_scenario3d(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"});
+    if (in.truth) {
+      auto& t = *in.truth;
+      for (const auto& [o, v] : {std::pair<const char*, bool>{"--field", !field_s.empty()}, {"--omega-ie", bool(omega_ie)},
+                                 {"--speed", bool(speed)}, {"--lat0-deg", bool(lat0)}})
+        if (v) throw std::runtime_error(std::string(o) + ": applies to a great-circle scenario (gc3d-*) only; '" + scen +
+                                        "' has its own trajectory and field");
+      if (no_baro) t.nav_baro.enable = 0;
+      if (!platform_s.empty()) t.platform = platform_s;
+      if (duration) t.duration_s = *duration;
+      if (rate_opt) t.rate_hz = *rate_opt;
+      if (acc_bias) t.accel.bias_sigma_mps2 = *acc_bias;
+      if (gyro_bias) t.gyro.bias_sigma_radps = *gyro_bias;
+      if (acc_noise) t.accel.noise_sigma_mps2 = *acc_noise;
+      if (gyro_noise) t.gyro.noise_sigma_radps = *gyro_noise;
+      in.cov = cov3d_from_truth3d(t, &in.unmodelled);
+    } else {
+      auto& c = in.cov;
+      if (no_baro) c.model.baro.on = false;
+      if (!platform_s.empty()) c.platform = platform_s == "strapdown" ? Platform::kStrapdown : Platform::kStabilized;
+      if (!field_s.empty()) c.field = field_s;
+      if (duration) c.duration_s = *duration;
+      if (omega_ie) c.omega_ie = *omega_ie;
+      if (speed) c.speed_mps = *speed;
+      if (lat0) c.lat0_deg = *lat0;
+      if (acc_bias) c.acc_bias_sigma_mps2 = *acc_bias;
+      if (gyro_bias) c.gyro_bias_sigma_radps = *gyro_bias;
+      if (acc_noise) c.model.acc_noise_sigma_mps2 = *acc_noise;
+      if (gyro_noise) c.model.gyro_noise_sigma_radps = *gyro_noise;
+      if (rate_opt) c.model.rate_hz = *rate_opt;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ggins-montecarlo3d: %s\n", e.what());
+    return ggins::cli::kExitBadArgs;
+  }
+  Cov3DScenario s = in.cov;
+  rate = s.model.rate_hz;
   {
     const double us = 1e6 / rate;
-    if (std::fabs(us - std::round(us)) > 1e-9 * us) {
-      std::fprintf(stderr, "ggins-montecarlo3d: --rate-hz: value %g does not give a whole number of microseconds per step\n", rate);
+    if (!(rate > 0 && rate <= 1e4) || std::fabs(us - std::round(us)) > 1e-9 * us) {
+      std::fprintf(stderr, "ggins-montecarlo3d: rate %g Hz does not give a whole number of microseconds per step\n", rate);
       return ggins::cli::kExitBadArgs;
     }
   }
-  try {
-  auto b = builtin_scenario3d(scen);
-#ifdef GGINS_HAVE_TRUTH3D
-  if (!b) {
-    try {
-      std::vector<std::string> um;
-      b = load_truth3d_scenario(scen, {"scenarios", std::string(GGINS_SOURCE_DIR) + "/scenarios"}, &um);
-      for (const auto& u : um) std::fprintf(stderr, "ggins-montecarlo3d: NOTE not modelled: %s\n", u.c_str());
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "ggins-montecarlo3d: %s\n", e.what());
-      return 2;
-    }
+  if (print_scenario) {
+    std::fputs(scenario3d_to_toml(in).c_str(), stdout);
+    return ggins::cli::kExitOk;
   }
-#endif
-  if (!b) {
-    std::fprintf(stderr, "ggins-montecarlo3d: unknown scenario '%s'\n", scen.c_str());
-    return 2;
-  }
-  Cov3DScenario s = *b;
-  if (no_baro) s.model.baro.on = false;
-  if (!platform_s.empty()) s.platform = platform_s == "strapdown" ? Platform::kStrapdown : Platform::kStabilized;
-  if (!field_s.empty()) s.field = field_s;
-  if (duration) s.duration_s = *duration;
-  if (omega_ie) s.omega_ie = *omega_ie;
-  if (speed) s.speed_mps = *speed;
-  if (lat0) s.lat0_deg = *lat0;
-  if (acc_bias) s.acc_bias_sigma_mps2 = *acc_bias;
-  if (gyro_bias) s.gyro_bias_sigma_radps = *gyro_bias;
-  if (acc_noise) s.model.acc_noise_sigma_mps2 = *acc_noise;
-  if (gyro_noise) s.model.gyro_noise_sigma_radps = *gyro_noise;
-  s.model.rate_hz = rate;
+  for (const auto& u : in.unmodelled) std::fprintf(stderr, "ggins-montecarlo3d: NOTE not modelled: %s\n", u.c_str());
   if (out_dir.empty()) out_dir = "out/montecarlo3d/" + s.name;
   if (jobs <= 0) jobs = int(std::max(1u, std::thread::hardware_concurrency()));
   const bool sd = s.platform == Platform::kStrapdown;
+
+  // SIGINT/SIGTERM (a terminal's Ctrl-C) from here on: no run starts after it, the runs in
+  // flight stop at their next check, and the report says which ran (status interrupted, exit 130).
+  ggins::hil::install_interrupt_handlers();
 
   // Covariance of the same scenario.
   const auto model = make_model3d(s);
@@ -140,9 +182,11 @@ int main(int argc, char** argv) {
   std::atomic<int> next{0};
   std::mutex err_mu;
   std::string err;
+  const std::function<bool()> stop = [] { return ggins::hil::interrupted(); };
   const auto t0 = std::chrono::steady_clock::now();
   auto worker = [&]() {
     for (;;) {
+      if (ggins::hil::interrupted()) return;
       const int i = next++;
       if (i > runs) return;
       SensorErrors e;
@@ -163,7 +207,7 @@ int main(int argc, char** argv) {
         }
       }
       try {
-        res[size_t(i)] = sim.fly(e, s.duration_s, output_dt, &fc[size_t(i)]);
+        res[size_t(i)] = sim.fly(e, s.duration_s, output_dt, &fc[size_t(i)], stop);
       } catch (const std::exception& ex) {
         std::lock_guard<std::mutex> l(err_mu);
         err = ex.what();
@@ -175,6 +219,7 @@ int main(int argc, char** argv) {
   for (int j = 0; j < jobs; ++j) th.emplace_back(worker);
   for (auto& t : th) t.join();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const bool was_interrupted = ggins::hil::interrupted();
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   // The report (report.hpp: the shape of ggins run3d's): runs 1..N are the ensemble (run 0,
@@ -189,7 +234,9 @@ int main(int argc, char** argv) {
     x.counts.steps_flown = fc[size_t(i)].steps;
     x.counts.final_seq = fc[size_t(i)].steps - 1;
     x.counts.dt_s = 1.0 / rate;
-    x.status = !rs.empty() && x.counts.steps_flown == x.counts.steps_expected ? "completed" : "failed";
+    x.status = !rs.empty() && x.counts.steps_flown == x.counts.steps_expected ? "completed"
+               : fc[size_t(i)].stopped || (was_interrupted && x.counts.steps_flown == 0) ? "interrupted"
+                                                                                        : "failed";
     x.health_or = fc[size_t(i)].health_or;
     for (int b = 0; b < 32; ++b)
       if (fc[size_t(i)].health_count[size_t(b)] > 0)
@@ -232,24 +279,16 @@ int main(int argc, char** argv) {
     rep["files"] = {{"summary", "summary.json"}, {"scenario", "scenario.toml"}, {"comparison", "montecarlo3d.json"},
                     {"sigma_vs_time", "montecarlo3d.csv"}};
     rep["output_dir"] = fs::absolute(out_dir).string();
-    // the scenario as flown: the values this ensemble flew (a built-in has no file)
-    ggins::hil::write_effective_scenario(
-        fs::path(out_dir) / "scenario.toml", s.name, scen, "",
-        json{{"name", s.name},
-             {"time.rate_hz", rate},
-             {"time.duration_s", s.duration_s},
-             {"montecarlo3d.platform", sd ? "strapdown" : "stabilized"},
-             {"montecarlo3d.field", s.field},
-             {"montecarlo3d.omega_ie_radps", s.omega_ie},
-             {"montecarlo3d.speed_mps", s.speed_mps},
-             {"montecarlo3d.lat0_deg", s.lat0_deg},
-             {"montecarlo3d.acc_bias_sigma_mps2", s.acc_bias_sigma_mps2},
-             {"montecarlo3d.gyro_bias_sigma_radps", sd ? s.gyro_bias_sigma_radps : 0.0},
-             {"montecarlo3d.acc_noise_sigma_mps2", s.model.acc_noise_sigma_mps2},
-             {"montecarlo3d.gyro_noise_sigma_radps", sd ? s.model.gyro_noise_sigma_radps : 0.0},
-             {"montecarlo3d.baro", s.model.baro.on},
-             {"montecarlo3d.output_dt_s", output_dt},
-             {"montecarlo3d.seed", seed}});
+    // the scenario as flown: every key, overrides applied; it flies again as `-s scenario.toml`
+    // (the ensemble's own settings, not scenario keys, in the head)
+    {
+      const fs::path sp = fs::path(out_dir) / "scenario.toml";
+      std::ofstream f(sp);
+      f << "# ggins montecarlo3d -n " << runs << " --seed " << seed << " --output-dt " << sch_num(output_dt) << "\n"
+        << scenario3d_to_toml(in);
+      f.close();
+      if (!f) throw std::runtime_error("cannot write " + sp.string());
+    }
     ggins::hil::write_json(fs::path(out_dir) / "summary.json", rep);
     return rep;
   };
@@ -257,6 +296,19 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins-montecarlo3d: %s\n", err.c_str());
     write_report({err, 1, false}, json(nullptr), json{{"seed", seed}});
     return 1;
+  }
+  int stopped = 0, unflown = 0;
+  for (const auto& x : er) {
+    if (x.status != "interrupted") continue;
+    if (x.counts.steps_flown > 0) ++stopped;
+    else ++unflown;
+  }
+  if (stopped + unflown > 0 || (was_interrupted && fc[0].stopped)) {  // the partial report: no comparison
+    const std::string msg = "interrupted: " + std::to_string(stopped) + " run(s) stopped, " + std::to_string(unflown) +
+                            " of " + std::to_string(runs) + " not flown";
+    std::fprintf(stderr, "ggins-montecarlo3d: %s\n", msg.c_str());
+    write_report({msg, 130, false}, json(nullptr), json{{"seed", seed}});
+    return 130;
   }
 
   // Sample sigma in NED at each output time vs the covariance.
@@ -362,16 +414,7 @@ int main(int argc, char** argv) {
     if (st != 0 && (code == 0 || st != 4)) code = st;
   }
   if (!no_plot) {
-    std::vector<std::string> cands;
-    if (!python.empty()) cands.push_back(python);
-    if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
-    cands.emplace_back("/usr/bin/python3");
-    std::string py;
-    for (const auto& c : cands)
-      if (std::system(("'" + c + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0) {
-        py = c;
-        break;
-      }
+    const std::string py = ggins::cli::find_python(python);
     const std::string cmd = "'" + py + "' '" GGINS_MC3D_PLOT_SCRIPT "' '" + (fs::path(out_dir) / "montecarlo3d.csv").string() +
                             "' '" + (fs::path(out_dir) / "montecarlo3d.png").string() + "' --title '" + s.name +
                             " N=" + std::to_string(runs) + "' 1>&2";

@@ -129,7 +129,7 @@ gg_nav3d_config_t Sim3D::config(const SensorErrors& e) const {
 }
 
 std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, double output_dt_s,
-                                  FlyCounts* counts) const {
+                                  FlyCounts* counts, const std::function<bool()>& stop) const {
   gg_nav3d_t nav;
   const gg_nav3d_config_t cfg = config(e);
   if (gg_nav3d_init(&nav, &cfg) != GG_OK) throw std::runtime_error("gg_nav3d_init failed");
@@ -140,6 +140,10 @@ std::vector<ErrSample> Sim3D::fly(const SensorErrors& e, double duration_s, doub
   gg_frame_t fr;
   gg_nav3d_output_t o;
   for (int64_t k = 0; k <= K; ++k) {
+    if (stop && k % 256 == 0 && stop()) {
+      if (counts) counts->stopped = true;
+      break;
+    }
     truth3d::Truth3 t;
     gen.frame(k, fr, &t);
     const gg_status_t st = gg_nav3d_step(&nav, &fr, nullptr, &o);

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -64,10 +65,13 @@ class Sim3D {
     int64_t steps = 0;
     uint32_t health_or = 0;
     std::array<int64_t, 32> health_count{};
+    bool stopped = false;  // `stop` answered true: the flight ended before its last step
   };
   // Flies [0, duration] and returns the errors every output_dt. Throws on a firmware error.
+  // `stop` (when given) is asked every few hundred steps; true ends the flight there, with
+  // the samples taken so far and counts->stopped set.
   std::vector<ErrSample> fly(const SensorErrors& e, double duration_s, double output_dt_s,
-                             FlyCounts* counts = nullptr) const;
+                             FlyCounts* counts = nullptr, const std::function<bool()>& stop = {}) const;
   // Steps of a flight of duration_s (steps 0..K: K + 1 outputs).
   int64_t steps(double duration_s) const { return std::llround(duration_s * 1e6 / double(dt_us_)) + 1; }
   gg_nav3d_config_t config(const SensorErrors& e) const;

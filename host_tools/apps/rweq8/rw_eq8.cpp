@@ -1,7 +1,8 @@
 // ggins rw-eq8: Rubenstein & Winter eq. (8) reproduced with the firmware's
 // conventional (gravity-model) mode, Monte Carlo, firmware linked in-process.
 //
-// Rubenstein & Winter (seed ../shared/seeds/rubenstein-winter-gravity-anomaly-ins.txt):
+// B. R. Rubenstein and H. Winter, "A Method for Correcting the Effect of Gravity Anomalies
+// on Precision Inertial Navigation Mapping Systems" (docs/rubenstein-winter.md):
 //   eq. (3)  W(t) = R w_s sin(w_s t)            (Schuler weighting function)
 //   eq. (6)  R(tau) = delta^2 exp(-alpha |tau|), alpha = V / L (330 kn / 33 n.mi. = 10 rad/h)
 //   eq. (7)  (dx)^2 = int_0^t int_0^t W(u) W(v) R(u - v) dv du

@@ -8,6 +8,7 @@
 
 #include "ggins/cli_checks.hpp"
 #include "ggins/truth/scenario_schema.hpp"
+#include "ggins/covariance/cov3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
 
 namespace {
@@ -36,6 +37,11 @@ std::string page() {
       "the keys and named the same way.\n\n";
   s += "## " + truth::scenario_schema().title + "\n" + truth::scenario_schema().reference_markdown();
   s += "\n## " + truth3d::scenario3_schema().title + "\n" + truth3d::scenario3_schema().reference_markdown();
+  s += "\n## 3-D great-circle scenario (ggins covariance3d, montecarlo3d)\n\n"
+       "The analytic great circle of the 3-D error analysis (the `gc3d-*` built-ins) as a file: one with a "
+       "`[great_circle]` table. `ggins montecarlo3d -s gc3d-baro --print-scenario` prints one; "
+       "`--print-scenario --defaults` the template.\n" +
+       covariance::great_circle_reference_markdown();
   return s;
 }
 

@@ -212,18 +212,18 @@ json ensemble_report(const std::string& tool, const std::string& task, const std
         rms[k] = ax;
       }
     }
-    for (const auto& r : runs) {
-      json pr = {{"run", r.index}, {"seed", r.seed}, {"status", r.status}, {"steps_flown", r.counts.steps_flown},
-                 {"health_seen_raw", r.health_or}};
-      for (const auto& [k, v] : r.errors.items()) {
-        if (is_final_max(v)) {
-          // position_error_m -> position_error_final_m: the unit stays last
-          const auto us = k.rfind('_');
-          pr[k.substr(0, us) + "_final" + k.substr(us)] = v["final"];
-        }
+  }
+  for (const auto& r : runs) {  // every run, also those that flew no output
+    json pr = {{"run", r.index}, {"seed", r.seed}, {"status", r.status}, {"steps_flown", r.counts.steps_flown},
+               {"health_seen_raw", r.health_or}};
+    for (const auto& [k, v] : r.errors.items()) {
+      if (is_final_max(v)) {
+        // position_error_m -> position_error_final_m: the unit stays last
+        const auto us = k.rfind('_');
+        pr[k.substr(0, us) + "_final" + k.substr(us)] = v["final"];
       }
-      per_run.push_back(pr);
     }
+    per_run.push_back(pr);
   }
   s["errors"] = e;
   s["aids"] = json::array();

@@ -1,7 +1,10 @@
 #include "ggins/covariance/cov3d_truth3d.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include "ggins/truth3d/generator3d.hpp"
@@ -35,7 +38,10 @@ std::vector<std::string> truth3d_scenario_names() { return truth3d::builtin_scen
 
 Cov3DScenario load_truth3d_scenario(const std::string& name_or_path, const std::vector<std::string>& dirs,
                                     std::vector<std::string>* unmodelled) {
-  const truth3d::Scenario3 t = truth3d::load_scenario3(name_or_path, dirs);
+  return cov3d_from_truth3d(truth3d::load_scenario3(name_or_path, dirs), unmodelled);
+}
+
+Cov3DScenario cov3d_from_truth3d(const truth3d::Scenario3& t, std::vector<std::string>* unmodelled) {
   std::vector<std::string> um;
   Cov3DScenario s;
   s.name = t.name;
@@ -74,6 +80,35 @@ Cov3DScenario load_truth3d_scenario(const std::string& name_or_path, const std::
   }
   if (unmodelled) *unmodelled = um;
   return s;
+}
+
+Scenario3DInput resolve_scenario3d(const std::string& name_or_path, const std::vector<std::string>& dirs) {
+  Scenario3DInput in;
+  if (auto b = builtin_scenario3d(name_or_path)) {
+    in.cov = *b;
+    return in;
+  }
+  // a great-circle file (a [great_circle] table), by path or <dir>/<name>.toml
+  std::vector<std::string> cands{name_or_path};
+  for (const auto& d : dirs) cands.push_back(d + "/" + name_or_path + ".toml");
+  for (const auto& c : cands) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(c, ec)) continue;
+    std::ifstream f(c);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    if (!is_great_circle_text(ss.str())) break;  // a truth3d scenario
+    in.cov = parse_great_circle_scenario(ss.str(), std::filesystem::path(c).stem().string(), c);
+    return in;
+  }
+  in.truth = truth3d::load_scenario3(name_or_path, dirs);
+  in.cov = cov3d_from_truth3d(*in.truth, &in.unmodelled);
+  return in;
+}
+
+std::string scenario3d_to_toml(const Scenario3DInput& in) {
+  if (in.truth) return truth3d::scenario3_to_toml(truth3d::with_absolute_files(*in.truth));
+  return great_circle_scenario_to_toml(in.cov);
 }
 
 }  // namespace ggins::covariance

@@ -1,6 +1,8 @@
 #include "ggins/covariance/scenario.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -123,8 +125,15 @@ CovScenario load_scenario_toml(const std::string& path) {
     throw std::runtime_error(path + ": navigation.gravity '" + t.navigation.gravity +
                              "': ggins-covariance models the gradiometer mode (Welker et al.) only");
   // Inputs of the truth generator that the linear model does not contain.
-  if (node("accel.bias_mps2")) s.unmodelled.emplace_back("accel.bias_mps2 (deterministic biases)");
-  if (node("accel.scale")) s.unmodelled.emplace_back("accel.scale (deterministic scale factors)");
+  // (by value: a key written out at zero, as in a scenario as flown, adds nothing)
+  auto any_nonzero = [](const auto& rows) {
+    for (const auto& r : rows)
+      for (double x : r)
+        if (x != 0.0) return true;
+    return false;
+  };
+  if (any_nonzero(t.accel.bias_mps2)) s.unmodelled.emplace_back("accel.bias_mps2 (deterministic biases)");
+  if (any_nonzero(t.accel.scale)) s.unmodelled.emplace_back("accel.scale (deterministic scale factors)");
   // barometric vertical loop (the truth generator's rules: Scenario::baro_loop_enabled)
   s.baro_loop = t.baro_loop_enabled();
   if (s.baro_loop) {
@@ -137,10 +146,14 @@ CovScenario load_scenario_toml(const std::string& path) {
       s.baro_gm_tau_s = t.baro.gm_tau_s;
       s.baro_noise_sigma_m = t.baro.noise_sigma_m;
     }
-    for (const char* k : {"baro.dropout_prob", "baro.dropouts", "baro.outlier_prob", "baro.invalid_prob"})
-      if (node(k)) s.unmodelled.emplace_back(std::string(k) + " (barometer faults)");
+    const std::pair<const char*, bool> faults[] = {{"baro.dropout_prob", t.baro.dropout_prob > 0},
+                                                   {"baro.dropouts", !t.baro.dropouts.empty()},
+                                                   {"baro.outlier_prob", t.baro.outlier_prob > 0},
+                                                   {"baro.invalid_prob", t.baro.invalid_prob > 0}};
+    for (const auto& [k, on] : faults)
+      if (on) s.unmodelled.emplace_back(std::string(k) + " (barometer faults)");
   }
-  if (node("sensor_faults")) s.unmodelled.emplace_back("sensor_faults");
+  if (!t.sensor_faults.faults.empty()) s.unmodelled.emplace_back("sensor_faults");
   for (const char* k : {"time.duration_s", "gravity.gm_m3ps2", "trajectory.radius_m", "trajectory.speed_mps",
                         "trajectory.height_m", "trajectory.lat0_deg", "platform.a_m", "platform.b_m", "time.rate_hz"})
     (void)given(k);
@@ -199,6 +212,96 @@ CovScenario load_scenario_toml(const std::string& path) {
   get("initial.velocity_sigma_mps", s.vel0_sigma_mps);
   if (s.baro_loop) check_sigma(s.baro_bias_m, at(path, node("baro.bias_m")), "baro.bias_m");  // the linear model's sigma of the constant bias
   return s;
+}
+
+namespace {
+// The shortest decimal degrees whose radians are exactly `rad` (the file's value read back).
+double deg_of(double rad) {
+  const double d = rad * 180.0 / M_PI;
+  for (int p = 1; p <= 17; ++p) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.*g", p, d);
+    const double c = std::strtod(b, nullptr);
+    if (c * M_PI / 180.0 == rad) return c;
+  }
+  return d;
+}
+std::string nums_text(const std::vector<double>& v) {
+  std::string t = "[";
+  for (size_t i = 0; i < v.size(); ++i) t += (i ? ", " : "") + ggins::truth::sch::num_text(v[i]);
+  return t + "]";
+}
+bool uniform(const std::vector<double>& v) {
+  for (double x : v)
+    if (x != v.front()) return false;
+  return true;
+}
+}  // namespace
+
+std::string cov_scenario_to_toml(const CovScenario& s, bool template_comments) {
+  // the truth generator's keys through its schema (truth/scenario.hpp), set to what the
+  // linear model uses; then the per-axis sigmas and the covariance-only [initial] table
+  ggins::truth::Scenario t;
+  if (!template_comments) {
+    t.name = s.name;
+    t.duration_s = s.duration_s;
+    t.gravity.model = "point-mass";
+    t.gravity.gm_m3ps2 = s.gm_m3ps2;
+    t.trajectory.type = s.trajectory;
+    t.trajectory.radius_m = s.radius_m;
+    t.trajectory.speed_mps = s.speed_mps;
+    t.trajectory.height_m = s.height_m;
+    t.trajectory.lat0_deg = deg_of(s.lat0_rad);
+    t.a_m = s.a_m;
+    t.b_m = s.b_m;
+    t.rate_hz = s.rate_hz;
+    t.accel.bias_sigma_mps2 = s.bias_sigma_mps2.front();
+    t.accel.noise_sigma_mps2 = s.noise_sigma_mps2.front();
+    t.accel.scale_sigma = s.scale_sigma;
+    t.navigation.gravity = "gradiometer";
+    if (s.baro_loop) {
+      t.navigation.baro.enable = 1;
+      t.navigation.baro.period_s = s.baro_period_s;
+      t.navigation.baro.omega_s2 = s.baro_omega_s2;
+      for (size_t i = 0; i < 3; ++i) t.navigation.baro.poles_radps[i] = s.baro_poles_radps[i];
+      t.baro.enable = true;
+      t.baro.bias_m = s.baro_bias_m;
+      t.baro.gm_sigma_m = s.baro_gm_sigma_m;
+      t.baro.gm_tau_s = s.baro_gm_tau_s;
+      t.baro.noise_sigma_m = s.baro_noise_sigma_m;
+    } else {
+      t.navigation.baro.enable = 0;
+    }
+  }
+  std::string text = ggins::truth::scenario_to_toml(t, template_comments);
+  if (template_comments) {
+    text.replace(0, text.find('\n') + 1,
+                 "# ggins covariance scenario: the keys of ggins run's (every key with its default; the\n"
+                 "# covariance models north-flight, point-mass, gradiometer) and the covariance-only [initial]\n");
+    return text +
+           "\n# Initial-state uncertainty, one sigma (ggins covariance only)\n# [initial]\n"
+           "# gravity_sigma_mps2 = 0                # m/s^2; >= 0; dG(0), one number or [x, z]\n"
+           "# position_sigma_m = 0                  # m; >= 0; initial position error per axis\n"
+           "# velocity_sigma_mps = 0                # m/s; >= 0; initial velocity error per axis\n";
+  }
+  // the eight per-axis sigmas (f1x f2x f3x f4x f1z f2z f3z f4z) when they differ
+  auto per_axis = [&](const char* key, const std::vector<double>& v) {
+    if (uniform(v)) return;
+    const size_t a = text.find("\n[accel]\n");
+    const size_t k = text.find(std::string("\n") + key + " = ", a);
+    if (a == std::string::npos || k == std::string::npos) throw std::logic_error("[accel] not written");
+    const size_t e = text.find('\n', k + 1);
+    text.replace(k + 1, e - k - 1, std::string(key) + " = " + nums_text(v));
+  };
+  per_axis("bias_sigma_mps2", s.bias_sigma_mps2);
+  per_axis("noise_sigma_mps2", s.noise_sigma_mps2);
+  text += "\n[initial]\ngravity_sigma_mps2 = ";
+  text += s.gravity0_sigma_x_mps2 == s.gravity0_sigma_z_mps2
+              ? ggins::truth::sch::num_text(s.gravity0_sigma_x_mps2)
+              : nums_text({s.gravity0_sigma_x_mps2, s.gravity0_sigma_z_mps2});
+  text += "\nposition_sigma_m = " + ggins::truth::sch::num_text(s.pos0_sigma_m) +
+          "\nvelocity_sigma_mps = " + ggins::truth::sch::num_text(s.vel0_sigma_mps) + "\n";
+  return text;
 }
 
 CovScenario resolve_scenario(const std::string& arg, const std::string& repo_root) {

@@ -250,7 +250,7 @@ sch::Schema<S> build_schema() {
   }
   secs.push_back(sch::delegated_section<S>(
       "sensor_faults", "Injected sensor faults (sensor_faults.hpp).", keys::sensor_fault_rows(fault_instrument2d()),
-      [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults(t, c.source); },
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults(t, c); },
       [](const S& s) { return write_sensor_faults(s.sensor_faults); },
       [](const S& s) { return !s.sensor_faults.faults.empty(); }));
   {

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <limits>
-#include <set>
 #include <stdexcept>
 
 #include "ggins/truth/generator.hpp"
@@ -14,13 +13,6 @@ namespace ggins::truth {
 namespace {
 
 constexpr uint64_t kStreamFault = 40;  // counter_uniform stream of the per-step probabilities
-
-[[noreturn]] void fail(const std::string& source, const std::string& what) {
-  throw std::runtime_error("scenario " + source + ": " + what);
-}
-
-
-bool is_time_kind(const std::string& k) { return k.rfind("time_", 0) == 0; }
 
 // reading (hi, lo) += d, exactly to long double, re-split into double + residual
 void add_to_reading(double& hi, double& lo, long double d) {
@@ -39,82 +31,14 @@ const keys::FaultInstrument& fault_instrument2d() {
       "accelerometer",
       {"x", "z"},
       "(required, not time_*, status_bad)",
-      "m/s^2"};
+      "m/s^2",
+      1,
+      4};
   return f;
 }
 
-SensorFaultParams parse_sensor_faults(const toml::table& t, const std::string& source) {
-  static const std::set<std::string> kKinds(fault_instrument2d().kinds.begin(), fault_instrument2d().kinds.end());
-  SensorFaultParams p;
-  for (const auto& [k, v] : t) {
-    (void)v;
-    const std::string key(k.str());
-    if (key != "seed" && key != "fault")
-      fail(source, "unknown key 'sensor_faults." + key + "' (allowed: fault, seed)");
-  }
-  if (const toml::node* n = t.get("seed")) {
-    if (!n->is_integer() || n->as_integer()->get() < 0) fail(source, "sensor_faults.seed must be an integer >= 0");
-    p.seed = static_cast<uint64_t>(n->as_integer()->get());
-  }
-  const toml::node* arr = t.get("fault");
-  if (!arr) return p;
-  const toml::array* a = arr->as_array();
-  if (!a) fail(source, "sensor_faults.fault must be an array of tables ([[sensor_faults.fault]])");
-  for (size_t i = 0; i < a->size(); ++i) {
-    const std::string where = "sensor_faults.fault[" + std::to_string(i) + "]";
-    const toml::table* ft = (*a)[i].as_table();
-    if (!ft) fail(source, where + " must be a table");
-    static const std::set<std::string> allowed = {"kind", "sensor", "axis", "start_s", "duration_s", "size", "prob"};
-    for (const auto& [k, v] : *ft) {
-      (void)v;
-      const std::string key(k.str());
-      if (!allowed.count(key))
-        fail(source, "unknown key '" + where + "." + key + "' (allowed: axis, duration_s, kind, prob, sensor, size, start_s)");
-    }
-    SensorFault f;
-    auto num = [&](const char* key, double dflt) {
-      const toml::node* n = ft->get(key);
-      if (!n) return dflt;
-      auto d = n->value<double>();
-      if (!d || !std::isfinite(*d)) fail(source, where + "." + key + " must be a finite number");
-      return *d;
-    };
-    const toml::node* kn = ft->get("kind");
-    if (!kn || !kn->is_string()) fail(source, where + ".kind (a string) is required");
-    f.kind = kn->as_string()->get();
-    if (!kKinds.count(f.kind)) {
-      std::string list;
-      for (const auto& x : kKinds) list += (list.empty() ? "" : ", ") + x;
-      fail(source, where + ".kind '" + f.kind + "' unknown (known: " + list + ")");
-    }
-    if (const toml::node* n = ft->get("sensor")) {
-      if (!n->is_integer() || n->as_integer()->get() < 1 || n->as_integer()->get() > 4)
-        fail(source, where + ".sensor must be an integer 1..4");
-      f.sensor = static_cast<int>(n->as_integer()->get());
-    } else if (!is_time_kind(f.kind)) {
-      fail(source, where + ".sensor (1..4) is required for kind '" + f.kind + "'");
-    }
-    if (const toml::node* n = ft->get("axis")) {
-      const auto s = n->value<std::string>();
-      if (!s || (*s != "x" && *s != "z")) fail(source, where + ".axis must be \"x\" or \"z\"");
-      f.axis = *s == "x" ? 0 : 1;
-    } else if (!is_time_kind(f.kind) && f.kind != "status_bad") {
-      fail(source, where + ".axis (\"x\" or \"z\") is required for kind '" + f.kind + "'");
-    }
-    f.start_s = num("start_s", 0.0);
-    f.duration_s = num("duration_s", 0.0);
-    f.size = num("size", 0.0);
-    f.prob = num("prob", 1.0);
-    if (f.start_s < 0 || f.duration_s < 0) fail(source, where + ".start_s and duration_s must be >= 0");
-    if (!(f.prob > 0.0 && f.prob <= 1.0)) fail(source, where + ".prob must be in (0, 1]");
-    if ((f.kind == "time_jump" || f.kind == "time_back") &&
-        !(f.size >= 1.0 && f.size <= 1e12 && f.size == std::floor(f.size)))
-      fail(source, where + ".size must be a whole number of microseconds in [1, 1e12] for " + f.kind);
-    if ((f.kind == "range" || f.kind == "saturate") && f.size == 0.0)
-      fail(source, where + ".size (the reading, m/s^2) is required for " + f.kind);
-    p.faults.push_back(f);
-  }
-  return p;
+SensorFaultParams parse_sensor_faults(const toml::table& t, const sch::Ctx& c) {
+  return keys::read_sensor_faults<SensorFaultParams>(t, c, fault_instrument2d());
 }
 
 int64_t fault_window_first_step(double start_s, int64_t dt_us) {

@@ -10,6 +10,6 @@
 namespace ggins::truth {
 // The 2-D instrument of [sensor_faults]: accelerometers 1..4, axes x and z.
 const keys::FaultInstrument& fault_instrument2d();
-// Throws std::runtime_error("scenario <source>: ...") naming the offending key.
-SensorFaultParams parse_sensor_faults(const toml::table& t, const std::string& source);
+// keys::read_sensor_faults for this instrument: errors name file:line and the key.
+SensorFaultParams parse_sensor_faults(const toml::table& t, const sch::Ctx& c);
 }  // namespace ggins::truth

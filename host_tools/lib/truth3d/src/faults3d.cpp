@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <limits>
-#include <set>
 #include <stdexcept>
 
 #include "ggins/truth/generator.hpp"
@@ -16,10 +15,6 @@ namespace {
 
 constexpr uint64_t kStreamFaultProb = 51, kStreamFaultNoise = 52;  // distinct from the generator's streams
 
-
-bool is_time_kind(const std::string& k) { return k.rfind("time_", 0) == 0; }
-
-std::string at_line(const toml::node& n) { return " (line " + std::to_string(n.source().begin.line) + ")"; }
 
 // reading (hi, lo) += d, exactly to long double, re-split into double + residual
 void add_to_reading(double& hi, double& lo, long double d) {
@@ -41,89 +36,16 @@ const truth::keys::FaultInstrument& fault_instrument3d() {
                                               "accelerometer or the gyro",
                                               {"x", "y", "z"},
                                               "(required, not time_*, status_bad)",
-                                              "m/s^2, rad/s"};
+                                              "m/s^2, rad/s",
+                                              0,
+                                              5,
+                                              true,
+                                              kFaultGyro};
   return f;
 }
 
-SensorFaults3 parse_sensor_faults3(const toml::table& t, const std::string& source) {
-  static const std::set<std::string> kKinds(fault_instrument3d().kinds.begin(), fault_instrument3d().kinds.end());
-  auto fail = [&](const std::string& what) -> void { throw std::runtime_error("scenario " + source + ": " + what); };
-  SensorFaults3 p;
-  for (const auto& [k, v] : t) {
-    const std::string key(k.str());
-    if (key != "seed" && key != "fault")
-      fail("unknown key 'sensor_faults." + key + "'" + at_line(v) + " (allowed: fault, seed)");
-  }
-  if (const toml::node* n = t.get("seed")) {
-    if (!n->is_integer() || n->as_integer()->get() < 0)
-      fail("sensor_faults.seed" + at_line(*n) + " must be an integer >= 0");
-    p.seed = static_cast<uint64_t>(n->as_integer()->get());
-  }
-  const toml::node* arr = t.get("fault");
-  if (!arr) return p;
-  const toml::array* a = arr->as_array();
-  if (!a) fail("sensor_faults.fault" + at_line(*arr) + " must be an array of tables ([[sensor_faults.fault]])");
-  for (size_t i = 0; i < a->size(); ++i) {
-    const std::string where = "sensor_faults.fault[" + std::to_string(i) + "]";
-    const std::string loc = where + at_line((*a)[i]);
-    const toml::table* ft = (*a)[i].as_table();
-    if (!ft) fail(loc + " must be a table");
-    static const std::set<std::string> allowed = {"kind", "sensor", "axis", "start_s", "duration_s", "size", "prob"};
-    for (const auto& [k, v] : *ft) {
-      const std::string key(k.str());
-      if (!allowed.count(key))
-        fail("unknown key '" + where + "." + key + "'" + at_line(v) +
-             " (allowed: axis, duration_s, kind, prob, sensor, size, start_s)");
-    }
-    SensorFault3 f;
-    auto num = [&](const char* key, double dflt) {
-      const toml::node* n = ft->get(key);
-      if (!n) return dflt;
-      auto d = n->value<double>();
-      if (!d || !std::isfinite(*d)) fail(where + "." + key + at_line(*n) + " must be a finite number");
-      return *d;
-    };
-    const toml::node* kn = ft->get("kind");
-    if (!kn || !kn->is_string()) fail(loc + ": kind (a string) is required");
-    f.kind = kn->as_string()->get();
-    if (!kKinds.count(f.kind)) {
-      std::string list;
-      for (const auto& x : kKinds) list += (list.empty() ? "" : ", ") + x;
-      fail(where + ".kind '" + f.kind + "'" + at_line(*kn) + " unknown (known: " + list + ")");
-    }
-    if (const toml::node* n = ft->get("sensor")) {
-      if (n->is_string() && n->as_string()->get() == "gyro") {
-        f.sensor = kFaultGyro;
-      } else if (n->is_integer() && n->as_integer()->get() >= 0 && n->as_integer()->get() <= 5) {
-        f.sensor = static_cast<int>(n->as_integer()->get());
-      } else {
-        fail(where + ".sensor" + at_line(*n) + " must be an accelerometer 0..5 or \"gyro\"");
-      }
-    } else if (!is_time_kind(f.kind)) {
-      fail(loc + ": sensor (0..5 or \"gyro\") is required for kind '" + f.kind + "'");
-    }
-    if (const toml::node* n = ft->get("axis")) {
-      const auto s = n->value<std::string>();
-      if (!s || (*s != "x" && *s != "y" && *s != "z")) fail(where + ".axis" + at_line(*n) + " must be \"x\", \"y\" or \"z\"");
-      f.axis = *s == "x" ? 0 : (*s == "y" ? 1 : 2);
-    } else if (!is_time_kind(f.kind) && f.kind != "status_bad") {
-      fail(loc + ": axis (\"x\", \"y\" or \"z\") is required for kind '" + f.kind + "'");
-    }
-    f.start_s = num("start_s", 0.0);
-    f.duration_s = num("duration_s", 0.0);
-    f.size = num("size", 0.0);
-    f.prob = num("prob", 1.0);
-    if (f.start_s < 0 || f.duration_s < 0) fail(loc + ": start_s and duration_s must be >= 0");
-    if (!(f.prob > 0.0 && f.prob <= 1.0)) fail(loc + ": prob must be in (0, 1]");
-    if ((f.kind == "time_jump" || f.kind == "time_back") &&
-        !(f.size >= 1.0 && f.size <= 1e12 && f.size == std::floor(f.size)))
-      fail(loc + ": size must be a whole number of microseconds in [1, 1e12] for " + f.kind);
-    if ((f.kind == "range" || f.kind == "saturate") && f.size == 0.0)
-      fail(loc + ": size (the reading) is required for " + f.kind);
-    if (f.kind == "noise" && !(f.size > 0)) fail(loc + ": size (the noise's standard deviation) must be > 0");
-    p.faults.push_back(f);
-  }
-  return p;
+SensorFaults3 parse_sensor_faults3(const toml::table& t, const truth::sch::Ctx& c) {
+  return truth::keys::read_sensor_faults<SensorFaults3>(t, c, fault_instrument3d());
 }
 
 int64_t sensor_fault3_first_step(const SensorFault3& f, int64_t dt_us) {

@@ -379,7 +379,7 @@ sch::Schema<S> build_schema3() {
   }
   secs.push_back(sch::delegated_section<S>(
       "sensor_faults", "Injected sensor faults (faults3d.hpp).", keys::sensor_fault_rows(fault_instrument3d()),
-      [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults3(t, c.source); },
+      [](S& s, const toml::table& t, const sch::Ctx& c) { s.sensor_faults = parse_sensor_faults3(t, c); },
       [](const S& s) { return write_sensor_faults3(s.sensor_faults); },
       [](const S& s) { return !s.sensor_faults.faults.empty(); }));
   secs.push_back(sch::section<S>(aid_ukf_table(), &S::aid_ukf, [](const S& s) { return s.aid_ukf.enabled; }));

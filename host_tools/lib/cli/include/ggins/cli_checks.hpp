@@ -27,6 +27,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace ggins::cli {
 
@@ -191,6 +192,19 @@ inline void write_file(const std::string& path, const std::string& data, bool bi
   f.write(data.data(), static_cast<std::streamsize>(data.size()));
   f.close();
   if (!f) throw std::runtime_error("cannot write " + path);
+}
+
+// The python that draws the plots: the first of `requested`, $GGINS_PYTHON, /usr/bin/python3
+// (Debian's python3-matplotlib, scripts/setup) and python3 that imports matplotlib; "" if none.
+inline std::string find_python(const std::string& requested) {
+  std::vector<std::string> cands;
+  if (!requested.empty()) cands.push_back(requested);
+  if (const char* e = std::getenv("GGINS_PYTHON")) cands.emplace_back(e);
+  cands.emplace_back("/usr/bin/python3");
+  cands.emplace_back("python3");
+  for (const auto& c : cands)
+    if (std::system(("'" + c + "' -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0) return c;
+  return "";
 }
 
 // Parse the command line and run body with the exit-code scheme above: a parse or

@@ -37,6 +37,17 @@ struct Cov3DScenario {
 std::optional<Cov3DScenario> builtin_scenario3d(const std::string& name);
 std::vector<std::string> builtin_names3d();
 
+// The great-circle scenario as a file (TOML; its schema: cov3d_scenario.cpp, the keys
+// [great_circle], [time], [instrument], [errors], [baro]): what the gc3d-* built-ins
+// are, written out and read back by the same rows. A file is one when it has a
+// [great_circle] table. Errors name file:line, the key, the value and the allowed range.
+bool is_great_circle_text(const std::string& text);
+Cov3DScenario parse_great_circle_scenario(const std::string& text, const std::string& fallback_name,
+                                          const std::string& source);
+// Every key with its effective value; template_comments: unit, range and meaning of each.
+std::string great_circle_scenario_to_toml(const Cov3DScenario& s, bool template_comments = false);
+std::string great_circle_reference_markdown();
+
 std::shared_ptr<const gravity::Field> make_field3d(const Cov3DScenario& s);
 std::shared_ptr<const Trajectory3D> make_trajectory3d(const Cov3DScenario& s);
 std::shared_ptr<const Nav3DModel> make_model3d(const Cov3DScenario& s);

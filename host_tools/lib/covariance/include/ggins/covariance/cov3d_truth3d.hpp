@@ -5,14 +5,16 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ggins/covariance/cov3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
 
 namespace ggins::truth3d {
 class Trajectory3;
-}
+}  // namespace ggins::truth3d
 
 namespace ggins::covariance {
 
@@ -40,6 +42,21 @@ std::shared_ptr<const truth3d::Trajectory3> truth3d_trajectory(const Cov3DScenar
 // scale factors, deterministic biases, the constant baro bias, gravity-model mode.
 Cov3DScenario load_truth3d_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs,
                                     std::vector<std::string>* unmodelled);
+// The same from a loaded (and possibly overridden) truth3d scenario.
+Cov3DScenario cov3d_from_truth3d(const truth3d::Scenario3& t, std::vector<std::string>* unmodelled);
+
+// A 3-D error-analysis scenario as ggins covariance3d and montecarlo3d take it: a gc3d-*
+// built-in, a great-circle file ([great_circle], cov3d.hpp), or a truth3d scenario (kept
+// in `truth`; `cov` mapped from it, with what is not modelled).
+struct Scenario3DInput {
+  Cov3DScenario cov;
+  std::optional<truth3d::Scenario3> truth;
+  std::vector<std::string> unmodelled;
+};
+Scenario3DInput resolve_scenario3d(const std::string& name_or_path, const std::vector<std::string>& search_dirs);
+// The scenario as flown, every key: scenario3_to_toml (files absolute) for a truth3d
+// scenario, great_circle_scenario_to_toml otherwise. Each flies again as it is.
+std::string scenario3d_to_toml(const Scenario3DInput& in);
 std::vector<std::string> truth3d_scenario_names();
 
 }  // namespace ggins::covariance

@@ -56,5 +56,10 @@ CovScenario load_scenario_toml(const std::string& path);
 // Name or path: an existing file is read as TOML; otherwise
 // scenarios/<name>.toml (relative to cwd or the repo root) if present, else built-in.
 CovScenario resolve_scenario(const std::string& name_or_path, const std::string& repo_root);
+// The scenario as ggins covariance flies it, as a file that it reads back to the same
+// values: ggins run's keys (every key, truth/scenario.hpp's scenario_to_toml) set to what
+// the linear model uses, per-axis sigmas as arrays, and the covariance-only [initial]
+// table. template_comments: the complete template (every key at its default, commented).
+std::string cov_scenario_to_toml(const CovScenario& s, bool template_comments = false);
 
 }  // namespace ggins::covariance

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -143,9 +145,12 @@ struct FaultInstrument {
   std::string sensor_type;         // "integer", "integer or \"gyro\""
   std::string sensor_range;        // "[1, 4]"
   std::string sensor_meaning;
-  std::vector<std::string> axes;   // {"x", "z"}
+  std::vector<std::string> axes;   // {"x", "z"}: a fault's axis is its index here
   std::string axis_required;       // when the axis is required
   std::string size_unit;           // the unit of a reading's fault size
+  int sensor_min = 0, sensor_max = 0;  // the accelerometers a fault names
+  bool gyro = false;                   // a fault may name sensor = "gyro", read as gyro_id
+  int gyro_id = 0;
 };
 
 inline std::vector<sch::Row> sensor_fault_rows(const FaultInstrument& f) {
@@ -163,6 +168,96 @@ inline std::vector<sch::Row> sensor_fault_rows(const FaultInstrument& f) {
           {"fault.size", "number", f.size_unit + " (time_*: us)", "0.0", "finite; time_jump/back: whole us in [1, 1e12]",
            "the fault's size: reading, step, drift rate, noise sigma, or time jump"},
           {"fault.prob", "number", "1", "1.0", "(0, 1]", "probability per frame while active"}};
+}
+
+// The one reader of [sensor_faults] (the rows above), for the instrument f: P has `seed`
+// and `faults`, a vector of entries with kind, sensor, axis, start_s, duration_s, size and
+// prob (their defaults those of a default entry). Errors name file:line, the key, the
+// value and what is allowed, through c.
+template <class P>
+P read_sensor_faults(const toml::table& t, const sch::Ctx& c, const FaultInstrument& f) {
+  using F = typename decltype(P::faults)::value_type;
+  auto list = [](const std::vector<std::string>& v, bool quote) {
+    std::string l;
+    for (const auto& x : v) l += (l.empty() ? "" : ", ") + (quote ? sch::str_text(x) : x);
+    return l;
+  };
+  auto is_time = [](const std::string& k) { return k.rfind("time_", 0) == 0; };
+  const std::string sensors = f.sensor_range, axes = list(f.axes, true);
+  P p;
+  for (const auto& [k, v] : t) {
+    const std::string key(k.str());
+    if (key != "seed" && key != "fault")
+      c.fail_at(&v, "sensor_faults." + key, "unknown key 'sensor_faults." + key + "' (allowed: fault, seed)");
+  }
+  if (const toml::node* n = t.get("seed"))
+    p.seed = static_cast<uint64_t>(sch::read_int(*n, c, "sensor_faults.seed", sch::ge(0), ""));
+  const toml::node* arr = t.get("fault");
+  if (!arr) return p;
+  const toml::array* a = arr->as_array();
+  if (!a)
+    c.fail_at(arr, "sensor_faults.fault",
+              "sensor_faults.fault = " + sch::value_text(*arr) + ": must be an array of tables ([[sensor_faults.fault]])");
+  static const char* kKeys[] = {"axis", "duration_s", "kind", "prob", "sensor", "size", "start_s"};
+  for (size_t i = 0; i < a->size(); ++i) {
+    const std::string where = "sensor_faults.fault[" + std::to_string(i) + "]";
+    const toml::node& en = (*a)[i];
+    const toml::table* ft = en.as_table();
+    if (!ft) c.fail_at(&en, where, where + " = " + sch::value_text(en) + ": must be a table");
+    for (const auto& [k, v] : *ft) {
+      const std::string key(k.str());
+      bool known = false;
+      for (const char* x : kKeys) known = known || key == x;
+      if (!known)
+        c.fail_at(&v, where + "." + key,
+                  "unknown key '" + where + "." + key + "' (allowed: axis, duration_s, kind, prob, sensor, size, start_s)");
+    }
+    F e;
+    const toml::node* kn = ft->get("kind");
+    if (!kn) c.fail_at(&en, where, where + ".kind is required (allowed: " + list(f.kinds, true) + ")");
+    e.kind = sch::read_str(*kn, c, where + ".kind", f.kinds);
+    if (const toml::node* n = ft->get("sensor")) {
+      if (f.gyro && n->is_string() && n->as_string()->get() == "gyro") {
+        e.sensor = f.gyro_id;
+      } else if (n->is_integer() && n->as_integer()->get() >= f.sensor_min && n->as_integer()->get() <= f.sensor_max) {
+        e.sensor = static_cast<int>(n->as_integer()->get());
+      } else {
+        c.fail_at(n, where + ".sensor",
+                  where + ".sensor = " + sch::value_text(*n) + ": must be an " + f.sensor_meaning + " (allowed: " + sensors + ")");
+      }
+    } else if (!is_time(e.kind)) {
+      c.fail_at(&en, where, where + ".sensor is required for kind '" + e.kind + "' (allowed: " + sensors + ")");
+    }
+    if (const toml::node* n = ft->get("axis")) {
+      const std::string ax = sch::read_str(*n, c, where + ".axis", f.axes);
+      for (size_t j = 0; j < f.axes.size(); ++j)
+        if (f.axes[j] == ax) e.axis = static_cast<int>(j);
+    } else if (!is_time(e.kind) && e.kind != "status_bad") {
+      c.fail_at(&en, where, where + ".axis is required for kind '" + e.kind + "' (allowed: " + axes + ")");
+    }
+    auto num = [&](const char* key, double dflt, sch::Range r, const std::string& unit) {
+      const toml::node* n = ft->get(key);
+      return n ? sch::read_num(*n, c, where + "." + key, r, unit) : dflt;
+    };
+    e.start_s = num("start_s", e.start_s, sch::ge(0), "s");
+    e.duration_s = num("duration_s", e.duration_s, sch::ge(0), "s");
+    e.size = num("size", e.size, sch::any(), "");
+    e.prob = num("prob", e.prob, sch::in_lopen(0, 1), "");
+    const toml::node* sn = ft->get("size");
+    if ((e.kind == "time_jump" || e.kind == "time_back") &&
+        !(e.size >= 1.0 && e.size <= 1e12 && e.size == std::floor(e.size)))
+      c.fail_at(sn ? sn : &en, where + ".size",
+                where + ".size = " + (sn ? sch::value_text(*sn) : std::string("0.0")) +
+                    ": must be a whole number of microseconds for " + e.kind + " (allowed: [1, 1e12] us)");
+    if ((e.kind == "range" || e.kind == "saturate") && e.size == 0.0)
+      c.fail_at(sn ? sn : &en, where + ".size",
+                where + ".size: the reading (" + f.size_unit + ") is required for " + e.kind + " (allowed: != 0)");
+    if (e.kind == "noise" && !(e.size > 0))
+      c.fail_at(sn ? sn : &en, where + ".size",
+                where + ".size: the noise's standard deviation must be > 0 (allowed: > 0)");
+    p.faults.push_back(e);
+  }
+  return p;
 }
 
 }  // namespace ggins::truth::keys

@@ -71,9 +71,9 @@ struct SensorFaults3 {
 // reader's checks): accelerometers 0..5 or the gyro, axes x, y, z.
 const truth::keys::FaultInstrument& fault_instrument3d();
 
-// The [sensor_faults] table; throws std::runtime_error("scenario <source>: ...") naming the
-// offending key and its line.
-SensorFaults3 parse_sensor_faults3(const toml::table& t, const std::string& source);
+// The [sensor_faults] table (truth::keys::read_sensor_faults for this instrument); throws
+// std::runtime_error("scenario <source>:<line>: ...") naming the offending key.
+SensorFaults3 parse_sensor_faults3(const toml::table& t, const truth::sch::Ctx& c);
 
 // Whether fault idx acts on step k (dt_us per step), seeded.
 bool sensor_fault3_active(const SensorFaults3& p, size_t idx, int64_t k, int64_t dt_us);
