@@ -148,7 +148,10 @@ Ensemble2 read_ensemble(const fs::path& outp, const std::string& name, const std
       ggins::hil::write_effective_scenario(outp / "scenario.toml", name, en.source, st.str(),
                                            json{{"accel.seed", seed0 + i}});
     }
-    en.end.degraded = en.end.degraded || x.status == "degraded";
+    if (x.status == "degraded") {
+      en.end.degraded = true;
+      en.end.reasons.push_back("run " + std::to_string(i) + " degraded (runs/" + std::to_string(i) + "/summary.json)");
+    }
     en.runs.push_back(std::move(x));
   }
   if (n_interrupted > 0) {
