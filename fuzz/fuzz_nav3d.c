@@ -21,7 +21,7 @@
  *             gg_frame_t; 3 seq and utime replaced; 4 a lost frame (skip);
  *             5 repeat: a count n (1 byte, 1..256) and one op 0-4 with its
  *             operands, applied to each of the next n frames (the same
- *             change each time: a long run of rejected or lost frames, a
+ *             change each time: a run of rejected or lost frames, a
  *             stuck reading, in a few bytes); 6 a lasting offset from here
  *             on: seq (int16) and utime (int32, us) added to every later
  *             frame (a clock step, a restarted or jumping counter)
