@@ -285,7 +285,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins-montecarlo: fewer than 2 usable runs\n");
     try {
       Ensemble2 en = read_ensemble(outp, sc.name, scen, runs, seed0, run_rc);
-      if (en.end.error.empty()) en.end = {"fewer than 2 usable runs", 1, false};
+      if (en.end.error.empty()) en.end = {"fewer than 2 usable runs", 1, false, {}};
       json rep = ggins::hil::ensemble_report("ggins montecarlo", "2-D", sc.name, en.source, en.description, en.mode,
                                              sc.rate_hz, sc.duration_s, en.runs, runs, en.end, en.frame, en.definition,
                                              json(nullptr), json{{"seed0", seed0}});
