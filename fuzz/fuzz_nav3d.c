@@ -21,17 +21,23 @@
  *             gg_frame_t; 3 seq and utime replaced; 4 a lost frame (skip);
  *             5 repeat: a count n (1 byte, 1..256) and one op 0-4 with its
  *             operands, applied to each of the next n frames (the same
- *             change each time: a long run of rejected or lost frames, a
+ *             change each time: a run of rejected or lost frames, a
  *             stuck reading, in a few bytes); 6 a lasting offset from here
  *             on: seq (int16) and utime (int32, us) added to every later
  *             frame (a clock step, a restarted or jumping counter)
- *             At most MAX_FRAMES frames in all, so runs of rejected frames
- *             longer than the bridge (GG_NAV3D_MAX_BRIDGE = 100) and outages
- *             that coast are reachable.
+ *             At most MAX_STEPS frames handed to the task and MAX_LOST lost
+ *             ones (op 4, which cost nothing): every input's work is bounded
+ *             and small, while a gap beyond the bridge (GG_NAV3D_MAX_BRIDGE
+ *             = 100 lost frames, or a seq/utime jump of op 3 or 6), the
+ *             coasting through it, the re-synchronisation
+ *             (GG_TASK_RESYNC_FRAMES = 3 consistent frames) and the
+ *             aids' epochs (a map-UKF epoch every 6 steps, a cold-atom
+ *             shot every 10) stay reachable within those few steps
+ *             (docs/robustness.md, "Bounds").
  * The reference is a platform at rest relative to inertial space at the
  * equator (point-mass field, body = ECEF axes), so unchanged frames are
  * accepted and mutations start from plausible input; with the particle filter
- * on, every 100th reference frame carries a cold-atom shot (a fringe pair).
+ * on, every 10th reference frame carries a cold-atom shot (a fringe pair).
  * Invariants (abort = a finding): no crash or sanitizer report; a refused
  * configuration makes every step GG_ERR_NOT_INIT; a rejected frame leaves the
  * navigation state byte for byte as it was (apart from the stream follower,
@@ -55,28 +61,25 @@
 #include "ggins/nav3d.h"
 #include "ggins/navtask.h"
 #include "fuzz_bytes.h"
+#include "fuzz_nav3d_checks.h"
 
 #define GM 3.986004418e14
 #define R0 6378137.0
 #define DT_US 10000
 #define MAX_OPS 64
-#define MAX_FRAMES 256
+#define MAX_STEPS 10 /* fuzzed frames stepped per input */
+#define MAX_LOST 160 /* lost frames per input: more than the bridge */
 #define TAIL_FRAMES (2 * GG_TASK_RESYNC_FRAMES + 2)
-#define SHOT_EVERY 100 /* a cold-atom shot per second at 100 Hz */
+#define SHOT_EVERY 10 /* a cold-atom shot every 0.1 s at 100 Hz */
 
-#define FAIL(...)                                                   \
-    do {                                                            \
-        fprintf(stderr, "FUZZ INVARIANT BROKEN: " __VA_ARGS__);     \
-        fprintf(stderr, "\n");                                      \
-        abort();                                                    \
-    } while (0)
+
 
 static void ref_aids(gg_nav3d_config_t *c, uint8_t aid)
 {
     gg_aid_mm_config_t *m = &c->aid_mm;
     gg_aid_pf_config_t *a = &c->aid_pf;
     m->enable = (aid & 1u) ? 1 : 0;
-    m->update_steps = 12;
+    m->update_steps = 6; /* the shortest epoch of 2 passes (2 * max_passes + 2) */
     m->max_passes = 2;
     m->sigma_meas_s2 = 1e-11;
     m->sigma_db_s2 = 1e-12;
@@ -111,7 +114,7 @@ static void ref_aids(gg_nav3d_config_t *c, uint8_t aid)
     a->pf.model = (aid & 8u) ? GG_PF_MODEL_INS : GG_PF_MODEL_RW;
     a->pf.sigma0_acc = 1e-4;
     a->pf.q_acc = 1e-6;
-    a->pf.dt = 1.0;
+    a->pf.dt = SHOT_EVERY * DT_US * 1e-6;
     a->pf.gain = 1.0;
     a->pf.ess_frac = 0.5;
 }
@@ -181,9 +184,14 @@ static void change_config(gg_nav3d_config_t *c, fz_cur_t *cur)
         if (a < 10u) {
             *ad[a] = fz_value(cur, *ad[a]);
         } else if (a == 10u) {
-            c->aid_mm.update_steps = (int32_t)(int8_t)fz_u8(cur);
+            /* small epochs (below the smallest accepted, 2 * passes + 2, too)
+             * or one beyond the limit: every branch of the check, bounded work */
+            const int v = (int)(int8_t)fz_u8(cur);
+            c->aid_mm.update_steps = (v > 24) ? (GG_LIM_AID_MM_UPDATE_STEPS_MAX + 1) : (int32_t)v;
         } else {
-            c->aid_pf.pf.n = (int)(int8_t)fz_u8(cur);
+            /* few particles (the same code as thousands) or one too many */
+            const int v = (int)(int8_t)fz_u8(cur);
+            c->aid_pf.pf.n = (v > 24) ? (GG_PF_MAX + 1) : v;
         }
     }
 }
@@ -309,45 +317,6 @@ static void change_frame(gg_frame_t *f, fz_cur_t *cur)
     }
 }
 
-static int fin(const double *v, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-        if (!isfinite(v[i])) return 0;
-    return 1;
-}
-
-static void check_output(const gg_nav3d_output_t *o)
-{
-    if (!fin(o->r_e, 3) || !fin(o->r_e_lo, 3) || !fin(o->v_e, 3) || !isfinite(o->lat_rad) ||
-        !isfinite(o->lon_rad) || !isfinite(o->h_m) || !fin(o->v_n, 3) || !fin(o->g_e, 3) ||
-        !fin(o->g_e_lo, 3) || !fin(&o->gamma_e[0][0], 9) || !fin(&o->gamma_b[0][0], 9) ||
-        !fin(o->f_b, 3) || !fin(o->q_b_e, 4) || !fin(o->rpy_rad, 3) || !fin(o->omega_b, 3) ||
-        !fin(o->omega_dot_b, 3) || !fin(o->parity, 4) || !isfinite(o->h_ins_m) ||
-        !isfinite(o->baro_innov_m) || !isfinite(o->g_up_corr) || !isfinite(o->t_s) ||
-        !isfinite(o->outage_s) || !isfinite(o->state_lag_s) || !isfinite(o->mm_nis) ||
-        !fin(o->mm_sigma, 18) || !fin(o->mm_bias, 6) || !fin(o->mm_corr_m, 3) || !fin(o->mm_innov, 6) ||
-        !fin(o->mm_pcov, 18) || !isfinite(o->pf_ess) || !fin(o->pf_spread_m, 2) ||
-        !fin(o->pf_corr_m, 2) || !fin(o->pf_mean_m, 2) || !isfinite(o->pf_gzz_s2))
-        FAIL("non-finite value in the 3-D output of seq %lld (status %d, health 0x%x)",
-             (long long)o->seq, (int)o->status, (unsigned)o->health);
-}
-
-static void check_state(const gg_nav3d_t *nav)
-{
-    gg_real_t r[3], v[3];
-    if (!nav->started) return;
-    if (gg_mech_get(&nav->mech, r, v) == GG_OK && (!gg_finite3(r) || !gg_finite3(v)))
-        FAIL("non-finite position/velocity in the 3-D state");
-    for (int j = 0; j < 3; ++j) {
-        if (!isfinite(nav->f_b[j]) || !isfinite(nav->w_k[j])) FAIL("non-finite f_b / w in the 3-D state");
-        for (int k = 0; k < 3; ++k)
-            if (!isfinite(nav->gamma_b[j][k]) || !isfinite(nav->gamma_e[j][k]))
-                FAIL("non-finite gradient in the 3-D state");
-    }
-    for (int j = 0; j < 4; ++j)
-        if (!isfinite(nav->q_b_i[j])) FAIL("non-finite attitude in the 3-D state");
-}
-
 /* The task state without the particle filter's own (GG_PF_MAX particles, most
  * of gg_nav3d_t): a rejected frame may advance the filter's time-sliced work;
  * when the filter is off its state is checked once per input instead. */
@@ -383,8 +352,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int64_t k = 0;
     int64_t seq_off = 0;
     int64_t ut_off = 0;
-    int frames = 0;
-    for (int op_i = 0; op_i < MAX_OPS && fz_left(&cur) && frames < MAX_FRAMES; ++op_i) {
+    int steps = 0;
+    int lost = 0;
+    for (int op_i = 0; op_i < MAX_OPS && fz_left(&cur) && steps < MAX_STEPS; ++op_i) {
         uint8_t op = fz_u8(&cur) % 7u;
         int rep = 1;
         if (op == 6u) {
@@ -398,11 +368,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             op = fz_u8(&cur) % 5u;
         }
         const size_t operands = cur.off;
-        for (int r = 0; r < rep && frames < MAX_FRAMES; ++r) {
+        for (int r = 0; r < rep && steps < MAX_STEPS && lost < MAX_LOST; ++r) {
             gg_frame_t f;
             gg_nav3d_output_t out;
             cur.off = operands; /* a repeated op reads the same operands */
-            ++frames;
             ref_frame(k, &f);
             f.seq += seq_off;
             f.utime += ut_off;
@@ -416,9 +385,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 f.utime = fz_i64(&cur);
             } else if (op == 4u) {
                 ++k;
+                ++lost;
                 continue;
             }
             ++k;
+            ++steps;
             save_state(&saved, &nav);
             const gg_status_t st = gg_nav3d_step(&nav, &f, hal, &out);
             if (st_init != GG_OK) {

@@ -9,7 +9,7 @@ truth columns; those columns are checked against it as well. The LCM log is
 parsed with an independent reader of the LCM event-log format.
 
 usage: hil_check.py TEST --ggins-run PATH --workdir DIR
-tests: perfect, bias, faults, realtime, shared-url, cli, direct
+tests: perfect, bias, faults, realtime, realtime-stall, shared-url, cli, direct
 Only the Python standard library is used.
 """
 import argparse
@@ -18,6 +18,8 @@ import json
 import math
 import os
 import shutil
+import signal
+import threading
 import struct
 import subprocess
 import sys
@@ -438,11 +440,15 @@ def test_realtime(a):
           "lateness of every step reported, median <= p99 <= max (%s)" % lat)
     check(lt.get("n") == 301 and 0 < lt["median"] <= lt["p99"] <= lt["max"],
           "output latency of every step reported (%s)" % lt)
-    check(rt.get("deadline_us") == 10000.0, "deadline: one sensor period (10 ms)")
+    check(rt.get("deadline_us") == 110000.0 and rt.get("deadline_allowance_us") == 100000.0,
+          "deadline: one sensor period (10 ms) + the default allowance (100 ms)")
+    check(rt.get("deadline_overruns") == 0 and rt.get("outputs_never_received") == 0
+          and lt["max"] <= 110000.0 and s["status"] == "completed" and s["degraded_reasons"] == [],
+          "no overrun, run completed (max latency %.0f us)" % lt["max"])
     over = sum(1 for x in [lt["max"]] if x > 10000.0)
-    check(isinstance(rt.get("deadline_overruns"), int) and (rt["deadline_overruns"] > 0) == (over > 0)
-          and rt.get("outputs_never_received") == 0,
-          "overruns counted (%s; max latency %.0f us)" % (rt.get("deadline_overruns"), lt["max"]))
+    check(isinstance(rt.get("outputs_over_one_period"), int) and (rt["outputs_over_one_period"] > 0) == (over > 0),
+          "outputs later than one period counted (%s; max latency %.0f us)"
+          % (rt.get("outputs_over_one_period"), lt["max"]))
     # outputs lost on the way in real time (recovered late, out of order): the final
     # errors are those of the last step flown, not of the last output received
     # (welker-table1: the sensor errors make the position error grow by ~0.7 % a step
@@ -459,11 +465,98 @@ def test_realtime(a):
           % (s3.get("final_seq"), s3["errors"]["position_error_m"]["final"], er3, last["t_s"]))
     # a deadline every output misses: every step is an overrun
     out2 = os.path.join(a.workdir, "realtime-deadline")
-    run(a.ggins_run, out2, "--scenario", "welker-perfect", "--duration", "1", "--realtime", "--no-plots",
-        "--no-log", "--deadline-ms", "0.000001")
+    p2 = run(a.ggins_run, out2, "--scenario", "welker-perfect", "--duration", "1", "--realtime", "--no-plots",
+             "--no-log", "--deadline-ms", "0.000001", check_rc=False)
     s2, _ = load(out2)
     check(s2["realtime"]["deadline_overruns"] == 101, "a 1 ns deadline: all 101 steps overrun (%s)"
           % s2["realtime"]["deadline_overruns"])
+    check(p2.returncode == 4 and s2["status"] == "degraded"
+          and any("101 outputs later than the real-time deadline" in r for r in s2["degraded_reasons"]),
+          "... the run is degraded, exit 4, the reason stated (exit %d, %s)" % (p2.returncode, s2["degraded_reasons"]))
+
+
+def children(pid):
+    """Direct children of a process (Linux /proc)."""
+    out = []
+    try:
+        for t in os.listdir("/proc/%d/task" % pid):
+            with open("/proc/%d/task/%s/children" % (pid, t)) as f:
+                out += [int(x) for x in f.read().split()]
+    except OSError:
+        pass
+    return out
+
+
+def test_realtime_stall(a):
+    """--realtime with the firmware process stopped (SIGSTOP) for 2 s mid-flight:
+    every output of the stall arrives >= 2 s late; the summary reports the latency,
+    counts the overruns against the deadline and marks the run degraded, exit 4.
+    A clean run of the same kind stays completed, exit 0."""
+    out0 = os.path.join(a.workdir, "realtime-clean")
+    p0 = run(a.ggins_run, out0, "--scenario", "welker-perfect", "--duration", "2", "--realtime", "--no-plots",
+             "--no-log")
+    s0, _ = load(out0)
+    lt0 = s0["realtime"]["output_latency_us"]
+    check(p0.returncode == 0 and s0["status"] == "completed" and s0["realtime"]["deadline_overruns"] == 0,
+          "clean real-time run: completed, exit 0, no overrun (latency max %.0f us, deadline %.0f us)"
+          % (lt0["max"], s0["realtime"]["deadline_us"]))
+
+    out = os.path.join(a.workdir, "realtime-stall")
+    if os.path.exists(out):
+        shutil.rmtree(out)
+    cmd = [a.ggins_run, "--out", out, "--progress", "off", "--scenario", "welker-perfect", "--duration", "5",
+           "--realtime", "--no-plots", "--no-log"]
+    print("$ " + " ".join(cmd))
+    t0 = time.time()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines = []
+    started = threading.Event()
+
+    def reader():
+        for line in p.stdout:
+            lines.append(line)
+            if "steps at" in line:  # the start line: hal_sim configured, the flight begins
+                started.set()
+
+    th = threading.Thread(target=reader, daemon=True)
+    th.start()
+    hal = None
+    if started.wait(timeout=60):
+        for c in children(p.pid):
+            try:
+                with open("/proc/%d/comm" % c) as f:
+                    if f.read().strip() == "hal_sim":
+                        hal = c
+            except OSError:
+                pass
+    check(hal is not None, "hal_sim found as a child of ggins-run once the flight started (pid %s)" % hal)
+    stopped = 0.0
+    if hal is not None:
+        time.sleep(1.0)  # 1 s into the 5 s flight
+        t_stop = time.time()
+        os.kill(hal, signal.SIGSTOP)
+        time.sleep(2.0)
+        os.kill(hal, signal.SIGCONT)
+        stopped = time.time() - t_stop
+    p.wait(timeout=120)
+    th.join(timeout=10)
+    text = "".join(lines)
+    print(text.rstrip())
+    print("(%.1f s, hal_sim stopped %.2f s)" % (time.time() - t0, stopped))
+    s, _ = load(out)
+    rt = s.get("realtime", {})
+    lt = rt.get("output_latency_us", {})
+    check(s["steps_flown"] == 501, "every step flown after the stall (%d of 501)" % s["steps_flown"])
+    # the first frame sent after the stop waits for the rest of it: at least the
+    # stop less one sensor period (10 ms); every frame of the stall overruns
+    check(lt.get("max", 0) >= (stopped - 0.010) * 1e6 and rt.get("deadline_overruns", 0) >= 150,
+          "the stall is in the output latency (max %.0f us >= the %.3f s stop less one period) and the "
+          "overruns (%s)" % (lt.get("max", 0), stopped, rt.get("deadline_overruns")))
+    check(p.returncode == 4 and s["status"] == "degraded" and s["degraded"] is True,
+          "the run is degraded, exit 4 (exit %d, status %s)" % (p.returncode, s["status"]))
+    check(any("later than the real-time deadline" in r for r in s.get("degraded_reasons", [])),
+          "summary.json says why: %s" % s.get("degraded_reasons"))
+    check("later than the real-time deadline" in text, "and so does the run's message")
 
 
 def test_shared_url(a):
@@ -531,6 +624,7 @@ def test_cli(a):
 
 
 TESTS = {"perfect": test_perfect, "bias": test_bias, "faults": test_faults, "realtime": test_realtime,
+         "realtime-stall": test_realtime_stall,
          "direct": test_direct,
          "shared-url": test_shared_url, "cli": test_cli}
 

@@ -92,24 +92,29 @@ int main() {
     c.steps_flown = 400;
     c.final_seq = 399;
     c.dt_s = 0.01;
-    FlightEnd e{"interrupted", 130, false};
+    FlightEnd e{"interrupted", 130, false, {}};
     nlohmann::json s = report_head("ggins run", "2-D", "x", "src", "d", "lockstep", 100, 10, c, e);
     check(s["status"] == "interrupted" && s["interrupted"] == true && s["completed"] == false &&
               s["steps_unflown"] == 601 && s["frames_lost"] == 0 && std::fabs(s["flown_s"].get<double>() - 3.99) < 1e-12,
           "interrupted: 601 unflown, none lost, flown_s 3.99 s");
     check(exit_status(s) == 130, "interrupted: exit 130");
-    e = FlightEnd{"hal_sim gave up on step 400", 1, false};
+    e = FlightEnd{"hal_sim gave up on step 400", 1, false, {}};
     s = report_head("ggins run", "2-D", "x", "src", "d", "lockstep", 100, 10, c, e);
     check(s["status"] == "failed" && s["frames_lost"] == 601 && exit_status(s) == 1, "transport failure: lost, exit 1");
-    e = FlightEnd{"no multicast", 3, false};
+    e = FlightEnd{"no multicast", 3, false, {}};
     s = report_head("ggins run", "2-D", "x", "src", "d", "lockstep", 100, 10, c, e);
     check(exit_status(s) == 3 && s["frames_lost"] == 0, "no multicast: exit 3");
     c.steps_flown = 1001;
     c.final_seq = 1000;
-    s = report_head("ggins run3d", "3-D", "x", "src", "d", "direct", 100, 10, c, FlightEnd{"", 0, true});
-    check(s["status"] == "degraded" && s["completed"] == true && exit_status(s) == 4, "degraded: exit 4");
+    s = report_head("ggins run3d", "3-D", "x", "src", "d", "direct", 100, 10, c,
+                    FlightEnd{"", 0, true, {"12 outputs later than the real-time deadline"}});
+    check(s["status"] == "degraded" && s["completed"] == true && exit_status(s) == 4 &&
+              s["degraded_reasons"] == nlohmann::json::array({"12 outputs later than the real-time deadline"}),
+          "degraded: exit 4, the reason in degraded_reasons");
     s = report_head("ggins run3d", "3-D", "x", "src", "d", "direct", 100, 10, c, FlightEnd{});
-    check(s["status"] == "completed" && s["steps_unflown"] == 0 && exit_status(s) == 0, "completed: exit 0");
+    check(s["status"] == "completed" && s["steps_unflown"] == 0 && exit_status(s) == 0 &&
+              s["degraded_reasons"] == nlohmann::json::array(),
+          "completed: exit 0, no degraded reason");
   }
   {  // the scenario as flown, read back
     const auto p = std::filesystem::temp_directory_path() / ("ggins_eff_" + std::to_string(::getpid()) + ".toml");

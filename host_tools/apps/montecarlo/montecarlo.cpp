@@ -149,7 +149,10 @@ Ensemble2 read_ensemble(const fs::path& outp, const std::string& name, const std
       ggins::hil::write_effective_scenario(outp / "scenario.toml", name, en.source, st.str(),
                                            json{{"accel.seed", seed0 + i}});
     }
-    en.end.degraded = en.end.degraded || x.status == "degraded";
+    if (x.status == "degraded") {
+      en.end.degraded = true;
+      en.end.reasons.push_back("run " + std::to_string(i) + " degraded (runs/" + std::to_string(i) + "/summary.json)");
+    }
     en.runs.push_back(std::move(x));
   }
   if (n_interrupted > 0) {
@@ -309,7 +312,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins-montecarlo: fewer than 2 usable runs\n");
     try {
       Ensemble2 en = read_ensemble(outp, sc.name, scen, runs, seed0, run_rc);
-      if (en.end.error.empty()) en.end = {"fewer than 2 usable runs", 1, false};
+      if (en.end.error.empty()) en.end = {"fewer than 2 usable runs", 1, false, {}};
       json rep = ggins::hil::ensemble_report("ggins montecarlo", "2-D", sc.name, en.source, en.description, en.mode,
                                              sc.rate_hz, sc.duration_s, en.runs, runs, en.end, en.frame, en.definition,
                                              json(nullptr), json{{"seed0", seed0}});

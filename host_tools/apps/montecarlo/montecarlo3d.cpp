@@ -294,7 +294,7 @@ int main(int argc, char** argv) {
   };
   if (!err.empty()) {
     std::fprintf(stderr, "ggins-montecarlo3d: %s\n", err.c_str());
-    write_report({err, 1, false}, json(nullptr), json{{"seed", seed}});
+    write_report({err, 1, false, {}}, json(nullptr), json{{"seed", seed}});
     return 1;
   }
   int stopped = 0, unflown = 0;

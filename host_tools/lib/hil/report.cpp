@@ -30,6 +30,7 @@ json report_head(const std::string& tool, const std::string& task, const std::st
   s["status"] = interrupted ? "interrupted" : (!completed ? "failed" : (e.degraded ? "degraded" : "completed"));
   s["completed"] = completed;
   s["degraded"] = completed && e.degraded;
+  s["degraded_reasons"] = (completed && e.degraded) ? json(e.reasons) : json::array();
   s["interrupted"] = interrupted;
   if (!e.error.empty()) {
     s["error"] = e.error;

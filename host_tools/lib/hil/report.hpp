@@ -5,6 +5,7 @@
 //   report, report_version, tool, task ("2-D" | "3-D"), scenario, scenario_source, description
 //   status             "completed" | "degraded" | "failed" | "interrupted"
 //   completed, degraded, interrupted (booleans); error, error_code (text and exit status, when not completed)
+//   degraded_reasons   why a completed flight is degraded (list of sentences; empty otherwise)
 //   mode               "lockstep" | "realtime" | "direct"
 //   rate_hz, dt_s, duration_s (the scenario as flown), flown_s (time of the last step flown)
 //   steps_expected, steps_flown, steps_unflown, steps_rejected, frames_lost, frames_recovered, final_seq
@@ -56,6 +57,7 @@ struct FlightEnd {
   std::string error;  // empty: flown to the end
   int code = 0;       // Fail code (130 interrupted, 3 no multicast, 1 otherwise)
   bool degraded = false;
+  std::vector<std::string> reasons;  // why degraded, one sentence each (summary.json degraded_reasons)
 };
 
 // The head of the report: identity, status and step accounting (see above).

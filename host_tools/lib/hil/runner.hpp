@@ -65,6 +65,7 @@ struct RunOptions {
   std::string hal_sim, python, logger;
   int batch = 0, window = 0;
   double deadline_ms = 0;
+  double deadline_allowance_ms = 1e3 * kDeadlineAllowanceS;
 };
 
 inline void add_run_options(CLI::App& app, RunOptions& o) {
@@ -77,8 +78,15 @@ inline void add_run_options(CLI::App& app, RunOptions& o) {
   app.add_option("--batch", o.batch, "lockstep: frames per LCM message (default 32)")->check(cli::IntRange(1, 128));
   app.add_option("--window", o.window, "lockstep: frames in flight (default: automatic, from the round trip)")
       ->check(cli::IntRange(1, 4096));
-  app.add_option("--deadline-ms", o.deadline_ms, "realtime: output latency deadline, ms (default one sensor period)")
+  app.add_option("--deadline-ms", o.deadline_ms,
+                 "realtime: output latency deadline, ms (default one sensor period + --deadline-allowance-ms);\n"
+                 "an output later than it, or never received, makes the run degraded (exit 4)")
       ->check(cli::FiniteRange(0, 60000, cli::kOpenLow));
+  app.add_option("--deadline-allowance-ms", o.deadline_allowance_ms,
+                 "realtime: allowance of the default deadline over one sensor period, ms (host scheduling,\n"
+                 "recovery of a lost frame)")
+      ->capture_default_str()
+      ->check(cli::FiniteRange(0, 60000));
   app.add_option("--duration", o.duration_s, "override the scenario's duration, s")
       ->check(cli::FiniteRange(0, 1e7, cli::kOpenLow));
   app.add_option("--seed", o.seed, "override the accelerometer error seed ([accel] seed)")->check(cli::Seed());
@@ -162,6 +170,7 @@ class Flight {
       lo.window = opt_.window;
       lo.realtime = opt_.realtime;
       lo.deadline_s = 1e-3 * opt_.deadline_ms;
+      lo.deadline_allowance_s = 1e-3 * opt_.deadline_allowance_ms;
       lo.faults = m_.faults();
       for (const auto& p : m_.maps()) lo.hal_args.insert(lo.hal_args.end(), {"--map", p});
       link = std::make_unique<Link<Task>>(lo, out_, n_, m_.dt_us());
@@ -229,9 +238,37 @@ class Flight {
     // degraded: flown to the end, but not every frame's readings entered the
     // navigation (frames rejected, or an axis group that lost more readings than
     // parity rebuilds: components held), or the last step's output is missing,
-    // or the run ended in an outage
-    end.degraded = counts_.steps_rejected > 0 || !last_ || last_->seq != n_ - 1 || last_->outage_s != 0.0 ||
-                   (health_or_ & (GG_HEALTH_ACC_DEGRADED | GG_HEALTH_FORCE_COAST)) != 0;
+    // or the run ended in an outage, or (real time) an output came later than
+    // its deadline; each reason is stated in summary.json (degraded_reasons)
+    if (counts_.steps_rejected > 0)
+      end.reasons.push_back(std::to_string(counts_.steps_rejected) + " steps rejected by the firmware");
+    if (!last_ || last_->seq != n_ - 1) end.reasons.push_back("the last step's output is missing");
+    if (last_ && last_->outage_s != 0.0) {
+      char why[96];
+      std::snprintf(why, sizeof why, "the run ended in an outage of %.6g s", last_->outage_s);
+      end.reasons.push_back(why);
+    }
+    if ((health_or_ & GG_HEALTH_ACC_DEGRADED) != 0)
+      end.reasons.push_back("an accelerometer axis group lost more readings than parity rebuilds (ACC_DEGRADED)");
+    if ((health_or_ & GG_HEALTH_FORCE_COAST) != 0)
+      end.reasons.push_back("specific-force components held (FORCE_COAST)");
+    nlohmann::json rt;
+    if (link && opt_.realtime) {
+      rt = link->realtime_summary();
+      const int64_t over = rt["deadline_overruns"].template get<int64_t>();
+      if (over > 0) {
+        char why[320];
+        std::snprintf(why, sizeof why,
+                      "%lld outputs later than the real-time deadline of %.6g ms (%s; output latency max %.6g ms, "
+                      "%lld outputs never received)",
+                      static_cast<long long>(over), rt["deadline_us"].template get<double>() * 1e-3,
+                      rt["deadline_definition"].template get<std::string>().c_str(),
+                      rt["output_latency_us"].value("max", 0.0) * 1e-3,
+                      static_cast<long long>(rt["outputs_never_received"].template get<int64_t>()));
+        end.reasons.push_back(why);
+      }
+    }
+    end.degraded = !end.reasons.empty();
 
     counts_.steps_expected = n_;
     counts_.dt_s = static_cast<double>(m_.dt_us()) * 1e-6;
@@ -283,7 +320,7 @@ class Flight {
       s["transport"] = tr;
       s["hal_sim"] = link->hal_sim_summary();
       s["bus_auth"] = bus;
-      if (opt_.realtime) s["realtime"] = link->realtime_summary();
+      if (opt_.realtime) s["realtime"] = rt;
       s["lcm_url"] = link->url_to_hal();
       s["lcm_url_from_hal"] = link->url_from_hal();
       if (opt_.log_mode != "none") {
@@ -392,9 +429,11 @@ inline int finish_run(const RunOptions& o, const nlohmann::json& s, const std::s
                  o.tool.c_str(), static_cast<long long>(s["bus_auth"]["rejected_total"].get<int64_t>()),
                  s["bus_auth"]["rejected_unauthenticated"].dump().c_str());
   if (s.contains("error")) std::fprintf(stderr, "%s: %s\n", o.tool.c_str(), s["error"].get<std::string>().c_str());
-  if (s["status"] == "degraded")
-    std::fprintf(stderr, "%s: completed but degraded (%lld steps rejected; see summary.json)\n", o.tool.c_str(),
-                 static_cast<long long>(s["steps_rejected"].get<int64_t>()));
+  if (s["status"] == "degraded") {
+    std::string why;
+    for (const auto& r : s.value("degraded_reasons", nlohmann::json::array())) why += (why.empty() ? "" : "; ") + r.get<std::string>();
+    std::fprintf(stderr, "%s: completed but degraded (%s; see summary.json)\n", o.tool.c_str(), why.c_str());
+  }
   std::printf("report: %s\n", out.c_str());
   return exit_status(s);
 }
