@@ -94,6 +94,12 @@ static void ref_aids(gg_nav3d_config_t *c, uint8_t aid)
     m->gate_nis = (aid & 16u) ? 30.0 : 0.0;
     m->average_steps = 4;
     m->sigma_gyro_rps = 1e-8;
+    /* the bias states (18 or 15 error states; the task subtracts the estimates) */
+    m->bias_states = (aid & 32u) ? 1 : 0;
+    m->sig0_gyro_bias_rps = 1e-7;
+    m->sig0_acc_bias_mps2 = 1e-4;
+    m->q_gyro_bias_rps_rts = 1e-10;
+    m->q_acc_bias_mps2_rts = 1e-8;
     a->enable = (aid & 2u) ? 1 : 0;
     a->chunk = 8;
     a->end_chunk = 16;
