@@ -307,7 +307,7 @@ int main(int argc, char** argv) {
     const std::string msg = "interrupted: " + std::to_string(stopped) + " run(s) stopped, " + std::to_string(unflown) +
                             " of " + std::to_string(runs) + " not flown";
     std::fprintf(stderr, "ggins-montecarlo3d: %s\n", msg.c_str());
-    write_report({msg, 130, false}, json(nullptr), json{{"seed", seed}});
+    write_report({msg, 130, false, {}}, json(nullptr), json{{"seed", seed}});
     return 130;
   }
 
