@@ -89,6 +89,7 @@ def against_schema(rep, schema, what, ensemble=False):
     if ensemble:
         validate(rep, schema["$defs"]["ensemble"], "summary", errs)
     check(not errs, f"{what}: summary.json has the report's shape" + ("".join("\n     " + e for e in errs[:8])))
+    ok = not errs
     try:  # an independent validator too, where installed
         import jsonschema
         s = dict(schema)
@@ -100,6 +101,8 @@ def against_schema(rep, schema, what, ensemble=False):
         pass
     except Exception as e:  # jsonschema.ValidationError
         check(False, f"{what}: jsonschema: {str(e)[:300]}")
+        ok = False
+    return ok
 
 
 def csv_units(path, what, allow=()):
@@ -240,6 +243,9 @@ def interrupt_inprocess(what, cmd, d, n, wait_s):
         check(False, f"{what} Ctrl-C: a report is written\n" + err[-800:])
         return
     r = json.load(open(p_rep))
+    if "ensemble" not in r or "status" not in r:
+        check(False, f"{what} Ctrl-C: the report has the ensemble's shape")
+        return
     pr = r["ensemble"]["per_run"]
     done = [x for x in pr if x["status"] == "completed"]
     unflown = [x for x in pr if x["steps_flown"] == 0]
@@ -330,7 +336,8 @@ def main():
             continue
         rep = json.load(open(p))
         ens = what not in ("run", "run3d")
-        against_schema(rep, schema, what, ensemble=ens)
+        if not against_schema(rep, schema, what, ensemble=ens):
+            continue  # the checks below read the report's keys
         if what in navigation:
             need = ("position_error_m", "velocity_error_mps", "gravity_error_mps2", "position_error_final_m",
                     "velocity_error_final_mps", "gravity_error_final_mps2")
