@@ -11,7 +11,7 @@ for name in order:
     f = out / name / "summary.json"
     if not f.exists():
         continue
-    j = json.loads(f.read_text())
+    j = json.loads(f.read_text())["ensemble"]["results"]  # the report's mapnav statistics
     r = j["ggan_rms_last2h"]
     m = {c: r[c]["mean_abs"] for c in cols}
     s = {c: r[c]["sd"] for c in cols}

@@ -66,9 +66,10 @@ if "ggins-mapnav" in tools:
     ok = r.returncode == 0 and os.path.exists(os.path.join(d, "summary.json"))
     check(ok, f"mapnav: a 180 s voyage whose every update is gated: exit {r.returncode}" + ("" if ok else "\n" + r.stderr[-800:]))
     if ok:
-        s = json.load(open(os.path.join(d, "summary.json")))
-        check(s["updates"] == 0 and s["gated"] > 0 and s["nis_samples"] == 0 and s["nis_mean"] is None and
-              s["per_run"][0]["nis_mean"] is None,
+        rep = json.load(open(os.path.join(d, "summary.json")))
+        s, aid = rep["ensemble"]["results"], rep["aids"][0]  # the report's statistics and filter counters
+        check(aid["updates"] == 0 and aid["gated"] > 0 and s["nis_samples"] == 0 and s["nis_mean"] is None and
+              rep["ensemble"]["filter_per_run"][0]["nis_mean"] is None,
               f"mapnav: NIS over no update is null (nis_mean {s['nis_mean']!r}, samples {s['nis_samples']})")
         check(s["nees_samples"] > 0 and isinstance(s["nees_mean"], float), f"mapnav: NEES over {s['nees_samples']} epochs")
         check("NIS none" in r.stdout, "mapnav: the text says there is no NIS sample")

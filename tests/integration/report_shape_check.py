@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """One report shape for every command that flies: summary.json of a short `ggins run`,
-`ggins run3d`, `ggins montecarlo` and `ggins montecarlo3d` checked against one schema
+`ggins run3d`, `ggins montecarlo`, `ggins montecarlo3d`, `ggins mapnav` and `ggins coldatom`
+checked against one schema
 (report_schema.json, JSON Schema; the Monte Carlo reports also against its `ensemble`
 definition), units in every CSV column, the scenario.toml each writes flying again with the
 same command to the same numbers, and the ensemble's numbers against its own runs:
@@ -8,7 +9,10 @@ steps summed, errors.final the RMS of the runs' finals, max the largest, the chi
 band recomputed here (Wilson-Hilferty, independently of truth/stats.cpp). And Ctrl-C
 (SIGINT to the process group, as a terminal sends it) during `ggins montecarlo`: no run
 starts after it, exit 130, a report marked interrupted whose unflown steps include the
-runs never started; the same for `ggins montecarlo3d`, whose runs are threads of one process.
+runs never started; the same for `ggins montecarlo3d`, whose runs are threads of one process,
+and for `ggins mapnav` and `ggins coldatom` (in-process Monte Carlo runs on threads). The flights
+of the navigation tasks (run, run3d, montecarlo, montecarlo3d) report position, velocity and
+gravity errors; mapnav and coldatom, which estimate no gravity, at least the position error.
 
 usage: report_shape_check.py --bin DIR --workdir DIR
 """
@@ -25,7 +29,7 @@ import sys
 import time
 
 FAILS = []
-UNIT = re.compile(r"_(m|mps|mps2|rad|radps|radps2|ps2|E|s|hz|ns|ppm|deg|1)$")
+UNIT = re.compile(r"_(m|mps|mps2|rad|radps|radps2|ps2|E|s|hz|ns|ppm|deg|am|1)$")  # am: arcmin
 FLAGS = ("health", "health_bits", "seq", "status", "baro_due", "baro_status", "baro_outlier")  # counters, flags, words
 
 
@@ -85,6 +89,7 @@ def against_schema(rep, schema, what, ensemble=False):
     if ensemble:
         validate(rep, schema["$defs"]["ensemble"], "summary", errs)
     check(not errs, f"{what}: summary.json has the report's shape" + ("".join("\n     " + e for e in errs[:8])))
+    ok = not errs
     try:  # an independent validator too, where installed
         import jsonschema
         s = dict(schema)
@@ -96,6 +101,8 @@ def against_schema(rep, schema, what, ensemble=False):
         pass
     except Exception as e:  # jsonschema.ValidationError
         check(False, f"{what}: jsonschema: {str(e)[:300]}")
+        ok = False
+    return ok
 
 
 def csv_units(path, what, allow=()):
@@ -117,7 +124,9 @@ def ensemble_numbers(rep, what):
     check(en["runs_flown"] == len(pr) == en["runs"], f"{what}: every run in per_run ({len(pr)})")
     check(rep["steps_flown"] == sum(r["steps_flown"] for r in pr) and rep["steps_unflown"] == 0,
           f"{what}: steps_flown = the runs' sum ({rep['steps_flown']}), none unflown")
-    for q in ("position_error_m", "velocity_error_mps", "gravity_error_mps2"):
+    qs = [k for k, v in rep["errors"].items() if isinstance(v, dict) and "final" in v and "max" in v]
+    check("position_error_m" in qs, f"{what}: errors over the runs: {', '.join(qs)}")
+    for q in qs:
         fk = q[: q.rfind("_")] + "_final" + q[q.rfind("_"):]
         rms = math.sqrt(sum(r[fk] ** 2 for r in pr) / len(pr))
         got = rep["errors"][q]["final"]
@@ -215,6 +224,42 @@ def interrupt_montecarlo3d(exe, d):
           f"{st.count('unflown')} never started")
 
 
+def interrupt_inprocess(what, cmd, d, n, wait_s):
+    """Ctrl-C during an in-process Monte Carlo (mapnav, coldatom): no run starts after it, exit
+    130, a partial report marked interrupted, every requested run listed, the unflown counted."""
+    p = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(wait_s)
+    os.killpg(p.pid, signal.SIGINT)
+    t0 = time.time()
+    try:
+        _, err = p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        _, err = p.communicate()
+    dt = time.time() - t0
+    check(p.returncode == 130 and dt < 20, f"{what} Ctrl-C: exit {p.returncode} after {dt:.1f} s (want 130)")
+    p_rep = os.path.join(d, "summary.json")
+    if not os.path.exists(p_rep):
+        check(False, f"{what} Ctrl-C: a report is written\n" + err[-800:])
+        return
+    r = json.load(open(p_rep))
+    if "ensemble" not in r or "status" not in r:
+        check(False, f"{what} Ctrl-C: the report has the ensemble's shape")
+        return
+    pr = r["ensemble"]["per_run"]
+    done = [x for x in pr if x["status"] == "completed"]
+    unflown = [x for x in pr if x["steps_flown"] == 0]
+    check(r["status"] == "interrupted" and r["interrupted"] and not r["completed"] and r["frames_lost"] == 0 and
+          r["error_code"] == 130, f"{what} Ctrl-C: status {r['status']}, error {r.get('error')!r}")
+    per = done[0]["steps_flown"] if done else 0
+    check(len(pr) == n and len(done) >= 1 and len(unflown) >= 1 and r["steps_expected"] == n * per and
+          r["steps_flown"] == sum(x["steps_flown"] for x in pr) and
+          r["steps_flown"] + r["steps_unflown"] == r["steps_expected"] and
+          r["ensemble"]["runs_failed"] == n - len(done),
+          f"{what} Ctrl-C: {len(pr)} of {n} runs listed, {len(done)} completed, {len(unflown)} never started; "
+          f"{r['steps_flown']} flown + {r['steps_unflown']} unflown = {r['steps_expected']} = {n} x {per} steps")
+
+
 def numbers(rep):
     """The summary numbers a flight of the same scenario reproduces (not the wall times)."""
     keys = ("status", "task", "rate_hz", "dt_s", "duration_s", "flown_s", "steps_expected", "steps_flown",
@@ -260,7 +305,7 @@ def main():
     shutil.rmtree(w, ignore_errors=True)
     os.makedirs(w)
     b = lambda t: os.path.join(a.bin, t)
-    out = {k: os.path.join(w, k) for k in ("run", "run3d", "mc", "mc3d")}
+    out = {k: os.path.join(w, k) for k in ("run", "run3d", "mc", "mc3d", "mapnav", "coldatom")}
     flights = [
         ("run", [b("ggins-run"), "-s", "welker-table1", "--direct", "--duration", "5", "--no-plots", "-q", "--out", out["run"]]),
         ("run3d", [b("ggins-run3d"), "-s", "3d-stabilized-1h", "--direct", "--duration", "5", "--no-plots", "-q",
@@ -269,13 +314,19 @@ def main():
                         "-o", out["mc"]]),
         ("montecarlo3d", [b("ggins-montecarlo3d"), "-s", "gc3d-stabilized", "-n", "3", "-j", "1", "--rate-hz", "10",
                           "--duration", "20", "--output-dt", "10", "--no-plot", "-o", out["mc3d"]]),
+        ("mapnav", [b("ggins-mapnav"), "--hours", "0.05", "--runs", "3", "--threads", "1", "--no-plot",
+                    "--out", out["mapnav"]]),
+        ("coldatom", [b("ggins-coldatom"), "--no-egm96", "--flights", "3", "--threads", "1", "--duration", "60",
+                      "--particles", "50", "--no-plot", "--out", out["coldatom"]]),
     ]
+    navigation = ("run", "run3d", "montecarlo", "montecarlo3d")  # tasks that estimate gravity
     for what, cmd in flights:
         if not os.path.exists(cmd[0]):
             print(f"skip {what} (not built)")
             continue
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-        d = out[{"run": "run", "run3d": "run3d", "montecarlo": "mc", "montecarlo3d": "mc3d"}[what]]
+        d = out[{"run": "run", "run3d": "run3d", "montecarlo": "mc", "montecarlo3d": "mc3d", "mapnav": "mapnav",
+                 "coldatom": "coldatom"}[what]]
         # exit 0, or a Monte Carlo whose few runs fall outside the chi-square band (a result)
         ok_codes = (0,) if what.startswith("run") else (0, 1, 3)
         check(r.returncode in ok_codes, f"{what}: exit {r.returncode}" + ("" if r.returncode in ok_codes else "\n" + r.stderr[-1500:]))
@@ -284,8 +335,14 @@ def main():
             check(False, f"{what}: wrote summary.json")
             continue
         rep = json.load(open(p))
-        ens = what.startswith("montecarlo")
-        against_schema(rep, schema, what, ensemble=ens)
+        ens = what not in ("run", "run3d")
+        if not against_schema(rep, schema, what, ensemble=ens):
+            continue  # the checks below read the report's keys
+        if what in navigation:
+            need = ("position_error_m", "velocity_error_mps", "gravity_error_mps2", "position_error_final_m",
+                    "velocity_error_final_mps", "gravity_error_final_mps2")
+            miss = [k for k in need if k not in rep["errors"]]
+            check(not miss, f"{what}: position, velocity and gravity errors" + (f" (missing {miss})" if miss else ""))
         check(rep["status"] == "completed" and rep["steps_flown"] == rep["steps_expected"] > 0,
               f"{what}: status {rep['status']}, {rep['steps_flown']} of {rep['steps_expected']} steps")
         check(os.path.exists(os.path.join(d, rep["files"]["scenario"])), f"{what}: the scenario as flown is written")
@@ -300,11 +357,35 @@ def main():
         if what == "montecarlo3d":
             csv_units(os.path.join(d, "montecarlo3d.csv"), what)
             ensemble_numbers(rep, what)
-        refly(what, cmd, d, w)
+        if what in ("mapnav", "coldatom"):
+            ensemble_numbers(rep, what)
+            check(rep["tool"] == "ggins " + what and rep["aids"] is not None, f"{what}: tool {rep['tool']!r}")
+        if what == "mapnav":
+            res = rep["ensemble"]["results"]
+            check(all(k in res for k in ("ggan_final", "ins_final", "nees_mean", "nis_mean")) and
+                  rep["aids"][0]["name"] == "mmukf" and rep["aids"][0]["updates"] > 0,
+                  f"{what}: GGAN and inertial statistics, NEES/NIS and the filter's counters in the report")
+            csv_units(os.path.join(d, "timeseries.csv"), what, allow=())
+        if what == "coldatom":
+            st = rep["ensemble"]["settings"]
+            check(len(st) == 1 and "mean_aided_m" in st[0] and "pf_err_over_spread_sq_final_mean" in st[0] and
+                  os.path.exists(os.path.join(d, rep["files"]["settings"])),
+                  f"{what}: the setting's results and the filter's (err/spread)^2 in the report")
+        if what in navigation:
+            refly(what, cmd, d, w)
     if os.path.exists(b("ggins-montecarlo")):
         interrupt_montecarlo(b("ggins-montecarlo"), os.path.join(w, "mc-int"))
     if os.path.exists(b("ggins-montecarlo3d")):
         interrupt_montecarlo3d(b("ggins-montecarlo3d"), os.path.join(w, "mc3d-int"))
+    if os.path.exists(b("ggins-mapnav")):
+        d = os.path.join(w, "mapnav-int")
+        interrupt_inprocess("mapnav", [b("ggins-mapnav"), "--hours", "1", "--runs", "30", "--threads", "1",
+                                       "--no-plot", "--out", d], d, 30, 4.0)
+    if os.path.exists(b("ggins-coldatom")):
+        d = os.path.join(w, "coldatom-int")
+        interrupt_inprocess("coldatom", [b("ggins-coldatom"), "--no-egm96", "--flights", "1000", "--threads", "1",
+                                         "--duration", "1200", "--particles", "50", "--no-plot", "--out", d],
+                            d, 1000, 4.0)
     print(f"{len(FAILS)} failure(s)")
     return 1 if FAILS else 0
 

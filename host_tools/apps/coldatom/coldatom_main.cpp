@@ -29,6 +29,9 @@ extern "C" {
 #include "ggins/coldatom/flight.hpp"
 #include "ggins/coldatom/route_map.hpp"
 #include "ggins/gmap_gen.hpp"
+#include "ggins/truth/stats.hpp"
+#include "hil_common.hpp"
+#include "report.hpp"
 
 using namespace ggins::coldatom;
 using json = nlohmann::json;
@@ -193,12 +196,23 @@ int main(int argc, char** argv) {
   if (sweep == "fail")
     for (double p : {0.0, 0.1, 0.2, 0.3, 0.4}) settings.push_back({"fail" + std::to_string(int(p * 100)), 5.0, p});
 
+  // Ctrl-C / SIGTERM: no further flight starts (the flights under way finish), and the report
+  // says which flew (status interrupted, exit 130)
+  ggins::hil::install_interrupt_handlers();
   json summary = json::array();
-  for (const Setting& st : settings) {
+  // the report's flights: every setting's, run index = setting * flights + flight
+  std::vector<ggins::hil::EnsembleRun> report_runs;
+  std::vector<ggins::hil::ConsistencyState> cons_states;
+  json err_over_spread = json::object();
+  int64_t records_per_flight = 0;
+  const auto tr0 = std::chrono::steady_clock::now();
+  for (std::size_t si = 0; si < settings.size(); ++si) {
+    const Setting& st = settings[si];
     std::vector<FlightResult> res(static_cast<std::size_t>(flights));
+    std::vector<char> flown(static_cast<std::size_t>(flights), 0);
     std::atomic<int> next{0};
     auto worker = [&]() {
-      for (int i; (i = next++) < flights;) {
+      for (int i; !ggins::hil::interrupted() && (i = next++) < flights;) {
         FlightConfig fc;
         fc.grad.phase_noise = st.phase_mrad * 1e-3;
         fc.grad.p_fail = st.p_fail;
@@ -221,12 +235,33 @@ int main(int argc, char** argv) {
         fc.tile_step = tile_step;
         fc.seed = seed + static_cast<unsigned long>(i);
         res[static_cast<std::size_t>(i)] = fly(map, fc);
+        flown[static_cast<std::size_t>(i)] = 1;
       }
     };
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<std::thread> pool;
     for (int k = 0; k < threads; ++k) pool.emplace_back(worker);
     for (auto& th : pool) th.join();
+    for (std::size_t i = 0; i < res.size(); ++i) {  // the flights as the report counts them
+      ggins::hil::EnsembleRun x;
+      x.index = static_cast<int>(si) * flights + static_cast<int>(i);
+      x.seed = seed + i;
+      const FlightResult& r = res[i];
+      if (flown[i] && r.error.empty() && !r.t.empty()) records_per_flight = static_cast<int64_t>(r.t.size());
+      x.counts.steps_flown = flown[i] && r.error.empty() ? static_cast<int64_t>(r.t.size()) : 0;
+      x.counts.final_seq = x.counts.steps_flown > 0 ? x.counts.steps_flown : -1;  // record k at k 10 s
+      x.counts.dt_s = 10.0;
+      x.status = !flown[i] ? "interrupted" : (r.error.empty() ? "completed" : "failed");
+      if (x.counts.steps_flown > 0) {
+        double ma = 0, mu = 0;
+        for (double v : r.err_aided) ma = std::max(ma, v);
+        for (double v : r.err_unaided) mu = std::max(mu, v);
+        x.errors["position_error_m"] = {{"final", r.err_aided.back()}, {"max", ma}};
+        x.errors["unaided_position_error_m"] = {{"final", r.err_unaided.back()}, {"max", mu}};
+      }
+      report_runs.push_back(std::move(x));
+    }
+    if (ggins::hil::interrupted()) break;  // the setting's statistics need all its flights
     for (std::size_t i = 0; i < res.size(); ++i)
       if (!res[i].error.empty() || res[i].t.size() != res[0].t.size()) {
         std::fprintf(stderr, "ggins-coldatom: flight %zu (seed %lu) of setting %s did not fly: %s\n", i,
@@ -289,11 +324,97 @@ int main(int argc, char** argv) {
                {"pf_err_mean_E", mean(epf)}, {"pf_err_std_E", stdev(epf)},
                {"shots", shots}, {"failed_shots", failed}, {"degenerate_steps", degen}, {"map_miss_steps", miss}, {"gmap_tiles", tiles}, {"map", direct_map ? "route map (direct)" : "gmap tiles"},
                {"pf_step_ns_median", step[step.size() / 2]}, {"wall_s", wall}};
+    {  // the particle filter's consistency at the end of the flights: error of the particle mean
+       // against its spread sqrt(var_N + var_E); (err/spread)^2 averages 1 for a consistent filter
+      double se = 0, ss = 0, q = 0;
+      int n = 0;
+      for (const auto& r : res)
+        if (!r.d_spread.empty()) {
+          const double e = r.d_err_mean.back(), sp = r.d_spread.back();
+          se += e * e; ss += sp * sp; q += (e / sp) * (e / sp); ++n;
+        }
+      if (n > 0) {
+        cons_states.push_back({"position_" + st.tag + "_m", std::sqrt(se / n), std::sqrt(ss / n)});
+        js["pf_err_over_spread_sq_final_mean"] = q / n;
+        err_over_spread[st.tag] = q / n;
+      }
+    }
     std::printf("%s\n", js.dump().c_str());
     std::fflush(stdout);
     summary.push_back(js);
   }
-  C::write_file(out + "/summary_" + sweep + ".json", summary.dump(2) + "\n");
+  const bool was_interrupted = ggins::hil::interrupted();
+  const double wall_all = std::chrono::duration<double>(std::chrono::steady_clock::now() - tr0).count();
+  if (!was_interrupted) C::write_file(out + "/summary_" + sweep + ".json", summary.dump(2) + "\n");
+  {  // the report (summary.json, report.hpp): every setting's flights as one ensemble
+    const int total = flights * static_cast<int>(settings.size());
+    for (int k = static_cast<int>(report_runs.size()); k < total; ++k) {  // settings never reached: unflown
+      ggins::hil::EnsembleRun x;
+      x.index = k;
+      x.seed = seed + static_cast<unsigned long>(k % flights);
+      x.status = "interrupted";
+      x.counts.dt_s = 10.0;
+      report_runs.push_back(std::move(x));
+    }
+    int stopped = 0, unflown = 0;
+    for (auto& x : report_runs) {
+      x.counts.steps_expected = records_per_flight;
+      if (x.status == "interrupted") ++(x.counts.steps_flown > 0 ? stopped : unflown);
+    }
+    ggins::hil::FlightEnd end;
+    if (was_interrupted) {
+      end.error = "interrupted: " + std::to_string(stopped) + " flight(s) stopped, " + std::to_string(unflown) + " of " +
+                  std::to_string(total) + " not flown";
+      end.code = 130;
+    }
+    json cons(nullptr);
+    if (!was_interrupted && !cons_states.empty()) {
+      // each flight's final error has two components (north, east): 2 N degrees of freedom
+      const double z = 3.0;
+      const ggins::truth::Chi2Band band = ggins::truth::chi2_band(2.0 * flights, z);
+      cons = ggins::hil::consistency_block(
+          cons_states, 2 * flights, z, band.rms_lo, band.rms_hi,
+          "s/sigma per setting, s = sqrt(sum e^2/N) over the flights of the particle mean's final horizontal error, "
+          "sigma = the particle spread sqrt(var_N + var_E) there, RMS over the same flights (2 N dof)");
+    }
+    json opts = {{"sweep", sweep}, {"flights", flights}, {"particles", particles}, {"model", model},
+                 {"duration_s", duration}, {"phase_noise_mrad", phase_mrad}, {"p_fail", p_fail},
+                 {"cloud_rw_m_per_rts", cloud_rw}, {"gain", gain}, {"q_pos_m", q_pos}, {"q_vel_mps", q_vel},
+                 {"sigma0_pos_m", sigma0_pos}, {"sigma0_vel_mps", sigma0_vel}, {"q_acc_mps2", q_acc},
+                 {"sigma0_acc_mps2", sigma0_acc}, {"q_jerk_mps3", q_jerk}, {"q_bias_mps2", q_bias},
+                 {"ess_frac", ess_frac}, {"reg_bw", reg_bw}, {"dz_m", dz}, {"sigma_like", sigma_like},
+                 {"atoms", n_atoms}, {"ins_scale", ins_scale}, {"seed", static_cast<int64_t>(seed)},
+                 {"direct_map", direct_map}, {"tile_on_ins", tile_on_ins}, {"tile_recentre_m", tile_recentre},
+                 {"tile_step_m", tile_step}, {"topo", !no_topo}, {"topo_rms_m", topo_rms}, {"egm96", !no_egm}};
+    json extra = {{"seed0", static_cast<int64_t>(seed)},
+                  {"seeds", "run i: setting i / flights, flight seed seed0 + i % flights"},
+                  {"settings", summary},
+                  {"pf_err_over_spread_sq_final_mean", err_over_spread},
+                  {"options", opts}};
+    json rep = ggins::hil::ensemble_report(
+        "ggins coldatom", "3-D", "liverpool-toulouse", "built in (Phillips et al. route; the options in scenario.toml)",
+        "cold-atom partial-gradient position fixing with the firmware particle filter against the unaided INS",
+        "direct", 0.1, duration > 0 ? duration : 11370.0, report_runs, total, end,
+        "horizontal (north, east) on the route, m",
+        "horizontal position error every 10 s (the steps are these records): position_error_m of the aided "
+        "solution (INS corrected by the particle filter), unaided_position_error_m of the INS alone; final: the "
+        "last record, max: the largest",
+        cons, extra);
+    rep["setup_s"] = map_s;
+    rep["wall_s"] = wall_all;
+    rep["files"] = {{"summary", "summary.json"}, {"scenario", "scenario.toml"}, {"route", "route_gzz.csv"}};
+    if (!was_interrupted) rep["files"]["settings"] = "summary_" + sweep + ".json";
+    rep["output_dir"] = std::filesystem::absolute(out).string();
+    json set;
+    for (const auto& [k, v] : opts.items()) set["coldatom." + k] = v;
+    ggins::hil::write_effective_scenario(out + "/scenario.toml", "liverpool-toulouse", "ggins coldatom options", "",
+                                         set);
+    C::write_file(out + "/summary.json", rep.dump(2) + "\n");
+    if (was_interrupted) {
+      std::fprintf(stderr, "ggins-coldatom: %s\n", rep["error"].get<std::string>().c_str());
+      return ggins::hil::exit_status(rep);
+    }
+  }
   if (!no_plot) {  // plot_coldatom.py: the route, error against time, sweeps, diagnostics, gradient
     const std::string py = C::find_python(python);
     if (py.empty()) {

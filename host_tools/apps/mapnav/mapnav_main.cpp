@@ -36,6 +36,9 @@
 #include "ggins/cli_checks.hpp"
 #include "ggins/gmap_gen.hpp"
 #include "ggins/gravity/wgs84.hpp"
+#include "ggins/truth/stats.hpp"
+#include "hil_common.hpp"
+#include "report.hpp"
 
 extern "C" {
 #include "ggins/limits.h"
@@ -158,6 +161,8 @@ struct RunResult {
   double step_ns_median = 0, update_us_median = 0;
   std::array<double, 6> d3_err_sum{}, d3_err_sq{};  // diff3d Gamma_b minus the field's Gamma_b at the centre
   long d3_n = 0;
+  long steps_expected = 0, steps_flown = 0;  // IMU steps of the voyage, and those flown (fewer: interrupted)
+  bool started = false;                       // false: never started (interrupted before)
 };
 
 RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::gravity::Field& truth_field,
@@ -221,7 +226,12 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
     const Eigen::Vector3d v(w[0], w[1], w[2]);
     return Eigen::Matrix3d(v * v.transpose() - v.squaredNorm() * Eigen::Matrix3d::Identity());
   };
+  R.started = true;
+  R.steps_expected = steps;
   for (long k = 1; k <= steps; ++k) {
+    // SIGINT/SIGTERM: the voyage stops here, its steps so far counted as flown
+    if ((k & 1023) == 0 && ggins::hil::interrupted()) break;
+    R.steps_flown = k;
     const double t = (k - 1) * dt;
     const gg_mm_imu_t ideal = ideal_imu(truth, command(t, o.speed));
     double w_dot[3];
@@ -344,6 +354,108 @@ RunResult run_one(const Opt& o, int run, const gg_gmap_t* map, const ggins::grav
   return R;
 }
 
+// The report (summary.json, report.hpp): the runs as an ensemble of flights whose steps are
+// the IMU steps; errors are the map-matching filter's (GGAN) and the pure inertial solution's
+// against truth at the update epochs; consistency: the final position error over the runs
+// against the filter's own one-sigma; the filter's counters in `aids`; the Table 2 statistics,
+// NEES/NIS and the voyage's options in the ensemble block (results, filter_per_run, voyage).
+nlohmann::json mapnav_report(const Opt& o, const std::vector<RunResult>& res, const std::vector<int>& done,
+                             const RunResult& first, const nlohmann::json& J, const nlohmann::json& V, double t_tile,
+                             double wall) {
+  namespace H = ggins::hil;
+  using nlohmann::json;
+  const double am2rad = M_PI / (180.0 * 60.0);
+  auto norm3 = [](const std::array<double, 24>& row, int c0, double scale) {
+    return scale * std::sqrt(row[c0] * row[c0] + row[c0 + 1] * row[c0 + 1] + row[c0 + 2] * row[c0 + 2]);
+  };
+  std::vector<H::EnsembleRun> runs;
+  int stopped = 0, unflown = 0;
+  for (int r = 0; r < o.runs; ++r) {
+    const RunResult& x = res[r];
+    H::EnsembleRun e;
+    e.index = o.first_run + r;
+    e.seed = 1000003ull * static_cast<unsigned>(o.seed) + static_cast<unsigned>(o.first_run + r);
+    e.counts.steps_expected = std::lround(o.hours * 3600 / o.dt);
+    e.counts.steps_flown = x.started ? x.steps_flown : 0;
+    e.counts.final_seq = e.counts.steps_flown > 0 ? e.counts.steps_flown : -1;  // step k ends at k dt
+    e.counts.dt_s = o.dt;
+    const bool full = x.started && x.steps_flown == x.steps_expected;
+    e.status = full ? "completed" : "interrupted";
+    if (!full) ++(x.steps_flown > 0 ? stopped : unflown);
+    if (!x.series.empty()) {
+      // {final, max} of GGAN (columns 1-9) and of pure inertial (10-18): attitude, velocity, position norms
+      const struct { const char* key; int c0; double scale; } q[6] = {
+          {"attitude_error_rad", 1, am2rad},          {"velocity_error_mps", 4, 1.0},
+          {"position_error_m", 7, 1.0},               {"inertial_attitude_error_rad", 10, am2rad},
+          {"inertial_velocity_error_mps", 13, 1.0},   {"inertial_position_error_m", 16, 1.0}};
+      for (const auto& k : q) {
+        double mx = 0;
+        for (const auto& row : x.series) mx = std::max(mx, norm3(row, k.c0, k.scale));
+        e.errors[k.key] = {{"final", norm3(x.series.back(), k.c0, k.scale)}, {"max", mx}};
+      }
+      e.errors["position_error_final_m"] = {{"lat", x.ggan_final[6]}, {"lon", x.ggan_final[7]}, {"h", x.ggan_final[8]}};
+      e.errors["inertial_position_error_final_m"] = {{"lat", x.ins_final[6]}, {"lon", x.ins_final[7]}, {"h", x.ins_final[8]}};
+    }
+    runs.push_back(std::move(e));
+  }
+  H::FlightEnd end;
+  if (stopped + unflown > 0) {
+    end.error = "interrupted: " + std::to_string(stopped) + " run(s) stopped, " + std::to_string(unflown) + " of " +
+                std::to_string(o.runs) + " not flown";
+    end.code = 130;
+  }
+  // consistency: the final position error of the runs flown to the end against the filter's
+  // one-sigma there (RMS over the same runs), north/east/down; N runs, N degrees of freedom
+  json cons(nullptr);
+  const int n = static_cast<int>(done.size());
+  if (n > 0) {
+    const char* keys[3] = {"position_lat_m", "position_lon_m", "position_h_m"};
+    std::vector<H::ConsistencyState> cs;
+    for (int a = 0; a < 3; ++a) {
+      double se = 0, ss = 0;
+      for (int r : done) {
+        const double ev = res[r].ggan_final[6 + a], sg = res[r].series.back()[19 + a];
+        se += ev * ev;
+        ss += sg * sg;
+      }
+      cs.push_back({keys[a], std::sqrt(se / n), std::sqrt(ss / n)});
+    }
+    const double z = 3.0;
+    const ggins::truth::Chi2Band band = ggins::truth::chi2_band(n, z);
+    cons = H::consistency_block(cs, n, z, band.rms_lo, band.rms_hi,
+                                "s/sigma, s = sqrt(sum e^2/N) over the runs of the final position error (lat north, lon "
+                                "east, h vertical), sigma = the filter's own final one-sigma, RMS over the same runs");
+  }
+  json extra = {{"seed0", o.seed},
+                {"seeds", "run i: IMU, initial-error and gradiometer noise seed 1000003 seed + i"},
+                {"results", J},
+                {"voyage", V}};
+  extra["results"].erase("per_run");
+  extra["filter_per_run"] = J["per_run"];
+  json rep = H::ensemble_report(
+      "ggins mapnav", "3-D", "gao-voyage", "built in (Gao et al. voyage; the options in scenario.toml)",
+      "gravity-gradient map matching UKF (firmware mmukf) against pure inertial on the same voyage, direct calls",
+      "direct", 1.0 / o.dt, o.hours * 3600.0, runs, o.runs, end,
+      "local level: position lat (north), lon (east), h (vertical) in m; attitude pitch, roll, yaw",
+      "estimate minus truth at the update epochs; final: the last epoch flown, max: the largest over the epochs; "
+      "position, velocity, attitude: the norm of the three components; inertial_*: the pure inertial solution",
+      cons, extra);
+  rep["aids"] = json::array({{{"name", "mmukf"},
+                              {"updates", first.n_updates},
+                              {"gated", first.n_gated},
+                              {"offmap", first.n_offmap},
+                              {"fail", first.n_fail},
+                              {"step_ns_median", first.step_ns_median},
+                              {"update_step_us_median", first.update_us_median},
+                              {"counted_over", "the first run flown"}}});
+  rep["setup_s"] = t_tile;
+  rep["wall_s"] = wall;
+  rep["files"] = {{"summary", "summary.json"}, {"scenario", "scenario.toml"}, {"timeseries", "timeseries.csv"}};
+  if (o.tile.empty()) rep["files"]["tile"] = "tile.bin";
+  rep["output_dir"] = std::filesystem::absolute(o.out).string();
+  return rep;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -409,6 +521,9 @@ int main(int argc, char** argv) {
       throw C::BadArgument("--hours " + std::to_string(o.hours) + " with --dt " + std::to_string(o.dt) +
                            " s is more than 1e9 steps (allowed: hours * 3600 / dt <= 1e9)");
     fs::create_directories(o.out);
+    // Ctrl-C / SIGTERM: no further run starts, the runs under way stop at their next check,
+    // and the report says which flew (status interrupted, exit 130)
+    ggins::hil::install_interrupt_handlers();
     const auto t0 = std::chrono::steady_clock::now();
     gg_mm_nav_t start{};
     start.q[0] = std::cos(M_PI / 8); start.q[3] = std::sin(M_PI / 8);  // heading 45 deg, level
@@ -453,7 +568,7 @@ int main(int argc, char** argv) {
         for (;;) {
           int r;
           { std::lock_guard<std::mutex> l(mu); r = next++; }
-          if (r >= o.runs) return;
+          if (r >= o.runs || ggins::hil::interrupted()) return;
           try {
             res[r] = run_one(o, o.first_run + r, map.get(), *truth_field, start);
           } catch (...) {  // handed to the main thread (an exception must not leave a worker)
@@ -467,6 +582,12 @@ int main(int argc, char** argv) {
     for (auto& th : pool) th.join();
     if (failure) std::rethrow_exception(failure);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // the statistics are over the runs flown to the end (all of them, unless interrupted)
+    std::vector<int> done;
+    for (int r = 0; r < o.runs; ++r)
+      if (res[r].started && res[r].steps_flown == res[r].steps_expected) done.push_back(r);
+    const int n_done = static_cast<int>(done.size());
+    const RunResult& first = n_done > 0 ? res[done[0]] : res[0];  // the run of the counters and the time series
     // Table 2 style: mean and spread (sd over runs) of |final error| and of the 2 h RMS
     nlohmann::json J;
     const char* names[9] = {"pitch_arcmin", "roll_arcmin", "yaw_arcmin", "vE_mps", "vN_mps", "vU_mps", "lat_m", "lon_m", "h_m"};
@@ -474,9 +595,9 @@ int main(int argc, char** argv) {
       nlohmann::json j;
       for (int c = 0; c < 9; ++c) {
         double s = 0, s2 = 0;
-        for (auto& r : res) { const double v = std::fabs(get(r)[c]); s += v; s2 += v * v; }
-        const double m = s / o.runs;
-        j[names[c]] = {{"mean_abs", m}, {"sd", o.runs > 1 ? std::sqrt(std::max(0.0, s2 / o.runs - m * m)) : 0.0}};
+        for (int r : done) { const double v = std::fabs(get(res[r])[c]); s += v; s2 += v * v; }
+        const double m = n_done > 0 ? s / n_done : std::nan("");
+        j[names[c]] = {{"mean_abs", m}, {"sd", n_done > 1 ? std::sqrt(std::max(0.0, s2 / n_done - m * m)) : 0.0}};
       }
       return j;
     };
@@ -489,7 +610,8 @@ int main(int argc, char** argv) {
     // NIS (6) over all accepted updates
     double sn = 0, snp = 0, sni = 0; long cn = 0, cni = 0;
     std::array<double, 5> sb{};
-    for (auto& r : res) {
+    for (int ri : done) {
+      const RunResult& r = res[ri];
       for (std::size_t i = 0; i < r.nees.size(); ++i)
         if (r.series[i][0] > 3600 || o.hours <= 1) {
           sn += r.nees[i]; snp += r.nees_pos[i]; ++cn;
@@ -501,7 +623,8 @@ int main(int argc, char** argv) {
     auto mean_or_null = [](double sum, long n) { return n > 0 ? nlohmann::json(sum / double(n)) : nlohmann::json(nullptr); };
     for (int b = 0; b < 5; ++b)
       J["nees_block_mean"][std::vector<std::string>{"att", "vel", "pos", "bg", "ba"}[b]] = mean_or_null(sb[b], cn);
-    for (int r = 0; r < o.runs; ++r) {
+    J["per_run"] = nlohmann::json::array();
+    for (int r : done) {
       const auto& x = res[r];
       double a = 0, b = 0, c2 = 0; long n = 0;
       for (std::size_t i = 0; i < x.nees.size(); ++i) if (x.series[i][0] > 3600 || o.hours <= 1) { a += x.nees[i]; b += x.nees_pos[i]; ++n; }
@@ -512,20 +635,24 @@ int main(int argc, char** argv) {
     J["nees_mean"] = mean_or_null(sn, cn); J["nees_dof"] = GG_MM_NX;
     J["nees_pos_mean"] = mean_or_null(snp, cn); J["nees_pos_dof"] = 3;
     J["nis_mean"] = mean_or_null(sni, cni); J["nis_dof"] = 6; J["nees_samples"] = cn; J["nis_samples"] = cni;
-    J["updates"] = res[0].n_updates; J["gated"] = res[0].n_gated; J["offmap"] = res[0].n_offmap; J["fail"] = res[0].n_fail;
-    J["filter_step_ns_median"] = res[0].step_ns_median;
-    J["filter_update_step_us_median"] = res[0].update_us_median;
-    J["runs"] = o.runs; J["hours"] = o.hours; J["dt"] = o.dt; J["update_s"] = o.update; J["passes"] = o.passes;
-    J["meas_noise_e"] = o.meas_e; J["db_noise_e"] = o.db_e; J["att0_deg"] = o.att_deg; J["vel0_mps"] = o.vel;
-    J["pos0_m"] = o.pos; J["gyro_bias_dph"] = o.gyro_dph; J["acc_bias_ug"] = o.acc_ug; J["seed"] = o.seed;
-    J["gradiometer"] = o.gradiometer;
-    J["gyro_term"] = o.gyro_term && o.gradiometer == "diff3d" && o.diff3d_omega != "true";
-    J["offdiag_ratio"] = offdiag_ratio(o);
+    // the voyage as flown (the options in effect)
+    nlohmann::json V;
+    V["runs"] = o.runs; V["first_run"] = o.first_run; V["voyage_h"] = o.hours; V["dt_s"] = o.dt; V["update_s"] = o.update;
+    V["passes"] = o.passes; V["meas_noise_E"] = o.meas_e; V["db_noise_E"] = o.db_e; V["att0_deg"] = o.att_deg;
+    V["vel0_mps"] = o.vel; V["pos0_m"] = o.pos; V["gyro_bias_dph"] = o.gyro_dph; V["acc_bias_ug"] = o.acc_ug;
+    V["arw_deg_per_rth"] = o.arw_dprh; V["vrw_ug_per_rthz"] = o.vrw_ug_rhz; V["lat0_deg"] = o.lat0; V["lon0_deg"] = o.lon0;
+    V["depth_m"] = o.depth; V["speed_mps"] = o.speed; V["spacing_deg"] = o.spacing; V["lambda"] = o.lambda;
+    V["gate_nis"] = o.gate; V["seed"] = o.seed; V["fixed_errors"] = o.fixed_errors;
+    V["gradiometer"] = o.gradiometer;
+    V["gyro_term"] = o.gyro_term && o.gradiometer == "diff3d" && o.diff3d_omega != "true";
+    V["offdiag_ratio"] = offdiag_ratio(o);
+    V["tile_nodes"] = map->tile.nlat * map->tile.nlon;
+    V["tile"] = o.tile.empty() ? std::string("generated: tile.bin") : o.tile;
     if (o.gradiometer == "diff3d") {
       // measured diff3d error against the field's Gamma_b at the centre (noise + finite baseline + omega removal)
       std::array<double, 6> s{}, s2{};
       long n = 0;
-      for (auto& r : res) { for (int j = 0; j < 6; ++j) { s[j] += r.d3_err_sum[j]; s2[j] += r.d3_err_sq[j]; } n += r.d3_n; }
+      for (int ri : done) { const RunResult& r = res[ri]; for (int j = 0; j < 6; ++j) { s[j] += r.d3_err_sum[j]; s2[j] += r.d3_err_sq[j]; } n += r.d3_n; }
       nlohmann::json d;
       const char* cn[6] = {"xx", "yy", "zz", "xy", "xz", "yz"};
       for (int j = 0; j < 6; ++j) {
@@ -535,8 +662,14 @@ int main(int argc, char** argv) {
       J["diff3d"] = {{"half_base_m", o.half_base}, {"omega", o.diff3d_omega},
                      {"sigma_acc_mps2", std::sqrt(2.0) * o.half_base * o.meas_e * kE}, {"samples", n}, {"gamma_minus_field", d}};
     }
-    J["tile_nodes"] = map->tile.nlat * map->tile.nlon; J["tile_s"] = t_tile; J["wall_s"] = wall;
-    C::write_file(o.out + "/summary.json", J.dump(2) + "\n");
+    const nlohmann::json rep = mapnav_report(o, res, done, first, J, V, t_tile, wall);
+    {  // the options as flown, in scenario form
+      nlohmann::json set;
+      for (const auto& [k, v] : V.items())
+        if (!v.is_object()) set["voyage." + k] = v;
+      ggins::hil::write_effective_scenario(o.out + "/scenario.toml", "gao-voyage", "ggins mapnav options", "", set);
+    }
+    C::write_file(o.out + "/summary.json", rep.dump(2) + "\n");
     {
       // errors: attitude in arcmin (am), velocity east/north/up in m/s, position in m; sig_*: the
       // filter's position one-sigma (north, east, down), m; nis, nees: dimensionless (_1)
@@ -544,7 +677,7 @@ int main(int argc, char** argv) {
       f << "t_s,ggan_pitch_am,ggan_roll_am,ggan_yaw_am,ggan_vE_mps,ggan_vN_mps,ggan_vU_mps,ggan_lat_m,ggan_lon_m,ggan_h_m,"
            "ins_pitch_am,ins_roll_am,ins_yaw_am,ins_vE_mps,ins_vN_mps,ins_vU_mps,ins_lat_m,ins_lon_m,ins_h_m,"
            "sig_N_m,sig_E_m,sig_D_m,nis_1,nees_1\n";
-      for (auto& row : res[0].series) {
+      for (auto& row : first.series) {
         for (int j = 0; j < 24; ++j) f << (j ? "," : "") << row[j];
         f << "\n";
       }
@@ -568,20 +701,21 @@ int main(int argc, char** argv) {
     };
     std::printf("NEES %s (dof 15), position NEES %s (dof 3), NIS %s (dof 6); updates %u gated %u off-map %u fail %u\n",
                 num_or_none(J["nees_mean"]).c_str(), num_or_none(J["nees_pos_mean"]).c_str(),
-                num_or_none(J["nis_mean"]).c_str(), res[0].n_updates, res[0].n_gated, res[0].n_offmap, res[0].n_fail);
+                num_or_none(J["nis_mean"]).c_str(), first.n_updates, first.n_gated, first.n_offmap, first.n_fail);
     std::printf("NEES per block (dof 3 each): %s\n", J["nees_block_mean"].dump().c_str());
     if (J.contains("diff3d"))
       std::printf("diff3d (a = %.3g m, sigma_a = %.3g m/s^2, omega %s): Gamma_b - field, sd per component (E): %s\n", o.half_base,
                   J["diff3d"]["sigma_acc_mps2"].get<double>(), o.diff3d_omega.c_str(), J["diff3d"]["gamma_minus_field"].dump().c_str());
-    std::printf("filter step %.0f ns (median, no update), update step %.0f us (median, host)\n", res[0].step_ns_median,
-                res[0].update_us_median);
+    std::printf("filter step %.0f ns (median, no update), update step %.0f us (median, host)\n", first.step_ns_median,
+                first.update_us_median);
 #ifdef GGINS_PLOT_SCRIPT
-    if (o.plot) {
+    if (o.plot && !ggins::hil::interrupted()) {
       const std::string cmd = std::string("/usr/bin/python3 ") + GGINS_PLOT_SCRIPT + " '" + o.out + "' > /dev/null 2>&1";
       if (std::system(cmd.c_str()) != 0) std::printf("(plot failed: %s)\n", cmd.c_str());
     }
 #endif
     std::printf("report: %s\n", o.out.c_str());
-    return 0;
+    if (rep["status"] == "interrupted") std::fprintf(stderr, "ggins mapnav: %s\n", rep["error"].get<std::string>().c_str());
+    return ggins::hil::exit_status(rep);
   });
 }

@@ -86,10 +86,12 @@ class MapNav(Tool):
                 "--egm96", "{data}/egm96_to360.ascii.txt", "--out", "{out}"] + c.args + opts
         return {"argv": argv, "files": {}, "data_probe": "egm96_to360.ascii.txt",
                 "parse": [{"json": "summary.json",
-                           "values": {"rms2h_": {"path": "per_run.0.rms_last2h", "names": MAPNAV_STATES},
-                                      "final_": {"path": "per_run.0.final", "names": MAPNAV_STATES},
-                                      "nees": "per_run.0.nees_mean", "nees_pos": "per_run.0.nees_pos_mean",
-                                      "nis": "per_run.0.nis_mean", "nees_dof": "nees_dof", "nis_dof": "nis_dof"}},
+                           "values": {"rms2h_": {"path": "ensemble.filter_per_run.0.rms_last2h", "names": MAPNAV_STATES},
+                                      "final_": {"path": "ensemble.filter_per_run.0.final", "names": MAPNAV_STATES},
+                                      "nees": "ensemble.filter_per_run.0.nees_mean",
+                                      "nees_pos": "ensemble.filter_per_run.0.nees_pos_mean",
+                                      "nis": "ensemble.filter_per_run.0.nis_mean",
+                                      "nees_dof": "ensemble.results.nees_dof", "nis_dof": "ensemble.results.nis_dof"}},
                           {"csv": "timeseries.csv", "time": "t_s", "prefix": "ggan_", "keep_prefix": True},
                           {"csv": "timeseries.csv", "time": "t_s", "prefix": "sig_", "keep_prefix": True}]}
 
