@@ -64,7 +64,7 @@ static uint32_t n3_pf_health(uint32_t ah)
 /* The horizontal correction (north, east) as an ECI correction of the state:
  * dr_i = R3(theta) C_n_e (dn, de, 0), dv_i = R3(theta) C_n_e (dvn, dve, 0) +
  * omega x dr_i (the Earth-relative velocity moves by (dvn, dve) only), no
- * attitude or gravitation term (the task moves the gravitation with Gamma dr). */
+ * attitude, gravitation or bias term (the task moves the gravitation with Gamma dr). */
 static gg_status_t n3_pf_apply(gg_nav3d_t *nav, const gg_aid_pf_corr_t *pc, gg_real_t cen[3][3])
 {
     gg_aid_corr_t c;
@@ -89,6 +89,8 @@ static gg_status_t n3_pf_apply(gg_nav3d_t *nav, const gg_aid_pf_corr_t *pc, gg_r
         c.dr_i[j] = (double)dr_i[j];
         c.psi_i[j] = 0.0;
         c.dg_i[j] = 0.0;
+        c.db_w[j] = 0.0; /* no bias terms */
+        c.db_f[j] = 0.0;
     }
     {
         const gg_real_t dv0 = dv_i[0] - (w * dr_i[1]);
