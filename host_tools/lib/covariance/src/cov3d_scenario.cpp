@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "ggins/covariance/cov3d.hpp"
+#include "ggins/truth/scenario_keys.hpp"
 #include "ggins/truth/scenario_schema.hpp"
 
 namespace ggins::covariance {
@@ -18,15 +19,7 @@ sch::Schema<S> build() {
   sc.title = "3-D great-circle scenario (ggins covariance3d, montecarlo3d: the gc3d-* built-ins)";
   {
     sch::Table<S> t("", "Name and description.");
-    sch::Key<S> name = sch::mk<S>("name", "string", "", "1..63 characters", "the scenario's name (report, output folder)",
-                                  "the file name without .toml");
-    name.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
-      s.name = sch::read_str(n, c, p, {});
-      if (s.name.empty() || s.name.size() > 63)
-        c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must have 1..63 characters");
-    };
-    name.write = [](const S& s) -> std::optional<std::string> { return sch::str_text(s.name); };
-    t.custom(name);
+    t.custom(truth::keys::name_key<S>());
     sc.secs.push_back(sch::section<S>(t));
   }
   {

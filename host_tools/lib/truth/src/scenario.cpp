@@ -81,18 +81,7 @@ sch::Schema<S> build_schema() {
   auto& secs = sc.secs;
   {
     sch::Table<S> t("", "Name and description.");
-    sch::Key<S> name = sch::mk<S>("name", "string", "", "1..63 characters", "the scenario's name (report, output folder)",
-                                  "the file name without .toml");
-    name.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
-      s.name = sch::read_str(n, c, p, {});
-      if (s.name.empty() || s.name.size() > 63)
-        c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must have 1..63 characters");
-    };
-    name.write = [](const S& s) -> std::optional<std::string> {
-      if (s.name.empty()) return std::nullopt;
-      return sch::str_text(s.name);
-    };
-    t.custom(name).str("description", &S::description, {}, "one line shown by --list-scenarios");
+    t.custom(truth::keys::name_key<S>()).str("description", &S::description, {}, "one line shown by --list-scenarios");
     secs.push_back(sch::section<S>(t));
   }
   {

@@ -14,6 +14,24 @@
 
 namespace ggins::truth::keys {
 
+// The top-level `name` key of every scenario kind (S has a std::string name): 1..63
+// characters; not written while empty (the file name stands for it).
+template <class S>
+sch::Key<S> name_key() {
+  sch::Key<S> name = sch::mk<S>("name", "string", "", "1..63 characters", "the scenario's name (report, output folder)",
+                                "the file name without .toml");
+  name.read = [](S& s, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+    s.name = sch::read_str(n, c, p, {});
+    if (s.name.empty() || s.name.size() > 63)
+      c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must have 1..63 characters");
+  };
+  name.write = [](const S& s) -> std::optional<std::string> {
+    if (s.name.empty()) return std::nullopt;
+    return sch::str_text(s.name);
+  };
+  return name;
+}
+
 // [gravity.anomaly]: the Rubenstein & Winter buried point masses (gravity/point_anomaly.hpp).
 inline sch::Table<AnomalyParams> anomaly_table(const std::string& centre_doc, const std::string& lon_doc) {
   sch::Table<AnomalyParams> t("gravity.anomaly",
