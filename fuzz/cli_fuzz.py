@@ -10,7 +10,7 @@ with a message when not 0: a signal (abort, segfault), an uncaught exception ('t
 or any other exit code is a finding. Runs over the time limit are killed and counted, not
 findings (a valid command line may start a long computation).
 
-  fuzz/cli_fuzz.py --bin build/bin [--runs 200] [--seed 1] [--timeout 5]
+  fuzz/cli_fuzz.py --bin build/bin [--runs 240] [--seed 1] [--timeout 5]
 
 Bounded in runs and time; no network. Exit 1 on a finding (printed with its command line).
 """
@@ -124,6 +124,27 @@ TOOLS = {
                  "--lcm-url=udpm://239.255.76.67:7667?ttl=0": [""], "--lcm-url=": [""], "-h": [""], "--check": [""],
                  "--bogus": [""], "-p": ["x"]},
     },
+    "ggins-campaign": {
+        # --list: the spec parsed, checked and expanded, no cluster started; --report: the
+        # summary rebuilt from an (empty or missing) store
+        "base": ["--list", "{campaign}"],
+        "opts": {"-o": ["{out}", "{under_file}"], "--seeds": ["1", "0"], "--retries": ["0", "1"],
+                 "--stop-after": ["1", "0"], "-w": ["1", "0"], "--report": [""], "--no-plot": [""], "-q": [""],
+                 "--data": ["{missing}", "{a_file}"], "--bin": ["{missing}", "{a_file}"],
+                 "--scheduler": ["tcp://127.0.0.1:1", "x"], "--scheduler-file": ["{missing}", "{a_file}"]},
+    },
+    "ggins-logtime info": {
+        "exe": "ggins-logtime", "base": ["info"],
+        "opts": {"": ["{log}", "{log}", "{a_file}", "{missing}"]},  # "": the positional LOG
+    },
+    "ggins-logtime retime": {
+        "exe": "ggins-logtime", "base": ["retime", "{log}", "{out}.lcmlog"],
+        "opts": {"--speed": ["1", "0", "1e-300"]},
+    },
+    "ggins-logtime csv": {
+        "exe": "ggins-logtime", "base": ["csv", "{log}", "{channel}"],
+        "opts": {"": ["{out}.csv", "{under_file}", "{a_file}"]},  # "": the positional OUT
+    },
     "ggins-rw-eq8": {
         "base": ["--runs", "2", "--hours", "0.01", "--rate-hz", "1"],
         "opts": {"--runs": ["2"], "--hours": ["0.01"], "--rate-hz": ["1"], "--speed-kn": ["330"], "--height-m": ["0"],
@@ -147,12 +168,44 @@ SCENARIO_LINES = ["name = \"f\"", "[trajectory]", "type = \"north-flight\"", "sp
                   "enable = true", "poles_radps = [{v}, 0.1, 0.1]", "= =", "[platform]", "a_m = {v}"]
 
 
+CAMPAIGN_LINES = ["[campaign]", "name = \"c\"", "command = \"run\"", "command = \"mapnav\"", "command = {v}",
+                  "scenario = \"welker-table1\"", "scenario = {v}", "seeds = {v}", "seed0 = {v}", "[[point]]",
+                  "name = {v}", "\"--hours\" = {v}", "\"--hours\" = [{v}, 1]", "\"accel.bias_sigma_mps2\" = {v}",
+                  "\"time.duration_s\" = {start = {v}, stop = 10, step = {v}}",
+                  "\"--dt\" = {start = 0, stop = {v}, num = {v}}", "[outputs]", "series_dt = {v}", "[bogus]", "= ="]
+
+LCM_SYNC = 0xEDA1DA01
+
+
+def lcm_log(rng):
+    """A byte string shaped like an LCM event log: events with random channels (some of the
+    ggins channels), payloads of random bytes, and one of the corruptions a log meets (cut
+    short, a bad sync word, an absurd length, time going back)."""
+    import struct
+    out = b""
+    t = 1_000_000
+    for k in range(rng.randint(0, 6)):
+        ch = rng.choice(["GG3D_OUTPUT", "GG_FRAME", "GG_OUTPUT", "GG3D_FRAME", "x", ""]).encode()
+        data = bytes(rng.getrandbits(8) for _ in range(rng.randint(0, 64)))
+        t += rng.choice([10_000, 0, -5_000_000])
+        dlen = len(data)
+        if rng.random() < 0.1:
+            dlen = rng.choice([0x7FFFFFFF, -1, 1 << 30])
+        sync = LCM_SYNC if rng.random() > 0.05 else 0xDEADBEEF
+        out += struct.pack(">IqqiI" if dlen >= 0 else ">Iqqii", sync, k, t, len(ch), dlen) + ch + data
+    if out and rng.random() < 0.3:
+        out = out[:rng.randint(0, len(out))]
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bin", required=True)
     ap.add_argument("--runs", type=int, default=200)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=5.0)
+    ap.add_argument("--only", default="", help="comma-separated tools to fuzz (e.g. ggins-campaign,ggins-logtime); "
+                    "default every built one")
     ap.add_argument("--show", type=int, default=-1, help="print each run with this exit code and its first stderr line")
     a = ap.parse_args()
     a.bin = os.path.abspath(a.bin)
@@ -160,7 +213,15 @@ def main():
     tmp = tempfile.mkdtemp(prefix="ggins-clifuzz-")
     a_file = os.path.join(tmp, "a_file")
     open(a_file, "w").write("x\n")
-    tools = [t for t in TOOLS if os.path.exists(os.path.join(a.bin, t))]
+    tools = [t for t in TOOLS if os.path.exists(os.path.join(a.bin, TOOLS[t].get("exe", t)))]
+    if a.only:
+        want = a.only.split(",")
+        unknown = [w for w in want if not any(t == w or TOOLS[t].get("exe") == w for t in TOOLS)]
+        if unknown:
+            ap.error(f"--only: unknown tool(s) {unknown}; known: {sorted(TOOLS)}")
+        tools = [t for t in tools if t in want or TOOLS[t].get("exe") in want]
+        if not tools:
+            ap.error(f"--only: none of {want} is built in {a.bin}")
     findings, counts, killed = [], {c: 0 for c in DOCUMENTED}, 0
     for i in range(a.runs):
         tool = tools[i % len(tools)]
@@ -172,16 +233,25 @@ def main():
         scen3 = os.path.join(tmp, f"s3_{i}.toml")
         lines = rng.sample(SCENARIO3_LINES, rng.randint(1, len(SCENARIO3_LINES)))
         open(scen3, "w").write("\n".join(l.replace("{v}", rng.choice(vals)) for l in lines) + "\n")
+        camp = os.path.join(tmp, f"c{i}.toml")
+        lines = rng.sample(CAMPAIGN_LINES, rng.randint(1, len(CAMPAIGN_LINES)))
+        open(camp, "w").write("\n".join(l.replace("{v}", rng.choice(vals)) for l in lines) + "\n")
+        log = os.path.join(tmp, f"l{i}.lcmlog")
+        open(log, "wb").write(lcm_log(rng))
         subst = {"{missing}": os.path.join(tmp, "missing"), "{out}": os.path.join(tmp, f"o{i}"),
                  "{under_file}": os.path.join(a_file, "sub"), "{a_file}": a_file, "{scenario}": scen,
-                 "{scenario3}": scen3}
+                 "{scenario3}": scen3, "{campaign}": camp, "{log}": log,
+                 "{channel}": rng.choice(["GG3D_OUTPUT", "GG_FRAME", "GG_OUTPUT", "x", ""])}
         args = list(spec["base"])
         for opt in rng.sample(sorted(spec["opts"]), rng.randint(1, min(3, len(spec["opts"])))):
             v = rng.choice(VALUES) if rng.random() < 0.6 else rng.choice(spec["opts"][opt])
-            args += [opt] if spec["opts"][opt] == [""] else [opt, v]
+            if opt == "":  # a positional argument
+                args += [v]
+            else:
+                args += [opt] if spec["opts"][opt] == [""] else [opt, v]
         for k, v in subst.items():
             args = [x.replace(k, v) for x in args]
-        cmd = [os.path.join(a.bin, tool)] + args
+        cmd = [os.path.join(a.bin, spec.get("exe", tool))] + args
         try:
             r = subprocess.run(cmd, capture_output=True, text=True, timeout=a.timeout, cwd=tmp)
         except subprocess.TimeoutExpired:

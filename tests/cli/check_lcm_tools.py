@@ -10,6 +10,7 @@
 import os
 import re
 import subprocess
+import struct
 import sys
 import tempfile
 import time
@@ -69,6 +70,17 @@ if mode == "example":
     check(nav["mac"].shape == (3, 32) and nav["mac"][1, 31] == 31, "mac as uint8 (n, 32)")
     check(list(nav.event_utime) == [1000, 1001, 1002], "event time stamps")
     check(log.unknown == {"OTHER": 1}, "an unknown fingerprint is counted, not decoded")
+    size = os.path.getsize(path)
+    check(log.truncated_at == size - 14 and log.events == 4 and any("cut short" in p for p in log.problems()),
+          f"the cut-off event is reported: truncated_at {log.truncated_at} (the file's last 14 bytes start at "
+          f"{size - 14}), {log.events} events, problems {log.problems()}")
+    bad = cls()
+    bad.r_i, bad.gamma_i, bad.mac = [0.0] * 3, [[0.0] * 3] * 3, bytes(32)
+    with open(path, "wb") as f:
+        ggins_log.write_events(f, [ggins_log.Event(0, 1, "NAV_TEST", bad.encode()[:20])])
+    log = ggins_log.read(path)
+    check(log.undecodable == {"NAV_TEST": 1} and not log.unknown and log.problems(),
+          "a message of a known type that does not decode is counted as undecodable, not unknown")
     # 2. the doc's example, as written, on a real 5 s run
     doc = open(os.path.join(src, "docs", "lcm-tools.md")).read()
     m = re.search(r"<!-- ctest: lcm.python_example -->\s*```python\n(.*?)```", doc, re.S)
@@ -90,6 +102,31 @@ if mode == "retime":
     r = subprocess.run([os.path.join(bindir, "ggins"), "logtime", "retime", src_log, dst_log], capture_output=True, text=True)
     print(r.stdout, r.stderr)
     check(r.returncode == 0, "ggins logtime retime exits 0")
+    # logs that are not whole: exit 4 (corrupt log) with the reason, what is readable still read
+    logtime = [os.path.join(bindir, "ggins"), "logtime"]
+    whole = open(src_log, "rb").read()
+    # the first event's header: sync 0..3, eventnum 4..11, time 12..19, channel length 20..23,
+    # data length 24..27; the second event starts after its channel and data
+    second = 28 + sum(struct.unpack(">ii", whole[20:28]))
+    r = subprocess.run(logtime + ["info", src_log], capture_output=True, text=True)
+    check(r.returncode == 0 and "GGINS_FRAME" in r.stdout and not r.stderr, f"info on the run's log: exit {r.returncode}")
+    cases = {"empty": b"", "two bytes of text": b"x\n", "cut at 60 %": whole[:len(whole) * 6 // 10],
+             "a broken sync word": whole[:second] + b"\x00" + whole[second + 1:],
+             "a data length of 0x7fffffff": whole[:24] + b"\x7f\xff\xff\xff" + whole[28:]}
+    for what, data in cases.items():
+        bad = os.path.join(tmp, "bad.lcmlog")
+        open(bad, "wb").write(data)
+        r = subprocess.run(logtime + ["info", bad], capture_output=True, text=True, timeout=60)
+        check(r.returncode == 4 and "ggins logtime: " in r.stderr,
+              f"info on a log with {what}: exit {r.returncode} (want 4), {r.stderr.strip()[:160]!r}")
+    cut = os.path.join(tmp, "cut.lcmlog")
+    open(cut, "wb").write(whole[:len(whole) * 6 // 10])
+    r = subprocess.run(logtime + ["csv", cut, "GGINS_FRAME", os.path.join(tmp, "cut.csv")], capture_output=True, text=True)
+    rows = len(open(os.path.join(tmp, "cut.csv")).read().splitlines()) - 1 if os.path.exists(os.path.join(tmp, "cut.csv")) else 0
+    check(r.returncode == 4 and "cut short" in r.stderr and rows > 0,
+          f"csv of a log cut short: exit {r.returncode}, {rows} rows of the complete events written, the cut reported")
+    r = subprocess.run(logtime + ["retime", cut, os.path.join(tmp, "cut-retimed.lcmlog")], capture_output=True, text=True)
+    check(r.returncode == 4 and "cut short" in r.stderr, f"retime of a log cut short: exit {r.returncode}, the cut reported")
     a, b = ggins_log.read(src_log), ggins_log.read(dst_log)
     fa = a["GGINS_FRAME"]  # every frame, batched or not
     check(abs((fa["utime"][-1] - fa["utime"][0]) * 1e-6 - 5.0) < 1e-9, "the log holds the 5 s of frames")

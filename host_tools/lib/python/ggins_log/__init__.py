@@ -10,10 +10,13 @@ Messages are decoded with the Python classes that lcm-gen generates at build tim
 lcmtypes/*.lcm (package ``ggins``, build/lcmtypes/python): each message is matched to
 its type by the 8-byte fingerprint it starts with, so every channel of every type the
 build knows is read, with no list of channels here. Events whose fingerprint matches no
-type are counted in ``Log.unknown``.
+type are counted in ``Log.unknown``, messages of a known type that do not decode in
+``Log.undecodable``; a log cut short is read up to its last complete event and says where
+it ends in ``Log.truncated_at``. ``Log.problems()`` lists all of these in words (empty
+for a whole log).
 """
-from .eventlog import Event, read_events, write_events, SYNC
+from .eventlog import CorruptLog, Event, read_events, write_events, SYNC
 from .arrays import Channel, Log, read, load_types, batch_items, item_channel
 from .retime import retime
 
-__all__ = ["Event", "read_events", "write_events", "SYNC", "Channel", "Log", "read", "load_types", "batch_items", "item_channel", "retime"]
+__all__ = ["CorruptLog", "Event", "read_events", "write_events", "SYNC", "Channel", "Log", "read", "load_types", "batch_items", "item_channel", "retime"]

@@ -124,11 +124,27 @@ class Channel:
 
 class Log(dict):
     """Channel name -> Channel; ``unknown`` counts events per channel whose fingerprint
-    matches no generated type (or that do not decode)."""
+    matches no generated type, ``undecodable`` those of a known type that do not decode
+    (truncated or corrupt messages); ``truncated_at`` is the byte offset where a log cut
+    short ends (None for a complete log), ``events`` the number of events read."""
 
     def __init__(self):
         super().__init__()
         self.unknown = {}
+        self.undecodable = {}
+        self.truncated_at = None
+        self.events = 0
+
+    def problems(self):
+        """What makes the log incomplete or corrupt, one line each (empty: none)."""
+        out = []
+        if self.events == 0:
+            out.append("no LCM events")
+        if self.truncated_at is not None:
+            out.append(f"cut short: a partial event at byte {self.truncated_at} (the run stopped while writing?)")
+        for ch, n in sorted(self.undecodable.items()):
+            out.append(f"{n} message(s) on {ch} of a known type that do not decode")
+        return out
 
 
 def read(path, types=None, channels=None, unbatch=True) -> Log:
@@ -141,8 +157,9 @@ def read(path, types=None, channels=None, unbatch=True) -> Log:
     types = types or load_types()
     acc = {}
     log = Log()
+    status = {}
     with open(path, "rb") as f:
-        for e in read_events(f):
+        for e in read_events(f, status):
             if channels is not None and e.channel not in channels and (
                     not unbatch or item_channel(e.channel) not in channels):
                 continue
@@ -152,7 +169,8 @@ def read(path, types=None, channels=None, unbatch=True) -> Log:
                 try:
                     msg = cls.decode(e.data)
                 except Exception:  # a message of a known type that does not decode (truncated, corrupt)
-                    msg = None
+                    log.undecodable[e.channel] = log.undecodable.get(e.channel, 0) + 1
+                    continue
             if msg is None:
                 log.unknown[e.channel] = log.unknown.get(e.channel, 0) + 1
                 continue
@@ -168,6 +186,8 @@ def read(path, types=None, channels=None, unbatch=True) -> Log:
                 a[0].append(m)
                 a[1].append(e.timestamp)
                 a[2].append(e.eventnum)
+    log.truncated_at = status["truncated_at"]
+    log.events = status["events"]
     for (ch, cls), (msgs, ts, num) in acc.items():
         name = ch if ch not in log else f"{ch}:{cls.__name__}"  # two types on one channel
         log[name] = Channel(name, cls, msgs, ts, num)

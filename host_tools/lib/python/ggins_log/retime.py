@@ -34,10 +34,12 @@ def flight_utime(msg, event_timestamp):
 
 def retime(src, dst, types=None, speed=1.0):
     """Copy the log src to dst with flight-time event stamps (speed: 2 replays twice as
-    fast). Returns (events, events on the flight clock)."""
+    fast). Returns (events, events on the flight clock, offset where src is cut short or
+    None): the events of a log cut short are copied up to the cut."""
     types = types or load_types()
+    status = {}
     with open(src, "rb") as f:
-        events = list(read_events(f))
+        events = list(read_events(f, status))
     if not events:
         raise ValueError(f"{src}: no events")
     t0 = events[0].timestamp
@@ -70,4 +72,4 @@ def retime(src, dst, types=None, speed=1.0):
         prev = ts
     with open(dst, "wb") as f:
         write_events(f, out)
-    return len(out), n_flight
+    return len(out), n_flight, status["truncated_at"]
