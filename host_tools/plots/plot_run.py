@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Plots of one `ggins run` output folder (timeseries.csv, summary.json):
 errors.png (position, velocity and gravity error against time, per axis of
-the flight's inertial frame, x equatorial and z polar, and the norm; with
---covariance the one-sigma envelope of `ggins covariance` for the same
-scenario around each axis), errors_log.png (the norms on a log scale),
+the flight's inertial frame, x equatorial and z polar, and the norm, with the
+one-sigma envelope of `ggins covariance` for the same scenario around each
+axis: OUTPUT_DIR/covariance/covariance.csv, which `ggins run` computes from the
+scenario as flown, or --covariance), errors_log.png (the norms on a log scale),
 vertical.png and gravimeter.png (vertical channel, barometer loop).
 
 usage: plot_run.py OUTPUT_DIR [--covariance covariance.csv]
@@ -109,12 +110,21 @@ def plot_vertical(out, d, s, t, tl, title):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out", help="output folder of ggins run")
-    ap.add_argument("--covariance", help="covariance.csv of `ggins covariance` for the same scenario: 1σ envelopes")
+    ap.add_argument("--covariance", help="covariance.csv of `ggins covariance` for the same scenario: 1σ envelopes "
+                    "(default OUTPUT_DIR/covariance/covariance.csv when it exists)")
     a = ap.parse_args()
     out = a.out
     d, s = read_run(out)
     t, tl = time_axis(d["t_s"])
     cov = None
+    no_cov = "the 2-D navigator outputs none and ggins covariance was not run (--covariance adds its envelope)"
+    own = os.path.join(out, "covariance", "covariance.csv")
+    if not a.covariance and os.path.exists(own):
+        a.covariance = own
+    elif not a.covariance and os.path.exists(os.path.join(out, "covariance", "covariance.log")):
+        why = [x.strip() for x in open(os.path.join(out, "covariance", "covariance.log")) if x.strip()]
+        if why:  # "ggins-covariance: scenario.toml: gravity.model 'rw-anomaly' not supported ..."
+            no_cov = "ggins covariance: " + why[-1].split(": ", 2)[-1]
     if a.covariance:
         c = np.atleast_1d(np.genfromtxt(a.covariance, delimiter=",", names=True))
         tc = c["t_s"]
@@ -137,8 +147,7 @@ def main():
     axs[-1].set_xlabel(tl)
     title = run_title(s, "ggins run: " + os.path.basename(out))
     fig.suptitle(title + "\nnavigation - truth, %s" % FRAME_2D
-                 + ("" if cov is not None else " (no covariance envelope: the 2-D navigator outputs none; "
-                                               "--covariance adds ggins covariance's)"), fontsize=9)
+                 + ("" if cov is not None else "\n(no covariance envelope: %s)" % no_cov), fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "errors.png"), dpi=110)
     plt.close(fig)

@@ -282,6 +282,13 @@ def test_perfect(a):
     for f in ("errors.png", "errors_log.png"):
         p = os.path.join(out, f)
         check(os.path.exists(p) and os.path.getsize(p) > 1000, "plot %s written" % f)
+    # the plots' covariance envelope: ggins covariance on the scenario as flown (120 s, not
+    # the scenario file's 3600 s)
+    cov = os.path.join(out, "covariance", "covariance.csv")
+    tc = [float(r["t_s"]) for r in csv.DictReader(open(cov))] if os.path.exists(cov) else []
+    check(tc and tc[0] == 0.0 and tc[-1] == 120.0,
+          "covariance/covariance.csv for the envelopes spans the flight as flown: t %s .. %s s"
+          % (tc[0] if tc else None, tc[-1] if tc else None))
 
 
 def test_bias(a):
@@ -616,6 +623,17 @@ def test_cli(a):
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
     check(p.returncode == 3 and "ip route add 224.0.0.0/4 dev lo" in p.stdout,
           "LCM unavailable: exit 3 with the multicast fix")
+    # a scenario the error model does not cover (an anomaly field): the run is not affected,
+    # the plot has no envelope and says why
+    out = os.path.join(a.workdir, "rw-nocov")
+    p = subprocess.run([a.ggins_run, "--out", out, "--scenario", "rw-compare-model", "--direct", "--duration", "2"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    log = os.path.join(out, "covariance", "covariance.log")
+    why = open(log).read() if os.path.exists(log) else ""
+    check(p.returncode == 0 and not os.path.exists(os.path.join(out, "covariance", "covariance.csv")) and
+          "rw-anomaly" in why and os.path.exists(os.path.join(out, "errors.png")),
+          "no covariance model for an anomaly field: exit %d, no envelope, the reason in covariance.log (%s)"
+          % (p.returncode, why.strip()[-100:]))
     false = shutil.which("false")
     out = os.path.join(a.workdir, "deadhal")
     p = subprocess.run([a.ggins_run, "--out", out, "--hal-sim", false, "--duration", "1", "--no-plots"],

@@ -89,6 +89,7 @@ class Model2D {
   void end() { csv_.close(); }
   void report(json& s);
   static std::string final_line(const json& s);
+  static void before_plots(const ggins::hil::RunOptions& o, const fs::path& out);
 
  private:
   const ggins::hil::RunOptions& opt_;
@@ -420,6 +421,29 @@ void Model2D::report(json& s) {
   }
 }
 
+// The error model's covariance for the scenario as flown (ggins covariance: Welker et al.'s
+// error states propagated along the same trajectory), for the plots' one-sigma envelopes:
+// covariance/covariance.csv beside the flight's files. A scenario the model does not cover
+// (an anomaly field, the gravity-model navigation mode) gets no envelope; covariance/
+// covariance.log says why and the plot names the reason.
+void Model2D::before_plots(const ggins::hil::RunOptions& o, const fs::path& out) {
+  const fs::path exe = ggins::hil::self_dir() / "ggins-covariance";
+  std::error_code ec;
+  fs::create_directories(out / "covariance", ec);
+  if (ec || access(exe.c_str(), X_OK) != 0) return;
+  try {
+    pid_t pid = ggins::hil::spawn({exe.string(), "-s", (out / "scenario.toml").string(), "--no-plot", "-o",
+                                   (out / "covariance").string()},
+                                  out / "covariance" / "covariance.log");
+    if (ggins::hil::wait_child(pid, 120.0) == -1) {
+      ggins::hil::stop_child(pid);
+      std::fprintf(stderr, "%s: the covariance for the plots' envelopes took over 120 s; plots without it\n",
+                   o.tool.c_str());
+    }
+  } catch (const ggins::hil::Fail&) {
+  }
+}
+
 std::string Model2D::final_line(const json& s) {
   const json& e = s["errors"];
   char b[512];
@@ -460,8 +484,13 @@ int main(int argc, char** argv) {
       "                   firmware step time (median/p99/max ns), transport counters, log check\n"
       "  timeseries.csv   truth, navigation and error at --csv-rate (default 1 Hz), units in\n"
       "                   every column; x equatorial, z polar (the flight's inertial frame)\n"
-      "  errors.png       position, velocity and gravity error against time (and\n"
-      "                   errors_log.png, the norms on a log scale)\n"
+      "  errors.png       position, velocity and gravity error against time with the\n"
+      "                   one-sigma envelope of the error model (and errors_log.png, the\n"
+      "                   norms on a log scale)\n"
+      "  covariance/      the error model's covariance for the scenario as flown (ggins\n"
+      "                   covariance: Welker et al., eqs. 7-11), computed for the plots;\n"
+      "                   covariance.log says why when the model does not cover the\n"
+      "                   scenario (an anomaly field, gravity-model navigation)\n"
       "  vertical.png     vertical error h(nav) - h(true), h = |r| - r_ref, barometer error\n"
       "                   and innovation; gravimeter.png (barometer loop on): the along-track\n"
       "                   vertical gravity disturbance, estimate against truth (summary.json\n"

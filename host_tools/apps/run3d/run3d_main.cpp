@@ -116,6 +116,8 @@ class Model3D {
   }
   void report(json& s);
   static std::string final_line(const json& s);
+  // the 3-D plots draw the envelopes of the covariance the task itself outputs (the aids')
+  static void before_plots(const ggins::hil::RunOptions&, const std::filesystem::path&) {}
 
  private:
   void consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos);
