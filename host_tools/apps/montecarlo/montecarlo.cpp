@@ -34,6 +34,7 @@
 #include "ggins/gravity/field.hpp"
 #include "ggins/truth/scenario.hpp"
 #include "ggins/truth/stats.hpp"
+#include "hil_common.hpp"
 #include "report.hpp"
 
 namespace fs = std::filesystem;
@@ -183,12 +184,6 @@ Ensemble2 read_ensemble(const fs::path& outp, const std::string& name, const std
   return en;
 }
 
-std::string self_dir() {
-  std::error_code ec;
-  fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string(".") : self.parent_path().string();
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -263,7 +258,7 @@ int main(int argc, char** argv) {
   }
   if (duration) sc.duration_s = *duration;
   if (out_dir.empty()) out_dir = "out/montecarlo/" + sc.name;
-  if (run_exe.empty()) run_exe = self_dir() + "/ggins-run";
+  if (run_exe.empty()) run_exe = (ggins::hil::self_dir() / "ggins-run").string();
   const fs::path outp = fs::absolute(out_dir);
   fs::create_directories(outp / "runs");
 
