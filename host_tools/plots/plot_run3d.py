@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
 """Plots of one `ggins run3d` output folder (timeseries.csv, summary.json):
 errors.png, against time on log axes: the position error north/east/down
-(NED at the true position) and its norm, with the aid's one-sigma envelope
-when the flight had an aid (root sum square of the aid's position sigmas);
-the attitude error, the gravity error (NED) and the gradient error (Eotvos).
+(NED at the true position) and its norm, with a one-sigma envelope (root sum
+square of the position sigmas): the aid's own covariance when the flight had
+an aid, else the 3-D error model's along the same trajectory (OUTPUT_DIR/
+covariance/covariance3d.csv, which `ggins run3d` computes with `ggins
+covariance3d` from the scenario as flown); the attitude error, the gravity
+error (NED) and the gradient error (Eotvos).
 
 With --unaided DIR (the output folder of the same flight without its aid)
 the unaided position error is drawn on the same panel, so aided and unaided
@@ -15,6 +18,8 @@ Needs matplotlib and numpy (Debian: python3-matplotlib python3-numpy).
 import argparse
 import os
 import sys
+
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import matplotlib  # noqa: E402
@@ -37,9 +42,20 @@ def main():
     aids = [x.get("name", "aid") for x in s.get("aids", [])]
     fig, axs = plt.subplots(4, 1, figsize=(9, 12), sharex=True)
     ax = axs[0]
+    no_env = ""
+    cov3 = os.path.join(a.out, "covariance", "covariance3d.csv")
     if "aid_sig_r_rss_m" in d.dtype.names:
         envelope(ax, t, d["aid_sig_r_rss_m"], label="aid 1σ envelope (RSS of its position sigmas)", color="0.4",
                  log=True)
+    elif os.path.exists(cov3):
+        c = np.atleast_1d(np.genfromtxt(cov3, delimiter=",", names=True))
+        rss = np.sqrt(c["rn_m"] ** 2 + c["re_m"] ** 2 + c["rd_m"] ** 2)
+        envelope(ax, t, np.interp(d["t_s"], c["t_s"], rss, left=np.nan, right=np.nan),
+                 label="error model 1σ (ggins covariance3d, RSS of N, E, D)", color="0.4", log=True)
+    else:
+        log = os.path.join(a.out, "covariance", "covariance.log")
+        why = [x.strip() for x in open(log) if x.strip()] if os.path.exists(log) else []
+        no_env = "; no covariance envelope" + (": " + why[-1].split(": ", 2)[-1] if why else "")
     for c, (k, lab) in enumerate(NED):
         log_line(ax, t, d["err_%s_m" % k], "|%s|" % lab, "C%d" % c)
     log_line(ax, t, d["err_r_m"], "|dr| " + ("aided (%s)" % ", ".join(aids) if aids else ""), "k", lw=1.2)
@@ -74,9 +90,9 @@ def main():
     def fin(k):
         return e.get(k, {}).get("final", float("nan"))
 
-    fig.suptitle("%s\n%s platform; navigation - truth, %s\nfinal |dr| %.3g m, |psi| %.3g rad, |dG| %.3g m/s², "
+    fig.suptitle("%s\n%s platform; navigation - truth, %s%s\nfinal |dr| %.3g m, |psi| %.3g rad, |dG| %.3g m/s², "
                  "max |dGamma| %.3g E" % (run_title(s, "ggins run3d: " + os.path.basename(a.out)), s.get("platform", "?"),
-                                          FRAME_3D, fin("position_error_m"), fin("attitude_error_rad"),
+                                          FRAME_3D, no_env, fin("position_error_m"), fin("attitude_error_rad"),
                                           fin("gravity_error_mps2"), e.get("gradient_error_ecef_E", {}).get("max", 0)),
                  fontsize=9)
     fig.tight_layout()

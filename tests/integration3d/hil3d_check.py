@@ -15,6 +15,7 @@ usage: hil3d_check.py CASE --ggins-run3d PATH --workdir DIR [--scenario S] [--du
 Python stdlib only.
 """
 import argparse
+import csv
 import json
 import os
 import shutil
@@ -126,6 +127,21 @@ def case_cli(a):
         f.write("[gyro]\nbias = 1\n")
     p = subprocess.run([a.ggins_run3d, "--scenario", bad], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     check(p.returncode == 2 and "unknown key 'gyro.bias'" in p.stdout, "unknown key: exit 2 naming the key")
+    # an unaided flight's plot: the 3-D error model's one-sigma envelope (ggins covariance3d on
+    # the scenario as flown: 120 s, the file says 3600 s)
+    sc = os.path.join(a.workdir, "bias-sigma.toml")
+    with open(sc, "w") as f:
+        f.write('name = "bias-sigma"\n[accel]\nbias_sigma_mps2 = 1e-9\n[time]\nduration_s = 3600\n')
+    out = os.path.join(a.workdir, "envelope")
+    p = subprocess.run([a.ggins_run3d, "--scenario", sc, "--direct", "--duration", "120", "-q", "--out", out],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+    cov = os.path.join(out, "covariance", "covariance3d.csv")
+    rows = list(csv.DictReader(open(cov))) if os.path.exists(cov) else []
+    end = rows[-1] if rows else {}
+    check(p.returncode == 0 and rows and float(rows[0]["t_s"]) == 0.0 and float(end["t_s"]) == 120.0 and
+          float(end["rn_m"]) > 0 and os.path.exists(os.path.join(out, "errors.png")),
+          "unaided run3d: covariance/covariance3d.csv for the envelope spans the flight as flown (t to %s s, "
+          "sigma north %s m)" % (end.get("t_s"), end.get("rn_m")))
 
 
 def main():

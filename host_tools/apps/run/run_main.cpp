@@ -421,27 +421,10 @@ void Model2D::report(json& s) {
   }
 }
 
-// The error model's covariance for the scenario as flown (ggins covariance: Welker et al.'s
-// error states propagated along the same trajectory), for the plots' one-sigma envelopes:
-// covariance/covariance.csv beside the flight's files. A scenario the model does not cover
-// (an anomaly field, the gravity-model navigation mode) gets no envelope; covariance/
-// covariance.log says why and the plot names the reason.
+// The plots' one-sigma envelopes: Welker et al.'s error model along the same trajectory
+// (ggins covariance on the scenario as flown, covariance/ beside the flight's files).
 void Model2D::before_plots(const ggins::hil::RunOptions& o, const fs::path& out) {
-  const fs::path exe = ggins::hil::self_dir() / "ggins-covariance";
-  std::error_code ec;
-  fs::create_directories(out / "covariance", ec);
-  if (ec || access(exe.c_str(), X_OK) != 0) return;
-  try {
-    pid_t pid = ggins::hil::spawn({exe.string(), "-s", (out / "scenario.toml").string(), "--no-plot", "-o",
-                                   (out / "covariance").string()},
-                                  out / "covariance" / "covariance.log");
-    if (ggins::hil::wait_child(pid, 120.0) == -1) {
-      ggins::hil::stop_child(pid);
-      std::fprintf(stderr, "%s: the covariance for the plots' envelopes took over 120 s; plots without it\n",
-                   o.tool.c_str());
-    }
-  } catch (const ggins::hil::Fail&) {
-  }
+  ggins::hil::error_model_covariance(o, out, "ggins-covariance");
 }
 
 std::string Model2D::final_line(const json& s) {

@@ -116,8 +116,9 @@ class Model3D {
   }
   void report(json& s);
   static std::string final_line(const json& s);
-  // the 3-D plots draw the envelopes of the covariance the task itself outputs (the aids')
-  static void before_plots(const ggins::hil::RunOptions&, const std::filesystem::path&) {}
+  // The plots' envelopes: with an aid on, the covariance the task itself outputs (the aid's);
+  // without, the 3-D error model on the same trajectory (ggins covariance3d, covariance/).
+  static void before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out);
 
  private:
   void consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos);
@@ -523,6 +524,18 @@ void Model3D::report(json& s) {
   if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
 }
 
+void Model3D::before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out) {
+  json s;
+  try {
+    std::ifstream f(out / "summary.json");
+    s = json::parse(f);
+  } catch (const std::exception&) {
+    return;
+  }
+  if (s.contains("aids") && s["aids"].is_array() && !s["aids"].empty()) return;
+  ggins::hil::error_model_covariance(o, out, "ggins-covariance3d");
+}
+
 std::string Model3D::final_line(const json& s) {
   const json& e = s["errors"];
   char b[512];
@@ -562,7 +575,10 @@ int main(int argc, char** argv) {
       "                   max): position (NED), velocity, attitude, gravity, gradient (Eotvos);\n"
       "                   parity, step time, transport counters, acceptance, aids (a list)\n"
       "  timeseries.csv   truth, navigation and errors at --csv-rate, units in every column\n"
-      "  errors.png       position error N/E/D, attitude error, G error, Gamma error vs time\n"
+      "  errors.png       position error N/E/D, attitude error, G error, Gamma error vs time;\n"
+      "                   the position error's one-sigma envelope is the aid's covariance\n"
+      "                   (with an aid on) or the 3-D error model's (covariance/: ggins\n"
+      "                   covariance3d on the scenario as flown)\n"
       "  run.lcmlog       every LCM message of the run (not with --direct or --no-log)\n"
       "  scenario.toml (as flown: effective values, overrides applied), hal_sim.log\n\n"
       "Exit status: 0 completed; 1 failed; 2 bad arguments or scenario; 3 multicast on loopback\n"

@@ -393,6 +393,29 @@ class Flight {
   int last_pct_reported_ = -1;
 };
 
+// The error model's covariance for the scenario as flown, for the plots' one-sigma
+// envelopes: the command `tool` (ggins-covariance, ggins-covariance3d: beside this one) run
+// on <out>/scenario.toml, its files in <out>/covariance/. A scenario the model does not
+// cover (an anomaly field, the gravity-model navigation mode) gets no envelope;
+// covariance/covariance.log says why and the plot names the reason. Never fails the run.
+inline void error_model_covariance(const RunOptions& o, const std::filesystem::path& out, const char* tool) {
+  namespace fs = std::filesystem;
+  const fs::path exe = self_dir() / tool;
+  std::error_code ec;
+  fs::create_directories(out / "covariance", ec);
+  if (ec || access(exe.c_str(), X_OK) != 0) return;
+  try {
+    pid_t pid = spawn({exe.string(), "-s", (out / "scenario.toml").string(), "--no-plot", "-o",
+                       (out / "covariance").string()},
+                      out / "covariance" / "covariance.log");
+    if (wait_child(pid, 120.0) == -1) {
+      stop_child(pid);
+      std::fprintf(stderr, "%s: %s took over 120 s; plots without its envelope\n", o.tool.c_str(), tool);
+    }
+  } catch (const Fail&) {
+  }
+}
+
 // After the flight: plots (a Python script on the output folder), the result
 // lines, the exit status.
 inline int finish_run(const RunOptions& o, const nlohmann::json& s, const std::string& plot_script,
