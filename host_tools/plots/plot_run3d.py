@@ -8,9 +8,10 @@ covariance/covariance3d.csv, which `ggins run3d` computes with `ggins
 covariance3d` from the scenario as flown); the attitude error, the gravity
 error (NED) and the gradient error (Eotvos).
 
-With --unaided DIR (the output folder of the same flight without its aid)
-the unaided position error is drawn on the same panel, so aided and unaided
-are read off one plot.
+An aided flight's unaided reference (the same task with its aids off, flown
+on the same frames: timeseries.csv unaided_err_*) is drawn on the same panel,
+so aided and unaided are read off one plot; --unaided DIR adds the output
+folder of another flight (e.g. one flown with --no-aids).
 
 usage: plot_run3d.py OUTPUT_DIR [--unaided OUTPUT_DIR]
 Needs matplotlib and numpy (Debian: python3-matplotlib python3-numpy).
@@ -59,6 +60,8 @@ def main():
     for c, (k, lab) in enumerate(NED):
         log_line(ax, t, d["err_%s_m" % k], "|%s|" % lab, "C%d" % c)
     log_line(ax, t, d["err_r_m"], "|dr| " + ("aided (%s)" % ", ".join(aids) if aids else ""), "k", lw=1.2)
+    if "unaided_err_r_m" in d.dtype.names:  # the unaided reference flown on the same frames
+        log_line(ax, t, d["unaided_err_r_m"], "|dr| unaided (same frames)", "C3", lw=1.2, ls="--")
     if a.unaided:
         du, su = read_run(a.unaided)
         tu, _ = time_axis(du["t_s"])

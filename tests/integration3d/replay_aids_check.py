@@ -26,6 +26,7 @@ usage: replay_aids_check.py {pf,all} --ggins-run3d P --ggins-replay P --ggins-co
                             [--ggins-gmap P --egm96 FILE] --workdir DIR
 """
 import argparse
+import csv
 import glob
 import json
 import os
@@ -119,6 +120,25 @@ def main():
         check(ukf.get("nis_mean", 1e99) < 18.0, "the map UKF's mean NIS %.3g < 18 (6 dof)" % ukf.get("nis_mean", 1e99))
         check(len(ms) == 2 and ms[0].get("kind") == "file" and ms[0].get("tiles") == 1,
               "the UKF's tile recorded as a file source before the directory")
+        # the unaided reference of the flight (the task with its aids off, stepped in run3d on the
+        # same frames) against a separate flight of the same scenario with --no-aids: equal
+        ref = s.get("unaided_reference", {})
+        un = os.path.join(w, "unaided")
+        r = subprocess.run([a.ggins_run3d, "-s", sc, "-o", un, "--duration", "60", "--direct", "--no-aids",
+                            "--no-plots", "-q"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        su = json.load(open(os.path.join(un, "summary.json"))) if os.path.exists(
+            os.path.join(un, "summary.json")) else {}
+        eu = su.get("errors", {})
+        col = lambda f, k: [row[k] for row in csv.DictReader(open(f))]
+        same_csv = os.path.exists(os.path.join(un, "timeseries.csv")) and col(
+            os.path.join(out, "timeseries.csv"), "unaided_err_r_m") == col(os.path.join(un, "timeseries.csv"), "err_r_m")
+        check(r.returncode == 0 and "unaided_reference" not in su and ref.get("steps") == s.get("steps_flown") and
+              ref.get("position_error_m") == eu.get("position_error_m") and
+              ref.get("position_error_final_m") == eu.get("position_error_final_m") and
+              ref.get("gravity_error_mps2") == eu.get("gravity_error_mps2") and same_csv,
+              "the unaided reference equals a separate --no-aids flight: final |dr| %s vs %s m, CSV column "
+              "unaided_err_r_m = its err_r_m: %s" % (ref.get("position_error_m", {}).get("final"),
+                                                     eu.get("position_error_m", {}).get("final"), same_csv))
         if a.ggins_profile:  # the profile of the same flight: a row of step time for each aid of the task
             flown = os.path.join(out, "scenario.toml")
             r = subprocess.run([a.ggins_profile, "-s", flown, "--task", "3d", "--duration", "20", "--no-filters"],

@@ -56,7 +56,8 @@ class Model3D {
  public:
   using Task = ggins::hil::Task3D;
 
-  Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc) : opt_(o), sc_(sc), gen_(sc) {
+  Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc, bool reference)
+      : opt_(o), sc_(sc), gen_(sc), reference_(reference && (sc.aid_ukf.enabled || sc.aid_pf.enabled)) {
     // the computer's map storage (map_storage.hpp): the map aid's tile files, then the
     // directory of the cold-atom aid's Gamma_zz tiles (pf3d.hpp)
     using ggins::run3d::MapSource;
@@ -142,6 +143,17 @@ class Model3D {
   bool pf_on_ = false;
   static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
   std::vector<ggins::truth3d::Truth3> truth_ring_;
+  // The unaided reference: the same task with every aid off, stepped in this process on the
+  // same sensor frames as they are made (whatever the transport does to the flown task's), so
+  // that aided and unaided solutions of one flight sit side by side in the report and the CSV.
+  bool reference_ = false;
+  ggins::nav3d_config_t ref_cfg_{};
+  std::unique_ptr<ggins::hil::Direct<ggins::hil::Task3D>> ref_;
+  int64_t ref_next_ = 0, ref_rejected_ = 0;
+  uint32_t ref_health_or_ = 0;
+  std::vector<std::array<double, 4>> ref_ring_;  // its position error N, E, D, |dr| per step (ring)
+  MaxFinal ref_pos_, ref_vel_, ref_att_, ref_grav_;
+  std::array<double, 3> ref_fpos_n_{};
   // statistics
   MaxFinal pos_, vel_, att_, grav_, gam_e_, gam_b_, hgt_, par_asym_, par_trace_, wdot_;
   std::array<double, 3> fpos_n_{}, fvel_n_{}, fatt_n_{}, fg_n_{};
@@ -205,6 +217,10 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
   run_id_ = run_id;
   n_ = gen_.n_steps();
   truth_ring_.resize(static_cast<size_t>(kTruthRing));
+  if (reference_) {
+    ref_ = std::make_unique<ggins::hil::Direct<ggins::hil::Task3D>>(ref_cfg_);
+    ref_ring_.resize(static_cast<size_t>(kTruthRing));
+  }
   csv_every_ = std::max<int64_t>(1, std::llround(sc_.rate_hz / (opt_.csv_rate ? *opt_.csv_rate : sc_.csv_rate_hz)));
   const double truth_rate = opt_.truth_rate.value_or(10.0);
   truth_every_ = truth_rate > 0 ? std::max<int64_t>(1, std::llround(sc_.rate_hz / truth_rate)) : 1;
@@ -216,6 +232,7 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
           "err_gamma_e_E,err_gamma_b_E,err_h_m,parity_x_radps2,parity_y_radps2,parity_z_radps2,parity_trace_ps2,"
           "baro_innov_m,a_c_mps2,status,health,health_bits";
   if (sc_.aid_ukf.enabled) csv_ << ",aid_sig_r_x_m,aid_sig_r_y_m,aid_sig_r_z_m,aid_sig_r_rss_m";
+  if (reference_) csv_ << ",unaided_err_n_m,unaided_err_e_m,unaided_err_d_m,unaided_err_r_m";
   csv_ << "\n";
   if (sc_.aid_ukf.enabled) {  // one row per closed epoch of the map aid
     ep_csv_.open(out / "aid_epochs.csv");
@@ -283,6 +300,21 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
   ggins::truth3d::Truth3 t;
   gen_.frame(k, f, &t);
   const ggins::sensor_frame_t m = ggins::hil::sensor_frame_msg(f, run_id_, 0);
+  if (ref_ && k == ref_next_) {  // each frame once, in order (a resent frame is not stepped again)
+    gg_nav3d_output_t ro;
+    from_lcm(ref_->step(m), ro);
+    ++ref_next_;
+    if (ro.status != 0) ++ref_rejected_;  // as the flight counts its own
+    ref_health_or_ |= ro.health;
+    const ggins::run3d::Errors3 e = ggins::run3d::compare(t, ro);
+    ref_pos_.add(static_cast<double>(e.dr));
+    ref_vel_.add(static_cast<double>(e.dv));
+    ref_att_.add(static_cast<double>(e.psi));
+    ref_grav_.add(static_cast<double>(e.dg));
+    for (int i = 0; i < 3; ++i) ref_fpos_n_[static_cast<size_t>(i)] = static_cast<double>(e.dr_n(i));
+    ref_ring_[static_cast<size_t>(k % kTruthRing)] = {static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)),
+                                                      static_cast<double>(e.dr_n(2)), static_cast<double>(e.dr)};
+  }
   if (link_ && (k % truth_every_ == 0 || k == n_ - 1)) {
     ggins::truth3d_t tm{};
     tm.utime = t.utime;
@@ -390,6 +422,10 @@ ggins::nav3d_config_t Model3D::config() {
   }
   ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
   pf_on_ = c.aid_pf.enable != 0;
+  ref_cfg_ = m;  // the unaided reference: the same configuration, every aid off
+  ref_cfg_.aid_mm_enable = 0;
+  ref_cfg_.aid_pf_enable = 0;
+  ref_cfg_.map_n_sources = 0;
   return m;
 }
 
@@ -437,6 +473,12 @@ void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d
     if (sc_.aid_ukf.enabled)  // the aid's one-sigma of the position error (ECI axes) and their root sum square
       csv_ << "," << sig_pos[0] << "," << sig_pos[1] << "," << sig_pos[2] << ","
            << std::sqrt(sig_pos[0] * sig_pos[0] + sig_pos[1] * sig_pos[1] + sig_pos[2] * sig_pos[2]);
+    if (ref_) {
+      const auto& r = ref_ring_[static_cast<size_t>(k % kTruthRing)];
+      char ref[128];  // the format of the flight's own err_*_m columns
+      std::snprintf(ref, sizeof ref, ",%e,%e,%e,%e", r[0], r[1], r[2], r[3]);
+      csv_ << ref;
+    }
     csv_ << "\n";
   }
 }
@@ -522,6 +564,22 @@ void Model3D::report(json& s) {
   // one block per aid of the flight, each named ({"name": ..., its counters})
   if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
   if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
+  if (ref_) {
+    json r;
+    r["description"] = "the same task with every aid off, stepped in this process on the same sensor frames "
+                       "(the pure inertial solution of this flight)";
+    r["steps"] = ref_next_;
+    r["steps_rejected"] = ref_rejected_;
+    r["health_seen"] = ref_health_or_;
+    r["health_seen_bits"] = ggins::hil::health_csv(ref_health_or_);
+    r["position_error_m"] = ref_pos_.json();
+    r["position_error_final_m"] = axes_json(ref_fpos_n_, "n", "e", "d");
+    r["velocity_error_mps"] = ref_vel_.json();
+    r["attitude_error_rad"] = ref_att_.json();
+    r["gravity_error_mps2"] = ref_grav_.json();
+    r["csv_columns"] = "unaided_err_n_m, unaided_err_e_m, unaided_err_d_m, unaided_err_r_m";
+    s["unaided_reference"] = r;
+  }
 }
 
 void Model3D::before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out) {
@@ -547,7 +605,13 @@ std::string Model3D::final_line(const json& s) {
                 e["position_error_m"]["max"].get<double>(), e["attitude_error_rad"]["final"].get<double>(),
                 e["gravity_error_mps2"]["final"].get<double>(), e["gradient_error_ecef_E"]["final"].get<double>(),
                 e["gradient_error_ecef_E"]["max"].get<double>());
-  return b;
+  std::string line = b;
+  if (s.contains("unaided_reference")) {
+    std::snprintf(b, sizeof b, "; unaided on the same frames: position error %.3e m",
+                  s["unaided_reference"]["position_error_m"]["final"].get<double>());
+    line += b;
+  }
+  return line;
 }
 
 }  // namespace
@@ -558,7 +622,7 @@ int main(int argc, char** argv) {
   o.python = GGINS_PLOT_PYTHON;
   o.logger = GGINS_LCM_LOGGER;
   std::string scenario = "3d-stabilized-1h";
-  bool list = false, print_scenario = false, no_aids = false;
+  bool list = false, print_scenario = false, no_aids = false, no_reference = false;
   CLI::App app{
       "ggins run3d: fly one 3-D scenario (six tri-axis accelerometers, rotating WGS-84 Earth,\n"
       "stabilized or strapdown platform) against the 3-D firmware (nav3d.h).\n\n"
@@ -591,6 +655,10 @@ int main(int argc, char** argv) {
   app.add_flag("--no-aids", no_aids,
                "fly the scenario without its aids ([aid_ukf] off): the unaided reference of an aided flight\n"
                "(plot both on one figure: plot_run3d.py AIDED_DIR --unaided THIS_DIR)");
+  app.add_flag("--no-reference", no_reference,
+               "with an aid on: do not fly the unaided reference (by default the same task with every aid off\n"
+               "is stepped in this process on the same frames; summary.json \"unaided_reference\", CSV\n"
+               "unaided_err_*, drawn on errors.png)");
   app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
   bool print_defaults = false;
   app.add_flag("--print-scenario", print_scenario,
@@ -643,5 +711,5 @@ int main(int argc, char** argv) {
   // (every file it names absolute: it flies again from the output folder)
   const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
   return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
-                                           [&] { return std::make_unique<Model3D>(o, sc); });
+                                           [&] { return std::make_unique<Model3D>(o, sc, !no_reference); });
 }
