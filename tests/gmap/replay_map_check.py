@@ -89,6 +89,25 @@ def main():
     open(os.path.join(moved, "tile_45n10e.bin"), "wb").write(good)
     rc, txt, j = replay("--map-dir", moved)
     check(rc == 0 and j.get("bit_exact") is True, "--map-dir with the moved tile: bit-exact (exit %d)" % rc)
+    # the map built by run3d from the scenario's own field ([aid_ukf] map_from_field): the
+    # same flight, the tiles in the output folder recorded as one directory source, replayed
+    sc2 = os.path.join(w, "field.toml")
+    open(sc2, "w").write(open(sc).read().replace('map = "tiles/tile_45n10e.bin"', 'map_from_field = true'))
+    out2 = os.path.join(w, "run-field")
+    p = subprocess.run([a.ggins_run3d, "-s", sc2, "-o", out2, "--duration", "60", "--no-plots", "-q"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    s2 = json.load(open(os.path.join(out2, "summary.json"))) if os.path.exists(os.path.join(out2, "summary.json")) else {}
+    ms = s2.get("map_storage", [])
+    aid = [x for x in s2.get("aids", []) if x.get("name") == "aid_ukf"]
+    check(p.returncode == 0 and len(ms) == 1 and ms[0]["kind"] == "directory" and
+          ms[0]["path"] == os.path.join(os.path.abspath(out2), "maps", "aid_ukf") and ms[0]["tiles"] >= 1 and
+          len(aid) == 1 and aid[0]["updates"] >= 8 and aid[0]["no_map"] == 0,
+          "map_from_field: run3d built %s tile(s) in its output folder and the aid updated from them (exit %d)%s"
+          % (ms[0]["tiles"] if ms else None, p.returncode, "" if p.returncode == 0 else "\n" + p.stdout))
+    log = os.path.join(out2, "run.lcmlog")
+    rc, txt, j = replay()
+    check(rc == 0 and j.get("bit_exact") is True, "map_from_field: the replay with the tiles it built is bit-exact "
+          "(exit %d)" % rc)
     print("%d checks failed" % len(fails) if fails else "all checks passed")
     return 1 if fails else 0
 

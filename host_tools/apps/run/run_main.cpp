@@ -557,5 +557,5 @@ int main(int argc, char** argv) {
   // scenario.toml as flown: every key, the effective values (overrides applied)
   const std::string as_flown = ggins::truth::scenario_to_toml(sc);
   return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT_SCRIPT,
-                                           [&] { return std::make_unique<Model2D>(o, sc); });
+                                           [&](const fs::path&) { return std::make_unique<Model2D>(o, sc); });
 }

@@ -35,6 +35,7 @@
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
 #include "runner.hpp"
+#include "field_map.hpp"
 #include "map_storage.hpp"
 #include "pf3d.hpp"
 
@@ -56,15 +57,26 @@ class Model3D {
  public:
   using Task = ggins::hil::Task3D;
 
-  Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc, bool reference)
+  Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc, bool reference,
+          const std::filesystem::path& out)
       : opt_(o), sc_(sc), gen_(sc), reference_(reference && (sc.aid_ukf.enabled || sc.aid_pf.enabled)) {
     // the computer's map storage (map_storage.hpp): the map aid's tile files, then the
     // directory of the cold-atom aid's Gamma_zz tiles (pf3d.hpp)
     using ggins::run3d::MapSource;
     using ggins::run3d::SourceKind;
-    if (sc_.aid_ukf.enabled)
+    if (sc_.aid_ukf.enabled && sc_.aid_ukf.map_from_field) {  // tiles of the scenario's own field (field_map.hpp)
+      if (!opt_.quiet) std::fprintf(stderr, "%s: the map aid's tiles from the scenario's field ...\n", opt_.tool.c_str());
+      try {
+        field_map_ = ggins::run3d::build_field_map(gen_, sc_.duration_s, sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0, sc_.aid_ukf,
+                                                   fs::absolute(out / "maps" / "aid_ukf").lexically_normal());
+      } catch (const std::exception& e) {
+        throw Fail(e.what(), ggins::cli::kExitBadArgs);
+      }
+      sources_.push_back({field_map_.dir.string(), SourceKind::kDir});
+    } else if (sc_.aid_ukf.enabled) {
       for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         sources_.push_back({fs::absolute(p).lexically_normal().string(), SourceKind::kFile});
+    }
     if (sc_.aid_pf.enabled)
       sources_.push_back(
           {fs::absolute(ggins::truth3d::aid_pf_map_dir(sc_.aid_pf, sc_.source)).lexically_normal().string(), SourceKind::kDir});
@@ -133,6 +145,7 @@ class Model3D {
   std::vector<ggins::run3d::MapSource> sources_;     // the map storage's sources (map_storage.hpp)
   std::vector<ggins::run3d::SourceRecord> records_;  // and their records
   std::vector<std::string> maps_;                    // its tile files in load order
+  ggins::run3d::FieldMap field_map_;                 // [aid_ukf] map_from_field: the tiles built
   ggins::hil::LinkBase* link_ = nullptr;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
@@ -711,5 +724,5 @@ int main(int argc, char** argv) {
   // (every file it names absolute: it flies again from the output folder)
   const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
   return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
-                                           [&] { return std::make_unique<Model3D>(o, sc, !no_reference); });
+                                           [&](const std::filesystem::path& out) { return std::make_unique<Model3D>(o, sc, !no_reference, out); });
 }

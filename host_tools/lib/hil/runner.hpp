@@ -467,7 +467,8 @@ inline int finish_run(const RunOptions& o, const nlohmann::json& s, const std::s
 // The front-end's flight, once the scenario is loaded and its overrides applied:
 // the checks of the options that depend on each other, the output folder, the
 // scenario as flown (the file's text with `effective` set: report.hpp), the
-// model (make_model(), which may throw), the flight, the report, the plots.
+// model (make_model(out), which may throw; out: the output folder), the flight,
+// the report, the plots.
 template <class Model, class MakeModel>
 int fly_scenario(RunOptions& o, const std::string& name, const std::string& source, const std::string& text,
                  const nlohmann::json& effective, const std::string& plot_script, MakeModel&& make_model) {
@@ -497,7 +498,7 @@ int fly_scenario(RunOptions& o, const std::string& name, const std::string& sour
   nlohmann::json summary;
   try {
     write_effective_scenario(out / "scenario.toml", name, source, text, effective);
-    auto model = make_model();
+    auto model = make_model(out);
     Flight<Model> flight(o, *model, out);
     summary = flight.fly();
     write_json(out / "summary.json", summary);

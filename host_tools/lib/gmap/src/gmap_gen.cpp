@@ -6,6 +6,7 @@
 #include <fstream>
 #include <random>
 #include <stdexcept>
+#include <exception>
 #include <thread>
 
 #include "ggins/gravity/composite.hpp"
@@ -87,21 +88,28 @@ std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpe
   tile->seed = sp.seed;
   const int nth = std::max(1, sp.threads);
   std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> failed(static_cast<size_t>(nth));  // a worker's exception, for the caller
   for (int w = 0; w < nth; ++w) {
     pool.emplace_back([&, w] {
-      for (int i = w; i < nlat; i += nth) {  // one circle of latitude per row
-        const double lat = tile->lat0_rad + i * tile->dlat_rad;
-        const auto c = row(f, lat, sp.alt_m);
-        for (int j = 0; j < nlon; ++j) {
-          const double lon = tile->lon0_rad + j * tile->dlon_rad;
-          Mat3 dgh;
-          const gravity::FieldSample s = c->eval(lon, &dgh);
-          ned_values(s.gamma, dgh, lat, lon, tile->node[i * nlon + j]);
+      try {
+        for (int i = w; i < nlat; i += nth) {  // one circle of latitude per row
+          const double lat = tile->lat0_rad + i * tile->dlat_rad;
+          const auto c = row(f, lat, sp.alt_m);
+          for (int j = 0; j < nlon; ++j) {
+            const double lon = tile->lon0_rad + j * tile->dlon_rad;
+            Mat3 dgh;
+            const gravity::FieldSample s = c->eval(lon, &dgh);
+            ned_values(s.gamma, dgh, lat, lon, tile->node[i * nlon + j]);
+          }
         }
+      } catch (...) {
+        failed[static_cast<size_t>(w)] = std::current_exception();
       }
     });
   }
   for (auto& th : pool) th.join();
+  for (const auto& e : failed)
+    if (e) std::rethrow_exception(e);
   if (sp.noise_e > 0) {
     std::mt19937_64 rng(sp.seed);
     std::normal_distribution<double> nd(0.0, tile->noise_s2);

@@ -456,8 +456,14 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                                               ": must be <= aid_ukf.update_period_s");
   if (s.aid_pf.enabled && !s.coldatom.enabled)
     c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs [coldatom] enabled (its sensor)");
-  if (s.aid_ukf.enabled && s.aid_ukf.maps.empty())
-    c.fail_key(root, "aid_ukf.enabled", "aid_ukf.enabled needs aid_ukf.map (the onboard tiles)");
+  if (s.aid_ukf.enabled && s.aid_ukf.maps.empty() && !s.aid_ukf.map_from_field)
+    c.fail_key(root, "aid_ukf.enabled",
+               "aid_ukf.enabled needs aid_ukf.map (the onboard tiles) or aid_ukf.map_from_field = true");
+  if (s.aid_ukf.map_from_field && !s.aid_ukf.maps.empty())
+    c.fail_key(root, "aid_ukf.map_from_field", "aid_ukf: map_from_field and map exclude each other (one map storage)");
+  if (s.aid_ukf.map_from_field && s.aid_ukf.map_margin_deg < 2.0 * s.aid_ukf.map_spacing_deg)
+    c.fail_key(root, "aid_ukf.map_margin_deg", "aid_ukf.map_margin_deg = " + sch::num_text(s.aid_ukf.map_margin_deg) +
+                                                   ": must be >= 2 map_spacing_deg (tiles overlap by it)");
   if (!sch::detail::node_at(root, "firmware.fdi_parity_f_max_mps2")) {
     const auto& a = s.accel;
     const double sp = std::sqrt(a.bias_sigma_mps2 * a.bias_sigma_mps2 + a.noise_sigma_mps2 * a.noise_sigma_mps2 +

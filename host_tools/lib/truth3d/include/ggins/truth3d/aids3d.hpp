@@ -6,6 +6,9 @@
 //   enabled = true
 //   map = ["tile.bin", ...]    # gmap tiles (ggins gmap) for the computer's map storage;
 //                              # relative paths: from the scenario file's directory
+//   map_from_field = false     # or: tiles built by the runner from the scenario's own
+//                              # [gravity] field along the route, plus database noise
+//   map_spacing_deg = 0.02, map_margin_deg = 0.1, map_noise_E = 0.001, map_seed = 1
 //   update_period_s = 10.0     # between epochs
 //   max_passes = 4             # progressive update passes
 //   sigma_meas_E = 0.01        # gradiometer noise of a diagonal component (Gao: 0.01 E)
@@ -27,6 +30,7 @@
 //   q_gyro_bias_rps_rts, q_acc_bias_mps2_rts          # their random walks
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 #include <toml++/toml.h>
@@ -38,6 +42,12 @@ namespace ggins::truth3d {
 struct AidUkf3 {
   bool enabled = false;
   std::vector<std::string> maps;  // as written in the scenario
+  // the onboard map built from the scenario's field (ggins run3d: field_map.hpp)
+  bool map_from_field = false;
+  double map_spacing_deg = 0.02;  // node spacing in latitude and longitude
+  double map_margin_deg = 0.1;    // around the route, and the overlap of neighbouring tiles
+  double map_noise_E = 0.001;     // database noise added to each tensor component of a node
+  uint64_t map_seed = 1;
   double update_period_s = 10.0;
   int max_passes = 4;
   double sigma_meas_E = 0.01;
@@ -90,9 +100,19 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
     for (size_t i = 0; i < a.maps.size(); ++i) s += (i ? ", " : "") + sch::str_text(a.maps[i]);
     return s + "]";
   };
-  t.boolean("enabled", &A::enabled, "the aid runs (needs map)")
+  t.boolean("enabled", &A::enabled, "the aid runs (needs map or map_from_field)")
       .custom(map)
       .default_doc("map", "[] (none)")
+      .boolean("map_from_field", &A::map_from_field,
+               "the onboard map built by the runner from the scenario's own [gravity] field along the route "
+               "(tiles of the whole tensor and its height derivatives in <out>/maps/aid_ukf/, at the route's mean "
+               "height, plus database noise) instead of map files")
+      .num("map_spacing_deg", &A::map_spacing_deg, "deg", sch::in(0.001, 1), "map_from_field: node spacing")
+      .num("map_margin_deg", &A::map_margin_deg, "deg", sch::in(0, 5),
+           "map_from_field: margin around the route and overlap of neighbouring tiles")
+      .num("map_noise_E", &A::map_noise_E, "E", sch::in(0, 1e3),
+           "map_from_field: database noise, one sigma, on each tensor component of a node")
+      .seed("map_seed", &A::map_seed, "map_from_field: seed of the database noise")
       .num("update_period_s", &A::update_period_s, "s", sch::in_lopen(0, 1e6), "time between epochs")
       .integer("max_passes", &A::max_passes, "", sch::in(1, 100), "progressive update passes")
       .num("sigma_meas_E", &A::sigma_meas_E, "E", sch::in_lopen(0, 1e6),

@@ -1,0 +1,142 @@
+// The gradient-map aid's onboard map built from the scenario's own gravity field
+// ([aid_ukf] map_from_field): the runner writes gmap tiles (ggins/gmap_gen.hpp: the
+// tensor Gamma rotated into each node's NED frame and its height derivative, plus
+// database noise) over the route before the flight, into a directory that becomes one
+// source of the computer's map storage (map_storage.hpp: recorded with its digest, so a
+// replay loads the same tiles).
+//
+// Coverage: the route is sampled every 10 s (and at its end); the box of its latitudes
+// and longitudes, widened by map_margin_deg, is cut into tiles of at most
+// GG_GMAP_MAX_NODES nodes (n x n, n = floor(sqrt(max))) at map_spacing_deg that overlap
+// their neighbours by map_margin_deg; a tile no route sample comes within the margin of
+// is left out. The aid takes, at each epoch's start, the tile whose edge is farthest
+// from the position (hal_sim/hal_map.c), so within the overlap an epoch's sigma points
+// stay inside one tile. Height: the tiles are at the route's mid height and accept
+// |h - alt| up to half the route's height span + 300 m.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "ggins/gmap_gen.hpp"
+#include "ggins/truth3d/aids3d.hpp"
+#include "ggins/truth3d/generator3d.hpp"
+
+namespace ggins::run3d {
+
+// The scenario's field with third derivatives for the tiles' height derivatives: the
+// field's own where it has them, else central differences of its gradient 1 m either side
+// along each axis (truncation ~ (1 m)^2 d^5V, below 1e-20 s^-2/m at the Earth; rounding of
+// long-double gradients ~ 1e-22 s^-2 / 2 m).
+class ThirdByDifferences final : public gravity::Field {
+ public:
+  explicit ThirdByDifferences(const gravity::Field& f) : f_(f) {}
+  gravity::FieldSample eval(const gravity::Vec3& r_e) const override { return f_.eval(r_e); }
+  std::string name() const override { return f_.name(); }
+  bool third(const gravity::Vec3& r_e, gravity::Tensor3& t) const override {
+    if (f_.third(r_e, t)) return true;
+    const gravity::Real h = 1.0L;
+    for (int k = 0; k < 3; ++k) {
+      gravity::Vec3 e = gravity::Vec3::Zero();
+      e(k) = h;
+      t[static_cast<size_t>(k)] = (f_.eval(r_e + e).gamma - f_.eval(r_e - e).gamma) / (2.0L * h);
+    }
+    return true;
+  }
+
+ private:
+  const gravity::Field& f_;
+};
+
+struct FieldMap {
+  std::filesystem::path dir;  // the tiles, *.gmap in load order
+  int tiles = 0;
+  double lat_min_deg = 0, lat_max_deg = 0, lon_min_deg = 0, lon_max_deg = 0, alt_m = 0, h_range_m = 0;
+};
+
+inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_s, int nmax,
+                                const truth3d::AidUkf3& a, const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  const double deg = 180.0 / M_PI;
+  std::vector<std::array<double, 2>> pts;  // lat, lon (deg) of the route samples
+  double h_min = 1e300, h_max = -1e300;
+  const int64_t n = static_cast<int64_t>(std::ceil(duration_s / 10.0));
+  for (int64_t i = 0; i <= n; ++i) {
+    const double t = std::min(duration_s, 10.0 * static_cast<double>(i));
+    const truth3d::State3 s = gen.trajectory().at(static_cast<truth3d::Real>(t));
+    pts.push_back({static_cast<double>(s.lat) * deg, static_cast<double>(s.lon) * deg});
+    h_min = std::min(h_min, static_cast<double>(s.h));
+    h_max = std::max(h_max, static_cast<double>(s.h));
+  }
+  FieldMap fm;
+  fm.dir = dir;
+  fm.lat_min_deg = fm.lat_max_deg = pts[0][0];
+  fm.lon_min_deg = fm.lon_max_deg = pts[0][1];
+  for (const auto& p : pts) {
+    fm.lat_min_deg = std::min(fm.lat_min_deg, p[0]);
+    fm.lat_max_deg = std::max(fm.lat_max_deg, p[0]);
+    fm.lon_min_deg = std::min(fm.lon_min_deg, p[1]);
+    fm.lon_max_deg = std::max(fm.lon_max_deg, p[1]);
+  }
+  if (fm.lon_max_deg - fm.lon_min_deg > 180.0)
+    throw std::runtime_error("aid_ukf.map_from_field: the route crosses the antimeridian (longitudes " +
+                             std::to_string(fm.lon_min_deg) + " .. " + std::to_string(fm.lon_max_deg) +
+                             " deg); give map tiles instead");
+  const double m = a.map_margin_deg, d = a.map_spacing_deg;
+  fm.lat_min_deg -= m;
+  fm.lat_max_deg += m;
+  fm.lon_min_deg -= m;
+  fm.lon_max_deg += m;
+  if (fm.lat_min_deg < -89.0 || fm.lat_max_deg > 89.0)
+    throw std::runtime_error("aid_ukf.map_from_field: the route with its margin reaches beyond 89 deg of latitude");
+  fm.alt_m = 0.5 * (h_min + h_max);
+  fm.h_range_m = 0.5 * (h_max - h_min) + 300.0;
+  const int side = static_cast<int>(std::floor(std::sqrt(static_cast<double>(GG_GMAP_MAX_NODES))));
+  const double span = (side - 1) * d, stride = span - m;
+  if (!(stride > d)) throw std::runtime_error("aid_ukf.map_margin_deg is too wide for tiles of " + std::to_string(side) +
+                                              " x " + std::to_string(side) + " nodes at map_spacing_deg");
+  const ThirdByDifferences field(gen.field());
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+  for (double la = fm.lat_min_deg; la < fm.lat_max_deg - 1e-12; la += stride) {
+    for (double lo = fm.lon_min_deg; lo < fm.lon_max_deg - 1e-12; lo += stride) {
+      const double la1 = std::min(la + span, fm.lat_max_deg), lo1 = std::min(lo + span, fm.lon_max_deg);
+      bool near = false;  // a route sample within the margin of this tile
+      for (const auto& p : pts)
+        near = near || (p[0] >= la - m && p[0] <= la1 + m && p[1] >= lo - m && p[1] <= lo1 + m);
+      if (!near) continue;
+      gmap::TileSpec spec;
+      spec.lat_min_deg = la;
+      spec.lat_max_deg = std::max(la1, la + 3 * d);  // at least 4 nodes a side (gmap_gen)
+      spec.lon_min_deg = lo;
+      spec.lon_max_deg = std::max(lo1, lo + 3 * d);
+      spec.spacing_deg = d;
+      spec.alt_m = fm.alt_m;
+      spec.h_range_m = fm.h_range_m;
+      spec.nmax = nmax;
+      spec.noise_e = a.map_noise_E;
+      spec.seed = a.map_seed * 1000003ull + static_cast<uint64_t>(fm.tiles);
+      spec.threads = 1;
+      const auto tile = gmap::make_tile(field, spec);
+      const std::vector<std::uint8_t> bytes = gmap::encode(*tile);
+      char name[32];
+      std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
+      std::ofstream f(dir / name, std::ios::binary);
+      f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      if (!f) throw std::runtime_error("cannot write " + (dir / name).string());
+      ++fm.tiles;
+    }
+  }
+  if (fm.tiles == 0) throw std::runtime_error("aid_ukf.map_from_field: no tile along the route");
+  return fm;
+}
+
+}  // namespace ggins::run3d

@@ -1,0 +1,139 @@
+// The gradient-map aid's tiles built from a scenario's own field (ggins run3d,
+// [aid_ukf] map_from_field; host_tools/apps/run3d/field_map.hpp), against
+// independent truth:
+//   - every node of every tile against the exact EGM96 synthesis of ggins gmap
+//     (make_egm96_field: spherical harmonics with analytic third derivatives), where
+//     the scenario's field is its fast lattice of the same synthesis and the height
+//     derivatives are central differences;
+//   - the route covered: every point of it inside a tile by at least half the margin;
+//   - central-difference third derivatives against the point mass's closed form.
+// Skipped (77) without data/egm96_to360.ascii.txt.
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "field_map.hpp"
+#include "ggins/gmap_gen.hpp"
+#include "ggins/truth3d/generator3d.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
+
+// cmocka last: its fail() macro would rename the schema's fail()
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+extern "C" {
+#include <cmocka.h>
+}
+
+namespace fs = std::filesystem;
+namespace gm = ggins::gmap;
+namespace g = ggins::gravity;
+
+static const std::string kEgm = std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt";
+
+static void test_tiles_against_egm96(void** state) {
+  (void)state;
+  ggins::truth3d::Scenario3 sc = ggins::truth3d::load_scenario3("3d-route-45n-map", {GGINS_SCENARIO_DIR});
+  sc.sh.path = kEgm;
+  const ggins::truth3d::Generator3 gen(sc);
+  ggins::truth3d::AidUkf3 a;
+  a.map_from_field = true;
+  a.map_noise_E = 0.0;
+  a.map_spacing_deg = 0.02;
+  a.map_margin_deg = 0.1;
+  const fs::path dir = fs::temp_directory_path() / ("ggins-field-map-" + std::to_string(::getpid()));
+  const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen, sc.duration_s, 360, a, dir);
+  std::printf("field %s\n", gen.field().name().c_str());
+  std::printf("%d tiles, lat %.3f..%.3f lon %.3f..%.3f deg, alt %.1f m, h range %.1f m\n", fm.tiles, fm.lat_min_deg,
+              fm.lat_max_deg, fm.lon_min_deg, fm.lon_max_deg, fm.alt_m, fm.h_range_m);
+  assert_true(fm.tiles >= 1);
+  const auto exact = gm::make_egm96_field(kEgm, 360, false);
+  double worst = 0, worst_dh = 0, scale = 0;
+  std::vector<std::unique_ptr<gg_gmap_t>> tiles;
+  for (int k = 0; k < fm.tiles; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "tile_%04d.gmap", k);
+    tiles.push_back(gm::read_tile_file((dir / name).string()));
+    const gg_gmap_tile_t& t = tiles.back()->tile;
+    assert_true(t.nlat * t.nlon <= GG_GMAP_MAX_NODES);
+    assert_true(std::fabs(t.h0_m - fm.alt_m) < 1e-9);
+    for (int i = 0; i < t.nlat; i += 3)  // every third row and column: the same code at each node
+      for (int j = 0; j < t.nlon; j += 3) {
+        double ref[GG_GMAP_NVAL];
+        gm::node_values(*exact, t.lat0_rad + i * t.dlat_rad, t.lon0_rad + j * t.dlon_rad, t.h0_m, ref);
+        const double* v = t.node[i * t.nlon + j];
+        for (int c = 0; c < 6; ++c) {
+          worst = std::max(worst, std::fabs(v[c] - ref[c]));
+          worst_dh = std::max(worst_dh, std::fabs(v[6 + c] - ref[6 + c]));
+          scale = std::max(scale, std::fabs(ref[6 + c]));
+        }
+      }
+  }
+  std::printf("nodes against exact EGM96-360: max |dGamma| %.3e E, max |d(dGamma/dh)| %.3e E/m (largest %.3e E/m)\n",
+              worst * 1e9, worst_dh * 1e9, scale * 1e9);
+  // the map's own noise (Gao: 0.001 E) is the scale the aid is tuned for: the lattice must be
+  // far below it; the height term carries the gradient over |h - alt| <= h_range (~600 m here)
+  assert_true(worst * 1e9 < 1e-4);
+  assert_true(worst_dh * 1e9 * fm.h_range_m < 1e-4);
+  // coverage: every route point (1 s apart) inside some tile by at least half the margin
+  const double deg = 180.0 / M_PI, half = 0.5 * a.map_margin_deg;
+  for (int s = 0; s <= static_cast<int>(sc.duration_s); ++s) {
+    const auto st = gen.trajectory().at(static_cast<ggins::truth3d::Real>(s));
+    const double la = static_cast<double>(st.lat) * deg, lo = static_cast<double>(st.lon) * deg;
+    bool in = false;
+    for (const auto& tp : tiles) {
+      const gg_gmap_tile_t& t = tp->tile;
+      const double la0 = t.lat0_rad * deg, lo0 = t.lon0_rad * deg;
+      const double la1 = la0 + (t.nlat - 1) * t.dlat_rad * deg, lo1 = lo0 + (t.nlon - 1) * t.dlon_rad * deg;
+      in = in || (la >= la0 + half && la <= la1 - half && lo >= lo0 + half && lo <= lo1 - half);
+    }
+    if (!in) std::printf("t = %d s: %.4f, %.4f deg not inside a tile by %.3f deg\n", s, la, lo, half);
+    assert_true(in);
+  }
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
+// A field that hides its third derivatives.
+class NoThird final : public g::Field {
+ public:
+  g::FieldSample eval(const g::Vec3& r) const override { return p_.eval(r); }
+  std::string name() const override { return "point mass without third()"; }
+
+ private:
+  g::PointMassField p_;
+};
+
+static void test_third_by_differences(void** state) {
+  (void)state;
+  const NoThird f;
+  const ggins::run3d::ThirdByDifferences d(f);
+  const g::PointMassField exact;
+  const g::Vec3 r(4.1e6L, 1.3e6L, 4.7e6L);
+  g::Tensor3 td, te;
+  assert_true(d.third(r, td));
+  assert_true(exact.third(r, te));
+  long double worst = 0, big = 0;
+  for (int k = 0; k < 3; ++k) {
+    worst = std::max(worst, (td[static_cast<size_t>(k)] - te[static_cast<size_t>(k)]).cwiseAbs().maxCoeff());
+    big = std::max(big, te[static_cast<size_t>(k)].cwiseAbs().maxCoeff());
+  }
+  std::printf("central differences vs closed form: %.3Le of %.3Le s^-2/m\n", worst, big);
+  assert_true(worst < 1e-8L * big);
+}
+
+int main() {
+  if (!fs::exists(kEgm)) {
+    std::printf("no %s: skipped\n", kEgm.c_str());
+    return 77;
+  }
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_third_by_differences),
+      cmocka_unit_test(test_tiles_against_egm96),
+  };
+  return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
