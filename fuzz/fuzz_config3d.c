@@ -28,57 +28,11 @@
 #define FRAMES 8
 #define GR 1.5386e-6 /* GM / R^3 at the equator, s^-2: the reference gradient */
 
-static gg_gmap_tile_t g_tile;
-static gg_gmap_t g_map, g_map_gzz;
-
-static gg_status_t tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
-{
-    (void)ctx;
-    const gg_gmap_t *m = (kind == GG_GMAP_KIND_GZZ) ? &g_map_gzz : (kind == GG_GMAP_KIND_TENSOR) ? &g_map : NULL;
-    if (m == NULL) return GG_ERR_RANGE;
-    const gg_gmap_tile_t *t = &m->tile;
-    if (!(lat >= t->lat0_rad && lat <= t->lat0_rad + (t->nlat - 1) * t->dlat_rad &&
-          lon >= t->lon0_rad && lon <= t->lon0_rad + (t->nlon - 1) * t->dlon_rad))
-        return GG_ERR_RANGE;
-    *tile = m;
-    return GG_OK;
-}
-
-/* 4 x 4 nodes from -1.5 to 1.5 rad of latitude and -3.1 to 2.9 rad of
- * longitude, the point-mass gradient at the equator at every node */
+/* the map storage: 4 x 4 nodes from -1.5 to 1.5 rad of latitude and -3.1 to 2.9
+ * rad of longitude, the point-mass gradient at the equator at every node */
 static const gg_hal_t *map_hal(void)
 {
-    static gg_hal_map_t hm;
-    static gg_hal_t hal;
-    static int ready;
-    if (!ready) {
-        memset(&g_tile, 0, sizeof g_tile);
-        g_tile.nlat = 4;
-        g_tile.nlon = 4;
-        g_tile.lat0_rad = -1.5;
-        g_tile.lon0_rad = -3.1;
-        g_tile.dlat_rad = 1.0;
-        g_tile.dlon_rad = 2.0;
-        g_tile.h_range_m = 1e5;
-        for (int i = 0; i < 16; ++i) {
-            g_tile.node[i][GG_GMAP_C_NN] = -GR;
-            g_tile.node[i][GG_GMAP_C_EE] = -GR;
-            g_tile.node[i][GG_GMAP_C_DD] = 2.0 * GR;
-        }
-        if (gg_gmap_init(&g_map, &g_tile) != GG_OK) FAIL("the reference map tile is refused");
-        g_tile.flags = GG_GMAP_GZZ_ONLY;
-        for (int i = 0; i < 16; ++i) {
-            g_tile.node[i][GG_GMAP_C_NN] = 0.0;
-            g_tile.node[i][GG_GMAP_C_EE] = 0.0;
-        }
-        if (gg_gmap_init(&g_map_gzz, &g_tile) != GG_OK) FAIL("the reference Gamma_zz tile is refused");
-        hm.ctx = NULL;
-        hm.tile_at = tile_at;
-        memset(&hal, 0, sizeof hal);
-        hal.map = &hm;
-        ready = 1;
-    }
-    return &hal;
+    return fz_map_hal(4, -1.5, -3.1, 1.0, 2.0, 1e5, GR);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -108,9 +62,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         f.baro_status = GG_SENSOR_ABSENT;
         f.ca_status = GG_SENSOR_ABSENT;
         if (k == 0) {
-            const double kd = 4.0 * 3.14159265358979323846 / 852.347e-9 * 1.0 * 0.16 * 0.16;
-            f.ca_s[0] = 0.5 - 0.25 * cos(0.3);
-            f.ca_s[1] = 0.5 - 0.25 * cos(0.3 + kd * 2.0 * GR);
+            fz_fringe_pair(2.0 * GR, f.ca_s);
             f.ca_utime = f.utime;
             f.ca_status = GG_SENSOR_OK;
         }

@@ -228,10 +228,7 @@ static void ref_frame(int64_t k, gg_frame_t *f)
     f->ca_status = GG_SENSOR_ABSENT;
     if (k % SHOT_EVERY == 0) {
         /* a pair on the ellipse of the reference field's Gamma_zz (phase 0.3 rad) */
-        const double kd = 4.0 * 3.14159265358979323846 / 852.347e-9 * 1.0 * 0.16 * 0.16;
-        const double gzz = 2.0 * GM / (R0 * R0 * R0);
-        f->ca_s[0] = 0.5 - 0.25 * cos(0.3);
-        f->ca_s[1] = 0.5 - 0.25 * cos(0.3 + kd * gzz);
+        fz_fringe_pair(2.0 * GM / (R0 * R0 * R0), f->ca_s);
         f->ca_utime = f->utime;
         f->ca_status = GG_SENSOR_OK;
     }
@@ -241,58 +238,9 @@ static void ref_frame(int64_t k, gg_frame_t *f)
  * (0, 0), the point-mass gradient in NED axes, constant over the tile: the
  * whole tensor (the map UKF's kind) and Gamma_DD alone (GG_GMAP_GZZ_ONLY, the
  * cold-atom aid's kind) */
-static gg_gmap_tile_t g_tile, g_tile_gzz;
-static gg_gmap_t g_map, g_map_gzz;
-static int g_map_ok;
-
-static gg_status_t tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
-{
-    (void)ctx;
-    const gg_gmap_t *m = (kind == GG_GMAP_KIND_GZZ) ? &g_map_gzz : (kind == GG_GMAP_KIND_TENSOR) ? &g_map : NULL;
-    if (m == NULL) return GG_ERR_RANGE;
-    const gg_gmap_tile_t *t = &m->tile;
-    if (!(lat >= t->lat0_rad && lat <= t->lat0_rad + (t->nlat - 1) * t->dlat_rad &&
-          lon >= t->lon0_rad && lon <= t->lon0_rad + (t->nlon - 1) * t->dlon_rad))
-        return GG_ERR_RANGE;
-    *tile = m;
-    return GG_OK;
-}
-
 static const gg_hal_t *map_hal(void)
 {
-    static gg_hal_map_t hm;
-    static gg_hal_t hal;
-    if (!g_map_ok) {
-        const double gr = GM / (R0 * R0 * R0);
-        memset(&g_tile, 0, sizeof g_tile);
-        g_tile.nlat = 8;
-        g_tile.nlon = 8;
-        g_tile.dlat_rad = 2e-4;
-        g_tile.dlon_rad = 2e-4;
-        g_tile.lat0_rad = -3.5 * g_tile.dlat_rad;
-        g_tile.lon0_rad = -3.5 * g_tile.dlon_rad;
-        g_tile.h0_m = 0.0;
-        g_tile.h_range_m = 1000.0;
-        for (int i = 0; i < 64; ++i) {
-            g_tile.node[i][GG_GMAP_C_NN] = -gr;
-            g_tile.node[i][GG_GMAP_C_EE] = -gr;
-            g_tile.node[i][GG_GMAP_C_DD] = 2.0 * gr;
-        }
-        if (gg_gmap_init(&g_map, &g_tile) != GG_OK) FAIL("the reference map tile is refused");
-        memcpy(&g_tile_gzz, &g_tile, sizeof g_tile_gzz);
-        g_tile_gzz.flags = GG_GMAP_GZZ_ONLY;
-        for (int i = 0; i < 64; ++i) {
-            g_tile_gzz.node[i][GG_GMAP_C_NN] = 0.0;
-            g_tile_gzz.node[i][GG_GMAP_C_EE] = 0.0;
-        }
-        if (gg_gmap_init(&g_map_gzz, &g_tile_gzz) != GG_OK) FAIL("the reference Gamma_zz tile is refused");
-        hm.ctx = NULL;
-        hm.tile_at = tile_at;
-        memset(&hal, 0, sizeof hal);
-        hal.map = &hm;
-        g_map_ok = 1;
-    }
-    return &hal;
+    return fz_map_hal(8, -3.5 * 2e-4, -3.5 * 2e-4, 2e-4, 2e-4, 1000.0, GM / (R0 * R0 * R0));
 }
 
 static void change_frame(gg_frame_t *f, fz_cur_t *cur)

@@ -1,6 +1,7 @@
 /* Shared by the 3-D libFuzzer harnesses (fuzz_nav3d, fuzz_config3d): the
- * finding macro and the "nothing non-finite" checks of the 3-D task's output
- * and state. */
+ * finding macro, the "nothing non-finite" checks of the 3-D task's output
+ * and state, the map storage of a uniform field (one tile of each kind) and
+ * the cold-atom fringe pair of a given Gamma_zz. */
 #ifndef GGINS_FUZZ_NAV3D_CHECKS_H
 #define GGINS_FUZZ_NAV3D_CHECKS_H
 
@@ -9,6 +10,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include <string.h>
+
+#include "ggins/gmap.h"
+#include "ggins/hal.h"
 #include "ggins/nav3d.h"
 
 #define FAIL(...)                                                   \
@@ -55,6 +60,80 @@ static void check_state(const gg_nav3d_t *nav)
     }
     for (int j = 0; j < 4; ++j)
         if (!isfinite(nav->q_b_i[j])) FAIL("non-finite attitude in the 3-D state");
+}
+
+/* The map storage: one tile of each kind (the whole tensor for the map UKF,
+ * Gamma_DD alone, GG_GMAP_GZZ_ONLY, for the cold-atom aid) of n x n nodes from
+ * (lat0, lon0) at spacing (dlat, dlon) rad, every node the point-mass gradient
+ * gr = GM / r^3 in NED axes (-gr, -gr, 2 gr), accepted within h_range of
+ * height 0. Built on the first call; a later call returns the same storage. */
+static struct {
+    gg_gmap_tile_t tile, tile_gzz;
+    gg_gmap_t map, map_gzz;
+    gg_hal_map_t hm;
+    gg_hal_t hal;
+    int ready;
+} g_fz_storage;
+
+static gg_status_t fz_tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
+{
+    (void)ctx;
+    const gg_gmap_t *m = (kind == GG_GMAP_KIND_GZZ)      ? &g_fz_storage.map_gzz
+                         : (kind == GG_GMAP_KIND_TENSOR) ? &g_fz_storage.map
+                                                         : NULL;
+    if (m == NULL) return GG_ERR_RANGE;
+    const gg_gmap_tile_t *t = &m->tile;
+    if (!(lat >= t->lat0_rad && lat <= t->lat0_rad + (t->nlat - 1) * t->dlat_rad &&
+          lon >= t->lon0_rad && lon <= t->lon0_rad + (t->nlon - 1) * t->dlon_rad))
+        return GG_ERR_RANGE;
+    *tile = m;
+    return GG_OK;
+}
+
+static const gg_hal_t *fz_map_hal(int n, double lat0, double lon0, double dlat, double dlon, double h_range,
+                                  double gr)
+{
+    if (!g_fz_storage.ready) {
+        gg_gmap_tile_t *t = &g_fz_storage.tile;
+        memset(t, 0, sizeof *t);
+        t->nlat = n;
+        t->nlon = n;
+        t->lat0_rad = lat0;
+        t->lon0_rad = lon0;
+        t->dlat_rad = dlat;
+        t->dlon_rad = dlon;
+        t->h_range_m = h_range;
+        for (int i = 0; i < n * n; ++i) {
+            t->node[i][GG_GMAP_C_NN] = -gr;
+            t->node[i][GG_GMAP_C_EE] = -gr;
+            t->node[i][GG_GMAP_C_DD] = 2.0 * gr;
+        }
+        if (gg_gmap_init(&g_fz_storage.map, t) != GG_OK) FAIL("the reference map tile is refused");
+        memcpy(&g_fz_storage.tile_gzz, t, sizeof *t);
+        g_fz_storage.tile_gzz.flags = GG_GMAP_GZZ_ONLY;
+        for (int i = 0; i < n * n; ++i) {
+            g_fz_storage.tile_gzz.node[i][GG_GMAP_C_NN] = 0.0;
+            g_fz_storage.tile_gzz.node[i][GG_GMAP_C_EE] = 0.0;
+        }
+        if (gg_gmap_init(&g_fz_storage.map_gzz, &g_fz_storage.tile_gzz) != GG_OK)
+            FAIL("the reference Gamma_zz tile is refused");
+        g_fz_storage.hm.ctx = NULL;
+        g_fz_storage.hm.tile_at = fz_tile_at;
+        memset(&g_fz_storage.hal, 0, sizeof g_fz_storage.hal);
+        g_fz_storage.hal.map = &g_fz_storage.hm;
+        g_fz_storage.ready = 1;
+    }
+    return &g_fz_storage.hal;
+}
+
+/* A cold-atom fringe pair on the ellipse of Gamma_zz = gzz (s^-2), phase 0.3
+ * rad: the two interferometers' populations for the default geometry (852.347 nm
+ * Raman light, 1 m separation, T = 0.16 s: k_eff d T^2 per s^-2). */
+static void fz_fringe_pair(double gzz, double s[2])
+{
+    const double kd = 4.0 * 3.14159265358979323846 / 852.347e-9 * 1.0 * 0.16 * 0.16;
+    s[0] = 0.5 - 0.25 * cos(0.3);
+    s[1] = 0.5 - 0.25 * cos(0.3 + kd * gzz);
 }
 
 #endif
