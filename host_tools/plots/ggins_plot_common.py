@@ -92,6 +92,25 @@ def read_run(out):
     return d, s
 
 
+def error_model(out, csv_name, t_s):
+    """The error model's covariance that `ggins run` / `ggins run3d` computed for the plots
+    (OUTPUT_DIR/covariance/csv_name): its columns interpolated onto the flight's times t_s
+    (NaN outside), and "" -- or None and why it is missing (the last line of
+    covariance/covariance.log, e.g. a field the model does not cover)."""
+    import os
+
+    import numpy as np
+
+    path = os.path.join(out, "covariance", csv_name)
+    if os.path.exists(path):
+        c = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
+        return {k: np.interp(t_s, c["t_s"], c[k], left=np.nan, right=np.nan) for k in c.dtype.names if k != "t_s"}, ""
+    log = os.path.join(out, "covariance", "covariance.log")
+    why = [x.strip() for x in open(log) if x.strip()] if os.path.exists(log) else []
+    # "ggins-covariance: <file>: gravity.model 'rw-anomaly' not supported ...": the reason alone
+    return None, (why[-1].split(": ", 2)[-1] if why else "the error model was not computed")
+
+
 def time_axis(t_s):
     """Time in the unit that suits the flight's length: (values, axis label)."""
     import numpy as np

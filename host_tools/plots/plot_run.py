@@ -21,7 +21,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ggins_plot_common import FRAME_2D, envelope, read_run, run_title, time_axis  # noqa: E402
+from ggins_plot_common import FRAME_2D, envelope, error_model, read_run, run_title, time_axis  # noqa: E402
 
 
 def plot_vertical(out, d, s, t, tl, title):
@@ -116,19 +116,13 @@ def main():
     out = a.out
     d, s = read_run(out)
     t, tl = time_axis(d["t_s"])
-    cov = None
-    no_cov = "the 2-D navigator outputs none and ggins covariance was not run (--covariance adds its envelope)"
-    own = os.path.join(out, "covariance", "covariance.csv")
-    if not a.covariance and os.path.exists(own):
-        a.covariance = own
-    elif not a.covariance and os.path.exists(os.path.join(out, "covariance", "covariance.log")):
-        why = [x.strip() for x in open(os.path.join(out, "covariance", "covariance.log")) if x.strip()]
-        if why:  # "ggins-covariance: scenario.toml: gravity.model 'rw-anomaly' not supported ..."
-            no_cov = "ggins covariance: " + why[-1].split(": ", 2)[-1]
     if a.covariance:
         c = np.atleast_1d(np.genfromtxt(a.covariance, delimiter=",", names=True))
         tc = c["t_s"]
         cov = {k: np.interp(d["t_s"], tc, c[k], left=np.nan, right=np.nan) for k in c.dtype.names if k != "t_s"}
+        no_cov = ""
+    else:
+        cov, no_cov = error_model(out, "covariance.csv", d["t_s"])
     rows = [("err_r", "m", 1.0, "position error", "m", "err_r_norm_m", ("x_m", "z_m")),
             ("err_v", "mps", 1.0, "velocity error", "m/s", "err_v_norm_mps", ("vx_mps", "vz_mps")),
             ("err_g", "mps2", 1.0, "gravity error", "m/s$^2$", "err_g_norm_mps2", ("gx_mps2", "gz_mps2"))]
@@ -147,7 +141,8 @@ def main():
     axs[-1].set_xlabel(tl)
     title = run_title(s, "ggins run: " + os.path.basename(out))
     fig.suptitle(title + "\nnavigation - truth, %s" % FRAME_2D
-                 + ("" if cov is not None else "\n(no covariance envelope: %s)" % no_cov), fontsize=9)
+                 + ("" if cov is not None else "\n(no covariance envelope: ggins covariance: %s)" % no_cov),
+                 fontsize=9)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "errors.png"), dpi=110)
     plt.close(fig)

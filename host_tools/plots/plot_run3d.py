@@ -28,7 +28,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from ggins_plot_common import FRAME_3D, envelope, log_line, read_run, run_title, time_axis  # noqa: E402
+from ggins_plot_common import FRAME_3D, envelope, error_model, log_line, read_run, run_title, time_axis  # noqa: E402
 
 NED = (("n", "north"), ("e", "east"), ("d", "down"))
 
@@ -44,19 +44,16 @@ def main():
     fig, axs = plt.subplots(4, 1, figsize=(9, 12), sharex=True)
     ax = axs[0]
     no_env = ""
-    cov3 = os.path.join(a.out, "covariance", "covariance3d.csv")
     if "aid_sig_r_rss_m" in d.dtype.names:
         envelope(ax, t, d["aid_sig_r_rss_m"], label="aid 1σ envelope (RSS of its position sigmas)", color="0.4",
                  log=True)
-    elif os.path.exists(cov3):
-        c = np.atleast_1d(np.genfromtxt(cov3, delimiter=",", names=True))
-        rss = np.sqrt(c["rn_m"] ** 2 + c["re_m"] ** 2 + c["rd_m"] ** 2)
-        envelope(ax, t, np.interp(d["t_s"], c["t_s"], rss, left=np.nan, right=np.nan),
-                 label="error model 1σ (ggins covariance3d, RSS of N, E, D)", color="0.4", log=True)
     else:
-        log = os.path.join(a.out, "covariance", "covariance.log")
-        why = [x.strip() for x in open(log) if x.strip()] if os.path.exists(log) else []
-        no_env = "; no covariance envelope" + (": " + why[-1].split(": ", 2)[-1] if why else "")
+        cov, why = error_model(a.out, "covariance3d.csv", d["t_s"])
+        if cov is not None:
+            envelope(ax, t, np.sqrt(cov["rn_m"] ** 2 + cov["re_m"] ** 2 + cov["rd_m"] ** 2),
+                     label="error model 1σ (ggins covariance3d, RSS of N, E, D)", color="0.4", log=True)
+        else:
+            no_env = "; no covariance envelope: " + why
     for c, (k, lab) in enumerate(NED):
         log_line(ax, t, d["err_%s_m" % k], "|%s|" % lab, "C%d" % c)
     log_line(ax, t, d["err_r_m"], "|dr| " + ("aided (%s)" % ", ".join(aids) if aids else ""), "k", lw=1.2)

@@ -89,7 +89,7 @@ class Model2D {
   void end() { csv_.close(); }
   void report(json& s);
   static std::string final_line(const json& s);
-  static void before_plots(const ggins::hil::RunOptions& o, const fs::path& out);
+  static void before_plots(const ggins::hil::RunOptions& o, const fs::path& out, const json& summary);
 
  private:
   const ggins::hil::RunOptions& opt_;
@@ -423,7 +423,7 @@ void Model2D::report(json& s) {
 
 // The plots' one-sigma envelopes: Welker et al.'s error model along the same trajectory
 // (ggins covariance on the scenario as flown, covariance/ beside the flight's files).
-void Model2D::before_plots(const ggins::hil::RunOptions& o, const fs::path& out) {
+void Model2D::before_plots(const ggins::hil::RunOptions& o, const fs::path& out, const json&) {
   ggins::hil::error_model_covariance(o, out, "ggins-covariance");
 }
 

@@ -66,13 +66,14 @@ class Model3D {
     using ggins::run3d::SourceKind;
     if (sc_.aid_ukf.enabled && sc_.aid_ukf.map_from_field) {  // tiles of the scenario's own field (field_map.hpp)
       if (!opt_.quiet) std::fprintf(stderr, "%s: the map aid's tiles from the scenario's field ...\n", opt_.tool.c_str());
+      const fs::path dir = fs::absolute(out / "maps" / "aid_ukf").lexically_normal();
+      const int nmax = sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0;  // tile metadata
       try {
-        field_map_ = ggins::run3d::build_field_map(gen_, sc_.duration_s, sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0, sc_.aid_ukf,
-                                                   fs::absolute(out / "maps" / "aid_ukf").lexically_normal());
+        ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, sc_.aid_ukf, dir);
       } catch (const std::exception& e) {
         throw Fail(e.what(), ggins::cli::kExitBadArgs);
       }
-      sources_.push_back({field_map_.dir.string(), SourceKind::kDir});
+      sources_.push_back({dir.string(), SourceKind::kDir});
     } else if (sc_.aid_ukf.enabled) {
       for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         sources_.push_back({fs::absolute(p).lexically_normal().string(), SourceKind::kFile});
@@ -131,7 +132,7 @@ class Model3D {
   static std::string final_line(const json& s);
   // The plots' envelopes: with an aid on, the covariance the task itself outputs (the aid's);
   // without, the 3-D error model on the same trajectory (ggins covariance3d, covariance/).
-  static void before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out);
+  static void before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out, const json& summary);
 
  private:
   void consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos);
@@ -145,7 +146,6 @@ class Model3D {
   std::vector<ggins::run3d::MapSource> sources_;     // the map storage's sources (map_storage.hpp)
   std::vector<ggins::run3d::SourceRecord> records_;  // and their records
   std::vector<std::string> maps_;                    // its tile files in load order
-  ggins::run3d::FieldMap field_map_;                 // [aid_ukf] map_from_field: the tiles built
   ggins::hil::LinkBase* link_ = nullptr;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
@@ -595,15 +595,8 @@ void Model3D::report(json& s) {
   }
 }
 
-void Model3D::before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out) {
-  json s;
-  try {
-    std::ifstream f(out / "summary.json");
-    s = json::parse(f);
-  } catch (const std::exception&) {
-    return;
-  }
-  if (s.contains("aids") && s["aids"].is_array() && !s["aids"].empty()) return;
+void Model3D::before_plots(const ggins::hil::RunOptions& o, const std::filesystem::path& out, const json& summary) {
+  if (summary.contains("aids") && !summary["aids"].empty()) return;
   ggins::hil::error_model_covariance(o, out, "ggins-covariance3d");
 }
 

@@ -24,7 +24,8 @@
 //   std::string truth_channel(); int64_t truth_published();   the truth messages on the bus
 //   double progress_error_m();                      the latest |dr| for the progress line
 //   static std::string final_line(const nlohmann::json& s);   the one-line result
-//   static void before_plots(const RunOptions& o, const std::filesystem::path& out);
+//   static void before_plots(const RunOptions& o, const std::filesystem::path& out,
+//                            const nlohmann::json& summary);
 //                                                   what the plots need beyond the flight's
 //                                                   files (run before the plot script)
 #pragma once
@@ -509,7 +510,7 @@ int fly_scenario(RunOptions& o, const std::string& name, const std::string& sour
     std::fprintf(stderr, "%s: %s\n", tool, e.what());
     return ggins::cli::kExitFailed;
   }
-  if (!o.no_plots && !interrupted()) Model::before_plots(o, out);
+  if (!o.no_plots && !interrupted()) Model::before_plots(o, out, summary);
   return finish_run(o, summary, plot_script, Model::final_line(summary));
 }
 

@@ -105,7 +105,7 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
       .default_doc("map", "[] (none)")
       .boolean("map_from_field", &A::map_from_field,
                "the onboard map built by the runner from the scenario's own [gravity] field along the route "
-               "(tiles of the whole tensor and its height derivatives in <out>/maps/aid_ukf/, at the route's mean "
+               "(tiles of the whole tensor and its height derivatives in <out>/maps/aid_ukf/, at the route's mid "
                "height, plus database noise) instead of map files")
       .num("map_spacing_deg", &A::map_spacing_deg, "deg", sch::in(0.001, 1), "map_from_field: node spacing")
       .num("map_margin_deg", &A::map_margin_deg, "deg", sch::in(0, 5),
