@@ -28,6 +28,7 @@ static void fuzz_config(gg_nav2d_config_t *c)
     c->asym_max = 1e-6;
     c->fdi_parity_f_max = 1e-11;
     c->fdi_asym_max = 1e-11;
+    c->acc_frozen_frames = 5; /* frozen-reading monitor on (navtask.h) */
 }
 
 #define FUZZ_FAIL(...)                                    \

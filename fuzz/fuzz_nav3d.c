@@ -8,7 +8,9 @@
  *   byte 1    aiding sources: bit 0 the gradient-map UKF (aid_mmukf.h), bit 1
  *             the cold-atom particle filter (aid_pf.h), bit 2 the filter's
  *             velocity feedback, bit 3 its INS process model, bit 4 the UKF's
- *             NIS gate; both read one map storage of a single tile (the
+ *             NIS gate, bit 5 the frozen-reading monitor (4 frames: the
+ *             reference readings at rest are constant, so every reading
+ *             is set aside from the 4th frame on); both read one map storage of a single tile (the
  *             reference field at rest: the point-mass gradient, constant over
  *             the tile; a tensor tile and a Gamma_zz-only one, each aid served
  *             its kind), handed to the task through the HAL
@@ -157,6 +159,7 @@ static void ref_config(gg_nav3d_config_t *c, uint8_t sel, uint8_t aid)
     c->baro.alt_max_m = 30000.0;
     c->baro.gate_m = 50.0;
     c->baro.max_rejects = 10;
+    c->acc_frozen_frames = (aid & 32u) ? 4 : 0;
 }
 
 /* pointers to the configuration's numbers the fuzzer may change */

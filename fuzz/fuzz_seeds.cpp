@@ -30,7 +30,8 @@ static void put(const fs::path& p, const std::vector<uint8_t>& b) {
 
 // fuzz_nav3d.c's ref_config and ref_aids as a message (sel: bit 0 strapdown, bit 1
 // gravity model, bit 2 barometer, bit 3 fault detection; aid: bit 0 map UKF, bit 1
-// particle filter, bit 2 its velocity feedback, bit 3 its INS model, bit 4 NIS gate)
+// particle filter, bit 2 its velocity feedback, bit 3 its INS model, bit 4 NIS gate, bit 5
+// the frozen-reading monitor)
 static std::vector<uint8_t> config3d(unsigned sel, unsigned aid) {
   const double gm = 3.986004418e14, r0 = 6378137.0;
   ggins::nav3d_config_t c{};
@@ -77,6 +78,7 @@ static std::vector<uint8_t> config3d(unsigned sel, unsigned aid) {
   c.aid_mm_q_att_rad_rts = 1e-9;
   c.aid_mm_q_g_mps2_rts = 1e-9;
   c.aid_mm_gate_nis = (aid & 16u) ? 30.0 : 0.0;
+  c.acc_frozen_frames = (aid & 32u) ? 4 : 0;
   c.aid_mm_average_steps = 4;
   c.aid_mm_sigma_gyro_rps = 1e-8;
   c.aid_pf_enable = (aid & 2u) ? 1 : 0;
@@ -189,7 +191,7 @@ int main(int argc, char** argv) {
   fs::create_directories(dir / "config3d");
   int n3 = 0;
   for (unsigned sel : {0x0u, 0x1u, 0x2u, 0x4u, 0x8u, 0xfu})
-    for (unsigned aid : {0x00u, 0x01u, 0x02u, 0x1fu}) {
+    for (unsigned aid : {0x00u, 0x01u, 0x02u, 0x1fu, 0x20u}) {
       char name[32];
       std::snprintf(name, sizeof name, "ref-%02x-%02x", sel, aid);
       put(dir / "config3d" / name, config3d(sel, aid));

@@ -48,6 +48,7 @@ void ggins_config_from_lcm(const ggins_nav2d_config_t *m, gg_nav2d_config_t *c)
     c->gravdr_trapezoid_only = m->gravdr_trapezoid_only;
     c->fdi_parity_f_max = m->fdi_parity_f_max;
     c->fdi_asym_max = m->fdi_asym_max;
+    c->acc_frozen_frames = m->acc_frozen_frames;
     c->gravity_mode = m->gravity_mode;
     c->model.gm = (gg_real_t)m->model_gm_hi + (gg_real_t)m->model_gm_lo;
     c->model.a_m = (gg_real_t)m->model_a_m;

@@ -19,6 +19,7 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->f_max = m->f_max;
     c->asym_max = m->asym_max;
     c->fdi_parity_f_max = m->fdi_parity_f_max;
+    c->acc_frozen_frames = m->acc_frozen_frames;
     c->gravity_mode = m->gravity_mode;
     c->model.gm = (gg_real_t)m->model_gm_hi + (gg_real_t)m->model_gm_lo;
     c->model.a_m = (gg_real_t)m->model_a_m;

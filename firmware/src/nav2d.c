@@ -97,6 +97,10 @@ gg_status_t gg_nav2d_init(gg_nav2d_t *nav, const gg_nav2d_config_t *cfg)
     if (st != GG_OK) {
         return st;
     }
+    st = gg_task_frozen_init(&nav->frozen, cfg->acc_frozen_frames);
+    if (st != GG_OK) {
+        return st;
+    }
     nav->state_step = 0;
     nav->state_clock_us = 0;
     nav->input_step = 0;
@@ -121,6 +125,7 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
 {
     uint32_t h = 0U;
     uint32_t kb = 0U;
+    const uint32_t frozen = gg_task_frozen_check(&nav->frozen, fr, N_ACC_2D);
     int32_t i;
     if ((fr->n_acc < N_ACC_2D) || (fr->n_acc > GG_MAX_ACC)) {
         h |= GG_HEALTH_ACC_SENSOR;
@@ -139,6 +144,15 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
         h |= hx | hz;
         kb |= (hx != 0U) ? GG_FDI_BIT(i, 0) : 0U;
         kb |= (hz != 0U) ? GG_FDI_BIT(i, 1) : 0U;
+        /* a stuck reading (frozen-reading monitor, bit 3 i + axis) is set aside */
+        if ((frozen & (1U << ((3U * (uint32_t)i) + AX_X))) != 0U) {
+            h |= GG_HEALTH_ACC_FROZEN;
+            kb |= GG_FDI_BIT(i, 0);
+        }
+        if ((frozen & (1U << ((3U * (uint32_t)i) + AX_Z))) != 0U) {
+            h |= GG_HEALTH_ACC_FROZEN;
+            kb |= GG_FDI_BIT(i, 1);
+        }
     }
     *known_bad = kb;
     return h;
@@ -660,6 +674,7 @@ gg_status_t gg_nav2d_step(gg_nav2d_t *nav, const gg_frame_t *frame, const gg_hal
         }
         nav->started = 1;
         nav->input_step = fstep;
+        gg_task_frozen_commit(&nav->frozen, frame, N_ACC_2D);
     } else {
         nav->fdi = fdi_saved;
         health |= GG_HEALTH_FRAME_REJECTED;

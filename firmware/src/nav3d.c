@@ -157,6 +157,9 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
             st = gg_fdi3d_init(&nav->fdi, &fc);
         }
     }
+    if (st == GG_OK) {
+        st = gg_task_frozen_init(&nav->frozen, cfg->acc_frozen_frames);
+    }
     if (st != GG_OK) {
         return st;
     }
@@ -178,6 +181,7 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, uint
 {
     uint32_t h = 0U;
     uint32_t kb = 0U;
+    const uint32_t frozen = gg_task_frozen_check(&nav->frozen, fr, N_ACC_3D);
     int32_t i;
     int32_t j;
     *whole = 1;
@@ -195,6 +199,10 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, uint
             const uint32_t hr = gg_task_check_reading(fr->f[i][j], fr->f_lo[i][j], nav->cfg.f_max);
             h |= hr;
             if ((hr != 0U) || (sensor_bad != 0)) {
+                kb |= GG_FDI3D_BIT(i, j);
+            }
+            if ((frozen & GG_FDI3D_BIT(i, j)) != 0U) {
+                h |= GG_HEALTH_ACC_FROZEN; /* stuck (navtask.h): set aside */
                 kb |= GG_FDI3D_BIT(i, j);
             }
         }
@@ -898,6 +906,69 @@ static void n3_parity(const gg_nav3d_t *nav, const step_in_t *in, gg_real_t p[4]
     p[3] = in->trace;
 }
 
+/* A frame's readings through fault isolation (nav->fdi, which on entry is
+ * *fdi_before) and differencing: *fixed = the frame with its unusable readings
+ * rebuilt, *in = the differenced gradient and centre force. Returns the
+ * readings' status; ORs their health bits into *health (whose validation bits
+ * on entry name the readings' own fault) and sets *rebuilt. */
+static gg_status_t n3_read(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_fdi3d_t *fdi_before,
+                           uint32_t known_bad, const gg_real_t w_now[3], const gg_real_t *wd_p,
+                           gg_frame_t *fixed, step_in_t *in, uint32_t *health, uint32_t *rebuilt)
+{
+    gg_status_t st_read;
+    gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0U, 0U, 0.0L};
+    *fixed = *frame;
+    st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed->f, fixed->f_lo, &fo);
+    if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_GRAD) != 0U) &&
+        (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) && (nav->started != 0)) {
+        /* gravity-model mode: what cannot be rebuilt comes from the model */
+        gg_real_t mp[3][3];
+        gg_fdi3d_t fdi_model;
+        fdi_model = *fdi_before; /* the state before the step */
+        if ((n3_model_prior(nav, w_now, wd_p, mp) == GG_OK) &&
+            (gg_fdi3d_set_prior(&fdi_model, mp) == GG_OK)) {
+            nav->fdi = fdi_model;
+            *fixed = *frame;
+            st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed->f, fixed->f_lo, &fo);
+            if (gg_fdi3d_set_prior(&nav->fdi, NULL) != GG_OK) {
+                st_read = GG_ERR_NULL; /* not reached: the state is there */
+            }
+        }
+    }
+    *rebuilt = fo.rebuilt;
+    if ((fo.flags & GG_FDI3D_DETECTED) != 0U) {
+        *health |= GG_HEALTH_ACC_FAULT;
+    }
+    if ((st_read == GG_OK) && ((fo.flags & (GG_FDI3D_PAIR | GG_FDI3D_HOLD_GRAD)) != 0U)) {
+        *health |= GG_HEALTH_GRAD_COAST;
+    }
+    if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_DEGRADED) != 0U)) {
+        *health |= GG_HEALTH_ACC_DEGRADED;
+    }
+    if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_FORCE) != 0U)) {
+        *health |= GG_HEALTH_FORCE_COAST;
+    }
+    if (st_read != GG_OK) {
+        /* the readings' own fault, as the health word says */
+        if ((*health & GG_HEALTH_ACC_NONFINITE) != 0U) {
+            st_read = GG_ERR_NONFINITE;
+        } else if ((*health & GG_HEALTH_ACC_RANGE) != 0U) {
+            st_read = GG_ERR_RANGE;
+        } else {
+            st_read = GG_ERR_SENSOR; /* flagged bad, or a fault parity cannot isolate */
+        }
+    } else {
+        if (*rebuilt != 0U) {
+            *health |= GG_HEALTH_ACC_REBUILT;
+        }
+        st_read = difference(nav, fixed, in);
+        if (st_read == GG_ERR_RANGE) {
+            *health |= GG_HEALTH_ACC_RANGE;
+        }
+    }
+    return st_read;
+}
+
 gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal_t *hal,
                           gg_nav3d_output_t *out)
 {
@@ -941,9 +1012,8 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         gg_real_t w_now[3];
         gg_real_t wd_ref[3];
         const gg_real_t *wd_p = NULL;
-        gg_fdi3d_output_t fo = {0U, 0U, 0U, 0U, 0U, 0U, 0.0L};
+        uint32_t h_read = health;
         size_t j;
-        fixed = *frame;
         for (j = 0U; j < 3U; ++j) {
             w_now[j] = (nav->cfg.platform == GG_PLATFORM_STRAPDOWN) ? (gg_real_t)frame->omega_b[j]
                                                                     : 0.0L;
@@ -953,53 +1023,33 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         if ((nav->started != 0) && (nav->n_w >= 3) && (fstep == (nav->state_step + 1))) {
             wd_p = wd_ref;
         }
-        st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed.f, fixed.f_lo, &fo);
-        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_GRAD) != 0U) &&
-            (nav->cfg.gravity_mode == GG_GRAVITY_MODEL) && (nav->started != 0)) {
-            /* gravity-model mode: what cannot be rebuilt comes from the model */
-            gg_real_t mp[3][3];
-            gg_fdi3d_t fdi_model = fdi_saved; /* fdi_saved stays the state before the step */
-            if ((n3_model_prior(nav, w_now, wd_p, mp) == GG_OK) &&
-                (gg_fdi3d_set_prior(&fdi_model, mp) == GG_OK)) {
-                nav->fdi = fdi_model;
-                fixed = *frame;
-                st_read = gg_fdi3d_step(&nav->fdi, known_bad, w_now, wd_p, fixed.f, fixed.f_lo, &fo);
-                if (gg_fdi3d_set_prior(&nav->fdi, NULL) != GG_OK) {
-                    st_read = GG_ERR_NULL; /* not reached: the state is there */
+        st_read = n3_read(nav, frame, &fdi_saved, known_bad, w_now, wd_p, &fixed, &in, &h_read, &rebuilt);
+        if ((st_read != GG_OK) && ((fdi_saved.have_good != 0) || (fdi_saved.excluded != 0U) ||
+                                   (fdi_saved.excluded_pairs != 0U))) {
+            /* Readings refused with the isolation's latched state (readings and pairs
+             * excluded, pair means and column entries of the last frame used): that
+             * state may itself be what a run of bad frames left wrong, and it would
+             * refuse every frame after. The frame is tried once more from a fresh
+             * isolation; used so, it is flagged ACC_FAULT and the latched state is
+             * gone (acc_excluded empty until a fault is isolated again). */
+            gg_fdi3d_t fresh;
+            gg_frame_t fixed2;
+            step_in_t in2;
+            uint32_t h2 = health;
+            uint32_t rb2 = 0U;
+            if (gg_fdi3d_init(&fresh, &fdi_saved.cfg) == GG_OK) {
+                nav->fdi = fresh;
+                if (n3_read(nav, frame, &fresh, known_bad, w_now, wd_p, &fixed2, &in2, &h2, &rb2) ==
+                    GG_OK) {
+                    st_read = GG_OK;
+                    fixed = fixed2;
+                    in = in2;
+                    h_read = h2 | GG_HEALTH_ACC_FAULT;
+                    rebuilt = rb2;
                 }
             }
         }
-        rebuilt = fo.rebuilt;
-        if ((fo.flags & GG_FDI3D_DETECTED) != 0U) {
-            health |= GG_HEALTH_ACC_FAULT;
-        }
-        if ((st_read == GG_OK) && ((fo.flags & (GG_FDI3D_PAIR | GG_FDI3D_HOLD_GRAD)) != 0U)) {
-            health |= GG_HEALTH_GRAD_COAST;
-        }
-        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_DEGRADED) != 0U)) {
-            health |= GG_HEALTH_ACC_DEGRADED;
-        }
-        if ((st_read == GG_OK) && ((fo.flags & GG_FDI3D_HOLD_FORCE) != 0U)) {
-            health |= GG_HEALTH_FORCE_COAST;
-        }
-        if (st_read != GG_OK) {
-            /* the readings' own fault, as the health word says */
-            if ((health & GG_HEALTH_ACC_NONFINITE) != 0U) {
-                st_read = GG_ERR_NONFINITE;
-            } else if ((health & GG_HEALTH_ACC_RANGE) != 0U) {
-                st_read = GG_ERR_RANGE;
-            } else {
-                st_read = GG_ERR_SENSOR; /* flagged bad, or a fault parity cannot isolate */
-            }
-        } else {
-            if (rebuilt != 0U) {
-                health |= GG_HEALTH_ACC_REBUILT;
-            }
-            st_read = difference(nav, &fixed, &in);
-            if (st_read == GG_ERR_RANGE) {
-                health |= GG_HEALTH_ACC_RANGE;
-            }
-        }
+        health = h_read;
         cyc[GG_MOD_DIFF] = gg_task_cycles(hal) - t0;
     }
     st = st_read;
@@ -1078,6 +1128,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         }
         nav->started = 1;
         nav->input_step = fstep;
+        gg_task_frozen_commit(&nav->frozen, frame, N_ACC_3D);
     } else {
         nav->fdi = fdi_saved;
         rebuilt = 0U;

@@ -189,3 +189,80 @@ uint32_t gg_task_close_cycles(const gg_hal_t *hal, int64_t dt_us, uint32_t t_sta
     }
     return h;
 }
+
+gg_status_t gg_task_frozen_init(gg_task_frozen_t *m, int32_t frames)
+{
+    const gg_task_frozen_t empty = {0};
+    if (m == NULL) {
+        return GG_ERR_NULL;
+    }
+    if ((frames != 0) && ((frames < 2) || (frames > GG_LIM_FROZEN_FRAMES_MAX))) {
+        return GG_ERR_CONFIG;
+    }
+    *m = empty;
+    m->frames = frames;
+    return GG_OK;
+}
+
+/* The reading (s, j) of fr has the value of the last used frame's. */
+static int frozen_same(const gg_task_frozen_t *m, const gg_frame_t *fr, int32_t s, int32_t j)
+{
+    return ((m->have != 0) && (fr->f[s][j] == m->last[s][j]) &&
+            (fr->f_lo[s][j] == m->last_lo[s][j]))
+               ? 1
+               : 0;
+}
+
+static int32_t frozen_count(int32_t n_acc)
+{
+    int32_t n = n_acc;
+    if (n < 0) {
+        n = 0;
+    } else if (n > GG_MAX_ACC) {
+        n = GG_MAX_ACC;
+    } else {
+        /* in range */
+    }
+    return n;
+}
+
+uint32_t gg_task_frozen_check(const gg_task_frozen_t *m, const gg_frame_t *fr, int32_t n_acc)
+{
+    uint32_t bits = 0U;
+    if ((m != NULL) && (fr != NULL) && (m->frames > 0)) {
+        const int32_t n = frozen_count(n_acc);
+        int32_t s;
+        int32_t j;
+        for (s = 0; s < n; ++s) {
+            for (j = 0; j < 3; ++j) {
+                if ((frozen_same(m, fr, s, j) != 0) && ((m->run[s][j] + 1) >= m->frames)) {
+                    bits |= 1U << ((3U * (uint32_t)s) + (uint32_t)j);
+                }
+            }
+        }
+    }
+    return bits;
+}
+
+void gg_task_frozen_commit(gg_task_frozen_t *m, const gg_frame_t *fr, int32_t n_acc)
+{
+    if ((m != NULL) && (fr != NULL) && (m->frames > 0)) {
+        const int32_t n = frozen_count(n_acc);
+        int32_t s;
+        int32_t j;
+        for (s = 0; s < n; ++s) {
+            for (j = 0; j < 3; ++j) {
+                if (frozen_same(m, fr, s, j) != 0) {
+                    if (m->run[s][j] < m->frames) {
+                        m->run[s][j] += 1;
+                    }
+                } else {
+                    m->run[s][j] = 1;
+                }
+                m->last[s][j] = fr->f[s][j];
+                m->last_lo[s][j] = fr->f_lo[s][j];
+            }
+        }
+        m->have = 1;
+    }
+}

@@ -47,6 +47,7 @@ HEALTH = {
     "NOT_INIT": 0x1, "ACC_NONFINITE": 0x2, "ACC_RANGE": 0x4, "ACC_SENSOR": 0x8, "SEQ_GAP": 0x10,
     "SEQ_REPEAT": 0x20, "TIME_JUMP": 0x40, "GAMMA_ASYM": 0x80, "FRAME_REJECTED": 0x100,
     "DEADLINE": 0x200, "ACC_FAULT": 0x8000, "ACC_REBUILT": 0x10000, "GRAD_COAST": 0x20000,
+    "ACC_DEGRADED": 0x01000000, "FORCE_COAST": 0x02000000, "ACC_FROZEN": 0x04000000,
 }
 
 
@@ -122,6 +123,17 @@ CASES = {
         what="step bias 1e-9 m/s^2 on 2x at 5 s, parity checks off (control)",
         faults=[{"kind": "step", "sensor": 2, "axis": "x", "start_s": T_FAULT, "size": 1e-9}],
         fdi=False, bits=[], within=None, bound=REBUILT, expect_exceed=True),
+    # every z reading stuck, on noisy sensors (the scenario's default then turns the
+    # frozen-reading monitor on: 10 frames, fdi_thresholds.hpp): set aside on the 10th
+    # frame of one value (9 steps after the fault's first), the z force and gradients
+    # held from then (the 2-D matrix's held-force error, ~(df/dt) T^3/6 = 4.6e-4 x 25^3 / 6
+    # = 1.2 m after 25 s; bound twice that and more); the white noise (1e-12 m/s^2) costs
+    # ~1e-11 m. The parity thresholds (1e-11 m/s^2) stay 10 sigma above the noise.
+    "stuck-all-z-noisy": dict(
+        what="every z reading stuck at its 5 s value, 1e-12 m/s^2 white noise on every reading",
+        faults=[{"kind": "stuck", "sensor": k, "axis": "z", "start_s": T_FAULT} for k in (1, 2, 3, 4)],
+        extra="[accel]\nseed = 3\nnoise_sigma_mps2 = 1e-12\n",
+        bits=["ACC_FROZEN", "FORCE_COAST"], within=9, bound=(5.0, 1e-3), degraded=True),
     # time-stamp faults: one frame's utime is wrong; the frame must be rejected
     # (state untouched) and the navigation continue with the next good frame
     "time-jump": dict(
@@ -164,13 +176,14 @@ def test_fault(a, case):
     os.makedirs(a.workdir, exist_ok=True)
     path = os.path.join(a.workdir, "scenario.toml")
     with open(path, "w") as f:
-        f.write(scenario("fault-" + case, c["faults"], fdi=c.get("fdi", True)))
+        f.write(scenario("fault-" + case, c["faults"], fdi=c.get("fdi", True), extra=c.get("extra", "")))
     out = os.path.join(a.workdir, "run")
     p = H.run(a.ggins_run, out, "--scenario", path, "--no-plots", check_rc=False)
     s, rows = H.load(out)
     n = int(round(DURATION * RATE)) + 1
     # a run with rejected frames completes but reports itself degraded (exit 4)
-    want_rc = 4 if s.get("steps_rejected", 0) > 0 else 0
+    # (as does one that had to hold a specific-force component: the case says so)
+    want_rc = 4 if s.get("steps_rejected", 0) > 0 or c.get("degraded") else 0
     check(p.returncode == want_rc and s.get("degraded") == (want_rc == 4),
           "exit status %d with %d frames rejected (got %d, degraded %s)"
           % (want_rc, s.get("steps_rejected", 0), p.returncode, s.get("degraded")))

@@ -67,6 +67,8 @@ inline void firmware(Dump& d, const ggins::truth::FirmwareParams& f) {
   d.v("firmware.fdi_asym_max_ps2", f.fdi_asym_max_ps2);
   d.v("firmware.fdi_parity_f_max_set", f.fdi_parity_f_max_set);
   d.v("firmware.fdi_asym_max_set", f.fdi_asym_max_set);
+  d.v("firmware.acc_frozen_frames", f.acc_frozen_frames);
+  d.v("firmware.acc_frozen_frames_set", f.acc_frozen_frames_set);
 }
 
 inline void baro(Dump& d, const ggins::truth::BaroParams& b) {

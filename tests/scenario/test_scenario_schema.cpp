@@ -159,6 +159,9 @@ int main() {
   refused(p3, "[aid_ukf]\nsigma_meas_E = nan\n", "aid_ukf.sigma_meas_E = nan: must be finite");
   refused(p3, "[aid_ukf]\nenabled = true\n", "test:2: aid_ukf.enabled needs aid_ukf.map");
   refused(p3, "[firmware]\nfdi_parity_f_max_mps2 = 1e-13\n", "firmware.fdi_parity_f_max_mps2 = 1e-13: must be 0 (off) or >=");
+  refused(p3, "[firmware]\nacc_frozen_frames = 1\n", "test:2: firmware.acc_frozen_frames = 1: must be 0 (off) or 2..60000");
+  refused(p2, "[firmware]\nacc_frozen_frames = 60001\n", "firmware.acc_frozen_frames = 60001: out of range (allowed: [0, 60000] frames)");
+  refused(p2, "[firmware]\nacc_frozen_frames = -1\n", "firmware.acc_frozen_frames = -1: out of range");
   refused(p3, "[firmware]\nf_max_mps2 = -1.0\n", "firmware.f_max_mps2 = -1.0: out of range (allowed: (0, 1e6] m/s^2)");
   refused(p3, "[gyro]\nscale = [0.0, 0.0]\n", "gyro.scale = [0.0, 0.0]: must be an array of 3 numbers");
   refused(p3, "[platform]\nkind = \"gimbal\"\n", "platform.kind = \"gimbal\": unknown value (allowed: \"stabilized\", \"strapdown\")");

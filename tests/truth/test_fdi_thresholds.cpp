@@ -50,6 +50,28 @@ int main() {
     if (pm) check(th.curv_f_mps2 < 1e-15, "point mass: the expected parity is exact");
     else check(th.curv_f_mps2 > 1e-14, "anomaly field: its curvature shows");
   }
+  {
+    // the frozen-reading window: on (10 frames) when the white noise is at least 10 ulp of the
+    // range; ulp(50 m/s^2) = 2^-47 m/s^2 = 7.105e-15 (50 lies in [32, 64), 52 mantissa bits)
+    auto fcheck = [&](bool ok, const char* what) {
+      std::printf("  frozen window: %s: %s\n", what, ok ? "ok" : "FAIL");
+      if (!ok) fail = 1;
+    };
+    const double ulp50 = std::ldexp(1.0, -47);
+    fcheck(default_frozen_frames(0.0, 50.0) == 0, "noise-free: off");
+    fcheck(default_frozen_frames(9.99 * ulp50, 50.0) == 0, "noise of 9.99 ulp: off");
+    fcheck(default_frozen_frames(10.0 * ulp50, 50.0) == 10, "noise of 10 ulp: 10 frames");
+    fcheck(default_frozen_frames(5.5e-10, 50.0) == 10, "5.5e-10 m/s^2: 10 frames");
+    fcheck(default_frozen_frames(1e-13, 1e6) == 0, "1e-13 m/s^2 against a 1e6 m/s^2 range (ulp 1.2e-10): off");
+    fcheck(default_frozen_frames(NAN, 50.0) == 0, "NaN noise: off");
+    for (const auto& name : builtin_scenario_names()) {
+      const Scenario sc = load_scenario(name, {});
+      const bool noisy = sc.accel.noise_sigma_mps2 > 0;
+      std::printf("  %s: noise %.1e -> acc_frozen_frames %lld\n", name.c_str(), sc.accel.noise_sigma_mps2,
+                  static_cast<long long>(sc.firmware.acc_frozen_frames));
+      fcheck(sc.firmware.acc_frozen_frames == (noisy ? 10 : 0), "built-in: derived from its noise");
+    }
+  }
   std::printf("%s\n", fail ? "FAILED" : "ok");
   return fail ? 1 : 0;
 }

@@ -21,9 +21,13 @@
  * Geometry (what parity can and cannot see): an equal fault on every reading
  * of one axis - all x, all z (2-D), all x, y or z (3-D), or all readings - is
  * indistinguishable from a change of the centre specific force: no parity
- * relation moves, so it is neither detected nor flagged, and its error is the
- * fault's own (the matrix checks that bound, nothing more). Every other
- * additive pattern moves some parity residual and must be detected.
+ * relation moves, so an additive one (step, drift) is neither detected nor
+ * flagged, and its error is the fault's own (the matrix checks that bound,
+ * nothing more). Every other additive pattern moves some parity residual and
+ * must be detected. A stuck reading, alone or common to an axis, is seen by
+ * the frozen-reading monitor (navtask.h, on in both tasks here with
+ * FROZEN_FRAMES: the readings of these flights change every frame, as noisy
+ * readings do) and must be detected and flagged.
  *
  *   test_fault_matrix            reduced matrix (3 s flights), exit 1 on any
  *                                freeze, rejected frame, unflagged visible fault
@@ -57,7 +61,11 @@ static const char *kClass[C_COUNT] = {"single reading", "pair, same axis group",
                                       "common mode: every reading"};
 
 #define DETECT_BITS (GG_HEALTH_ACC_NONFINITE | GG_HEALTH_ACC_RANGE | GG_HEALTH_ACC_SENSOR | \
-                     GG_HEALTH_ACC_FAULT | GG_HEALTH_GAMMA_ASYM)
+                     GG_HEALTH_ACC_FAULT | GG_HEALTH_GAMMA_ASYM | GG_HEALTH_ACC_FROZEN)
+/* frozen-reading window of both tasks (navtask.h), frames */
+#ifndef FROZEN_FRAMES
+#define FROZEN_FRAMES 10
+#endif
 #define FLAG_BITS (GG_HEALTH_ACC_REBUILT | GG_HEALTH_ACC_DEGRADED | GG_HEALTH_GRAD_COAST | \
                    GG_HEALTH_FORCE_COAST | GG_HEALTH_COAST | GG_HEALTH_FRAME_REJECTED)
 
@@ -195,6 +203,7 @@ static void config2(gg_nav2d_config_t *cfg)
     cfg->asym_max = 1e-6;
     cfg->fdi_parity_f_max = 1e-11;
     cfg->fdi_asym_max = 1e-11;
+    cfg->acc_frozen_frames = FROZEN_FRAMES;
 }
 
 static void config3(gg_nav3d_config_t *cfg)
@@ -218,6 +227,7 @@ static void config3(gg_nav3d_config_t *cfg)
     cfg->asym_max = 1e-6;
     cfg->fdi_parity_f_max = 1e-11;
     cfg->gravity_mode = GG_GRAVITY_GRADIOMETER;
+    cfg->acc_frozen_frames = FROZEN_FRAMES;
 }
 
 static long double err_at(int dim, const void *out, int64_t k)
@@ -408,7 +418,7 @@ static int visible(const fcase_t *c)
         }
         return 1;
     }
-    if (c->kind < K_STUCK) return 1;
+    if (c->kind <= K_STUCK) return 1; /* a stuck reading: the frozen-reading monitor */
     const int per = (c->dim == 2) ? 2 : 3, ns = (c->dim == 2) ? 4 : 6;
     for (int ax = 0; ax < per; ++ax) {
         uint32_t g = 0U;
@@ -548,8 +558,8 @@ static const char *geometry_note(int dim, int cls)
         case C_PAIR_IN: return "not isolable within the group: the group degrades (its pair or the symmetry Gxz = Gzx, else held)";
         case C_PAIR_ACROSS: return "one per group rebuilt when known; additive pairs fit no single reading: the tested readings are set aside (group degrades)";
         case C_MIXED: return "the stepped reading is isolated by the remaining parity where it can be, else the affected groups degrade";
-        case C_AXIS: return "additive: invisible to parity (a change of the centre force); known-bad: the axis force and its gradients held";
-        default: return "additive: invisible; known-bad: nothing usable, frames rejected, the task coasts on held inputs";
+        case C_AXIS: return "additive: invisible to parity (a change of the centre force); stuck: set aside by the frozen-reading monitor; known-bad and stuck: the axis force and its gradients held";
+        default: return "additive: invisible; stuck: set aside by the frozen-reading monitor; known-bad and stuck: nothing usable, frames rejected, the task coasts on held inputs";
         }
     }
     switch (cls) {
@@ -557,8 +567,8 @@ static const char *geometry_note(int dim, int cls)
     case C_PAIR_IN: return "both readings of a pair: its mean isolated, the pair excluded, its column entry from symmetry/trace; two pairs of one axis: not isolable from the pair means (the good pair looks like the odd one out), so the axis is set aside and the pair whose two readings agree with the column entry symmetry/trace give is kept; known-bad: rebuilt from the other pairs and symmetry/trace, nothing held";
     case C_PAIR_ACROSS: return "different axes: each isolated on its own axis; two diagonal readings (both move the trace) or two feeding one antisymmetric entry: isolated to their pairs only, the column entry then rests on a residual the other fault moves (detected, flagged, error as shown)";
     case C_MIXED: return "the stepped reading isolated where its axis keeps three whole pairs; with one pair broken the compared pairs are set aside and the axis rebuilt from the broken pair's reading and symmetry/trace; the partner of a lost reading is checked by no relation (its fault is in the error)";
-    case C_AXIS: return "additive: invisible to the pair means (a change of the centre force); known-bad: no reading of the axis left, its centre force held (FORCE_COAST), its column entries from symmetry and trace";
-    default: return "additive: invisible; known-bad: nothing usable, every centre force and column entry held (frames still used, FORCE_COAST, GRAD_COAST)";
+    case C_AXIS: return "additive: invisible to the pair means (a change of the centre force); stuck: set aside by the frozen-reading monitor; known-bad and stuck: no reading of the axis left, its centre force held (FORCE_COAST), its column entries from symmetry and trace";
+    default: return "additive: invisible; stuck: set aside by the frozen-reading monitor; known-bad and stuck: nothing usable, every centre force and column entry held (frames still used, FORCE_COAST, GRAD_COAST)";
     }
 }
 

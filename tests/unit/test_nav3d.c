@@ -325,6 +325,87 @@ static void test_model_prior_rejected(void **state)
     assert_memory_equal(&nav, &before, sizeof nav);
 }
 
+/* A run of bad frames never leaves the fault isolation refusing every frame
+ * after (found by fuzz_nav3d): a platform at rest in a point-mass field
+ * (stabilized, non-rotating, pair-mean detection on); one frame with a
+ * denormal reading 5x (isolated and excluded), then one with sensor 0 reading
+ * zero on every axis, 1x at -1.3e62 m/s^2 (out of range), 2x zero and 2z a
+ * little off: used, degraded, and it leaves pair means and column entries in
+ * the isolation's latched state from which the good frames that follow
+ * rebuild an absurd gradient. Before, each of them was refused (ACC_RANGE)
+ * and the latched state restored with it: frozen for good. Now a refused
+ * frame is tried once more from a fresh isolation: the first good frame is
+ * used (ACC_FAULT), and the position stays where the platform is. */
+static void at_rest_frame(int64_t k, gg_frame_t *f)
+{
+    static const double off[6][3] = {{0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5},
+                                     {-0.5, 0, 0}, {0, -0.5, 0}, {0, 0, -0.5}};
+    const long double gm = 3.986004418e14L, r0 = 6378137.0L;
+    memset(f, 0, sizeof *f);
+    f->utime = k * 10000;
+    f->seq = k;
+    f->n_acc = 6;
+    for (int s = 0; s < 6; ++s) {
+        const long double p[3] = {r0 + off[s][0], off[s][1], off[s][2]};
+        const long double rr = sqrtl(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        for (int j = 0; j < 3; ++j) {
+            const long double fv = gm * p[j] / (rr * rr * rr); /* f = -G at rest */
+            f->f[s][j] = (double)fv;
+            f->f_lo[s][j] = (double)(fv - (long double)f->f[s][j]);
+        }
+    }
+    f->baro_status = GG_SENSOR_ABSENT;
+    f->ca_status = GG_SENSOR_ABSENT;
+}
+
+static void test_poisoned_isolation(void **state)
+{
+    (void)state;
+    static gg_nav3d_t nav;
+    gg_nav3d_config_t cfg;
+    gg_nav3d_output_t out;
+    gg_frame_t fr;
+    const long double gm = 3.986004418e14L, r0 = 6378137.0L;
+    memset(&cfg, 0, sizeof cfg);
+    for (int j = 0; j < 3; ++j) cfg.geometry.half_base_m[j] = 0.5L;
+    cfg.platform = GG_PLATFORM_STABILIZED;
+    cfg.dt_us = 10000;
+    cfg.dt_tol_us = 100;
+    cfg.r0_e[0] = r0;
+    cfg.g0_e[0] = -gm / (r0 * r0);
+    cfg.q0_b_e[0] = 1.0L;
+    cfg.omega_ie = -1.0L;
+    cfg.f_max = 100.0;
+    cfg.asym_max = 1e-6;
+    cfg.fdi_parity_f_max = GG_FDI3D_FLOOR_MPS2;
+    cfg.gravity_mode = GG_GRAVITY_GRADIOMETER;
+    assert_int_equal(gg_nav3d_init(&nav, &cfg), GG_OK);
+    at_rest_frame(0, &fr);
+    assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    at_rest_frame(1, &fr);
+    fr.f[5][0] = 7.2036766980789388e-307;
+    assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    assert_int_equal(out.acc_excluded, 1u << 15); /* 5x isolated */
+    at_rest_frame(2, &fr);
+    assert_int_equal(gg_nav3d_step(&nav, &fr, NULL, &out), GG_OK);
+    at_rest_frame(3, &fr);
+    fr.f[0][0] = fr.f[0][1] = fr.f[0][2] = 0.0;
+    fr.f[1][0] = -1.2984059704111749e+62;
+    fr.f[2][0] = 0.0;
+    fr.f[2][2] = 7.5500700593254799e-07;
+    (void)gg_nav3d_step(&nav, &fr, NULL, &out);
+    for (int64_t k = 4; k < 12; ++k) {
+        at_rest_frame(k, &fr);
+        const gg_status_t st = gg_nav3d_step(&nav, &fr, NULL, &out);
+        if (st != GG_OK) fail_msg("good frame %lld refused: status %d, health 0x%x", (long long)k, st, out.health);
+        if (k == 4) assert_true((out.health & GG_HEALTH_ACC_FAULT) != 0U);
+    }
+    /* the degraded frame 3 entered the state: its cost is bounded, not zero */
+    const double dr = sqrt((out.r_e[0] - (double)r0) * (out.r_e[0] - (double)r0) + out.r_e[1] * out.r_e[1] +
+                           out.r_e[2] * out.r_e[2]);
+    if (!(dr < 1.0)) fail_msg("position off the platform by %g m after 0.12 s", dr);
+}
+
 /* One unusable reading per pair and axis is rebuilt from its partner and the
  * other pairs (fdi3d.h), on the tumbling strapdown flight at 200 m/s: NaN on
  * sensor 2's y axis, sensor 4 flagged bad (all three axes) and an
@@ -696,6 +777,7 @@ int main(void)
         cmocka_unit_test(test_config),
         cmocka_unit_test(test_rejections),
         cmocka_unit_test(test_model_prior_rejected),
+        cmocka_unit_test(test_poisoned_isolation),
         cmocka_unit_test(test_stabilized_ignores_gyro),
         cmocka_unit_test(test_parity),
         cmocka_unit_test(test_bridge),

@@ -1,7 +1,8 @@
 /* Frame-stream following and outage planning (navtask.h), against the rules
  * worked out by hand: which frames are trusted, at which step index, when
  * the stream re-synchronises and how far the task clock runs on; and what a
- * frame does to a lagging state (coast, bridge, use). */
+ * frame does to a lagging state (coast, bridge, use); and when the
+ * frozen-reading monitor calls a reading stuck. */
 #include "test_common.h"
 #include "ggins/navtask.h"
 
@@ -183,6 +184,63 @@ static void test_plan(void **state)
     assert_true(p.coast == 0 && p.bridge == 0 && p.use == 0);
 }
 
+/* The frozen-reading monitor, frame by frame by hand: with a window of 4,
+ * a reading is stuck at the 4th used frame of one value, stays stuck while it
+ * keeps it, and is usable at once when it changes; a lo part that changes is
+ * a change; a check alone (a frame not used) moves nothing; off (0) flags
+ * nothing; readings beyond n_acc are not looked at. */
+static void test_frozen(void **state)
+{
+    gg_task_frozen_t m;
+    gg_frame_t f = frame(0, 0);
+    (void)state;
+    assert_int_equal(gg_task_frozen_init(&m, 1), GG_ERR_CONFIG);
+    assert_int_equal(gg_task_frozen_init(&m, -1), GG_ERR_CONFIG);
+    assert_int_equal(gg_task_frozen_init(&m, GG_LIM_FROZEN_FRAMES_MAX + 1), GG_ERR_CONFIG);
+    assert_int_equal(gg_task_frozen_init(NULL, 4), GG_ERR_NULL);
+    assert_int_equal(gg_task_frozen_init(&m, 4), GG_OK);
+    /* sensor 1 axis 2 (bit 5) stuck at 9.8; sensor 0 axis 0 (bit 0) changes every frame;
+       every other reading is 0 and stays 0: stuck too */
+    const uint32_t all = (1U << 12) - 1U; /* 4 sensors x 3 axes */
+    for (int k = 0; k < 6; ++k) {
+        f.f[1][2] = 9.8;
+        f.f[0][0] = 1.0 + 0.001 * k;
+        const uint32_t bits = gg_task_frozen_check(&m, &f, 4);
+        if (k < 3) {
+            assert_int_equal(bits, 0U); /* 1..3 frames of one value */
+        } else {
+            assert_int_equal(bits, all & ~1U); /* the 4th frame on: every constant reading */
+        }
+        /* checking again without committing gives the same answer */
+        assert_int_equal(gg_task_frozen_check(&m, &f, 4), bits);
+        gg_task_frozen_commit(&m, &f, 4);
+    }
+    /* a change of the lo part alone: usable again, and one value for 4 frames from here */
+    f.f_lo[1][2] = 1e-16;
+    assert_int_equal(gg_task_frozen_check(&m, &f, 4) & (1U << 5), 0U);
+    gg_task_frozen_commit(&m, &f, 4);
+    assert_int_equal(gg_task_frozen_check(&m, &f, 4) & (1U << 5), 0U); /* 2nd */
+    gg_task_frozen_commit(&m, &f, 4);
+    assert_int_equal(gg_task_frozen_check(&m, &f, 4) & (1U << 5), 0U); /* 3rd */
+    gg_task_frozen_commit(&m, &f, 4);
+    assert_int_not_equal(gg_task_frozen_check(&m, &f, 4) & (1U << 5), 0U); /* 4th */
+    /* NaN never repeats (it is a known-bad reading anyway) */
+    f.f[1][2] = NAN;
+    gg_task_frozen_commit(&m, &f, 4);
+    assert_int_equal(gg_task_frozen_check(&m, &f, 4) & (1U << 5), 0U);
+    /* only sensors below n_acc; n_acc out of range is clamped */
+    assert_int_equal(gg_task_frozen_check(&m, &f, 1) & ~7U, 0U);
+    assert_int_equal(gg_task_frozen_check(&m, &f, -3), 0U);
+    (void)gg_task_frozen_check(&m, &f, 99);
+    /* off: nothing, however long a value is kept */
+    assert_int_equal(gg_task_frozen_init(&m, 0), GG_OK);
+    for (int k = 0; k < 10; ++k) {
+        assert_int_equal(gg_task_frozen_check(&m, &f, 6), 0U);
+        gg_task_frozen_commit(&m, &f, 6);
+    }
+    assert_int_equal(gg_task_frozen_check(NULL, &f, 6), 0U);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -191,6 +249,7 @@ int main(void)
         cmocka_unit_test(test_clock_step),
         cmocka_unit_test(test_restart),
         cmocka_unit_test(test_plan),
+        cmocka_unit_test(test_frozen),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

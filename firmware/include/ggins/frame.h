@@ -85,6 +85,8 @@ typedef struct {
                                                    symmetry or held (GRAD_COAST), see fdi2d.h */
 #define GG_HEALTH_FORCE_COAST     0x02000000u /**< degraded: no reading of an axis usable, its centre
                                                    specific force held on the last good value */
+#define GG_HEALTH_ACC_FROZEN      0x04000000u /**< an accelerometer reading kept one value over the configured
+                                                   frames (stuck): set aside as known bad (navtask.h) */
 /* 3-D gradient-map aid (aid_mmukf.h), the top bits */
 #define GG_HEALTH_MM_BAD_MEAS     0x08000000u /**< map aid: epoch postponed, the gradient was rebuilt, bridged or coasting */
 #define GG_HEALTH_MM_NO_MAP       0x10000000u /**< map aid: no tile of the map storage covers the position (epoch skipped) */

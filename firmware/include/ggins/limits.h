@@ -24,6 +24,10 @@
  *  the local-level frame's east axis is undefined at the pole). */
 #define GG_LIM_LAT_MAX_RAD 1.5533430342749532
 
+/* ---- both tasks (navtask.h) ---- */
+/** Longest frozen-reading window (acc_frozen_frames), frames: 10 min at 100 Hz. */
+#define GG_LIM_FROZEN_FRAMES_MAX 60000
+
 /* ---- 3-D task (nav3d.h; the frame and configuration ranges it shares
  *      with the 2-D task, GG_LIM_R_MIN_M ... GG_LIM_F_MAX_MPS2, are in nav2d.h) ---- */
 /** Gyro range: |w| above it is out of range, rad/s (~573 deg/s). */

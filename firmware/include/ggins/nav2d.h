@@ -95,6 +95,8 @@ typedef struct {
                                       GG_R_REF_DEFAULT_M) */
     double fdi_parity_f_max;     /**< accelerometer parity detection threshold, m/s^2 (0: off) */
     double fdi_asym_max;         /**< gradient-symmetry detection threshold, s^-2 (0: off) */
+    int32_t acc_frozen_frames;   /**< used frames in a row with one value that make a reading
+                                      stuck (navtask.h; 0: off, else 2..GG_LIM_FROZEN_FRAMES_MAX) */
 } gg_nav2d_config_t;
 
 typedef struct {
@@ -112,6 +114,7 @@ typedef struct {
     gg_real_t f_c[3];            /**< last accepted centre specific force */
     gg_real_t asym;
     gg_task_seq_t seq;           /**< the frame stream as followed (navtask.h) */
+    gg_task_frozen_t frozen;     /**< frozen-reading monitor (navtask.h) */
     int64_t state_step;          /**< step index of the navigation state (task clock) */
     int64_t state_clock_us;      /**< task-clock time of that step, us */
     int64_t input_step;          /**< step of the last frame whose readings were used */

@@ -154,6 +154,8 @@ typedef struct {
     gg_aid_pf_config_t aid_pf;   /**< cold-atom particle-filter aid (aid_pf.h; aid_pf.enable = 1: on; the
                                       fringe pairs from the frame's ca_* fields, the Gamma_zz tiles from
                                       the HAL's map storage) */
+    int32_t acc_frozen_frames;   /**< used frames in a row with one value that make a reading
+                                      stuck (navtask.h; 0: off, else 2..GG_LIM_FROZEN_FRAMES_MAX) */
 } gg_nav3d_config_t;
 
 typedef struct {
@@ -190,6 +192,7 @@ typedef struct {
     gg_real_t h_ins;             /**< geodetic height, m */
     gg_real_t baro_innov;
     gg_task_seq_t seq;           /**< the frame stream as followed (navtask.h) */
+    gg_task_frozen_t frozen;     /**< frozen-reading monitor (navtask.h) */
     int64_t state_step;          /**< step index of the navigation state (task clock) */
     int64_t state_clock_us;      /**< task-clock time of that step, us */
     int64_t input_step;          /**< step of the last frame whose readings were used */

@@ -20,6 +20,7 @@
 
 #include "ggins/frame.h"
 #include "ggins/hal.h"
+#include "ggins/limits.h"
 #include "ggins/real.h"
 #include "ggins/status.h"
 
@@ -106,6 +107,42 @@ static inline uint32_t gg_task_check_reading(double f, double lo, double f_max)
     }
     return h;
 }
+
+/** Frozen-reading monitor. A noisy accelerometer never repeats its reading
+ *  (hi and lo parts) bit for bit over many frames: white noise of sigma
+ *  over a double's resolution eps repeats with probability below eps/sigma
+ *  a frame. A reading that does, over `frames` used frames in a row, is
+ *  taken as stuck (GG_HEALTH_ACC_FROZEN) and set aside as a known-bad
+ *  reading, to be rebuilt or held like a NaN one, for as long as it keeps
+ *  that value. This is the one check that sees an equal stuck fault on every
+ *  reading of an axis, which moves no parity relation (fdi2d.h, fdi3d.h).
+ *  Off (frames = 0) for noise-free sensors: an exact reading of a constant
+ *  field is constant. The readings compared are those of the frames whose
+ *  readings entered the state (gg_task_frozen_commit), so a rejected frame
+ *  leaves the monitor as it was. */
+typedef struct {
+    int32_t frames;                /**< used frames in a row with one value that make a reading
+                                        frozen (2..GG_LIM_FROZEN_FRAMES_MAX; 0: off) */
+    int32_t have;                  /**< last[] holds a used frame's readings */
+    double last[GG_MAX_ACC][3];    /**< the readings of the last used frame, m/s^2 (hi parts) */
+    double last_lo[GG_MAX_ACC][3]; /**< and their lo parts, m/s^2 */
+    int32_t run[GG_MAX_ACC][3];    /**< used frames in a row, up to the last, in which the
+                                        reading had its value (1..frames) */
+} gg_task_frozen_t;
+
+/** Set up the monitor: frames = 0 (off) or 2..GG_LIM_FROZEN_FRAMES_MAX;
+ *  GG_ERR_CONFIG otherwise. */
+gg_status_t gg_task_frozen_init(gg_task_frozen_t *m, int32_t frames);
+
+/** The readings of fr's accelerometers 0..n_acc-1 (n_acc <= GG_MAX_ACC)
+ *  that are frozen if fr is used: bit 3 * sensor + axis set when the reading
+ *  equals the last used frame's and so completes a run of `frames` used frames
+ *  with one value. Reads the monitor only; 0 when it is off. */
+uint32_t gg_task_frozen_check(const gg_task_frozen_t *m, const gg_frame_t *fr, int32_t n_acc);
+
+/** Take the readings of a used frame fr into the monitor (the raw readings,
+ *  before any rebuilding). */
+void gg_task_frozen_commit(gg_task_frozen_t *m, const gg_frame_t *fr, int32_t n_acc);
 
 /** Start following a stream of fixed step dt_us (> 0), tolerance dt_tol_us
  *  (0 <= tol < dt). GG_ERR_CONFIG otherwise. */

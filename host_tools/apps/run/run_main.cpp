@@ -315,6 +315,7 @@ ggins::nav2d_config_t Model2D::config() {
   c.gravdr_trapezoid_only = static_cast<int8_t>(f.gravdr_trapezoid_only);
   c.fdi_parity_f_max = f.fdi_parity_f_max;
   c.fdi_asym_max = f.fdi_asym_max;
+  c.acc_frozen_frames = f.acc_frozen_frames;
   c.gravity_mode = static_cast<int8_t>(f.gravity_mode);
   hilo(f.model.gm, c.model_gm_hi, c.model_gm_lo);
   c.model_a_m = static_cast<double>(f.model.a_m);

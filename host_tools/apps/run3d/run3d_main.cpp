@@ -386,6 +386,7 @@ ggins::nav3d_config_t Model3D::config() {
   m.f_max = c.f_max;
   m.asym_max = c.asym_max;
   m.fdi_parity_f_max = c.fdi_parity_f_max;
+  m.acc_frozen_frames = c.acc_frozen_frames;
   m.gravity_mode = static_cast<int8_t>(c.gravity_mode);
   hilo(c.model.gm, m.model_gm_hi, m.model_gm_lo);
   m.model_a_m = static_cast<double>(c.model.a_m);

@@ -36,6 +36,7 @@ gg_nav2d_config_t config2d(const Generator& g, const SurveyGrid* grid) {
   c.gravdr_trapezoid_only = s.firmware.gravdr_trapezoid_only ? 1 : 0;
   c.fdi_parity_f_max = s.firmware.fdi_parity_f_max_mps2;
   c.fdi_asym_max = s.firmware.fdi_asym_max_ps2;
+  c.acc_frozen_frames = static_cast<int32_t>(s.firmware.acc_frozen_frames);
   // gravity source, onboard model (zonal part, programmed grid)
   c.gravity_mode = s.navigation.gravity == "model" ? GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER;
   const NavModelParams nm = s.nav_model();

@@ -82,10 +82,17 @@ FdiThresholds derive_fdi_thresholds(const Scenario& s) {
 }
 
 void apply_default_fdi_thresholds(Scenario& s) {
+  if (!s.firmware.acc_frozen_frames_set)
+    s.firmware.acc_frozen_frames = default_frozen_frames(s.accel.noise_sigma_mps2, s.firmware.f_max_mps2);
   if (s.firmware.fdi_parity_f_max_set && s.firmware.fdi_asym_max_set) return;
   const FdiThresholds th = derive_fdi_thresholds(s);
   if (!s.firmware.fdi_parity_f_max_set) s.firmware.fdi_parity_f_max_mps2 = th.parity_f_max_mps2;
   if (!s.firmware.fdi_asym_max_set) s.firmware.fdi_asym_max_ps2 = th.asym_max_ps2;
+}
+
+int64_t default_frozen_frames(double noise_sigma_mps2, double f_max_mps2) {
+  const double eps = std::nextafter(f_max_mps2, HUGE_VAL) - f_max_mps2;  // ulp(f_max)
+  return (std::isfinite(noise_sigma_mps2) && noise_sigma_mps2 >= 10.0 * eps) ? kFrozenFrames : 0;
 }
 
 }  // namespace ggins::truth

@@ -41,6 +41,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   c.f_max = s.firmware.f_max_mps2;
   c.asym_max = s.firmware.asym_max_ps2;
   c.fdi_parity_f_max = s.fdi_parity_f_max_mps2;
+  c.acc_frozen_frames = static_cast<int32_t>(s.firmware.acc_frozen_frames);
   c.gravity_mode = s.nav_gravity == "model" ? GG_GRAVITY_MODEL : GG_GRAVITY_GRADIOMETER;
   if (s.gravity.model == "point-mass") {
     c.model.gm = s.gravity.gm_m3ps2;

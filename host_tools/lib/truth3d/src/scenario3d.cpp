@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <toml++/toml.h>
 
+#include "ggins/truth/fdi_thresholds.hpp"
 #include "ggins/truth/scenario_keys.hpp"
 #include "ggins/truth/scenario_schema.hpp"
 #include "ggins/truth3d/faults3d.hpp"
@@ -464,6 +465,8 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   if (s.aid_ukf.map_from_field && s.aid_ukf.map_margin_deg < 2.0 * s.aid_ukf.map_spacing_deg)
     c.fail_key(root, "aid_ukf.map_margin_deg", "aid_ukf.map_margin_deg = " + sch::num_text(s.aid_ukf.map_margin_deg) +
                                                    ": must be >= 2 map_spacing_deg (tiles overlap by it)");
+  if (!s.firmware.acc_frozen_frames_set)
+    s.firmware.acc_frozen_frames = truth::default_frozen_frames(s.accel.noise_sigma_mps2, s.firmware.f_max_mps2);
   if (!sch::detail::node_at(root, "firmware.fdi_parity_f_max_mps2")) {
     const auto& a = s.accel;
     const double sp = std::sqrt(a.bias_sigma_mps2 * a.bias_sigma_mps2 + a.noise_sigma_mps2 * a.noise_sigma_mps2 +

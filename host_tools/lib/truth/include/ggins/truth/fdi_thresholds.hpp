@@ -47,6 +47,16 @@ struct FdiThresholds {
   int samples = 0;
 };
 
+// Default frozen-reading window of the firmware (navtask.h), frames. A reading of white
+// noise sigma at a double's resolution eps = ulp(f_max) repeats bit for bit from one frame to
+// the next with probability p < eps / (sigma sqrt(4 pi)) (the difference of two samples has
+// density 1/(sigma sqrt(4 pi)) at 0); over kFrozenFrames frames, p^(kFrozenFrames - 1).
+// With sigma >= 10 eps, p < 0.028 and a false alarm has probability < 1e-14 per reading and
+// frame (< 1e-6 in 10 h of 18 readings at 100 Hz). Below that (noise-free sensors: an exact
+// reading of a constant field is constant) the monitor is off: 0.
+constexpr int64_t kFrozenFrames = 10;
+int64_t default_frozen_frames(double noise_sigma_mps2, double f_max_mps2);
+
 // Evaluate the thresholds for scenario s (its sensor faults are ignored).
 FdiThresholds derive_fdi_thresholds(const Scenario& s);
 

@@ -124,6 +124,11 @@ struct FirmwareParams {
   double fdi_asym_max_ps2 = 0.0;       // gradient-symmetry detection threshold (0: off)
   bool fdi_parity_f_max_set = false;   // given in the scenario (else load_scenario derives it)
   bool fdi_asym_max_set = false;
+  // Frozen-reading window (navtask.h): used frames in a row with one value that make an
+  // accelerometer reading stuck; 0 off. Default derived from [accel] noise
+  // (default_frozen_frames, fdi_thresholds.hpp).
+  int64_t acc_frozen_frames = 0;
+  bool acc_frozen_frames_set = false;
 };
 
 struct TransportParams {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ggins/limits.h"
 #include "ggins/truth/scenario.hpp"
 #include "ggins/truth/scenario_schema.hpp"
 
@@ -95,6 +96,22 @@ void firmware_keys(sch::Table<F>& t) {
   t.num("f_max_mps2", &F::f_max_mps2, "m/s^2", sch::in_lopen(0, 1e6), "largest accepted specific force reading")
       .num("asym_max_ps2", &F::asym_max_ps2, "1/s^2", sch::in_lopen(0, 1), "largest accepted gradient asymmetry")
       .integer("dt_tol_us", &F::dt_tol_us, "us", sch::in(0, 1e9), "accepted deviation of a frame's time step");
+  sch::Key<F> frozen = sch::mk<F>("acc_frozen_frames", "integer", "frames",
+                                  "0 (off) or 2.." + std::to_string(GG_LIM_FROZEN_FRAMES_MAX),
+                                  "used frames in a row in which an accelerometer reading keeps one value "
+                                  "before it is set aside as stuck (navtask.h)",
+                                  "");
+  frozen.read = [](F& f, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+    const int64_t v = sch::read_int(n, c, p, sch::in(0, GG_LIM_FROZEN_FRAMES_MAX), "frames");
+    if (v == 1)
+      c.fail_at(&n, p, p + " = 1: must be 0 (off) or 2.." + std::to_string(GG_LIM_FROZEN_FRAMES_MAX) +
+                           " (a run of one frame is every reading)");
+    f.acc_frozen_frames = v;
+    f.acc_frozen_frames_set = true;
+  };
+  frozen.write = [](const F& f) -> std::optional<std::string> { return std::to_string(f.acc_frozen_frames); };
+  frozen.dflt_doc = "10 when [accel] noise_sigma_mps2 >= 10 ulp(f_max_mps2), else 0 (fdi_thresholds.hpp)";
+  t.custom(frozen);
 }
 
 // [time] of a scenario struct R with members duration_s and rate_hz.
