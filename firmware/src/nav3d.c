@@ -173,11 +173,12 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
 
 /* ---------------------------------------------------------------- frames */
 
-/* Health bits of a frame's sensors; *known_bad = the readings
+/* Health bits of a frame's sensors; *frozen_bad = the readings set aside as stuck only
+ * (navtask.h frozen-reading monitor); *known_bad = the readings
  * (GG_FDI3D_BIT) that cannot be used as they are; *whole = 0 when the frame
  * is unusable whatever is rebuilt (accelerometer count, gyro). */
 static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t *known_bad,
-                               int *whole)
+                               uint32_t *frozen_bad, int *whole)
 {
     uint32_t h = 0U;
     uint32_t kb = 0U;
@@ -185,6 +186,7 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, uint
     int32_t i;
     int32_t j;
     *whole = 1;
+    *frozen_bad = 0U;
     if (fr->n_acc != N_ACC_3D) {
         h |= GG_HEALTH_ACC_SENSOR;
         *whole = 0;
@@ -201,9 +203,10 @@ static uint32_t n3_check_frame(const gg_nav3d_t *nav, const gg_frame_t *fr, uint
             if ((hr != 0U) || (sensor_bad != 0)) {
                 kb |= GG_FDI3D_BIT(i, j);
             }
-            if ((frozen & GG_FDI3D_BIT(i, j)) != 0U) {
+            if (((frozen & GG_FDI3D_BIT(i, j)) != 0U) && ((kb & GG_FDI3D_BIT(i, j)) == 0U)) {
                 h |= GG_HEALTH_ACC_FROZEN; /* stuck (navtask.h): set aside */
                 kb |= GG_FDI3D_BIT(i, j);
+                *frozen_bad |= GG_FDI3D_BIT(i, j);
             }
         }
     }
@@ -984,6 +987,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
     int64_t fstep = -1;
     int used = 0;
     uint32_t known_bad = 0U;
+    uint32_t frozen_bad = 0U;
     uint32_t rebuilt = 0U;
     int whole = 1;
     gg_fdi3d_t fdi_saved;
@@ -1001,7 +1005,7 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
         return GG_ERR_NOT_INIT;
     }
     fdi_saved = nav->fdi;
-    health = n3_check_frame(nav, frame, &known_bad, &whole);
+    health = n3_check_frame(nav, frame, &known_bad, &frozen_bad, &whole);
     health |= gg_task_seq_update(&nav->seq, frame, &fstep);
     if (fstep < 0) {
         st_read = GG_ERR_SEQUENCE;
@@ -1033,20 +1037,29 @@ gg_status_t gg_nav3d_step(gg_nav3d_t *nav, const gg_frame_t *frame, const gg_hal
              * isolation; used so, it is flagged ACC_FAULT and the latched state is
              * gone (acc_excluded empty until a fault is isolated again). */
             gg_fdi3d_t fresh;
-            gg_frame_t fixed2;
-            step_in_t in2;
             uint32_t h2 = health;
             uint32_t rb2 = 0U;
+            gg_status_t st2 = GG_ERR_SENSOR;
             if (gg_fdi3d_init(&fresh, &fdi_saved.cfg) == GG_OK) {
                 nav->fdi = fresh;
-                if (n3_read(nav, frame, &fresh, known_bad, w_now, wd_p, &fixed2, &in2, &h2, &rb2) ==
-                    GG_OK) {
-                    st_read = GG_OK;
-                    fixed = fixed2;
-                    in = in2;
-                    h_read = h2 | GG_HEALTH_ACC_FAULT;
-                    rebuilt = rb2;
+                /* the refused try's fixed and in are not used: the retries write there */
+                st2 = n3_read(nav, frame, &fresh, known_bad, w_now, wd_p, &fixed, &in, &h2, &rb2);
+                if ((st2 != GG_OK) && (frozen_bad != 0U)) {
+                    /* Nothing usable with the stuck readings set aside: they are used as
+                     * they are (still flagged ACC_FROZEN). A stuck value is a plausible
+                     * reading; refusing it would refuse every frame for as long as it
+                     * stays stuck (a noise-free sensor at rest, the monitor on). */
+                    h2 = health;
+                    rb2 = 0U;
+                    nav->fdi = fresh;
+                    st2 = n3_read(nav, frame, &fresh, known_bad & ~frozen_bad, w_now, wd_p, &fixed,
+                                  &in, &h2, &rb2);
                 }
+            }
+            if (st2 == GG_OK) {
+                st_read = GG_OK;
+                h_read = h2 | GG_HEALTH_ACC_FAULT;
+                rebuilt = rb2;
             }
         }
         health = h_read;
