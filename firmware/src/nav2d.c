@@ -144,12 +144,12 @@ static uint32_t check_frame(const gg_nav2d_t *nav, const gg_frame_t *fr, uint32_
         h |= hx | hz;
         kb |= (hx != 0U) ? GG_FDI_BIT(i, 0) : 0U;
         kb |= (hz != 0U) ? GG_FDI_BIT(i, 1) : 0U;
-        /* a stuck reading (frozen-reading monitor, bit 3 i + axis) is set aside */
-        if ((frozen & (1U << ((3U * (uint32_t)i) + AX_X))) != 0U) {
+        /* a stuck reading (frozen-reading monitor) not otherwise bad is set aside */
+        if (((frozen & GG_TASK_READING_BIT(i, AX_X)) != 0U) && ((kb & GG_FDI_BIT(i, 0)) == 0U)) {
             h |= GG_HEALTH_ACC_FROZEN;
             kb |= GG_FDI_BIT(i, 0);
         }
-        if ((frozen & (1U << ((3U * (uint32_t)i) + AX_Z))) != 0U) {
+        if (((frozen & GG_TASK_READING_BIT(i, AX_Z)) != 0U) && ((kb & GG_FDI_BIT(i, 1)) == 0U)) {
             h |= GG_HEALTH_ACC_FROZEN;
             kb |= GG_FDI_BIT(i, 1);
         }

@@ -204,13 +204,17 @@ gg_status_t gg_task_frozen_init(gg_task_frozen_t *m, int32_t frames)
     return GG_OK;
 }
 
-/* The reading (s, j) of fr has the value of the last used frame's. */
-static int frozen_same(const gg_task_frozen_t *m, const gg_frame_t *fr, int32_t s, int32_t j)
+/* The run of one value the reading (s, j) would have if fr were used: one
+ * more than the last used frame's run when it repeats that frame's reading
+ * (hi and lo parts; a run of 0 means no frame yet), else 1; at most frames. */
+static int32_t frozen_run_after(const gg_task_frozen_t *m, const gg_frame_t *fr, int32_t s, int32_t j)
 {
-    return ((m->have != 0) && (fr->f[s][j] == m->last[s][j]) &&
-            (fr->f_lo[s][j] == m->last_lo[s][j]))
-               ? 1
-               : 0;
+    int32_t run = 1;
+    if ((m->run[s][j] > 0) && (fr->f[s][j] == m->last[s][j]) &&
+        (fr->f_lo[s][j] == m->last_lo[s][j])) {
+        run = (m->run[s][j] < m->frames) ? (m->run[s][j] + 1) : m->frames;
+    }
+    return run;
 }
 
 static int32_t frozen_count(int32_t n_acc)
@@ -235,8 +239,8 @@ uint32_t gg_task_frozen_check(const gg_task_frozen_t *m, const gg_frame_t *fr, i
         int32_t j;
         for (s = 0; s < n; ++s) {
             for (j = 0; j < 3; ++j) {
-                if ((frozen_same(m, fr, s, j) != 0) && ((m->run[s][j] + 1) >= m->frames)) {
-                    bits |= 1U << ((3U * (uint32_t)s) + (uint32_t)j);
+                if (frozen_run_after(m, fr, s, j) >= m->frames) {
+                    bits |= GG_TASK_READING_BIT(s, j);
                 }
             }
         }
@@ -252,17 +256,10 @@ void gg_task_frozen_commit(gg_task_frozen_t *m, const gg_frame_t *fr, int32_t n_
         int32_t j;
         for (s = 0; s < n; ++s) {
             for (j = 0; j < 3; ++j) {
-                if (frozen_same(m, fr, s, j) != 0) {
-                    if (m->run[s][j] < m->frames) {
-                        m->run[s][j] += 1;
-                    }
-                } else {
-                    m->run[s][j] = 1;
-                }
+                m->run[s][j] = frozen_run_after(m, fr, s, j);
                 m->last[s][j] = fr->f[s][j];
                 m->last_lo[s][j] = fr->f_lo[s][j];
             }
         }
-        m->have = 1;
     }
 }

@@ -123,12 +123,14 @@ static inline uint32_t gg_task_check_reading(double f, double lo, double f_max)
 typedef struct {
     int32_t frames;                /**< used frames in a row with one value that make a reading
                                         frozen (2..GG_LIM_FROZEN_FRAMES_MAX; 0: off) */
-    int32_t have;                  /**< last[] holds a used frame's readings */
     double last[GG_MAX_ACC][3];    /**< the readings of the last used frame, m/s^2 (hi parts) */
     double last_lo[GG_MAX_ACC][3]; /**< and their lo parts, m/s^2 */
     int32_t run[GG_MAX_ACC][3];    /**< used frames in a row, up to the last, in which the
-                                        reading had its value (1..frames) */
+                                        reading had its value (1..frames; 0: no frame yet) */
 } gg_task_frozen_t;
+
+/** The monitor's bit of reading (sensor, axis): 3 * sensor + axis (as GG_FDI3D_BIT). */
+#define GG_TASK_READING_BIT(sensor, axis) (1u << ((3u * (uint32_t)(sensor)) + (uint32_t)(axis)))
 
 /** Set up the monitor: frames = 0 (off) or 2..GG_LIM_FROZEN_FRAMES_MAX;
  *  GG_ERR_CONFIG otherwise. */
