@@ -68,7 +68,10 @@ uint32_t gg_task_seq_update(gg_task_seq_t *seq, const gg_frame_t *fr, int64_t *s
     }
     if (seq->started == 0) {
         seq->started = 1;
-        seq->clock_offset_us = 0;
+        /* the task clock starts on the frame clock, or lower down where the
+         * first frame leaves too little of the range for the flight */
+        seq->clock_offset_us =
+            (fr->utime > GG_TASK_CLOCK_START_MAX) ? (GG_TASK_CLOCK_START_MAX - fr->utime) : 0;
         adopt(seq, fr, 0);
         *step = 0;
         return 0U;

@@ -116,6 +116,47 @@ static void test_clock_step(void **state)
     assert_int_equal(gg_task_seq_clock(&s, 5000000 + 139 * DT + 1), 5000000 + 139 * DT);
 }
 
+/* A stream whose first time stamp is 65 489 us short of the end of the
+ * accepted range (a fuzz finding): the task clock starts at half the range,
+ * so that it stays inside it while the frame clock leaves it. Frames beyond
+ * the range are refused; the stream re-synchronises on the frames after a
+ * restart of both counter and clock, and the task clock is still inside the
+ * range, on by the steps. A stream starting low keeps the frame clock. */
+static void test_clock_near_range_end(void **state)
+{
+    (void)state;
+    gg_task_seq_t s;
+    uint32_t h;
+    const int64_t t0 = GG_TIME_MAX - 65489;
+    assert_int_equal(gg_task_seq_init(&s, DT, 0), GG_OK);
+    for (int64_t k = 0; k < 7; ++k) {
+        assert_int_equal(offer(&s, k, t0 + k * DT, &h), k);
+        assert_int_equal(h, 0);
+        assert_int_equal(gg_task_seq_clock(&s, t0 + k * DT), GG_TIME_MAX / 2 + k * DT);
+    }
+    /* the frame clock leaves the range: refused */
+    assert_int_equal(offer(&s, 7, t0 + 7 * DT, &h), -1);
+    assert_int_equal(h, GG_HEALTH_TIME_JUMP);
+    /* both restart; three frames re-synchronise (counter back, clock back:
+     * one step of outage, flagged) */
+    assert_int_equal(offer(&s, 0, 1000, &h), -1);
+    assert_int_equal(offer(&s, 1, 1000 + DT, &h), -1);
+    assert_int_equal(offer(&s, 2, 1000 + 2 * DT, &h), 9);
+    assert_int_equal(h, GG_HEALTH_RESYNC | GG_HEALTH_TIME_JUMP);
+    assert_int_equal(gg_task_seq_clock(&s, 1000 + 2 * DT), GG_TIME_MAX / 2 + 9 * DT);
+    for (int64_t k = 3; k < 100; ++k) {
+        assert_int_equal(offer(&s, k, 1000 + k * DT, &h), k + 7);
+        assert_int_equal(h, 0);
+    }
+    /* the latest start kept as it is */
+    assert_int_equal(gg_task_seq_init(&s, DT, 0), GG_OK);
+    assert_int_equal(offer(&s, 0, GG_TIME_MAX / 2, &h), 0);
+    assert_int_equal(gg_task_seq_clock(&s, GG_TIME_MAX / 2), GG_TIME_MAX / 2);
+    assert_int_equal(gg_task_seq_init(&s, DT, 0), GG_OK);
+    assert_int_equal(offer(&s, 0, GG_TIME_MAX / 2 + 1, &h), 0);
+    assert_int_equal(gg_task_seq_clock(&s, GG_TIME_MAX / 2 + 1), GG_TIME_MAX / 2);
+}
+
 /* The counter restarts (seq back to 0) while the clock runs on: the clock
  * gives the outage (5 steps). The clock goes back while the counter runs on:
  * the counter gives it. Both jump: one step, flagged. */
@@ -248,6 +289,7 @@ int main(void)
         cmocka_unit_test(test_stream),
         cmocka_unit_test(test_clock_step),
         cmocka_unit_test(test_restart),
+        cmocka_unit_test(test_clock_near_range_end),
         cmocka_unit_test(test_plan),
         cmocka_unit_test(test_frozen),
     };

@@ -46,6 +46,12 @@
  *  restarted counter) propagates one step and flags GG_HEALTH_TIME_JUMP. */
 #define GG_TASK_MAX_OUTAGE_S 600
 
+/** Latest start of the task clock, us. The task clock starts on the frame
+ *  clock of the first frame, or at this value if that frame is later: half
+ *  of GG_TIME_MAX leaves ~73 000 years of steps before the clock could leave
+ *  the accepted range, whatever time stamp the stream starts with. */
+#define GG_TASK_CLOCK_START_MAX (GG_TIME_MAX / 2)
+
 /** The frame stream as the task has followed it. Every frame whose
  *  sequencing is consistent (seq on by n + 1 and utime by (n + 1) dt within
  *  dt_tol, n lost frames) moves it on, whether or not its readings are
