@@ -32,7 +32,16 @@ static int pf_cfg_ok(const gg_pf_config_t *c)
            (c->sigma0_acc >= 0.0) && (c->q_acc >= 0.0) && (c->reg_bw >= 0.0) && (c->sigma0_jerk >= 0.0) &&
            (c->q_jerk >= 0.0) && (c->sigma0_bias >= 0.0) && (c->q_bias >= 0.0) &&
            /* RBPF: the velocity noise keeps the position prediction covariance positive definite */
-           ((c->model != GG_PF_MODEL_RBPF) || (c->q_vel > 0.0));
+           ((c->model != GG_PF_MODEL_RBPF) || (c->q_vel > 0.0)) &&
+           /* upper bounds (limits.h): absurd but finite settings would overflow the cloud */
+           (c->k_eff <= GG_LIM_PF_K_EFF_MAX) && (c->T <= GG_LIM_PF_T_MAX_S) && (c->dz <= GG_LIM_PF_DZ_MAX_M) &&
+           (c->dt <= GG_LIM_PF_DT_MAX_S) && (c->sigma <= GG_LIM_PF_S_MAX) && (c->c0 >= -GG_LIM_PF_S_MAX) &&
+           (c->c0 <= GG_LIM_PF_S_MAX) && (c->c1 >= -GG_LIM_PF_S_MAX) && (c->c1 <= GG_LIM_PF_S_MAX) &&
+           (c->sigma0_pos <= GG_LIM_PF_POS_SIGMA_MAX_M) && (c->q_pos <= GG_LIM_PF_POS_SIGMA_MAX_M) &&
+           (c->sigma0_vel <= GG_LIM_PF_VEL_SIGMA_MAX_MPS) && (c->q_vel <= GG_LIM_PF_VEL_SIGMA_MAX_MPS) &&
+           (c->sigma0_acc <= GG_LIM_PF_ACC_SIGMA_MAX_MPS2) && (c->q_acc <= GG_LIM_PF_ACC_SIGMA_MAX_MPS2) &&
+           (c->sigma0_bias <= GG_LIM_PF_ACC_SIGMA_MAX_MPS2) && (c->q_bias <= GG_LIM_PF_ACC_SIGMA_MAX_MPS2) &&
+           (c->sigma0_jerk <= GG_LIM_PF_JERK_SIGMA_MAX_MPS3) && (c->q_jerk <= GG_LIM_PF_JERK_SIGMA_MAX_MPS3);
 }
 
 /* State dimensions the model uses (4: RW, 6: INS, 12: RBPF, position + linear means). */

@@ -283,6 +283,34 @@ static void test_degenerate_and_bad_input(void **state)
     assert_int_equal(gg_pf_init(&a, &c), GG_ERR_CONFIG);
     c = base_cfg(); c.gain = NAN;
     assert_int_equal(gg_pf_init(&a, &c), GG_ERR_CONFIG);
+    /* finite but absurd: an initial spread of 3e154 m (a fuzz finding) made the
+     * cloud's spread overflow and fed a 2e153 m correction back; each bound
+     * accepted at the limit, refused beyond it */
+    c = base_cfg(); c.sigma0_pos = 3.0e154;
+    assert_int_equal(gg_pf_init(&a, &c), GG_ERR_CONFIG);
+    c = base_cfg(); c.sigma0_pos = GG_LIM_PF_POS_SIGMA_MAX_M;
+    assert_int_equal(gg_pf_init(&a, &c), GG_OK);
+    {
+        struct { double *f; double lim; } b[] = {
+            {&c.k_eff, GG_LIM_PF_K_EFF_MAX}, {&c.T, GG_LIM_PF_T_MAX_S}, {&c.dz, GG_LIM_PF_DZ_MAX_M},
+            {&c.dt, GG_LIM_PF_DT_MAX_S}, {&c.sigma, GG_LIM_PF_S_MAX}, {&c.c0, GG_LIM_PF_S_MAX},
+            {&c.c1, GG_LIM_PF_S_MAX}, {&c.sigma0_pos, GG_LIM_PF_POS_SIGMA_MAX_M},
+            {&c.q_pos, GG_LIM_PF_POS_SIGMA_MAX_M}, {&c.sigma0_vel, GG_LIM_PF_VEL_SIGMA_MAX_MPS},
+            {&c.q_vel, GG_LIM_PF_VEL_SIGMA_MAX_MPS}, {&c.sigma0_acc, GG_LIM_PF_ACC_SIGMA_MAX_MPS2},
+            {&c.q_acc, GG_LIM_PF_ACC_SIGMA_MAX_MPS2}, {&c.sigma0_bias, GG_LIM_PF_ACC_SIGMA_MAX_MPS2},
+            {&c.q_bias, GG_LIM_PF_ACC_SIGMA_MAX_MPS2}, {&c.sigma0_jerk, GG_LIM_PF_JERK_SIGMA_MAX_MPS3},
+            {&c.q_jerk, GG_LIM_PF_JERK_SIGMA_MAX_MPS3}};
+        for (size_t i = 0; i < sizeof b / sizeof b[0]; ++i) {
+            c = base_cfg();
+            *b[i].f = b[i].lim;
+            if (gg_pf_init(&a, &c) != GG_OK) fail_msg("bound %zu refused at its limit", i);
+            c = base_cfg();
+            *b[i].f = b[i].lim * 1.000001;
+            if (gg_pf_init(&a, &c) != GG_ERR_CONFIG) fail_msg("bound %zu not enforced", i);
+        }
+        c = base_cfg(); c.c0 = -GG_LIM_PF_S_MAX * 1.000001;
+        assert_int_equal(gg_pf_init(&a, &c), GG_ERR_CONFIG);
+    }
     memset(&snap, 0, sizeof snap);
     assert_int_equal(gg_pf_step(&snap, &in, &o), GG_ERR_NOT_INIT);
 }

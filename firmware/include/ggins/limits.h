@@ -83,6 +83,19 @@
 #define GG_LIM_PF_H_MAX_M 1.0e5
 #define GG_LIM_PF_V_MAX_MPS 1.0e3  /**< |INS velocity| per axis, m/s */
 #define GG_LIM_PF_S_MAX 10.0       /**< |fringe signal| of a shot (normalised populations) */
+/* The filter's configuration: each bound lies orders of magnitude beyond any
+ * physical setting, and keeps the particle cloud's squares finite for any
+ * flight (a spread of 1e6 m, grown by its process noise, squares to far
+ * below the double range). The regularisation bandwidth is bounded by its
+ * kernel (pf.c: h < 1). */
+#define GG_LIM_PF_K_EFF_MAX 1.0e9         /**< effective wave number, rad/m (Rb 780 nm: 1.6e7) */
+#define GG_LIM_PF_T_MAX_S 10.0            /**< pulse separation, s */
+#define GG_LIM_PF_DZ_MAX_M 1.0e3          /**< vertical separation of the interferometers, m */
+#define GG_LIM_PF_DT_MAX_S 3600.0         /**< time between shots, s */
+#define GG_LIM_PF_POS_SIGMA_MAX_M 1.0e6   /**< initial spread and process noise of the position, m */
+#define GG_LIM_PF_VEL_SIGMA_MAX_MPS 1.0e3 /**< the same of the velocity, m/s */
+#define GG_LIM_PF_ACC_SIGMA_MAX_MPS2 1.0e2 /**< the same of accelerations, tilts and biases, m/s^2 */
+#define GG_LIM_PF_JERK_SIGMA_MAX_MPS3 10.0 /**< the same of g x gyro bias, m/s^3 */
 
 /* ---- compile-time checks ---- */
 #if (GG_PF_MAX < 1) || (GG_PF_MAX > 100000)
