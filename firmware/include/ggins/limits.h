@@ -84,10 +84,9 @@
 #define GG_LIM_PF_V_MAX_MPS 1.0e3  /**< |INS velocity| per axis, m/s */
 #define GG_LIM_PF_S_MAX 10.0       /**< |fringe signal| of a shot (normalised populations) */
 /* The filter's configuration: each bound lies orders of magnitude beyond any
- * physical setting, and keeps the particle cloud's squares finite for any
- * flight (a spread of 1e6 m, grown by its process noise, squares to far
- * below the double range). The regularisation bandwidth is bounded by its
- * kernel (pf.c: h < 1). */
+ * physical setting and keeps the particle cloud's squares far inside the
+ * double range (a spread of 1e6 m squares to 1e12 m^2). The regularisation
+ * bandwidth is bounded by its kernel (pf.c: h < 1). */
 #define GG_LIM_PF_K_EFF_MAX 1.0e9         /**< effective wave number, rad/m (Rb 780 nm: 1.6e7) */
 #define GG_LIM_PF_T_MAX_S 10.0            /**< pulse separation, s */
 #define GG_LIM_PF_DZ_MAX_M 1.0e3          /**< vertical separation of the interferometers, m */
