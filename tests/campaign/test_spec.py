@@ -83,6 +83,26 @@ name = "long"
          "mapnav: seed S = --runs 1 --first-run S (run S of its Monte Carlo set)")
     ca = camp('[campaign]\ncommand = "coldatom"\nseeds = 2\nseed0 = 7\n', "ca.toml").runs()[1].task()["argv"]
     C.ok(ca[ca.index("--seed") + 1] == "8" and ca[ca.index("--flights") + 1] == "1", "coldatom: --flights 1 --seed 8")
+    # run3d: the runs start from the scenario as it would fly (every key, the files it names
+    # absolute: each run's copy sits in its own folder); every table's seed from S, the map's kept
+    util.write(os.path.join(tmp, "s3.toml"), '[time]\nduration_s = 10.0\n[draw]\nposition_ned_m = [1.0, 1.0, 1.0]\n'
+               '[coldatom]\nenabled = true\ncache = "cache-here"\n')
+    r3 = camp('[campaign]\ncommand = "run3d"\nscenario = "s3.toml"\nseeds = 2\nseed0 = 40\n', "r3.toml").runs()[1]
+    s3 = tomllib.loads(r3.task()["files"]["scenario.toml"])
+    C.ok(s3["accel"]["seed"] == 41 and s3["gyro"]["seed"] == 42 and s3["baro"]["seed"] == 43 and s3["draw"]["seed"] == 44
+         and s3["coldatom"]["seed"] == 45 and s3["aid_pf"]["seed"] == 46 and s3["aid_ukf"]["map_seed"] == 1,
+         "run3d: accel S, gyro S+1, baro S+2, draw S+3, coldatom S+4, aid_pf S+5; the map's noise seed kept (one map)")
+    C.ok(s3["coldatom"]["cache"] == os.path.join(tmp, "cache-here") and s3["time"]["duration_s"] == 10.0
+         and s3["draw"]["position_ned_m"] == [1.0, 1.0, 1.0],
+         "run3d: a relative file of the scenario made absolute from the scenario's folder; its keys kept")
+    try:
+        camp('[campaign]\ncommand = "run3d"\nscenario = "s3.toml"\n[sweep]\n"time.duration_s" = [1.0]\n',
+             "r3b.toml").runs()
+        util.write(os.path.join(tmp, "s3bad.toml"), '[time]\nduration_s = -1.0\n')
+        camp('[campaign]\ncommand = "run3d"\nscenario = "s3bad.toml"\n', "r3c.toml")
+        C.ok(False, "run3d: a scenario ggins-run3d refuses is refused when the campaign is read")
+    except spec.SpecError as e:
+        C.ok("time.duration_s" in str(e), "run3d: a scenario ggins-run3d refuses is refused when the campaign is read: %s" % e)
     try:
         camp('[campaign]\ncommand = "mapnav"\n[sweep]\n"time.duration_s" = [1.0]\n', "bad.toml")
         C.ok(False, "scenario key refused for a command without a scenario")

@@ -569,6 +569,15 @@ void Model3D::report(json& s) {
   e["omega_dot_error_radps2"] = wdot_.json();
   s["parity"] = {{"antisym_radps2", par_asym_.json()}, {"trace_ps2", par_trace_.json()}};
   s["acceptance"] = {{"position_below_1cm", pos_.max < 0.01}, {"gamma_below_1e-4_E", gam_e_.max * 1e9 < 1e-4}};
+  if (sc_.draw.active()) {  // the run's Monte Carlo draw ([draw]), added to the scenario's fixed errors
+    const auto d = ggins::truth3d::draw_errors(sc_.draw);
+    s["draw"] = {{"seed", sc_.draw.seed},
+                 {"accel_common_bias_mps2", d.accel_common_bias_mps2},
+                 {"gyro_bias_radps", d.gyro_bias_radps},
+                 {"initial_position_error_ned_m", d.position_ned_m},
+                 {"initial_velocity_error_ned_mps", d.velocity_ned_mps},
+                 {"initial_attitude_error_ned_rad", d.attitude_ned_rad}};
+  }
   json ms = json::array();  // the map storage as the configuration message records it (a replay loads it)
   for (size_t i = 0; i < sources_.size(); ++i)
     ms.push_back({{"path", sources_[i].path}, {"kind", ggins::run3d::kind_name(sources_[i].kind)},
@@ -669,7 +678,8 @@ int main(int argc, char** argv) {
   app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
   bool print_defaults = false;
   app.add_flag("--print-scenario", print_scenario,
-               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied, the files\n"
+               "it names absolute) and exit");
   app.add_flag("--defaults", print_defaults,
                "with --print-scenario: a complete template instead (every key at its default, commented\n"
                "with unit, allowed range and meaning; docs/scenario-reference.md)");
@@ -710,13 +720,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ggins run3d: %s\n", e.what());
     return 2;
   }
+  // the scenario as flown: every key, the effective values (overrides applied), every
+  // file it names absolute (it flies again from the output folder, or from anywhere)
+  const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
   if (print_scenario) {
-    std::fputs(ggins::truth3d::scenario3_to_toml(sc).c_str(), stdout);
+    std::fputs(as_flown.c_str(), stdout);
     return 0;
   }
-  // scenario.toml as flown: every key, the effective values (overrides applied)
-  // (every file it names absolute: it flies again from the output folder)
-  const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
   return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
                                            [&](const std::filesystem::path& out) { return std::make_unique<Model3D>(o, sc, !no_reference, out); });
 }

@@ -140,8 +140,10 @@ class Campaign:
             if not self.scenario_name:
                 raise SpecError("%s: command %s needs [campaign] scenario" % (path, self.command))
             self.scenario_path = self._find_scenario(self.scenario_name)
-            with open(self.scenario_path, "rb") as f:
-                self.scenario = tomllib.load(f)
+            try:
+                self.scenario = self.tool.load_scenario(self, self.scenario_path)
+            except (OSError, RuntimeError, tomllib.TOMLDecodeError) as e:
+                raise SpecError(str(e))
         elif self.scenario_name:
             raise SpecError("%s: command %s takes no scenario file (sweep its options)" % (path, self.command))
         o = d.get("outputs", {})

@@ -6,6 +6,10 @@ output files. "{bin}" is the folder of the built tools, "{out}" the run's output
 "{cache}" a per-worker cache (derived data such as the EGM96 grid; same content everywhere),
 "{data}" the data folder (EGM96 coefficients).
 """
+import os
+import subprocess
+import tomllib
+
 from . import tomlw
 
 # the six error states of the 2-D system (Welker et al. eq. 7), firmware minus truth,
@@ -36,6 +40,11 @@ class Tool:
     def task(self, c, scenario, opts, seed):
         raise NotImplementedError
 
+    def load_scenario(self, c, path):
+        """The scenario file as the runs start from (a dict; the campaign sets keys in it)."""
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+
 
 class Run2D(Tool):
     """ggins run: the 2-D system over LCM (truth generator -> hal_sim -> firmware)."""
@@ -63,12 +72,28 @@ class Run3D(Tool):
     default_series_dt = 10.0
     sigma_states = list(RUN3D_STATES.values())
 
+    def load_scenario(self, c, path):
+        """The scenario as it would fly (ggins-run3d --print-scenario: every key, the files it names
+        absolute, so that the copy each run writes into its own folder names the same maps and data)."""
+        exe = os.path.join(c.bin_dir, "ggins-run3d")
+        try:
+            p = subprocess.run([exe, "-s", path, "--print-scenario"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+        except OSError as e:
+            raise RuntimeError("%s: cannot run %s to read the scenario (build first): %s" % (c.path, exe, e))
+        if p.returncode != 0:
+            raise RuntimeError("%s: scenario %s: %s" % (c.path, path, p.stderr.strip()))
+        return tomllib.loads(p.stdout)
+
     def task(self, c, scenario, opts, seed):
         sc = dict(scenario)
         for k, off in (("accel.seed", 0), ("gyro.seed", 1)):
             tomlw.set_dotted(sc, k, seed + off)
-        if isinstance(sc.get("baro"), dict):
-            tomlw.set_dotted(sc, "baro.seed", seed + 2)
+        # the optional tables' own draws: the barometer, the Monte Carlo draw of the constant
+        # errors, the cold-atom shots and the particle filter's generator
+        for table, off in (("baro", 2), ("draw", 3), ("coldatom", 4), ("aid_pf", 5)):
+            if isinstance(sc.get(table), dict):
+                tomlw.set_dotted(sc, table + ".seed", seed + off)
         argv = ["{bin}/ggins-run3d", "--scenario", "scenario.toml", "--no-log", "--no-plots", "-q",
                 "--out", "{out}"] + c.args + opts
         return {"argv": argv, "files": {"scenario.toml": tomlw.dumps(sc)},

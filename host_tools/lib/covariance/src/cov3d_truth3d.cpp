@@ -67,6 +67,7 @@ Cov3DScenario cov3d_from_truth3d(const truth3d::Scenario3& t, std::vector<std::s
   if (t.gyro.scale_sigma != 0) um.emplace_back("gyro.scale_sigma");
   for (double b : t.gyro.bias_radps)
     if (b != 0) um.emplace_back("gyro.bias_radps (deterministic)");
+  if (t.draw.active()) um.emplace_back("draw (the run's Monte Carlo draw of biases and initial errors)");
   if (t.nav_gravity != "gradiometer") um.emplace_back("navigation.gravity = model (a different error model)");
   if (t.baro_loop_enabled()) {
     s.model.baro.on = true;

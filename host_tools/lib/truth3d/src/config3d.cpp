@@ -1,5 +1,6 @@
 #include "ggins/truth3d/config3d.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <Eigen/Geometry>
@@ -22,7 +23,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   const Truth3 t0 = g.truth(0);
   // [initial_error] (x = true - estimate): estimate = truth - x, NED axes of the true start
   const Mat3 C_n_e = ned_to_ecef(t0.s.lat, t0.s.lon);
-  const auto& ie = s.initial_error;
+  const InitialError3 ie = s.initial_error_flown();  // the fixed errors plus the run's [draw]
   const Vec3 dr_e = C_n_e * Vec3(ie.position_ned_m[0], ie.position_ned_m[1], ie.position_ned_m[2]);
   const Vec3 dv_e = C_n_e * Vec3(ie.velocity_ned_mps[0], ie.velocity_ned_mps[1], ie.velocity_ned_mps[2]);
   const Vec3 psi_e = C_n_e * Vec3(ie.attitude_ned_rad[0], ie.attitude_ned_rad[1], ie.attitude_ned_rad[2]);
@@ -56,7 +57,12 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   const auto& l = s.nav_baro;
   truth::vchan_config(l, s.baro_period_s(), l.omega_s2 > 0 ? static_cast<Real>(l.omega_s2) : t0.g_e.norm() / t0.s.r_e.norm(),
                       c.baro);
-  apply_aid_ukf(s.aid_ukf, s.rate_hz, s.gyro, c);  // [aid_ukf], aids3d.cpp
+  // the gyro as the filter knows it: the fixed values and the draw's values (one sigma or
+  // magnitude per axis), never the draw's outcome
+  GyroErrorParams known = s.gyro;
+  const double dmax = *std::max_element(s.draw.gyro_bias_radps.begin(), s.draw.gyro_bias_radps.end());
+  known.bias_sigma_radps = std::hypot(known.bias_sigma_radps, dmax);
+  apply_aid_ukf(s.aid_ukf, s.rate_hz, known, c);  // [aid_ukf], aids3d.cpp
   apply_aid_pf(s.aid_pf, s.coldatom, c);           // [aid_pf] with [coldatom], coldatom3d.cpp
   return c;
 }

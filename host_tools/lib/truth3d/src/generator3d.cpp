@@ -121,8 +121,8 @@ Generator3::Generator3(const Scenario3& s) : traj_(make_trajectory3(s)), field_(
   opt_.half_base = {static_cast<Real>(s.a_m), static_cast<Real>(s.b_m), static_cast<Real>(s.c_m)};
   opt_.dt_us = s.dt_us();
   opt_.n_steps = s.n_steps();
-  opt_.accel = s.accel;
-  opt_.gyro = s.gyro;
+  opt_.accel = s.accel_flown();  // the fixed errors plus the run's [draw]
+  opt_.gyro = s.gyro_flown();
   opt_.baro = s.baro;
   opt_.faults = s.sensor_faults;
   if (s.coldatom.enabled) ca_ = std::make_shared<const ColdAtomSensor3>(s.coldatom, opt_.dt_us);

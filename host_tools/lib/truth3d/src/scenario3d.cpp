@@ -341,6 +341,25 @@ sch::Schema<S> build_schema3() {
                 "attitude error psi, NED axes: C_b_n(estimate) = (I - [psi x]) C_b_n(true)");
     secs.push_back(sch::section<S>(t, &S::initial_error));
   }
+  {
+    sch::Table<Draw3> t("draw",
+                        "A Monte Carlo draw of the run's constant errors, added to the fixed values (none without "
+                        "this table; a campaign sets seed to its run's seed). The filters are configured from these "
+                        "values, never from the draw.");
+    using D = Draw3;
+    t.seed("seed", &D::seed, "seed of the draw")
+        .str("bias", &D::bias, {"gaussian", "sign"},
+             "the biases: gaussian (each value one sigma per axis) or sign (each value with a random sign per axis)")
+        .vec<3>("accel_common_bias_mps2", &D::accel_common_bias_mps2, "m/s^2", sch::in(0, 1),
+                "bias common to the six accelerometers, per body axis (added to every accel.bias_mps2 row)")
+        .vec<3>("gyro_bias_radps", &D::gyro_bias_radps, "rad/s", sch::in(0, 1), "gyro bias per axis (added to gyro.bias_radps)")
+        .vec<3>("position_ned_m", &D::position_ned_m, "m", sch::in(0, 1e4),
+                "initial position error, 1 sigma per NED axis (added to initial_error)")
+        .vec<3>("velocity_ned_mps", &D::velocity_ned_mps, "m/s", sch::in(0, 100), "initial velocity error, 1 sigma per NED axis")
+        .vec<3>("attitude_ned_rad", &D::attitude_ned_rad, "rad", sch::in(0, 0.1), "initial attitude error, 1 sigma per NED axis");
+    secs.push_back(sch::section<S>(t, &S::draw, [](const S& s) { return s.draw.active(); }));
+    secs.back().presence_matters = true;  // a scenario without a draw writes no [draw]
+  }
   secs.push_back(sch::section<S>(keys::baro_loop_table(), &S::nav_baro));
   {
     sch::Table<truth::FirmwareParams> f("firmware", "");
@@ -397,6 +416,57 @@ std::string scenario3_to_toml(const Scenario3& s, bool template_comments) {
                                          "# another trajectory type or model, unless given.\n"
                                        : "# scenario " + s.name + " as flown (defaults filled in, overrides applied)\n";
   return head + scenario3_schema().to_toml(s, template_comments);
+}
+
+bool Draw3::active() const {
+  for (const auto* v : {&accel_common_bias_mps2, &gyro_bias_radps, &position_ned_m, &velocity_ned_mps, &attitude_ned_rad})
+    for (double x : *v)
+      if (x != 0) return true;
+  return false;
+}
+
+DrawnErrors3 draw_errors(const Draw3& d) {
+  constexpr uint64_t kStreamDraw = 71;  // distinct from the sensors', faults' and shots' streams
+  DrawnErrors3 e;
+  if (!d.active()) return e;
+  auto bias = [&](uint64_t i, size_t j, double v) {
+    if (d.bias == "sign") return truth::counter_uniform(d.seed, kStreamDraw, 0, i, j) < 0.5 ? -v : v;
+    return v * truth::counter_normal(d.seed, kStreamDraw, 0, i, j);
+  };
+  for (size_t j = 0; j < 3; ++j) {
+    e.accel_common_bias_mps2[j] = bias(0, j, d.accel_common_bias_mps2[j]);
+    e.gyro_bias_radps[j] = bias(1, j, d.gyro_bias_radps[j]);
+    e.position_ned_m[j] = d.position_ned_m[j] * truth::counter_normal(d.seed, kStreamDraw, 0, 2, j);
+    e.velocity_ned_mps[j] = d.velocity_ned_mps[j] * truth::counter_normal(d.seed, kStreamDraw, 0, 3, j);
+    e.attitude_ned_rad[j] = d.attitude_ned_rad[j] * truth::counter_normal(d.seed, kStreamDraw, 0, 4, j);
+  }
+  return e;
+}
+
+truth::AccelErrorParams Scenario3::accel_flown() const {
+  truth::AccelErrorParams a = accel;
+  const DrawnErrors3 e = draw_errors(draw);
+  for (size_t i = 0; i < 6; ++i)
+    for (size_t j = 0; j < 3; ++j) a.bias_mps2[i][j] += e.accel_common_bias_mps2[j];
+  return a;
+}
+
+GyroErrorParams Scenario3::gyro_flown() const {
+  GyroErrorParams g = gyro;
+  const DrawnErrors3 e = draw_errors(draw);
+  for (size_t j = 0; j < 3; ++j) g.bias_radps[j] += e.gyro_bias_radps[j];
+  return g;
+}
+
+InitialError3 Scenario3::initial_error_flown() const {
+  InitialError3 i = initial_error;
+  const DrawnErrors3 e = draw_errors(draw);
+  for (size_t j = 0; j < 3; ++j) {
+    i.position_ned_m[j] += e.position_ned_m[j];
+    i.velocity_ned_mps[j] += e.velocity_ned_mps[j];
+    i.attitude_ned_rad[j] += e.attitude_ned_rad[j];
+  }
+  return i;
 }
 
 int64_t Scenario3::dt_us() const { return std::llround(1e6 / rate_hz); }

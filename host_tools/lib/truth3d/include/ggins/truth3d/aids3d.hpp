@@ -23,7 +23,7 @@
 //                              # share of R ([w x]^2 removal) and of Q; default [gyro] noise_sigma_radps
 //   sigma_gyro_bias_rps        # gyro bias one-sigma, rad/s: its share of R (without bias
 //                              # states); default [gyro] bias_sigma_radps (+ the largest
-//                              # |bias_radps| entry)
+//                              # |bias_radps| entry, + the largest [draw] gyro_bias_radps)
 //   bias_states = false        # gyro and accelerometer bias states (18 states with dead
 //                              # reckoning, 15 in model mode): the task subtracts its estimates
 //   sig0_gyro_bias_rps, sig0_acc_bias_mps2            # their initial one-sigma (Gao Table 1)
@@ -137,7 +137,7 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
            "gyro.noise_sigma_radps")
       .num("sigma_gyro_bias_rps", &A::sigma_gyro_bias_rps, "rad/s", sch::in(0, 1),
            "gyro bias one-sigma: its share of R (without bias states)", -1.0,
-           "gyro.bias_sigma_radps + the largest |gyro.bias_radps| entry")
+           "gyro.bias_sigma_radps + the largest |gyro.bias_radps| entry + the largest draw.gyro_bias_radps")
       .boolean("bias_states", &A::bias_states,
                "gyro and accelerometer bias states in the filter (the task subtracts its estimates from the readings)")
       .num("sig0_gyro_bias_rps", &A::sig0_gyro_bias_rps, "rad/s", sch::in_lopen(0, 1),

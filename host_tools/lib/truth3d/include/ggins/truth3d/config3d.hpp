@@ -27,7 +27,8 @@ gg_nav3d_config_t config3d(const Scenario3& s);
 // (gg_nav3d_init). The gyro's noise and bias one-sigma, unless [aid_ukf] states
 // them, are the sensor's as [gyro] specifies it (the per-step white noise
 // noise_sigma_radps; the bias sqrt(bias_sigma_radps^2 + the largest fixed
-// bias_radps^2)).
+// bias_radps^2)); config3d adds the largest [draw] gyro_bias_radps to
+// bias_sigma_radps in quadrature (the filter knows the draw's sigma, not its outcome).
 void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, gg_nav3d_config_t& c);
 
 }  // namespace ggins::truth3d

@@ -76,6 +76,38 @@ struct InitialError3 {
   std::array<double, 3> attitude_ned_rad{0, 0, 0};
 };
 
+// [draw]: a Monte Carlo draw of the run's constant errors, added to the fixed values:
+// a bias common to the six accelerometers (added to every row of [accel] bias_mps2; a
+// bias common to all six is no gradient error), the gyro bias (added to [gyro]
+// bias_radps) and the initial errors (added to [initial_error]). One draw per seed
+// (a campaign sets draw.seed to its run's seed), from counter_normal / counter_uniform
+// stream 71 (truth/sensors.hpp): element (0, 0, j) the accelerometer bias of axis j,
+// (0, 1, j) the gyro bias, (0, 2..4, j) position, velocity, attitude. Biases: "gaussian"
+// (each value one sigma per axis) or "sign" (each value with a random sign per axis, as
+// Gao et al.'s Table 1 states the biases as magnitudes); initial errors are gaussian,
+// each value one sigma. The filters are configured from the values (sigmas), never from
+// the draw.
+struct Draw3 {
+  uint64_t seed = 1;
+  std::string bias = "gaussian";  // or "sign"
+  std::array<double, 3> accel_common_bias_mps2{0, 0, 0};
+  std::array<double, 3> gyro_bias_radps{0, 0, 0};
+  std::array<double, 3> position_ned_m{0, 0, 0};
+  std::array<double, 3> velocity_ned_mps{0, 0, 0};
+  std::array<double, 3> attitude_ned_rad{0, 0, 0};
+  bool active() const;  // any value non-zero
+};
+
+// One draw of [draw] (all zero when it is inactive).
+struct DrawnErrors3 {
+  std::array<double, 3> accel_common_bias_mps2{0, 0, 0};
+  std::array<double, 3> gyro_bias_radps{0, 0, 0};
+  std::array<double, 3> position_ned_m{0, 0, 0};
+  std::array<double, 3> velocity_ned_mps{0, 0, 0};
+  std::array<double, 3> attitude_ned_rad{0, 0, 0};
+};
+DrawnErrors3 draw_errors(const Draw3& d);
+
 struct Scenario3 {
   std::string name, description, source, text;
   Trajectory3Params trajectory;
@@ -89,6 +121,7 @@ struct Scenario3 {
   truth::BaroParams baro;  // enable, seed, rate_hz, bias_m, gm_sigma_m, gm_tau_s, noise_sigma_m
   std::string nav_gravity = "gradiometer";
   InitialError3 initial_error;     // [initial_error]
+  Draw3 draw;                      // [draw]: the run's Monte Carlo draw, added to the fixed errors
   truth::BaroLoopParams nav_baro;
   truth::FirmwareParams firmware;  // f_max_mps2, asym_max_ps2, dt_tol_us
   // [firmware] fdi_parity_f_max_mps2: the pair-mean fault detection threshold
@@ -104,6 +137,11 @@ struct Scenario3 {
   AidUkf3 aid_ukf;              // [aid_ukf]: the gradient-map aid (aids3d.hpp)
   ColdAtom3 coldatom;           // [coldatom]: the cold-atom gradiometer (coldatom3d.hpp)
   AidPf3 aid_pf;                // [aid_pf]: the cold-atom particle-filter aid (coldatom3d.hpp)
+
+  // the sensor errors and initial errors as flown: the fixed values plus the draw
+  truth::AccelErrorParams accel_flown() const;
+  GyroErrorParams gyro_flown() const;
+  InitialError3 initial_error_flown() const;
 
   bool strapdown() const { return platform == "strapdown"; }
   int64_t dt_us() const;
