@@ -11,7 +11,7 @@ import tomllib
 import util
 from util import Checks
 
-from ggins_campaign import report, spec, tomlw
+from ggins_campaign import report, spec, tomlw, worker
 
 C = Checks("campaign.spec")
 tmp = tempfile.mkdtemp(prefix="ggins-campaign-spec-")
@@ -103,6 +103,19 @@ name = "long"
         C.ok(False, "run3d: a scenario ggins-run3d refuses is refused when the campaign is read")
     except spec.SpecError as e:
         C.ok("time.duration_s" in str(e), "run3d: a scenario ggins-run3d refuses is refused when the campaign is read: %s" % e)
+    # run3d's values derived from a run's series, against hand values: a 3-4-5 horizontal error
+    # for 3 h then 0 (mean over the 4 samples 3.75 m); the last 2 h hold t = 3600, 7200, 10800 (t >= t_end - 7200):
+    # RMS north sqrt((9 + 9 + 0) / 3), down sqrt((1 + 4 + 4) / 3)
+    ser = {"t_s": [0.0, 3600.0, 7200.0, 10800.0], "rn_m": [3.0, 3.0, 3.0, 0.0], "re_m": [4.0, 4.0, 4.0, 0.0],
+           "rd_m": [1.0, 1.0, 2.0, 2.0]}
+    dv = r3.campaign.tool.derived(ser)
+    C.ok(abs(dv["hmean_m"] - 3.75) < 1e-12 and abs(dv["rms2h_rn_m"] - math.sqrt(6.0)) < 1e-12
+         and abs(dv["rms2h_rd_m"] - math.sqrt(3.0)) < 1e-12, "run3d: flight-mean horizontal error 3.75 m, RMS over the last 2 h")
+    jp = util.write(os.path.join(tmp, "s.json"), '{"aids": [{"nis_mean": 6.5}], "u": {"n": 1, "e": 2}}')
+    jv = worker._read_json(jp, {"values": {"nis": "aids.0.nis_mean", "nees": "?aids.0.nees.position",
+                                           "u_": "?u.*", "w_": "?w.*"}})
+    C.ok(jv == {"nis": 6.5, "u_n": 1.0, "u_e": 2.0}, "optional json paths (\"?\"): stored when present, skipped when not")
+    C.ok(spec._expand_values("k", {"value": [1.0, 2.0]}) == [[1.0, 2.0]], "{value = [..]} in a sweep: one array value")
     try:
         camp('[campaign]\ncommand = "mapnav"\n[sweep]\n"time.duration_s" = [1.0]\n', "bad.toml")
         C.ok(False, "scenario key refused for a command without a scenario")

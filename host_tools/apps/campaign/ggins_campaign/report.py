@@ -132,6 +132,7 @@ def summarize(campaign, store, runs, plot=True, log=None):
         for r in sorted(prs, key=lambda x: x.seed_index):
             if store.done(r.run_id):
                 m, s = read_run(store.run_path(r.run_id))
+                m["final"].update(campaign.tool.derived(s))
                 metas.append(m)
                 series.append(s)
         failed = store.failures([r.run_id for r in prs])
@@ -271,6 +272,8 @@ def _write_table(summary, campaign, out):
         md.append("| " + " | ".join(cells) + " |")
     if campaign.command == "mapnav":
         md += [""] + gao_table(summary)
+    if campaign.command == "run3d":
+        md += [""] + aided3d_table(summary)
     fails = [(P["name"], f) for P in summary["points"] for f in P["failed"]]
     if fails:
         md += ["", "Failed runs (twice; logs in failed/):", ""]
@@ -300,4 +303,34 @@ def gao_table(summary):
         cells = ["%.3g ± %.2g" % (m[c], sd[c]) for c in GAO_COLS]
         md.append("| %s | %s | %.3g | %s | %.3g | %.1f | %.2f |" % (
             P["name"], " | ".join(cells[:6]), v3, " | ".join(cells[6:]), p3, f["nees"]["mean"], f["nis"]["mean"]))
+    return md
+
+
+def aided3d_table(summary):
+    """run3d: per point the statistics of the aided papers: mean over the runs of |error| at the end
+    per axis (Gao et al.'s Table 2), the mean of each run's RMS over the last 2 h (Tables 3-9),
+    the mean horizontal error over the flight (Phillips et al.), the same flights unaided at the
+    end, and the aids' consistency (NEES per 3-dof block and NIS of the map UKF; (err/spread)^2
+    of the particle filter, 1 = consistent)."""
+    def cell(f, k, fmt="%.3g"):
+        return fmt % f[k]["mean_abs"] if k in f and f[k].get("n") else ""
+
+    def mean(f, k, fmt="%.3g"):
+        return fmt % f[k]["mean"] if k in f and f[k].get("n") else ""
+
+    md = ["Aided flights: mean over runs of |error| at the end (N / E / D, m), of each run's RMS over the last "
+          "2 h, and of the horizontal error averaged over the flight; unaided: the same frames with every aid off", "",
+          "| point | N | end N | end E | end D | RMS2h N | RMS2h E | RMS2h D | mean horiz. | unaided end N | "
+          "unaided end E | unaided end D | NEES pos/vel/att (3) | NIS (6) | PF (err/spread)^2 |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for P in summary["points"]:
+        f = P["final"]
+        if "rms2h_rn_m" not in f:
+            continue
+        nees = "/".join(mean(f, k, "%.2f") for k in ("ukf_nees_pos", "ukf_nees_vel", "ukf_nees_att")) \
+            if "ukf_nees_pos" in f else ""
+        md.append("| %s | %d | %s |" % (P["name"] or str(P["point"]), P["stored"], " | ".join([
+            cell(f, "rn_m"), cell(f, "re_m"), cell(f, "rd_m"), cell(f, "rms2h_rn_m"), cell(f, "rms2h_re_m"),
+            cell(f, "rms2h_rd_m"), cell(f, "hmean_m"), cell(f, "unaided_rn"), cell(f, "unaided_re"),
+            cell(f, "unaided_rd"), nees, mean(f, "ukf_nis", "%.2f"), mean(f, "pf_err_over_spread_sq", "%.2f")])))
     return md

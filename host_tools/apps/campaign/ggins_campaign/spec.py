@@ -52,6 +52,8 @@ def _expand_values(key, v):
             raise SpecError("sweep %s: empty list" % key)
         return list(v)
     if isinstance(v, dict):
+        if set(v) == {"value"}:  # one array-valued key as it is
+            return [v["value"]]
         if "values" in v:
             return list(v["values"])
         if "start" not in v or "stop" not in v:
@@ -179,7 +181,9 @@ class Campaign:
             for combo in itertools.product(*(pgrids + grids)):
                 q = dict(fixed)
                 q.update(dict(zip(allkeys, combo)))
-                tag = ",".join("%s=%s" % (k.lstrip("-"), v) for k, v in zip(allkeys, combo))
+                # the name tags the swept keys (a key with one value is common to every point)
+                tag = ",".join("%s=%s" % (k.lstrip("-"), v) for k, v, g in zip(allkeys, combo, pgrids + grids)
+                               if len(g) > 1)
                 if "name" in p:
                     q["name"] = p["name"] + ("," + tag if tag else "")
                 else:

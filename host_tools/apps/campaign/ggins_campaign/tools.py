@@ -6,6 +6,7 @@ output files. "{bin}" is the folder of the built tools, "{out}" the run's output
 "{cache}" a per-worker cache (derived data such as the EGM96 grid; same content everywhere),
 "{data}" the data folder (EGM96 coefficients).
 """
+import math
 import os
 import subprocess
 import tomllib
@@ -39,6 +40,10 @@ class Tool:
 
     def task(self, c, scenario, opts, seed):
         raise NotImplementedError
+
+    def derived(self, series):
+        """Values of one run derived from its stored series (none by default)."""
+        return {}
 
     def load_scenario(self, c, path):
         """The scenario file as the runs start from (a dict; the campaign sets keys in it)."""
@@ -96,8 +101,36 @@ class Run3D(Tool):
                 tomlw.set_dotted(sc, table + ".seed", seed + off)
         argv = ["{bin}/ggins-run3d", "--scenario", "scenario.toml", "--no-log", "--no-plots", "-q",
                 "--out", "{out}"] + c.args + opts
+        # the aids' consistency (summary.json "aids", in the order the scenario switches them on)
+        # and the unaided reference's final error (the same frames with every aid off)
+        values = {}
+        aids = [a for a in ("aid_ukf", "aid_pf") if (sc.get(a) or {}).get("enabled")]
+        for i, a in enumerate(aids):
+            if a == "aid_ukf":
+                values.update({"ukf_nis": "aids.%d.nis_mean" % i, "ukf_nees_pos": "?aids.%d.nees.position" % i,
+                               "ukf_nees_vel": "?aids.%d.nees.velocity" % i,
+                               "ukf_nees_att": "?aids.%d.nees.attitude" % i})
+            else:
+                values.update({"pf_err_over_spread_sq": "aids.%d.err_over_spread_sq_mean" % i,
+                               "pf_estimate_error_m": "aids.%d.estimate_error_mean_m" % i})
+        values["unaided_r"] = "?unaided_reference.position_error_final_m.*"
         return {"argv": argv, "files": {"scenario.toml": tomlw.dumps(sc)},
-                "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": RUN3D_STATES}]}
+                "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": RUN3D_STATES},
+                          {"json": "summary.json", "values": values}]}
+
+    def derived(self, series):
+        """Per run, from its stored series (the campaign's series_dt grid): the horizontal position
+        error averaged over the flight (Phillips et al.'s mean radial error) and the RMS of each
+        position error axis over the last 2 h (Gao et al.'s Tables 3-9; the whole flight if shorter)."""
+        t = series.get("t_s") or []
+        if not len(t) or not all(k in series for k in ("rn_m", "re_m", "rd_m")):
+            return {}
+        n = len(t)
+        out = {"hmean_m": sum(math.hypot(series["rn_m"][i], series["re_m"][i]) for i in range(n)) / n}
+        last = [i for i in range(n) if t[i] >= t[-1] - 7200.0]
+        for k in ("rn_m", "re_m", "rd_m"):
+            out["rms2h_" + k] = math.sqrt(sum(series[k][i] ** 2 for i in last) / len(last))
+        return out
 
 
 class MapNav(Tool):

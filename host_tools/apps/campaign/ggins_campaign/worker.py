@@ -112,11 +112,18 @@ def _leaves(obj, prefix, out):
 def _read_json(path, rule):
     """`values`: {stored name or prefix: dotted path}; a path ending in ".*" stores every
     numeric leaf below it as <prefix><leaf>; {"path": ..., "names": [...]} stores the elements
-    of an array as <prefix><name>."""
+    of an array as <prefix><name>; a path starting with "?" is optional (nothing stored when
+    the file lacks it)."""
     with open(path) as f:
         j = json.load(f)
     final = {}
     for name, p in rule["values"].items():
+        if isinstance(p, str) and p.startswith("?"):
+            p = p[1:]
+            try:
+                _walk(j, p.split(".")[:-1] if p.endswith(".*") else p.split("."))
+            except (KeyError, IndexError, TypeError):
+                continue
         if isinstance(p, dict):  # an array, its elements named: {"path": ..., "names": [...]}
             arr = _walk(j, p["path"].split("."))
             if len(arr) != len(p["names"]):
