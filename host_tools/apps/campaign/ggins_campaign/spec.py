@@ -187,7 +187,7 @@ class Campaign:
                 if "name" in p:
                     q["name"] = p["name"] + ("," + tag if tag else "")
                 else:
-                    q["name"] = ",".join("%s=%s" % (k.lstrip("-"), q[k]) for k in q) or "base"
+                    q["name"] = tag or ",".join("%s=%s" % (k.lstrip("-"), v) for k, v in fixed.items()) or "base"
                 self.points.append(q)
         self.param_keys = []
         for q in self.points:
