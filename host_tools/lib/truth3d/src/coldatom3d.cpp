@@ -60,44 +60,6 @@ ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   return c;
 }
 
-AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source) {
-  AidPf3 a;
-  if (!t) return a;
-  const std::string w = "aid_pf";
-  st::check_keys(*t, w,
-                 {"enabled", "map_dir", "particles", "chunk", "end_chunk", "model", "feedback", "seed", "sigma", "sigma0_pos_m",
-                  "sigma0_vel_mps", "sigma0_tilt_mps2", "sigma0_gyro_mps3", "sigma0_accel_mps2", "q_pos_m",
-                  "q_vel_mps", "q_tilt_mps2", "q_gyro_mps3", "q_accel_mps2", "reg_bw", "gain", "ess_frac"},
-                 source);
-  a.enabled = st::get_bool(*t, w, "enabled", a.enabled, source);
-  a.map_dir = st::get_str(*t, w, "map_dir", a.map_dir, source);
-  a.particles = static_cast<int>(st::get_int(*t, w, "particles", a.particles, source));
-  a.chunk = static_cast<int>(st::get_int(*t, w, "chunk", a.chunk, source));
-  a.end_chunk = static_cast<int>(st::get_int(*t, w, "end_chunk", a.end_chunk, source));
-  a.model = st::get_str(*t, w, "model", a.model, source);
-  a.feedback = st::get_str(*t, w, "feedback", a.feedback, source);
-  if (a.feedback != "position" && a.feedback != "position-velocity")
-    st::fail(source, "aid_pf.feedback must be \"position\" or \"position-velocity\"");
-  a.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(a.seed), source));
-  a.sigma = st::get_num(*t, w, "sigma", a.sigma, source);
-  a.sigma0_pos_m = st::get_num(*t, w, "sigma0_pos_m", a.sigma0_pos_m, source);
-  a.sigma0_vel_mps = st::get_num(*t, w, "sigma0_vel_mps", a.sigma0_vel_mps, source);
-  a.sigma0_tilt_mps2 = st::get_num(*t, w, "sigma0_tilt_mps2", a.sigma0_tilt_mps2, source);
-  a.sigma0_gyro_mps3 = st::get_num(*t, w, "sigma0_gyro_mps3", a.sigma0_gyro_mps3, source);
-  a.sigma0_accel_mps2 = st::get_num(*t, w, "sigma0_accel_mps2", a.sigma0_accel_mps2, source);
-  a.q_pos_m = st::get_num(*t, w, "q_pos_m", a.q_pos_m, source);
-  a.q_vel_mps = st::get_num(*t, w, "q_vel_mps", a.q_vel_mps, source);
-  a.q_tilt_mps2 = st::get_num(*t, w, "q_tilt_mps2", a.q_tilt_mps2, source);
-  a.q_gyro_mps3 = st::get_num(*t, w, "q_gyro_mps3", a.q_gyro_mps3, source);
-  a.q_accel_mps2 = st::get_num(*t, w, "q_accel_mps2", a.q_accel_mps2, source);
-  a.reg_bw = st::get_num(*t, w, "reg_bw", a.reg_bw, source);
-  a.gain = st::get_num(*t, w, "gain", a.gain, source);
-  a.ess_frac = st::get_num(*t, w, "ess_frac", a.ess_frac, source);
-  if (a.model != "rbpf" && a.model != "ins" && a.model != "rw") st::fail(source, "aid_pf.model must be rbpf, ins or rw");
-  if (a.enabled && a.map_dir.empty()) st::fail(source, "aid_pf.enabled needs aid_pf.map_dir (the onboard Gamma_zz tiles)");
-  return a;
-}
-
 void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
   gg_aid_pf_config_t& m = c.aid_pf;
   m = gg_aid_pf_config_t{};

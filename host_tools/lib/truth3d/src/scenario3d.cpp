@@ -17,6 +17,8 @@
 
 extern "C" {
 #include "ggins/fdi3d.h"
+#include "ggins/limits.h"
+#include "ggins/pf.h"
 }
 
 namespace ggins::truth3d {
@@ -175,45 +177,40 @@ std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(
           {"beam_radius_m", sch::num_text(g.beam_radius)}, {"seed", std::to_string(c.seed)}};
 }
 
-std::vector<sch::Row> aid_pf3_rows() {
-  const AidPf3 d;
-  auto n = [](double v) { return sch::num_text(v); };
-  return {{"enabled", "boolean", "", "false", "", "the particle-filter aid runs (needs [coldatom] and map_dir)"},
-          {"map_dir", "string", "", "\"\" (none)", "directory", "Gamma_zz tiles (*.gmap) for the map storage"},
-          {"particles", "integer", "", std::to_string(d.particles), ">= 1", "particles"},
-          {"chunk", "integer", "", std::to_string(d.chunk), ">= 1", "particles predicted and weighed per step"},
-          {"end_chunk", "integer", "", std::to_string(d.end_chunk), ">= 1", "particle passes of a shot's end per step"},
-          {"model", "string", "", sch::str_text(d.model), "\"rbpf\", \"ins\", \"rw\"", "process model (pf.h)"},
-          {"feedback", "string", "", sch::str_text(d.feedback), "\"position\", \"position-velocity\"",
-           "what the closed loop corrects"},
-          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "generator seed"},
-          {"sigma", "number", "1", n(d.sigma), ">= 0 (0: from the sensor)", "likelihood sd, signal units"},
-          {"sigma0_pos_m", "number", "m", n(d.sigma0_pos_m), ">= 0", "initial spread of position"},
-          {"sigma0_vel_mps", "number", "m/s", n(d.sigma0_vel_mps), ">= 0", "initial spread of velocity"},
-          {"sigma0_tilt_mps2", "number", "m/s^2", n(d.sigma0_tilt_mps2), ">= 0", "initial spread of tilt"},
-          {"sigma0_gyro_mps3", "number", "m/s^3", n(d.sigma0_gyro_mps3), ">= 0", "initial spread of g x gyro bias"},
-          {"sigma0_accel_mps2", "number", "m/s^2", n(d.sigma0_accel_mps2), ">= 0", "initial spread of acc error"},
-          {"q_pos_m", "number", "m", n(d.q_pos_m), ">= 0", "process noise per shot: position"},
-          {"q_vel_mps", "number", "m/s", n(d.q_vel_mps), ">= 0", "process noise per shot: velocity"},
-          {"q_tilt_mps2", "number", "m/s^2", n(d.q_tilt_mps2), ">= 0", "process noise per shot: tilt"},
-          {"q_gyro_mps3", "number", "m/s^3", n(d.q_gyro_mps3), ">= 0", "process noise per shot: g x gyro bias"},
-          {"q_accel_mps2", "number", "m/s^2", n(d.q_accel_mps2), ">= 0", "process noise per shot: acc error"},
-          {"reg_bw", "number", "1", n(d.reg_bw), ">= 0", "regularisation bandwidth, x Silverman"},
-          {"gain", "number", "1", n(d.gain), "[0, 1]", "smoothing gain of the fed-back correction"},
-          {"ess_frac", "number", "1", n(d.ess_frac), "[0, 1]", "resample when N_eff < ess_frac N"}};
-}
-
-std::vector<std::pair<std::string, std::optional<std::string>>> write_aid_pf3(const AidPf3& a) {
-  auto n = [](double v) { return sch::num_text(v); };
-  return {{"enabled", a.enabled ? "true" : "false"}, {"map_dir", sch::str_text(a.map_dir)},
-          {"particles", std::to_string(a.particles)}, {"chunk", std::to_string(a.chunk)},
-          {"end_chunk", std::to_string(a.end_chunk)}, {"model", sch::str_text(a.model)},
-          {"feedback", sch::str_text(a.feedback)}, {"seed", std::to_string(a.seed)}, {"sigma", n(a.sigma)},
-          {"sigma0_pos_m", n(a.sigma0_pos_m)}, {"sigma0_vel_mps", n(a.sigma0_vel_mps)},
-          {"sigma0_tilt_mps2", n(a.sigma0_tilt_mps2)}, {"sigma0_gyro_mps3", n(a.sigma0_gyro_mps3)},
-          {"sigma0_accel_mps2", n(a.sigma0_accel_mps2)}, {"q_pos_m", n(a.q_pos_m)}, {"q_vel_mps", n(a.q_vel_mps)},
-          {"q_tilt_mps2", n(a.q_tilt_mps2)}, {"q_gyro_mps3", n(a.q_gyro_mps3)}, {"q_accel_mps2", n(a.q_accel_mps2)},
-          {"reg_bw", n(a.reg_bw)}, {"gain", n(a.gain)}, {"ess_frac", n(a.ess_frac)}};
+// [aid_pf] (coldatom3d.hpp): the filter's settings, their ranges the firmware's (limits.h,
+// pf.h), so that a setting the filter would refuse is refused here with its key and line.
+sch::Table<AidPf3> aid_pf3_table() {
+  using A = AidPf3;
+  sch::Table<A> t("aid_pf", "The cold-atom particle-filter aid (aid_pf.h) on the gradiometer's shots.");
+  t.boolean("enabled", &A::enabled, "the particle-filter aid runs (needs [coldatom] and map_dir)")
+      .str("map_dir", &A::map_dir, {}, "Gamma_zz tiles (*.gmap) for the map storage, a directory; relative from the "
+                                        "scenario file's directory")
+      .integer("particles", &A::particles, "", sch::in(1, GG_PF_MAX), "particles")
+      .integer("chunk", &A::chunk, "", sch::in(1, GG_PF_MAX), "particles predicted and weighed per step")
+      .integer("end_chunk", &A::end_chunk, "", sch::in(1, GG_PF_MAX), "particle passes of a shot's end per step")
+      .str("model", &A::model, {"rbpf", "ins", "rw"}, "process model (pf.h)")
+      .str("feedback", &A::feedback, {"position", "position-velocity"}, "what the closed loop corrects")
+      .seed("seed", &A::seed, "generator seed")
+      .num("sigma", &A::sigma, "1", sch::in(0, GG_LIM_PF_S_MAX), "likelihood sd, signal units (0: from the sensor)")
+      .num("sigma0_pos_m", &A::sigma0_pos_m, "m", sch::in(0, GG_LIM_PF_POS_SIGMA_MAX_M), "initial spread of position")
+      .num("sigma0_vel_mps", &A::sigma0_vel_mps, "m/s", sch::in(0, GG_LIM_PF_VEL_SIGMA_MAX_MPS), "initial spread of velocity")
+      .num("sigma0_tilt_mps2", &A::sigma0_tilt_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2), "initial spread of tilt")
+      .num("sigma0_gyro_mps3", &A::sigma0_gyro_mps3, "m/s^3", sch::in(0, GG_LIM_PF_JERK_SIGMA_MAX_MPS3),
+           "initial spread of g x gyro bias")
+      .num("sigma0_accel_mps2", &A::sigma0_accel_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2),
+           "initial spread of acc error")
+      .num("q_pos_m", &A::q_pos_m, "m", sch::in(0, GG_LIM_PF_POS_SIGMA_MAX_M), "process noise per shot: position")
+      .num("q_vel_mps", &A::q_vel_mps, "m/s", sch::in(0, GG_LIM_PF_VEL_SIGMA_MAX_MPS),
+           "process noise per shot: velocity (> 0 with model rbpf)")
+      .num("q_tilt_mps2", &A::q_tilt_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2), "process noise per shot: tilt")
+      .num("q_gyro_mps3", &A::q_gyro_mps3, "m/s^3", sch::in(0, GG_LIM_PF_JERK_SIGMA_MAX_MPS3),
+           "process noise per shot: g x gyro bias")
+      .num("q_accel_mps2", &A::q_accel_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2),
+           "process noise per shot: acc error")
+      .num("reg_bw", &A::reg_bw, "1", sch::in(0, 100), "regularisation bandwidth, x Silverman (the kernel h it gives must stay < 1: pf.h)")
+      .num("gain", &A::gain, "1", sch::in_lopen(0, 1), "smoothing gain of the fed-back correction")
+      .num("ess_frac", &A::ess_frac, "1", sch::in(0, 1), "resample when N_eff < ess_frac N");
+  return t;
 }
 
 std::vector<std::pair<std::string, std::optional<std::string>>> write_sensor_faults3(const SensorFaults3& p) {
@@ -396,10 +393,7 @@ sch::Schema<S> build_schema3() {
       "coldatom", "The cold-atom gradiometer (coldatom3d.hpp): two interferometers, fringe pairs.", coldatom3_rows(),
       [](S& s, const toml::table& t, const sch::Ctx& c) { s.coldatom = parse_coldatom3(&t, c.source); },
       [](const S& s) { return write_coldatom3(s.coldatom); }, [](const S& s) { return s.coldatom.enabled; }));
-  secs.push_back(sch::delegated_section<S>(
-      "aid_pf", "The cold-atom particle-filter aid (aid_pf.h) on the gradiometer's shots.", aid_pf3_rows(),
-      [](S& s, const toml::table& t, const sch::Ctx& c) { s.aid_pf = parse_aid_pf3(&t, c.source); },
-      [](const S& s) { return write_aid_pf3(s.aid_pf); }, [](const S& s) { return s.aid_pf.enabled; }));
+  secs.push_back(sch::section<S>(aid_pf3_table(), &S::aid_pf, [](const S& s) { return s.aid_pf.enabled; }));
   return sc;
 }
 
@@ -527,6 +521,11 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                                               ": must be <= aid_ukf.update_period_s");
   if (s.aid_pf.enabled && !s.coldatom.enabled)
     c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs [coldatom] enabled (its sensor)");
+  if (s.aid_pf.enabled && s.aid_pf.map_dir.empty())
+    c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs aid_pf.map_dir (the onboard Gamma_zz tiles)");
+  if (s.aid_pf.enabled && s.aid_pf.model == "rbpf" && !(s.aid_pf.q_vel_mps > 0))
+    c.fail_key(root, "aid_pf.q_vel_mps", "aid_pf.q_vel_mps must be > 0 with model rbpf (it keeps the position "
+                                         "prediction's covariance positive definite)");
   if (s.aid_ukf.enabled && s.aid_ukf.maps.empty() && !s.aid_ukf.map_from_field)
     c.fail_key(root, "aid_ukf.enabled",
                "aid_ukf.enabled needs aid_ukf.map (the onboard tiles) or aid_ukf.map_from_field = true");

@@ -73,7 +73,6 @@ struct AidPf3 {
 };
 
 ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source);
-AidPf3 parse_aid_pf3(const toml::table* t, const std::string& source);
 
 // [aid_pf] with the sensor's [coldatom] parameters onto c.aid_pf (the filter's ellipse
 // model is the sensor's: k_eff, T, dz, contrast, centre 1/2 + bias; likelihood sigma 0 = the
