@@ -50,7 +50,9 @@
  * velocity, G, gradient and specific force; no freeze: with the reference
  * configuration, TAIL_FRAMES consistent reference frames after the fuzzed
  * ones end with a frame used (or the outage being coasted through); the
- * particle filter switched off, its state never changes. */
+ * particle filter switched off, its state never changes. With FUZZ_TRACE set
+ * in the environment, the tail frames' status, health and the task's bias
+ * estimates are printed (to read a finding). */
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -391,6 +393,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             f.utime += ut_off;
             f.baro_utime += ut_off;
             (void)gg_nav3d_step(&nav, &f, hal, &out);
+            if (getenv("FUZZ_TRACE") != NULL)
+                fprintf(stderr, "tail %d: status %d health 0x%x bias_w %g %g %g bias_f %g %g %g\n", r, (int)out.status,
+                        (unsigned)out.health, nav.bias_w[0], nav.bias_w[1], nav.bias_w[2], nav.bias_f[0], nav.bias_f[1],
+                        nav.bias_f[2]);
             check_state(&nav);
             check_output(&out);
         }

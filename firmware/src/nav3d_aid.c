@@ -70,7 +70,35 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
  * Gamma_i dr + dg + psi x f_i), the gravitation (dead reckoning) by
  * Gamma_e dr_e + dg_e so it stays the value at the corrected position, the
  * attitude by q_b_i <- q(psi) (x) q_b_i, the bias estimates by db_w, db_f
- * (subtracted from the next readings on). */
+ * (subtracted from the next readings on). A correction whose bias estimates
+ * would leave their bounds (limits.h, GG_AID_MM_BIAS_SIGMAS) is refused whole:
+ * the state stays as it was and the caller flags the aid's failure. */
+static gg_status_t n3_bias_bounded(const gg_nav3d_t *nav, const gg_aid_corr_t *corr)
+{
+    const gg_aid_mm_config_t *c = &nav->cfg.aid_mm;
+    double bw = GG_LIM_AID_MM_BIAS_W_EST_MAX_RPS;
+    double bf = GG_LIM_AID_MM_BIAS_F_EST_MAX_MPS2;
+    gg_status_t st = GG_OK;
+    size_t j;
+    if (c->bias_states != 0) {
+        const double sw = GG_AID_MM_BIAS_SIGMAS * c->sig0_gyro_bias_rps;
+        const double sf = GG_AID_MM_BIAS_SIGMAS * c->sig0_acc_bias_mps2;
+        bw = (sw < bw) ? sw : bw;
+        bf = (sf < bf) ? sf : bf;
+    } else {
+        bw = 0.0; /* no bias states: no estimate */
+        bf = 0.0;
+    }
+    for (j = 0U; j < 3U; ++j) {
+        const double nw = nav->bias_w[j] + corr->db_w[j];
+        const double nf = nav->bias_f[j] + corr->db_f[j];
+        if (!(nw <= bw) || !(nw >= -bw) || !(nf <= bf) || !(nf >= -bf)) {
+            st = GG_ERR_RANGE;
+        }
+    }
+    return st;
+}
+
 gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
 {
     gg_real_t dr[3];
@@ -94,6 +122,10 @@ gg_status_t n3_aid_apply(gg_nav3d_t *nav, const gg_aid_corr_t *corr)
             !GG_ISFINITE(dg[j]) || !GG_ISFINITE(corr->db_w[j]) || !GG_ISFINITE(corr->db_f[j])) {
             return GG_ERR_NONFINITE;
         }
+    }
+    st = n3_bias_bounded(nav, corr);
+    if (st != GG_OK) {
+        return st;
     }
     {
         const gg_nav3d_t *cn = nav;

@@ -10,6 +10,8 @@
 #include "truth3.h"
 #include "ggins/aid_mmukf.h"
 #include "ggins/gmap.h"
+#include "ggins/limits.h"
+#include "nav3d_int.h" /* n3_aid_apply: the task's side of a correction */
 
 #define DT_US 10000
 #define SIGMA_G 1.0e-11          /* gradiometer noise of a diagonal component, s^-2 (0.01 E) */
@@ -807,6 +809,78 @@ static void test_config(void **state)
     assert_int_equal(a.initialized, 0);
 }
 
+/* The bias estimates a correction may leave in the task: inside
+ * GG_AID_MM_BIAS_SIGMAS initial sigmas and inside the absolute bounds of
+ * limits.h. A correction beyond either is refused whole, the state byte for
+ * byte as before (the fuzzer's finding: an ungated epoch of wild readings
+ * taught a gyro bias of 0.027 rad/s, whose rotation terms, 7.5e-4 s^-2, then
+ * failed the differencing's range check on every later frame). The absolute
+ * gyro bound keeps those terms, 3 b^2 at most, below a tenth of the
+ * gradient range. */
+static void test_bias_bound(void **state)
+{
+    (void)state;
+    truth3_t T;
+    gg_nav3d_config_t cfg;
+    gg_aid_corr_t c;
+    gg_frame_t fr;
+    gg_nav3d_output_t out;
+    assert_true(3.0 * GG_LIM_AID_MM_BIAS_W_EST_MAX_RPS * GG_LIM_AID_MM_BIAS_W_EST_MAX_RPS <=
+                0.1 * (double)GG_LIM_GAMMA_MAX_S2);
+    flight_truth(&T);
+    build_map(&T);
+    make_config(&T, GG_PLATFORM_STRAPDOWN, 0, DT_US, &cfg);
+    make_frame(&T, 0, DT_US, &fr);
+    aid_config(&cfg.aid_mm);
+    cfg.aid_mm.bias_states = 1;
+    cfg.aid_mm.sig0_gyro_bias_rps = 1.0e-7;
+    cfg.aid_mm.sig0_acc_bias_mps2 = 1.0e-4;
+    assert_int_equal(gg_nav3d_init(&g_nav, &cfg), GG_OK);
+    assert_int_equal(gg_nav3d_step(&g_nav, &fr, NULL, &out), GG_OK); /* the state started */
+    memset(&c, 0, sizeof c);
+    c.valid = 1;
+    c.db_w[1] = 0.0274623; /* the finding */
+    memcpy(&g_nav_ref, &g_nav, sizeof g_nav);
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_RANGE);
+    assert_memory_equal(&g_nav_ref, &g_nav, sizeof g_nav);
+    c.db_w[1] = 9.0e-7; /* 9 sigma: taken */
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_OK);
+    assert_true(g_nav.bias_w[1] == 9.0e-7);
+    c.db_w[1] = 2.0e-7; /* to 11 sigma: refused */
+    memcpy(&g_nav_ref, &g_nav, sizeof g_nav);
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_RANGE);
+    assert_memory_equal(&g_nav_ref, &g_nav, sizeof g_nav);
+    c.db_w[1] = -1.8e-6; /* to -9 sigma: taken */
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_OK);
+    c.db_w[1] = 0.0;
+    c.db_f[2] = -1.1e-3; /* accelerometer, 11 sigma */
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_RANGE);
+    c.db_f[2] = NAN;
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_NONFINITE);
+    /* the widest initial sigmas the aid accepts: the absolute bounds decide */
+    cfg.aid_mm.sig0_gyro_bias_rps = GG_LIM_AID_MM_SIGMA_W_MAX_RPS;
+    cfg.aid_mm.sig0_acc_bias_mps2 = GG_LIM_AID_MM_ACC_BIAS_MAX_MPS2;
+    assert_int_equal(gg_nav3d_init(&g_nav, &cfg), GG_OK);
+    assert_int_equal(gg_nav3d_step(&g_nav, &fr, NULL, &out), GG_OK); /* the state started */
+    memset(&c, 0, sizeof c);
+    c.valid = 1;
+    c.db_w[0] = 0.99 * GG_LIM_AID_MM_BIAS_W_EST_MAX_RPS;
+    c.db_f[0] = 0.99 * GG_LIM_AID_MM_BIAS_F_EST_MAX_MPS2;
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_OK);
+    c.db_w[0] = 0.02 * GG_LIM_AID_MM_BIAS_W_EST_MAX_RPS;
+    c.db_f[0] = 0.0;
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_RANGE);
+    c.db_w[0] = 0.0;
+    c.db_f[0] = 0.02 * GG_LIM_AID_MM_BIAS_F_EST_MAX_MPS2;
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_RANGE);
+    /* no bias states: no bias correction at all */
+    cfg.aid_mm.bias_states = 0;
+    assert_int_equal(gg_nav3d_init(&g_nav, &cfg), GG_OK);
+    assert_int_equal(gg_nav3d_step(&g_nav, &fr, NULL, &out), GG_OK); /* the state started */
+    c.db_f[0] = 1.0e-12;
+    assert_int_equal(n3_aid_apply(&g_nav, &c), GG_ERR_RANGE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -819,6 +893,7 @@ int main(void)
         cmocka_unit_test(test_gyro_share_averaged),
         cmocka_unit_test(test_bias_states),
         cmocka_unit_test(test_propagation_dense),
+        cmocka_unit_test(test_bias_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -72,6 +72,17 @@
 #define GG_LIM_AID_MM_SIGMA_W_MAX_RPS 1.0
 /** map aid (aid_mmukf.h): largest initial one-sigma of the accelerometer bias state, m/s^2 */
 #define GG_LIM_AID_MM_ACC_BIAS_MAX_MPS2 1.0
+/* Bias estimates the task subtracts from its readings (nav3d_aid.c): a
+ * correction is applied only if every axis of the resulting estimate stays
+ * inside GG_AID_MM_BIAS_SIGMAS times its initial one-sigma and inside the
+ * absolute bound below. The gyro bound keeps the rotation terms a wrong
+ * estimate leaves in the differenced gradient (|b|^2 per component, Gao et
+ * al. eqs. 24-27; 3 b^2 = 3e-6 s^-2) below a tenth of the gradient range GG_LIM_GAMMA_MAX_S2, so no
+ * estimate can make every later frame fail the differencing's range check;
+ * the accelerometer bound lies far beyond any navigation accelerometer. */
+#define GG_AID_MM_BIAS_SIGMAS 10.0
+#define GG_LIM_AID_MM_BIAS_W_EST_MAX_RPS 1.0e-3   /**< |gyro bias estimate| per axis, rad/s (206 deg/h) */
+#define GG_LIM_AID_MM_BIAS_F_EST_MAX_MPS2 0.1     /**< |accelerometer bias estimate| per axis, m/s^2 */
 
 /* ---- particle filter (pf.h) ---- */
 #ifndef GG_PF_MAX
