@@ -69,12 +69,26 @@ try:
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     # kill worker w0 while it runs a flight (a ggins-run child exists) and runs remain
     victim = psutil.Process(procs[1].pid)
+
+    def flight_children(proc):
+        """The worker's running ggins-run children; a child that exits (or is a zombie) while listed is skipped."""
+        found = []
+        try:
+            kids = proc.children(recursive=True) if proc.is_running() else []
+        except psutil.Error:
+            return found
+        for p in kids:
+            try:
+                if "ggins-run" in " ".join(p.cmdline() or []):
+                    found.append(p)
+            except psutil.Error:
+                pass
+        return found
     killed_mid_run = False
     t0 = time.time()
     while time.time() - t0 < 120 and camp.poll() is None:
         n_stored = len(os.listdir(os.path.join(out_c, "runs"))) if os.path.isdir(os.path.join(out_c, "runs")) else 0
-        kids = [p for p in victim.children(recursive=True) if "ggins-run" in " ".join(p.cmdline() or [])] \
-            if victim.is_running() else []
+        kids = flight_children(victim)
         if n_stored >= 2 and kids:
             procs[1].send_signal(signal.SIGKILL)
             procs[1].wait()
