@@ -111,10 +111,11 @@ name = "long"
     dv = r3.campaign.tool.derived(ser)
     C.ok(abs(dv["hmean_m"] - 3.75) < 1e-12 and abs(dv["rms2h_rn_m"] - math.sqrt(6.0)) < 1e-12
          and abs(dv["rms2h_rd_m"] - math.sqrt(3.0)) < 1e-12, "run3d: flight-mean horizontal error 3.75 m, RMS over the last 2 h")
-    jp = util.write(os.path.join(tmp, "s.json"), '{"aids": [{"nis_mean": 6.5}], "u": {"n": 1, "e": 2}}')
+    jp = util.write(os.path.join(tmp, "s.json"), '{"aids": [{"nis_mean": 6.5}, {"nis_mean": null}], "u": {"n": 1, "e": 2}}')
     jv = worker._read_json(jp, {"values": {"nis": "aids.0.nis_mean", "nees": "?aids.0.nees.position",
-                                           "u_": "?u.*", "w_": "?w.*"}})
-    C.ok(jv == {"nis": 6.5, "u_n": 1.0, "u_e": 2.0}, "optional json paths (\"?\"): stored when present, skipped when not")
+                                           "nis1": "?aids.1.nis_mean", "u_": "?u.*", "w_": "?w.*"}})
+    C.ok(jv == {"nis": 6.5, "u_n": 1.0, "u_e": 2.0},
+         "optional json paths (\"?\"): stored when present, skipped when absent or null (a mean over no sample)")
     C.ok(spec._expand_values("k", {"value": [1.0, 2.0]}) == [[1.0, 2.0]], "{value = [..]} in a sweep: one array value")
     try:
         camp('[campaign]\ncommand = "mapnav"\n[sweep]\n"time.duration_s" = [1.0]\n', "bad.toml")

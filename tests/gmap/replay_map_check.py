@@ -63,6 +63,16 @@ def main():
     aid = [x for x in s.get("aids", []) if x.get("name") == "aid_ukf"]
     check(len(aid) == 1 and aid[0]["updates"] >= 8, "the aid updated at least 8 times")
     check(os.path.exists(os.path.join(out, "aid_epochs.csv")), "aid_epochs.csv written")
+    # a flight that ends before the aid's first epoch (5 s): no NIS sample, so no mean (null, not 0)
+    out3 = os.path.join(w, "run-short")
+    p = subprocess.run([a.ggins_run3d, "-s", sc, "-o", out3, "--duration", "3", "--direct", "--no-log", "--no-plots",
+                        "-q"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    s3 = json.load(open(os.path.join(out3, "summary.json"))) if os.path.exists(os.path.join(out3, "summary.json")) else {}
+    aid = [x for x in s3.get("aids", []) if x.get("name") == "aid_ukf"]
+    check(p.returncode == 0 and len(aid) == 1 and aid[0]["updates"] == 0 and aid[0]["nis_mean"] is None and
+          "nis_band95" not in aid[0] and aid[0]["nees"]["epochs"] == 0 and "position" not in aid[0]["nees"],
+          "a 3 s flight, before the first epoch: NIS and NEES means null/absent, not 0 (exit %d, nis_mean %r)"
+          % (p.returncode, aid[0]["nis_mean"] if aid else "-"))
     log = os.path.join(out, "run.lcmlog")
 
     def replay(*extra):

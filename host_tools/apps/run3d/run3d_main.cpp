@@ -506,7 +506,8 @@ json Model3D::aid_ukf_block() const {  // the map aid's counters at the last ste
   a["updates"] = aid_last_.mm_updates;
   a["rejected"] = aid_last_.mm_rejected;
   a["no_map"] = aid_last_.mm_no_map;
-  a["nis_mean"] = aid_closed_ > 0 ? aid_nis_sum_ / static_cast<double>(aid_closed_) : 0.0;
+  // a mean over no closed epoch is no number: null
+  a["nis_mean"] = aid_closed_ > 0 ? json(aid_nis_sum_ / static_cast<double>(aid_closed_)) : json(nullptr);
   a["nis_dof"] = 6;
   if (aid_closed_ > 0) {  // 95 % band of the mean NIS if the epochs were independent: chi^2(6n) / n
     const double k = 6.0 * static_cast<double>(aid_closed_), c = 2.0 / (9.0 * k);

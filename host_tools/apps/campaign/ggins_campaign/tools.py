@@ -107,7 +107,7 @@ class Run3D(Tool):
         aids = [a for a in ("aid_ukf", "aid_pf") if (sc.get(a) or {}).get("enabled")]
         for i, a in enumerate(aids):
             if a == "aid_ukf":
-                values.update({"ukf_nis": "aids.%d.nis_mean" % i, "ukf_nees_pos": "?aids.%d.nees.position" % i,
+                values.update({"ukf_nis": "?aids.%d.nis_mean" % i, "ukf_nees_pos": "?aids.%d.nees.position" % i,
                                "ukf_nees_vel": "?aids.%d.nees.velocity" % i,
                                "ukf_nees_att": "?aids.%d.nees.attitude" % i})
             else:

@@ -113,7 +113,7 @@ def _read_json(path, rule):
     """`values`: {stored name or prefix: dotted path}; a path ending in ".*" stores every
     numeric leaf below it as <prefix><leaf>; {"path": ..., "names": [...]} stores the elements
     of an array as <prefix><name>; a path starting with "?" is optional (nothing stored when
-    the file lacks it)."""
+    the file lacks it or holds null there: a mean over no sample)."""
     with open(path) as f:
         j = json.load(f)
     final = {}
@@ -121,7 +121,8 @@ def _read_json(path, rule):
         if isinstance(p, str) and p.startswith("?"):
             p = p[1:]
             try:
-                _walk(j, p.split(".")[:-1] if p.endswith(".*") else p.split("."))
+                if _walk(j, p.split(".")[:-1] if p.endswith(".*") else p.split(".")) is None:
+                    continue
             except (KeyError, IndexError, TypeError):
                 continue
         if isinstance(p, dict):  # an array, its elements named: {"path": ..., "names": [...]}
