@@ -19,17 +19,15 @@ extern "C" {
 }
 #include "ggins/truth3d/generator3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
+#include "checks.hpp"
 
 using namespace ggins;
 using namespace ggins::truth3d;
 
 namespace {
 
-int g_fail = 0;
-void check(bool ok, const std::string& what) {
-  std::printf("%s %s\n", ok ? "ok  " : "FAIL", what.c_str());
-  if (!ok) ++g_fail;
-}
+using ggins_test::check;
+using ggins_test::g_fail;
 
 std::string scenario(const std::string& coldatom_extra, double duration) {
   return R"(

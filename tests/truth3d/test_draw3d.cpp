@@ -15,17 +15,15 @@
 #include <string>
 
 #include "ggins/truth3d/config3d.hpp"
+#include "checks.hpp"
 
 using namespace ggins;
 using namespace ggins::truth3d;
 
 namespace {
 
-int g_fail = 0;
-void check(bool ok, const std::string& what) {
-  std::printf("%s %s\n", ok ? "ok  " : "FAIL", what.c_str());
-  if (!ok) ++g_fail;
-}
+using ggins_test::check;
+using ggins_test::g_fail;
 
 const std::string kBase = R"(
 [trajectory]

@@ -13,17 +13,15 @@
 
 #include "compare3d.hpp"
 #include "ggins/truth3d/config3d.hpp"
+#include "checks.hpp"
 
 using namespace ggins;
 using namespace ggins::truth3d;
 
 namespace {
 
-int g_fail = 0;
-void check(bool ok, const std::string& what) {
-  std::printf("%s %s\n", ok ? "ok  " : "FAIL", what.c_str());
-  if (!ok) ++g_fail;
-}
+using ggins_test::check;
+using ggins_test::g_fail;
 
 // Short straight-and-level strapdown flight (a route leg): 45 N eastbound, 150 m/s.
 const std::string kBase = R"(
