@@ -3,7 +3,8 @@
 hal_sim --map -> ggins replay).
 
 pf:  the cold-atom aid on its storage of Gamma_zz tiles along Phillips' route (~230 tiles
-     of `ggins coldatom --write-tiles`, far more than a table of single tiles would hold):
+     of `ggins coldatom --write-tiles` in [aid_pf].map_dir, far more than a table of single
+     tiles would hold):
      60 s of scenarios/3d-liverpool-toulouse-pf.toml. The run records the storage as one
      directory source (its tile count, bytes and one BLAKE2b over names and contents); the
      replay reloads it and is bit-exact. A storage that is not the one the run flew is
@@ -14,9 +15,11 @@ pf:  the cold-atom aid on its storage of Gamma_zz tiles along Phillips' route (~
 all: every aid on at once: the barometer loop, the map UKF (one EGM96 degree-36 tile of the
      whole tensor around Liverpool, `ggins gmap`; the truth field the same degree-36 EGM96,
      exact accelerometers and gyros so that the differenced tensor is the field's) and the
-     cold-atom particle filter (its Gamma_zz tiles): each aid is served the tiles of its kind
-     (both aids update, neither misses a map), and the replay is bit-exact. Needs the EGM96
-     coefficients (exit 77, skipped, without them).
+     cold-atom particle filter (its Gamma_zz tiles, written by the runner from the sensor's
+     route map: [aid_pf] map_from_field, byte for byte the tiles of `ggins coldatom
+     --write-tiles`): each aid is served the tiles of its kind (both aids update, neither misses
+     a map), and the replay is bit-exact. Needs the EGM96 coefficients (exit 77, skipped,
+     without them).
 
 The route map of both: the WGS-84 normal field along the route (`--no-egm96 --no-topo`,
 scenario gzz_map "phillips-route-normal"): the storage's bytes are what is tested here, not
@@ -68,7 +71,8 @@ def main():
     text = open(SCEN).read()
     text = sub(text, 'gzz_map = "phillips-route"', 'gzz_map = "phillips-route-normal"')
     text = sub(text, 'cache = "../out/coldatom/cache"', 'cache = "cache"')
-    text = sub(text, 'map_dir = "../out/coldatom/tiles-phillips-route"', 'map_dir = "tiles"')
+    if a.mode == "pf":
+        text = sub(text, "map_from_field = true", 'map_dir = "tiles"\n#')
     if a.mode == "all":
         ukf_tile = os.path.join(w, "ukf", "tile_liverpool.bin")
         os.makedirs(os.path.dirname(ukf_tile))
@@ -110,6 +114,13 @@ def main():
     src = [x for x in ms if x.get("kind") == "directory"]
     check(len(names) > 16 and len(src) == 1 and src[0]["tiles"] == len(names),
           "the storage recorded whole: one directory of %d tiles (%s)" % (len(names), src[0]["tiles"] if src else None))
+    if a.mode == "all":  # the runner's tiles of the route map: those of ggins coldatom --write-tiles
+        mine = sorted(glob.glob(os.path.join(out, "maps", "aid_pf", "*.gmap")))
+        same = [os.path.basename(x) for x in mine] == [os.path.basename(x) for x in names] and all(
+            open(x, "rb").read() == open(y, "rb").read() for x, y in zip(mine, names))
+        check(same and src and src[0].get("path", "").endswith(os.path.join("maps", "aid_pf")),
+              "map_from_field: the runner wrote %d tiles into <out>/maps/aid_pf, byte for byte those of "
+              "ggins coldatom --write-tiles" % len(mine))
     if a.mode == "all":
         ukf = aids.get("aid_ukf", {})
         check(ukf.get("updates", 0) >= 8 and ukf.get("no_map", 1) == 0 and ukf.get("rejected", 1) == 0,

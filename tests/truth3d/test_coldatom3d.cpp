@@ -8,7 +8,8 @@
 //    centrifugal term: measured 1.9 E);
 //  * frame k is a pure function of k (any order of calls);
 //  * failed shots: the fraction with p_fail = 0.3 within 4 sigma of the binomial;
-//  * the parser: [aid_pf] needs [coldatom]; unknown keys are refused.
+//  * the parser: [aid_pf] needs [coldatom]; unknown keys are refused; the onboard map is
+//    map_dir or map_from_field (a route map only), one of them.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -161,6 +162,31 @@ map_dir = "x"
       threw = std::string(e.what()).find("dz") != std::string::npos;
     }
     check(threw, "an unknown [coldatom] key is refused, named");
+    // the onboard map: map_dir or map_from_field, one of them; map_from_field needs a route map
+    const auto refusal = [](const std::string& text) {
+      try {
+        parse_scenario3(text, "t", "t");
+      } catch (const std::exception& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    };
+    check(refusal(scenario("", 10.0) + "[aid_pf]\nenabled = true\nmap_from_field = true\n").empty(),
+          "[aid_pf] map_from_field on the route map parses");
+    check(refusal(scenario("", 10.0) + "[aid_pf]\nenabled = true\n").find("map_from_field = true") !=
+              std::string::npos,
+          "[aid_pf] with neither map_dir nor map_from_field is refused, both named");
+    check(refusal(scenario("", 10.0) + "[aid_pf]\nenabled = true\nmap_dir = \"x\"\nmap_from_field = true\n")
+                  .find("exclude each other") != std::string::npos,
+          "[aid_pf] map_dir with map_from_field is refused");
+    std::string field = scenario("", 10.0);
+    field.replace(field.find("\"phillips-route-normal\""), 23, "\"field\"");
+    check(refusal(field + "[aid_pf]\nenabled = true\nmap_from_field = true\n").find("ggins gmap --gzz-only") !=
+              std::string::npos,
+          "[aid_pf] map_from_field with the sensor on the [gravity] field is refused, ggins gmap named");
+    check(refusal(scenario("", 10.0) + "[aid_pf]\nenabled = true\nmap_from_field = true\nmap_step_m = 5\n")
+                  .find("map_step_m") != std::string::npos,
+          "[aid_pf] map_step_m below 10 m is refused, named");
   }
   std::printf("%d failure(s)\n", g_fail);
   return g_fail == 0 ? 0 : 1;

@@ -28,7 +28,7 @@ extern "C" {
 #include "ggins/cli_checks.hpp"
 #include "ggins/coldatom/flight.hpp"
 #include "ggins/coldatom/route_map.hpp"
-#include "ggins/gmap_gen.hpp"
+#include "ggins/coldatom/route_tiles.hpp"
 #include "ggins/truth/stats.hpp"
 #include "hil_common.hpp"
 #include "report.hpp"
@@ -169,24 +169,16 @@ int main(int argc, char** argv) {
     C::write_file(out + "/route_gzz.csv", f.str());
   }
 
-  if (!write_tiles.empty()) {  // the onboard map of the 3-D task's cold-atom aid
-    std::filesystem::create_directories(write_tiles);
-    static gg_gmap_tile_t tile;
-    int n = 0;
-    for (double s = 0; s <= map.length() + 0.5 * tile_spacing; s += tile_spacing, ++n) {
-      double lat, lon;
-      map.route_point(std::min(s, map.length()), 0, &lat, &lon);
-      if (!ggins::coldatom::build_tile(map, lat, lon, mp.h, tile_step, &tile)) {
-        std::fprintf(stderr, "ggins-coldatom: tile %d at %.1f km leaves the map's corridor\n", n, s / 1e3);
-        return 1;
-      }
-      const std::vector<std::uint8_t> b = ggins::gmap::encode(tile);
-      char name[32];
-      std::snprintf(name, sizeof name, "/tile_%04d.gmap", n);
-      C::write_file(write_tiles + name, std::string(b.begin(), b.end()), true);
+  if (!write_tiles.empty()) {  // the onboard map of the 3-D task's cold-atom aid (route_tiles.hpp)
+    try {
+      const int n = ggins::coldatom::write_route_tiles(map, tile_step, tile_spacing, write_tiles);
+      std::printf("%d tiles (%d x %d nodes at %.0f m, every %.0f m along the route) in %s\n", n,
+                  ggins::coldatom::kRouteTileNodes, ggins::coldatom::kRouteTileNodes, tile_step, tile_spacing,
+                  write_tiles.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ggins-coldatom: %s\n", e.what());
+      return 1;
     }
-    std::printf("%d tiles (50 x 50 nodes at %.0f m, every %.0f m along the route) in %s\n", n, tile_step, tile_spacing,
-                write_tiles.c_str());
     return 0;
   }
   std::vector<Setting> settings;

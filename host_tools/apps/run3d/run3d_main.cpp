@@ -28,7 +28,9 @@
 #include <vector>
 
 #include "compare3d.hpp"
+#include "ggins/coldatom/route_tiles.hpp"
 #include "ggins/truth3d/aids3d.hpp"
+#include "ggins/truth3d/coldatom3d.hpp"
 #include "ggins/truth3d/config3d.hpp"
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
@@ -78,9 +80,22 @@ class Model3D {
       for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         sources_.push_back({fs::absolute(p).lexically_normal().string(), SourceKind::kFile});
     }
-    if (sc_.aid_pf.enabled)
+    if (sc_.aid_pf.enabled && sc_.aid_pf.map_from_field) {  // Gamma_zz tiles of the sensor's route map (route_tiles.hpp)
+      if (!opt_.quiet) std::fprintf(stderr, "%s: the cold-atom aid's tiles from the sensor's route map ...\n", opt_.tool.c_str());
+      const fs::path dir = fs::absolute(out / "maps" / "aid_pf").lexically_normal();
+      try {
+        const auto map = ggins::truth3d::make_gzz_map3(sc_.coldatom);
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+        ggins::coldatom::write_route_tiles(*map, sc_.aid_pf.map_step_m, sc_.aid_pf.map_tile_spacing_m, dir.string());
+      } catch (const std::exception& e) {
+        throw Fail(std::string("aid_pf.map_from_field: ") + e.what());
+      }
+      sources_.push_back({dir.string(), SourceKind::kDir});
+    } else if (sc_.aid_pf.enabled) {
       sources_.push_back(
           {fs::absolute(ggins::truth3d::aid_pf_map_dir(sc_.aid_pf, sc_.source)).lexically_normal().string(), SourceKind::kDir});
+    }
     if (sources_.size() > static_cast<size_t>(ggins::run3d::kMaxSources))
       throw Fail("the map storage has " + std::to_string(sources_.size()) + " sources; the configuration records " +
                  std::to_string(ggins::run3d::kMaxSources) + " at most (put the tiles into a directory)");

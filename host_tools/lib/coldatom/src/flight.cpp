@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ggins/coldatom/ellipse_fit.hpp"
+#include "ggins/coldatom/route_tiles.hpp"
 #include "ggins/gravity/wgs84.hpp"
 
 extern "C" {
@@ -43,31 +44,6 @@ M3 skew_offdiag(std::mt19937_64& rng, double sd) {
   return m;
 }
 }  // namespace
-
-// Fill a gmap tile of Gamma_DD alone (DD and its height derivative; GG_GMAP_GZZ_ONLY) from the route
-// map around (lat_c, lon_c).
-bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile) {
-  const int n = 50;
-  double RM, RN;
-  radii(lat_c, RM, RN);
-  std::memset(tile, 0, sizeof *tile);
-  tile->nlat = n; tile->nlon = n;
-  tile->dlat_rad = step / (RM + h);
-  tile->dlon_rad = step / ((RN + h) * std::cos(lat_c));
-  tile->lat0_rad = lat_c - 0.5 * (n - 1) * tile->dlat_rad;
-  tile->lon0_rad = lon_c - 0.5 * (n - 1) * tile->dlon_rad;
-  tile->h0_m = h;
-  tile->h_range_m = 1000.0;
-  tile->flags = GG_GMAP_GZZ_ONLY;  // the map of the cold-atom aid's kind (gmap.h)
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      double g = 0;
-      if (!map.gzz(tile->lat0_rad + i * tile->dlat_rad, tile->lon0_rad + j * tile->dlon_rad, h, &g)) return false;
-      tile->node[i * n + j][GG_GMAP_C_DD] = g;
-      tile->node[i * n + j][GG_GMAP_NCOMP + GG_GMAP_C_DD] = -3.0 * g / (6371000.0 + h);
-    }
-  return true;
-}
 
 FlightResult fly(const RouteMap& map, const FlightConfig& cfg) {
   FlightResult res;

@@ -182,9 +182,16 @@ std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(
 sch::Table<AidPf3> aid_pf3_table() {
   using A = AidPf3;
   sch::Table<A> t("aid_pf", "The cold-atom particle-filter aid (aid_pf.h) on the gradiometer's shots.");
-  t.boolean("enabled", &A::enabled, "the particle-filter aid runs (needs [coldatom] and map_dir)")
+  t.boolean("enabled", &A::enabled, "the particle-filter aid runs (needs [coldatom] and map_dir or map_from_field)")
       .str("map_dir", &A::map_dir, {}, "Gamma_zz tiles (*.gmap) for the map storage, a directory; relative from the "
                                         "scenario file's directory")
+      .boolean("map_from_field", &A::map_from_field,
+               "the onboard map written by the runner from the sensor's own route map ([coldatom] gzz_map "
+               "phillips-route or phillips-route-normal): Gamma_zz tiles of 50 x 50 nodes centred on the route, "
+               "in <out>/maps/aid_pf/, instead of map_dir")
+      .num("map_step_m", &A::map_step_m, "m", sch::in(10, 5000), "map_from_field: node spacing")
+      .num("map_tile_spacing_m", &A::map_tile_spacing_m, "m", sch::in(100, 1e6),
+           "map_from_field: distance along the route between the tiles' centres")
       .integer("particles", &A::particles, "", sch::in(1, GG_PF_MAX), "particles")
       .integer("chunk", &A::chunk, "", sch::in(1, GG_PF_MAX), "particles predicted and weighed per step")
       .integer("end_chunk", &A::end_chunk, "", sch::in(1, GG_PF_MAX), "particle passes of a shot's end per step")
@@ -521,8 +528,15 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                                               ": must be <= aid_ukf.update_period_s");
   if (s.aid_pf.enabled && !s.coldatom.enabled)
     c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs [coldatom] enabled (its sensor)");
-  if (s.aid_pf.enabled && s.aid_pf.map_dir.empty())
-    c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs aid_pf.map_dir (the onboard Gamma_zz tiles)");
+  if (s.aid_pf.enabled && s.aid_pf.map_dir.empty() && !s.aid_pf.map_from_field)
+    c.fail_key(root, "aid_pf.enabled",
+               "aid_pf.enabled needs aid_pf.map_dir (the onboard Gamma_zz tiles) or aid_pf.map_from_field = true");
+  if (s.aid_pf.map_from_field && !s.aid_pf.map_dir.empty())
+    c.fail_key(root, "aid_pf.map_from_field", "aid_pf: map_from_field and map_dir exclude each other (one map storage)");
+  if (s.aid_pf.map_from_field && s.coldatom.gzz_map == "field")
+    c.fail_key(root, "aid_pf.map_from_field",
+               "aid_pf.map_from_field needs a route map ([coldatom] gzz_map phillips-route or phillips-route-normal); "
+               "for gzz_map \"field\" write the tiles with ggins gmap --gzz-only and give aid_pf.map_dir");
   if (s.aid_pf.enabled && s.aid_pf.model == "rbpf" && !(s.aid_pf.q_vel_mps > 0))
     c.fail_key(root, "aid_pf.q_vel_mps", "aid_pf.q_vel_mps must be > 0 with model rbpf (it keeps the position "
                                          "prediction's covariance positive definite)");

@@ -104,9 +104,4 @@ struct FlightResult {
 
 FlightResult fly(const RouteMap& map, const FlightConfig& cfg);
 
-// Fill a gmap tile (50 x 50 nodes at step m: Gamma_zz, flags 0 = the total gradient, and its
-// height derivative -3 Gamma_zz / r) from the route map around (lat_c, lon_c); false when a
-// node is off the map's corridor.
-bool build_tile(const RouteMap& map, double lat_c, double lon_c, double h, double step, gg_gmap_tile_t* tile);
-
 }  // namespace ggins::coldatom

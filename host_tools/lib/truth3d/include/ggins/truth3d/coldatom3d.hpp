@@ -17,8 +17,12 @@
 //
 //   [aid_pf]                    # the particle filter of the 3-D task (aid_pf.h)
 //   enabled = true
-//   map_dir = "..."             # the Gamma_zz tiles (ggins coldatom --write-tiles) for the
-//                               # computer's map storage; relative: from the scenario's directory
+//   map_dir = "..."             # the Gamma_zz tiles (*.gmap) for the computer's map storage;
+//                               # relative: from the scenario's directory
+//   map_from_field = false      # or: the tiles written by the runner from the sensor's own
+//                               # route map (coldatom/route_tiles.hpp) into <out>/maps/aid_pf/:
+//   map_step_m = 250.0          #   node spacing, m (50 x 50 nodes a tile)
+//   map_tile_spacing_m = 5000.0 #   distance along the route between tile centres, m
 //   particles = 500, chunk = 50, end_chunk = 250, model = "rbpf" ("rw", "ins"), seed = 1,
 //   feedback = "position-velocity" (or "position": what the closed loop feeds back),
 //   sigma = 0 (likelihood sigma, signal units; 0: the sensor's expected scatter, at least 1e-3),
@@ -61,6 +65,8 @@ struct ColdAtom3 {
 struct AidPf3 {
   bool enabled = false;
   std::string map_dir;  // as written in the scenario
+  bool map_from_field = false;  // the runner writes the tiles from the sensor's route map
+  double map_step_m = 250.0, map_tile_spacing_m = 5000.0;
   int particles = 500, chunk = 50, end_chunk = 250;
   std::string model = "rbpf";
   std::string feedback = "position-velocity";  // or "position"
