@@ -171,6 +171,31 @@ int main() {
   refused(p3, "[gravity.sh]\nnmax = 361\n", "gravity.sh.nmax = 361: out of range (allowed: [2, 360])");
   accepted(p3, "[aid_ukf]\nenabled = false\nmax_passes = 100\n", "aid_ukf.max_passes = 100 (closed end)");
 
+  {  // values derived from [accel] stay derived in a printed scenario: edit its noise and the
+     // fault thresholds follow (a campaign that sweeps the noise starts from a printed scenario)
+    const auto base = p3("[accel]\nnoise_sigma_mps2 = 5.5e-10\n");
+    truth3d::Scenario3 edited = base;
+    edited.accel.noise_sigma_mps2 = 5.5e-8;
+    const std::string printed = truth3d::scenario3_to_toml(edited);
+    const auto again = p3(printed);
+    const auto direct = p3("[accel]\nnoise_sigma_mps2 = 5.5e-8\n");
+    const bool derived_again = again.fdi_parity_f_max_mps2 == direct.fdi_parity_f_max_mps2 &&
+                               again.fdi_parity_f_max_mps2 != base.fdi_parity_f_max_mps2 &&
+                               again.firmware.acc_frozen_frames == direct.firmware.acc_frozen_frames;
+    std::printf("%s printed, noise edited, read again: fdi_parity_f_max %.4g (the edited noise's %.4g, the printed "
+                "one's %.4g)\n", derived_again ? "ok  " : "FAIL", again.fdi_parity_f_max_mps2,
+                direct.fdi_parity_f_max_mps2, base.fdi_parity_f_max_mps2);
+    if (!derived_again) ++g_fail;
+    const auto given = p3("[firmware]\nfdi_parity_f_max_mps2 = 1e-9\nacc_frozen_frames = 20\n");
+    const std::string kept = truth3d::scenario3_to_toml(given);
+    const bool written = kept.find("fdi_parity_f_max_mps2 = 1e-09") != std::string::npos &&
+                         kept.find("acc_frozen_frames = 20") != std::string::npos &&
+                         printed.find("fdi_parity_f_max_mps2") == std::string::npos &&
+                         printed.find("acc_frozen_frames") == std::string::npos;
+    std::printf("%s thresholds given in the file are written back, derived ones are not\n", written ? "ok  " : "FAIL");
+    if (!written) ++g_fail;
+  }
+
   defaults_accepted(truth::scenario_schema(), p2, "");
   defaults_accepted(truth3d::scenario3_schema(), p3, "");
   documented_fault_kinds_accepted(truth::scenario_schema(), p2, "1");

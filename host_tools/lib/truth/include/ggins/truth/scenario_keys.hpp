@@ -109,7 +109,12 @@ void firmware_keys(sch::Table<F>& t) {
     f.acc_frozen_frames = v;
     f.acc_frozen_frames_set = true;
   };
-  frozen.write = [](const F& f) -> std::optional<std::string> { return std::to_string(f.acc_frozen_frames); };
+  // written only when the file gave it: a derived value stays derived in a printed scenario,
+  // so that one edited (another accelerometer noise) derives it again
+  frozen.write = [](const F& f) -> std::optional<std::string> {
+    if (!f.acc_frozen_frames_set) return std::nullopt;
+    return std::to_string(f.acc_frozen_frames);
+  };
   frozen.dflt_doc = "10 when [accel] noise_sigma_mps2 >= 10 ulp(f_max_mps2), else 0 (fdi_thresholds.hpp)";
   t.custom(frozen);
 }

@@ -132,6 +132,7 @@ struct Scenario3 {
   // curvature floor GG_FDI3D_FLOOR_MPS2 (2e-12 m/s^2). A 1e-8 m/s^2 bias on one
   // reading moves its pair mean by 5e-9: flagged at once on perfect sensors.
   double fdi_parity_f_max_mps2 = 0;
+  bool fdi_parity_f_max_set = false;  // given in the file (else derived, and not written back)
   double csv_rate_hz = 1;
   SensorFaults3 sensor_faults;  // [sensor_faults] (faults3d.hpp)
   AidUkf3 aid_ukf;              // [aid_ukf]: the gradient-map aid (aids3d.hpp)
