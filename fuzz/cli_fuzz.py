@@ -27,17 +27,6 @@ VALUES = ["nan", "-nan", "inf", "-inf", "0", "-0", "-1", "1e308", "-1e308", "1e-
 
 # option -> a few sensible values (mixed with the adversarial ones above)
 TOOLS = {
-    "ggins-mapnav": {
-        "base": ["--hours", "0.05", "--no-plot", "--egm96", "{missing}"],
-        "opts": {"--hours": ["0.02", "1"], "--dt": ["0.1", "1"], "--update": ["1", "60"], "--meas-noise-e": ["0.01"],
-                 "--db-noise-e": ["0"], "--att0-deg": ["0.5", "28"], "--vel0": ["1"], "--pos0": ["10"],
-                 "--gyro-bias-dph": ["0"], "--acc-bias-ug": ["10"], "--arw": ["0"], "--vrw": ["1"], "--lat0": ["30", "85"],
-                 "--lon0": ["140"], "--depth": ["100"], "--speed": ["10"], "--spacing": ["0.05"], "--lambda": ["0"],
-                 "--gate": ["0"], "--passes": ["1", "40"], "--runs": ["1"], "--threads": ["1"], "--seed": ["1"],
-                 "--first-run": ["0"], "--half-base": ["0.5"], "--offdiag-ratio": ["-1", "10"],
-                 "--gradiometer": ["direct", "diff3d", "x"], "--diff3d-omega": ["true", "imu", "y"],
-                 "--out": ["{out}", "{under_file}"], "--tile": ["{missing}", "{a_file}"]},
-    },
     "ggins-coldatom": {
         "base": ["--egm96", "{missing}", "--flights", "1", "--threads", "1"],
         "opts": {"--out": ["{out}", "{under_file}"], "--cache": ["{out}/c", "{under_file}"], "--sweep": ["none", "z"],
@@ -168,7 +157,7 @@ SCENARIO_LINES = ["name = \"f\"", "[trajectory]", "type = \"north-flight\"", "sp
                   "enable = true", "poles_radps = [{v}, 0.1, 0.1]", "= =", "[platform]", "a_m = {v}"]
 
 
-CAMPAIGN_LINES = ["[campaign]", "name = \"c\"", "command = \"run\"", "command = \"mapnav\"", "command = {v}",
+CAMPAIGN_LINES = ["[campaign]", "name = \"c\"", "command = \"run\"", "command = \"rw-eq8\"", "command = {v}",
                   "scenario = \"welker-table1\"", "scenario = {v}", "seeds = {v}", "seed0 = {v}", "[[point]]",
                   "name = {v}", "\"--hours\" = {v}", "\"--hours\" = [{v}, 1]", "\"accel.bias_sigma_mps2\" = {v}",
                   "\"time.duration_s\" = {start = {v}, stop = 10, step = {v}}",

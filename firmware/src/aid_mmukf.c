@@ -916,7 +916,7 @@ static void fill_r(const gg_aid_mm_t *a, double w, double R[GG_UKF_NZ_MAX][GG_UK
     }
 }
 
-/* Pass weight from the predicted spread (mmukf.h, progressive update). */
+/* Pass weight from the predicted spread (aid_mmukf.h, progressive passes). */
 static void do_spread(gg_aid_mm_t *a)
 {
     double R[GG_UKF_NZ_MAX][GG_UKF_NZ_MAX];

@@ -2,8 +2,9 @@
   --table1 OUT   Welker Table I Monte Carlo (campaigns/welker-table1-mc200.toml, 200 seeds):
                  the table of docs/error-analysis.md "Monte Carlo (item 5)" (MC and covariance
                  sigma at 1 h, 6 significant digits, ratio 4 decimals)
-  --gao OUT      a mapnav sweep (campaigns/gao-table3-update.toml or mapnav-sweeps.toml): every
-                 cell of its rows in docs/map-matching.md "Sweeps (Gao Tables 3-9)"
+  --gao OUT      Gao's benchmark through ggins run3d (campaigns/gao-run3d.toml, 10 runs): the
+                 per-run table and the means of docs/map-matching.md "Gao's benchmark through
+                 the navigation computer"
 usage: check_documented.py [<bin dir>] --table1 OUT | --gao OUT   (exit 0: all equal)"""
 import json
 import math
@@ -13,9 +14,6 @@ import sys
 
 import util
 from util import Checks
-
-sys.path.insert(0, os.path.join(util.SRC, "host_tools", "apps", "campaign"))
-from ggins_campaign.report import GAO_COLS  # noqa: E402
 
 C = Checks("check_documented")
 
@@ -46,46 +44,36 @@ def table1(out):
              % (cells[0], mc, cells[1], cov, cells[2], c["ratio"], cells[3]))
 
 
-KEYS = {"--update": "update", "--meas-noise-e": "meas", "--db-noise-e": "db", "--att0-deg": "att",
-        "--vel0": "vel", "--pos0": "pos", "--gyro-bias-dph": "gyro"}
-
-
-def doc_name(params):
-    p = {k: v for k, v in params.items() if not (k == "--update" and v == 60)}
-    if not p:
-        return "base"
-    (k, v), = p.items()
-    return "%s-%g" % (KEYS[k], v)
-
-
 def gao(out):
+    """run3d: the per-run table and the means of docs/map-matching.md "Gao's benchmark through the
+    navigation computer" from the stored runs (seed, end error N / E / D to 0.1 m, NIS and the
+    three NEES blocks to 0.01; mean |error| +- population sd to 0.1 m)."""
     text = doc("map-matching.md")
-    i = text.index("### Sweeps (Gao Tables 3–9)")
+    i = text.index("### Gao's benchmark through the navigation computer")
     rows = {}
     for l in text[i:].splitlines():
-        if l.startswith("| ") and not l.startswith("| run ") and "---" not in l:
-            cells = [c.strip() for c in l.strip().strip("|").split("|")]
-            rows[cells[0]] = cells[1:]
-        if rows and not l.startswith("|"):
+        m = re.match(r"\| (\d+) \| (.+) \| ([\d.]+) \| (.+) \|$", l)
+        if m:
+            rows[int(m.group(1))] = [m.group(2), m.group(3), m.group(4)]
+        if l.startswith("| **mean"):
+            mean_row = [c.strip().strip("*") for c in l.strip().strip("|").split("|")][-3:]
             break
     S = json.load(open(os.path.join(out, "summary.json")))
-    n = 0
-    for P in S["points"]:
-        name = doc_name(P["params"])
-        f = P["final"]
-        m = {c: f["rms2h_" + c]["mean_abs"] for c in GAO_COLS}
-        sd = {c: f["rms2h_" + c]["sd_abs"] for c in GAO_COLS}
-        v3 = math.sqrt(m["vE_mps"] ** 2 + m["vN_mps"] ** 2 + m["vU_mps"] ** 2)
-        p3 = math.sqrt(m["lat_m"] ** 2 + m["lon_m"] ** 2 + m["h_m"] ** 2)
-        cells = ["%.3g ± %.2g" % (m[c], sd[c]) for c in GAO_COLS]
-        mine = cells[:6] + ["%.3g" % v3] + cells[6:] + ["%.3g" % p3, "%.1f" % f["nees"]["mean"],
-                                                          "%.2f" % f["nis"]["mean"]]
-        ref = rows.get(name)
-        same = ref is not None and mine == ref
-        n += 1
-        C.ok(same, "%-10s (%s): %s%s" % (name, P["name"], " | ".join(mine[-4:]),
-                                         "" if same else "\n     doc: %s\n     got: %s" % (ref, mine)))
-    C.ok(n > 0, "%d points compared" % n)
+    P = S["points"][0]
+    runs = util.stored(out)
+    C.ok(len(runs) == len(rows) > 0, "%d stored runs, %d documented" % (len(runs), len(rows)))
+    for meta, _ in runs.values():
+        f = meta["final"]
+
+        def g(x):
+            return ("%.1f" % x).replace("-", "−")
+        mine = [" / ".join(g(f[k]) for k in ("rn_m", "re_m", "rd_m")), "%.2f" % f["ukf_nis"],
+                " / ".join("%.2f" % f["ukf_nees_" + k] for k in ("pos", "vel", "att"))]
+        ref = rows.get(meta["seed"])
+        C.ok(mine == ref, "seed %d: %s%s" % (meta["seed"], " | ".join(mine), "" if mine == ref else "  (doc: %s)" % ref))
+    fin = P["final"]
+    mine = ["%.1f ± %.1f m" % (fin[k]["mean_abs"], fin[k]["sd_abs"]) for k in ("rn_m", "re_m", "rd_m")]
+    C.ok(mine == mean_row, "mean |error| at the end: %s%s" % (" / ".join(mine), "" if mine == mean_row else "  (doc: %s)" % mean_row))
 
 
 args = [a for a in sys.argv[1:]]

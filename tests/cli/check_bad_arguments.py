@@ -3,7 +3,7 @@
 the expected code (2: bad arguments, 1: the run failed), name the option or key in
 stderr, and never die of a signal or an uncaught exception (exit 134 / 139, 'terminate').
 
-usage: check_bad_arguments.py ggins-mapnav=/path/to/ggins-mapnav ...
+usage: check_bad_arguments.py ggins-coldatom=/path/to/ggins-coldatom ...
 """
 import os
 import subprocess
@@ -58,26 +58,6 @@ GMAP = ["--lat-min", "45", "--lat-max", "45.05", "--lon-min", "10", "--lon-max",
 
 # (tool, arguments, expected exit code, text that stderr must contain)
 CASES = [
-    ("ggins-mapnav", ["--dt", "0"], 2, "--dt"),
-    ("ggins-mapnav", ["--dt", "nan"], 2, "--dt"),
-    ("ggins-mapnav", ["--dt", "-0.1"], 2, "--dt"),
-    ("ggins-mapnav", ["--dt", "2"], 2, "--dt"),
-    ("ggins-mapnav", ["--update", "0"], 2, "--update"),
-    ("ggins-mapnav", ["--update", "0.05"], 2, "--update"),
-    ("ggins-mapnav", ["--meas-noise-e", "-1"], 2, "--meas-noise-e"),
-    ("ggins-mapnav", ["--passes", "0"], 2, "--passes"),
-    ("ggins-mapnav", ["--passes", "1000"], 2, "--passes"),
-    ("ggins-mapnav", ["--pos0", "-10"], 2, "--pos0"),
-    ("ggins-mapnav", ["--half-base", "0"], 2, "--half-base"),
-    ("ggins-mapnav", ["--runs", "0"], 2, "--runs"),
-    ("ggins-mapnav", ["--hours", "inf"], 2, "--hours"),
-    ("ggins-mapnav", ["--hours", "nan"], 2, "--hours"),
-    ("ggins-mapnav", ["--hours", "0.001"], 2, "--hours"),
-    ("ggins-mapnav", ["--seed", "-1"], 2, "--seed"),
-    ("ggins-mapnav", ["--lat0", "nan"], 2, "--lat0"),
-    ("ggins-mapnav", ["--out", os.path.join(afile, "sub")], 2, "--out"),
-    ("ggins-mapnav", ["--hours", "0.05", "--no-plot", "--egm96", os.path.join(tmp, "missing.txt"),
-                      "--out", out + "/m"], 1, "ggins mapnav"),
     ("ggins-coldatom", ["--out", os.path.join(afile, "sub")], 2, "--out"),
     ("ggins-coldatom", ["--cache", os.path.join(afile, "c")], 2, "--cache"),
     ("ggins-coldatom", ["--duration", "nan"], 2, "--duration"),
@@ -145,7 +125,6 @@ CONTROLS = [
     ("ggins-covariance", ["-s", good, "--no-plot", "-o", out + "/good"], 0, ""),
     ("ggins-covariance", ["-s", axes, "--no-plot", "-o", out + "/axes"], 0, ""),
     ("ggins-covariance3d", ["--duration", "60", "--no-plot", "-o", out + "/good3d"], 0, ""),
-    ("ggins-mapnav", ["--help"], 0, ""),
     ("ggins-field", ["--model", "normal", "--at", "45,10,1000"], 0, ""),
     ("ggins-run", ["--print-scenario", "--defaults"], 0, ""),
     ("ggins-run3d", ["-s", "3d-route-45n", "--print-scenario"], 0, ""),

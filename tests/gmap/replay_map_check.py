@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""mapnav.replay_map: a 3-D run with the gradient-map aid on, over LCM (ggins run3d ->
+"""gmap.replay_map: a 3-D run with the gradient-map aid on, over LCM (ggins run3d ->
 hal_sim --map), replays bit for bit with the tiles the run recorded in its
 configuration message (path, size, BLAKE2b-256); a replay given a tile whose bytes
 differ, or none, is refused (exit 2, the tile named), and --map-dir finds a moved

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """One report shape for every command that flies: summary.json of a short `ggins run`,
-`ggins run3d`, `ggins montecarlo`, `ggins montecarlo3d`, `ggins mapnav` and `ggins coldatom`
+`ggins run3d`, `ggins montecarlo`, `ggins montecarlo3d` and `ggins coldatom`
 checked against one schema
 (report_schema.json, JSON Schema; the Monte Carlo reports also against its `ensemble`
 definition), units in every CSV column, the scenario.toml each writes flying again with the
@@ -10,9 +10,9 @@ band recomputed here (Wilson-Hilferty, independently of truth/stats.cpp). And Ct
 (SIGINT to the process group, as a terminal sends it) during `ggins montecarlo`: no run
 starts after it, exit 130, a report marked interrupted whose unflown steps include the
 runs never started; the same for `ggins montecarlo3d`, whose runs are threads of one process,
-and for `ggins mapnav` and `ggins coldatom` (in-process Monte Carlo runs on threads). The flights
-of the navigation tasks (run, run3d, montecarlo, montecarlo3d) report position, velocity and
-gravity errors; mapnav and coldatom, which estimate no gravity, at least the position error.
+and for `ggins coldatom` (in-process Monte Carlo runs on threads). The flights of the
+navigation tasks (run, run3d, montecarlo, montecarlo3d) report position, velocity and gravity
+errors; coldatom, which estimates no gravity, at least the position error.
 
 usage: report_shape_check.py --bin DIR --workdir DIR
 """
@@ -225,7 +225,7 @@ def interrupt_montecarlo3d(exe, d):
 
 
 def interrupt_inprocess(what, cmd, d, n, per, wait_s):
-    """Ctrl-C during an in-process Monte Carlo (mapnav, coldatom) of n runs of per steps each: no
+    """Ctrl-C during an in-process Monte Carlo (coldatom) of n runs of per steps each: no
     run starts after it, exit 130, a partial report marked interrupted, every requested run listed,
     the unflown counted. How many runs complete before the signal depends on the machine's speed
     (none under the sanitizers on a loaded machine), so only their step counts are checked."""
@@ -309,7 +309,7 @@ def main():
     shutil.rmtree(w, ignore_errors=True)
     os.makedirs(w)
     b = lambda t: os.path.join(a.bin, t)
-    out = {k: os.path.join(w, k) for k in ("run", "run3d", "mc", "mc3d", "mapnav", "coldatom")}
+    out = {k: os.path.join(w, k) for k in ("run", "run3d", "mc", "mc3d", "coldatom")}
     flights = [
         ("run", [b("ggins-run"), "-s", "welker-table1", "--direct", "--duration", "5", "--no-plots", "-q", "--out", out["run"]]),
         ("run3d", [b("ggins-run3d"), "-s", "3d-stabilized-1h", "--direct", "--duration", "5", "--no-plots", "-q",
@@ -318,8 +318,6 @@ def main():
                         "-o", out["mc"]]),
         ("montecarlo3d", [b("ggins-montecarlo3d"), "-s", "gc3d-stabilized", "-n", "3", "-j", "1", "--rate-hz", "10",
                           "--duration", "20", "--output-dt", "10", "--no-plot", "-o", out["mc3d"]]),
-        ("mapnav", [b("ggins-mapnav"), "--hours", "0.05", "--runs", "3", "--threads", "1", "--no-plot",
-                    "--out", out["mapnav"]]),
         ("coldatom", [b("ggins-coldatom"), "--no-egm96", "--flights", "3", "--threads", "1", "--duration", "60",
                       "--particles", "50", "--no-plot", "--out", out["coldatom"]]),
     ]
@@ -329,7 +327,7 @@ def main():
             print(f"skip {what} (not built)")
             continue
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-        d = out[{"run": "run", "run3d": "run3d", "montecarlo": "mc", "montecarlo3d": "mc3d", "mapnav": "mapnav",
+        d = out[{"run": "run", "run3d": "run3d", "montecarlo": "mc", "montecarlo3d": "mc3d",
                  "coldatom": "coldatom"}[what]]
         # exit 0, or a Monte Carlo whose few runs fall outside the chi-square band (a result)
         ok_codes = (0,) if what.startswith("run") else (0, 1, 3)
@@ -361,15 +359,9 @@ def main():
         if what == "montecarlo3d":
             csv_units(os.path.join(d, "montecarlo3d.csv"), what)
             ensemble_numbers(rep, what)
-        if what in ("mapnav", "coldatom"):
+        if what == "coldatom":
             ensemble_numbers(rep, what)
             check(rep["tool"] == "ggins " + what and rep["aids"] is not None, f"{what}: tool {rep['tool']!r}")
-        if what == "mapnav":
-            res = rep["ensemble"]["results"]
-            check(all(k in res for k in ("ggan_final", "ins_final", "nees_mean", "nis_mean")) and
-                  rep["aids"][0]["name"] == "mmukf" and rep["aids"][0]["updates"] > 0,
-                  f"{what}: GGAN and inertial statistics, NEES/NIS and the filter's counters in the report")
-            csv_units(os.path.join(d, "timeseries.csv"), what, allow=())
         if what == "coldatom":
             st = rep["ensemble"]["settings"]
             check(len(st) == 1 and "mean_aided_m" in st[0] and "pf_err_over_spread_sq_final_mean" in st[0] and
@@ -381,10 +373,6 @@ def main():
         interrupt_montecarlo(b("ggins-montecarlo"), os.path.join(w, "mc-int"))
     if os.path.exists(b("ggins-montecarlo3d")):
         interrupt_montecarlo3d(b("ggins-montecarlo3d"), os.path.join(w, "mc3d-int"))
-    if os.path.exists(b("ggins-mapnav")):
-        d = os.path.join(w, "mapnav-int")
-        interrupt_inprocess("mapnav", [b("ggins-mapnav"), "--hours", "1", "--runs", "30", "--threads", "1",
-                                       "--no-plot", "--out", d], d, 30, 36000, 4.0)
     if os.path.exists(b("ggins-coldatom")):
         d = os.path.join(w, "coldatom-int")
         interrupt_inprocess("coldatom", [b("ggins-coldatom"), "--no-egm96", "--flights", "1000", "--threads", "1",

@@ -70,7 +70,9 @@
  * (tau: epoch time minus the mean sample time).
  * R (full 6 x 6): sigma_meas^2 / n on the diagonal components and
  * (offdiag_ratio sigma_meas)^2 / n on the off-diagonal ones (sigma_meas is
- * one sample's noise; mmukf.h), + sigma_db^2 on each (the map's noise does not
+ * one sample's noise of a diagonal component; six differenced accelerometers
+ * give offdiag_ratio = 1/sqrt(2): an off-diagonal component averages four
+ * readings, a diagonal one differences two), + sigma_db^2 on each (the map's noise does not
  * average), + the gyro's share: the removal with the measured rate w adds
  * d[w x]^2 = sum_i dw_i S_i, S_i = e_i w^T + w e_i^T - 2 w_i I (Gao eqs. 28-29:
  * the rotation terms are quadratic in w), so white rate noise sigma_w per step
@@ -88,10 +90,14 @@
  *   pass weight, NIS of the first pass) -> update -> ... -> finish: UKF
  *   predict from the epoch to the current step, correction handed to the
  *   task, mean reset to 0.
- * Progressive passes (mmukf.h): pass k uses R / w_k, sum w_k = 1, w_k the
- * smallest R_kk / (predicted spread of component k) until every spread is
- * below R_kk; the mean stays in the UKF between passes, so each pass is
- * re-linearised about the new estimate.
+ * Progressive passes (max_passes > 1; not in Gao): the tensor measures tilt
+ * to ~1e-6 rad through the ~4600 E normal field, so with a 0.5 deg initial
+ * attitude the sigma points' prediction is far from linear (second-order
+ * term ~2.6 E against 0.01 E noise) and a single update can throw the
+ * heading off. Pass k uses R / w_k, sum w_k = 1 (one update for a linear
+ * model), w_k the smallest R_kk / (predicted spread of component k) until
+ * every spread is below R_kk; the mean stays in the UKF between passes, so
+ * each pass is re-linearised about the new estimate.
  *
  * Working precision: double (the UKF core), positions handed to geo.h in
  * gg_real_t.

@@ -14,7 +14,7 @@
  * of the filters' error models (w_s^2 = g0 / R).
  *
  * Precision: the navigation path (nav3d) in gg_real_t (ECEF <-> geodetic,
- * local frame); the aiding filters' linearisations (mmukf, pf) in double
+ * local frame); the aiding filters' linearisations (aid_mmukf, pf) in double
  * (radii, normal gravity), their state's type.
  *
  * ECEF -> geodetic: Bowring's iteration on the parametric latitude beta

@@ -53,17 +53,10 @@
 #define GG_UKF_NX_MAX 18         /**< state dimension (the map aid: 12 + 6 bias states) */
 #define GG_UKF_NZ_MAX 6          /**< measurement dimension */
 
-/* ---- map-matching UKF (mmukf.h) ---- */
-#define GG_MM_MAX_PASSES 40        /**< progressive update passes */
-#define GG_LIM_MM_H_MIN_M (-1.0e5) /**< state height, m */
-#define GG_LIM_MM_H_MAX_M 1.0e6
-#define GG_LIM_MM_W_MAX_RPS 10.0   /**< |gyro| per axis, rad/s */
-#define GG_LIM_MM_F_MAX_MPS2 200.0 /**< |specific force| per axis, m/s^2 */
-#define GG_LIM_MM_GAMMA_MAX_S2 1.0e-4 /**< |measured gradient component|, s^-2 (1e5 E) */
-#define GG_LIM_MM_DT_MAX_S 1.0     /**< mechanization step, s */
-#define GG_LIM_MM_OFFDIAG_MAX 10.0 /**< offdiag_ratio */
-
 /* ---- gradient-map aid of the 3-D task (aid_mmukf.h) ---- */
+#define GG_MM_MAX_PASSES 40        /**< progressive update passes */
+#define GG_LIM_MM_GAMMA_MAX_S2 1.0e-4 /**< |measured gradient component|, s^-2 (1e5 E) */
+#define GG_LIM_MM_OFFDIAG_MAX 10.0 /**< offdiag_ratio */
 /** Navigation steps one aid call may propagate (a bridge plus a catch-up). */
 #define GG_LIM_AID_MM_STEPS_MAX 128
 /** Navigation steps between two measurement epochs (1000 s at 100 Hz). */

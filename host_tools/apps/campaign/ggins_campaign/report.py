@@ -3,12 +3,13 @@
 Statistics over the N stored runs of a point, for every final value e_1..e_N:
   mean, sd (N-1), 95 % confidence interval of the mean (Student t, N-1 dof),
   sample sigma s = sqrt(sum e^2 / N) about zero (the errors of zero-mean random draws through
-  a linear error model; N dof), mean |e| and the spread of |e| (population sd, as ggins mapnav).
+  a linear error model; N dof), mean |e| and the spread of |e| (population sd).
 Against a covariance prediction sigma (run: ggins covariance on the point's scenario, the same
 model and code as ggins montecarlo): N s^2 / sigma^2 ~ chi^2_N, so s/sigma lies in
 [sqrt(chi2_lo/N), sqrt(chi2_hi/N)] with the two-sided chi-square quantiles at +-z standard
 normal quantiles (Wilson-Hilferty, as ggins montecarlo; z = 3: 99.73 % per state).
-Filter consistency (mapnav): NEES and NIS means over the runs against their dof.
+Filter consistency: NEES and NIS means over the runs against their dof (run3d's aided table
+adds the map UKF's NEES per 3-dof block and NIS, and the particle filter's (err/spread)^2).
 """
 import csv
 import json
@@ -270,8 +271,6 @@ def _write_table(summary, campaign, out):
             else:
                 cells += ["", "", "", ""]
         md.append("| " + " | ".join(cells) + " |")
-    if campaign.command == "mapnav":
-        md += [""] + gao_table(summary)
     if campaign.command == "run3d":
         md += [""] + aided3d_table(summary)
     fails = [(P["name"], f) for P in summary["points"] for f in P["failed"]]
@@ -280,30 +279,6 @@ def _write_table(summary, campaign, out):
         md += ["- point %s, seed %s: rc %s, failed/%s.log" % (n, f["seed"], f["rc"], f["run_id"]) for n, f in fails]
     with open(os.path.join(out, "summary.md"), "w") as f:
         f.write("\n".join(md) + "\n")
-
-
-GAO_COLS = ["pitch_arcmin", "roll_arcmin", "yaw_arcmin", "vE_mps", "vN_mps", "vU_mps", "lat_m", "lon_m", "h_m"]
-
-
-def gao_table(summary):
-    """mapnav: the table of Gao et al. Tables 3-9 (as scripts/papers/mapnav-sweeps): per point the mean
-    over runs of each run's RMS over the last 2 h (+- the spread over runs), v3D and p3D from
-    the means, NEES (15 states, epochs after 1 h) and NIS (6) averaged over runs."""
-    md = ["Gao Tables 3-9 layout: mean over runs of each run's RMS over the last 2 h (± sd over runs)", "",
-          "| point | pitch' | roll' | yaw' | vE | vN | vU | v3D | lat m | lon m | h m | p3D m | NEES/15 | NIS/6 |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for P in summary["points"]:
-        f = P["final"]
-        if not all(("rms2h_" + c) in f for c in GAO_COLS):
-            continue
-        m = {c: f["rms2h_" + c]["mean_abs"] for c in GAO_COLS}
-        sd = {c: f["rms2h_" + c]["sd_abs"] for c in GAO_COLS}
-        v3 = math.sqrt(m["vE_mps"] ** 2 + m["vN_mps"] ** 2 + m["vU_mps"] ** 2)
-        p3 = math.sqrt(m["lat_m"] ** 2 + m["lon_m"] ** 2 + m["h_m"] ** 2)
-        cells = ["%.3g ± %.2g" % (m[c], sd[c]) for c in GAO_COLS]
-        md.append("| %s | %s | %.3g | %s | %.3g | %.1f | %.2f |" % (
-            P["name"], " | ".join(cells[:6]), v3, " | ".join(cells[6:]), p3, f["nees"]["mean"], f["nis"]["mean"]))
-    return md
 
 
 def aided3d_table(summary):

@@ -24,10 +24,6 @@ RUN3D_STATES = {"err_n_m": "rn_m", "err_e_m": "re_m", "err_d_m": "rd_m", "err_vn
                 "err_ge_mps2": "ge_mps2", "err_gd_mps2": "gd_mps2", "err_h_m": "h_m"}
 
 
-# the nine navigation states of ggins mapnav's per-run tables (its summary.json order)
-MAPNAV_STATES = ["pitch_arcmin", "roll_arcmin", "yaw_arcmin", "vE_mps", "vN_mps", "vU_mps", "lat_m", "lon_m", "h_m"]
-
-
 class Tool:
     name = ""
     uses_scenario = False
@@ -133,27 +129,6 @@ class Run3D(Tool):
         return out
 
 
-class MapNav(Tool):
-    """ggins mapnav: the gradient map-matching UKF voyage; seed S = run S of its Monte Carlo set."""
-    name = "mapnav"
-    default_seed0 = 0
-    default_series_dt = 600.0
-
-    def task(self, c, scenario, opts, seed):
-        argv = ["{bin}/ggins-mapnav", "--runs", "1", "--threads", "1", "--first-run", str(seed), "--no-plot",
-                "--egm96", "{data}/egm96_to360.ascii.txt", "--out", "{out}"] + c.args + opts
-        return {"argv": argv, "files": {}, "data_probe": "egm96_to360.ascii.txt",
-                "parse": [{"json": "summary.json",
-                           "values": {"rms2h_": {"path": "ensemble.filter_per_run.0.rms_last2h", "names": MAPNAV_STATES},
-                                      "final_": {"path": "ensemble.filter_per_run.0.final", "names": MAPNAV_STATES},
-                                      "nees": "ensemble.filter_per_run.0.nees_mean",
-                                      "nees_pos": "ensemble.filter_per_run.0.nees_pos_mean",
-                                      "nis": "ensemble.filter_per_run.0.nis_mean",
-                                      "nees_dof": "ensemble.results.nees_dof", "nis_dof": "ensemble.results.nis_dof"}},
-                          {"csv": "timeseries.csv", "time": "t_s", "prefix": "ggan_", "keep_prefix": True},
-                          {"csv": "timeseries.csv", "time": "t_s", "prefix": "sig_", "keep_prefix": True}]}
-
-
 class ColdAtom(Tool):
     """ggins coldatom: one Liverpool-Toulouse flight of the cold-atom particle filter, seed S."""
     name = "coldatom"
@@ -200,4 +175,4 @@ class MonteCarlo3D(Tool):
                                                                    "ratio_min": "ratio_min", "ratio_max": "ratio_max"}}]}
 
 
-TOOLS = {t.name: t for t in (Run2D(), Run3D(), MapNav(), ColdAtom(), RwEq8(), MonteCarlo3D())}
+TOOLS = {t.name: t for t in (Run2D(), Run3D(), ColdAtom(), RwEq8(), MonteCarlo3D())}
