@@ -556,7 +556,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                                                    ": must be >= 2 map_spacing_deg (tiles overlap by it)");
   if (!s.firmware.acc_frozen_frames_set)
     s.firmware.acc_frozen_frames = truth::default_frozen_frames(s.accel.noise_sigma_mps2, s.firmware.f_max_mps2);
-  if (!sch::detail::node_at(root, "firmware.fdi_parity_f_max_mps2")) {
+  if (!s.fdi_parity_f_max_set) {
     const auto& a = s.accel;
     const double sp = std::sqrt(a.bias_sigma_mps2 * a.bias_sigma_mps2 + a.noise_sigma_mps2 * a.noise_sigma_mps2 +
                                 (10.0 * a.scale_sigma) * (10.0 * a.scale_sigma));
