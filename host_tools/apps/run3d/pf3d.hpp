@@ -6,8 +6,11 @@
 // mean of a chi-square with 2 dof over 2).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -16,6 +19,7 @@ extern "C" {
 }
 #include "ggins/nav3d_config_t.hpp"
 #include "ggins/nav3d_output_t.hpp"
+#include "ggins/coldatom/ellipse_fit.hpp"
 #include "ggins/coldatom/gradiometer.hpp"
 #include "ggins/truth3d/coldatom3d.hpp"
 
@@ -121,6 +125,64 @@ class PfReport3 {
   gg_nav3d_output_t last_{};
   int64_t n_ = 0, n_nees_ = 0, beyond2_ = 0;
   double err_sum_ = 0, nees_sum_ = 0;
+};
+
+// The gradient estimates of the shots the filter weighed, against the batch-mean true
+// Gamma_zz (Phillips et al. section II and Fig. 3): batches of kBatch shots, each giving
+//   the ellipse fit's estimate  dphi / (k_eff dz T^2)  of its pairs (ellipse_fit.hpp: the
+//     standard method the particle filter replaces; it cannot tell the sign of dphi), and
+//   the filter's estimate, the mean over the batch of pf_gzz_s2 (the weighted Gamma_zz of
+//     each shot's candidates: the map at the filter's posterior).
+// The true Gamma_zz of a shot is the sensor's map at the true position of its step.
+class ShotBaseline3 {
+ public:
+  static constexpr int kBatch = 20;
+  explicit ShotBaseline3(double scale_rad_per_s2) : scale_(scale_rad_per_s2) {}
+  // A weighed shot: its pair, its true Gamma_zz and the filter's (s^-2).
+  void take(double s0, double s1, double gzz_true, double gzz_pf) {
+    x_.push_back(s0);
+    y_.push_back(s1);
+    gt_ += gzz_true;
+    gp_ += gzz_pf;
+    if (static_cast<int>(x_.size()) < kBatch) return;
+    const double t = gt_ / kBatch;
+    const ggins::coldatom::EllipseFit f = ggins::coldatom::fit_ellipse(x_, y_);
+    if (f.ok) fit_.add(f.dphi / scale_ - t);
+    else ++fit_failed_;
+    pf_.add(gp_ / kBatch - t);
+    x_.clear();
+    y_.clear();
+    gt_ = gp_ = 0;
+  }
+  nlohmann::json block() const {
+    return {{"batch_shots", kBatch},
+            {"batches", pf_.n},
+            {"definition", "batch estimate - batch-mean true Gamma_zz, E; ellipse fit: dphi / (k_eff dz T^2) of the "
+                           "batch's pairs; filter: mean of pf_gzz_s2 (the weighted Gamma_zz of its candidates)"},
+            {"ellipse_fit_err_mean_E", fit_.mean() * 1e9},
+            {"ellipse_fit_err_std_E", fit_.sd() * 1e9},
+            {"ellipse_fit_failed", fit_failed_},
+            {"pf_err_mean_E", pf_.mean() * 1e9},
+            {"pf_err_std_E", pf_.sd() * 1e9}};
+  }
+
+ private:
+  struct Acc {
+    int64_t n = 0;
+    double s = 0, s2 = 0;
+    void add(double v) { ++n; s += v; s2 += v * v; }
+    double mean() const { return n > 0 ? s / static_cast<double>(n) : 0.0; }
+    double sd() const {
+      if (n < 2) return 0.0;
+      const double m = mean();
+      return std::sqrt(std::max(0.0, (s2 - static_cast<double>(n) * m * m) / static_cast<double>(n - 1)));
+    }
+  };
+  double scale_;
+  std::vector<double> x_, y_;
+  double gt_ = 0, gp_ = 0;
+  Acc fit_, pf_;
+  int64_t fit_failed_ = 0;
 };
 
 }  // namespace ggins::run3d

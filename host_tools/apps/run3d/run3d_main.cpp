@@ -169,6 +169,9 @@ class Model3D {
   ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
   ggins::run3d::PfReport3 pf_;        // the cold-atom aid's counters and consistency (pf3d.hpp)
   bool pf_on_ = false;
+  // the ellipse-fit baseline on the weighed shots (pf3d.hpp): the pairs of the frames by step
+  std::unique_ptr<ggins::run3d::ShotBaseline3> shots_;
+  std::vector<std::array<double, 3>> ca_ring_;  // ca_status, ca_s[0], ca_s[1] per step (ring)
   static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
   std::vector<ggins::truth3d::Truth3> truth_ring_;
   // The unaided reference: the same task with every aid off, stepped in this process on the
@@ -377,6 +380,7 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
     ++truth_published_;
   }
   truth_ring_[static_cast<size_t>(k % kTruthRing)] = t;
+  if (shots_) ca_ring_[static_cast<size_t>(k % kTruthRing)] = {static_cast<double>(f.ca_status), f.ca_s[0], f.ca_s[1]};
   return m;
 }
 
@@ -451,6 +455,11 @@ ggins::nav3d_config_t Model3D::config() {
   }
   ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
   pf_on_ = c.aid_pf.enable != 0;
+  const auto* ca = gen_.coldatom();
+  if (pf_on_ && ca && !ca->samples_field()) {
+    shots_ = std::make_unique<ggins::run3d::ShotBaseline3>(ca->params().grad.scale());
+    ca_ring_.assign(static_cast<size_t>(kTruthRing), {0.0, 0.0, 0.0});
+  }
   ref_cfg_ = m;  // the unaided reference: the same configuration, every aid off
   ref_cfg_.aid_mm_enable = 0;
   ref_cfg_.aid_pf_enable = 0;
@@ -461,6 +470,17 @@ ggins::nav3d_config_t Model3D::config() {
 void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos) {
   const ggins::run3d::Errors3 e = ggins::run3d::compare(t, o);
   if (pf_on_) pf_.take(o, static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)));
+  if (shots_ && o.pf_corrected != 0 && o.pf_gzz_s2 != 0.0) {
+    // the shot this end weighed: the last shot step (a shot ends before the next begins)
+    const auto* ca = gen_.coldatom();
+    const int64_t ks = (k / ca->steps_per_shot()) * ca->steps_per_shot();
+    const auto& p = ca_ring_[static_cast<size_t>(ks % kTruthRing)];
+    const auto& ts = truth_ring_[static_cast<size_t>(ks % kTruthRing)].s;
+    double g = 0;
+    if (ks > 0 && static_cast<int>(p[0]) == GG_SENSOR_OK &&
+        ca->map().gzz(static_cast<double>(ts.lat), static_cast<double>(ts.lon), static_cast<double>(ts.h), &g))
+      shots_->take(p[1], p[2], g, o.pf_gzz_s2);
+  }
   pos_.add(static_cast<double>(e.dr));
   vel_.add(static_cast<double>(e.dv));
   att_.add(static_cast<double>(e.psi));
@@ -602,7 +622,10 @@ void Model3D::report(json& s) {
   s["map_storage"] = ms;
   // one block per aid of the flight, each named ({"name": ..., its counters})
   if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
-  if (pf_on_) s["aids"].push_back(pf_.block(maps_.size()));
+  if (pf_on_) {
+    s["aids"].push_back(pf_.block(maps_.size()));
+    if (shots_) s["aids"].back()["gradient_estimates"] = shots_->block();
+  }
   if (ref_) {
     json r;
     r["description"] = "the same task with every aid off, stepped in this process on the same sensor frames "

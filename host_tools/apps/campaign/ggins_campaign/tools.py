@@ -107,8 +107,14 @@ class Run3D(Tool):
                                "ukf_nees_vel": "?aids.%d.nees.velocity" % i,
                                "ukf_nees_att": "?aids.%d.nees.attitude" % i})
             else:
+                g = "?aids.%d.gradient_estimates." % i
                 values.update({"pf_err_over_spread_sq": "aids.%d.err_over_spread_sq_mean" % i,
-                               "pf_estimate_error_m": "aids.%d.estimate_error_mean_m" % i})
+                               "pf_estimate_error_m": "aids.%d.estimate_error_mean_m" % i,
+                               "pf_shots": "aids.%d.shots" % i, "pf_failed": "aids.%d.failed" % i,
+                               "pf_map_miss": "aids.%d.map_miss" % i,
+                               "ellipse_fit_err_mean_E": g + "ellipse_fit_err_mean_E",
+                               "ellipse_fit_err_std_E": g + "ellipse_fit_err_std_E",
+                               "pf_gzz_err_mean_E": g + "pf_err_mean_E", "pf_gzz_err_std_E": g + "pf_err_std_E"})
         values["unaided_r"] = "?unaided_reference.position_error_final_m.*"
         return {"argv": argv, "files": {"scenario.toml": tomlw.dumps(sc)},
                 "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": RUN3D_STATES},

@@ -33,7 +33,7 @@ ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   const std::string w = "coldatom";
   st::check_keys(*t, w,
                  {"enabled", "gzz_map", "egm96", "cache", "rate_hz", "dz_m", "T_s", "n_atoms", "contrast",
-                  "phase_noise_mrad", "shot_noise", "p_fail", "cloud_rw_m_rts", "beam_radius_m", "seed"},
+                  "phase_noise_mrad", "shot_noise", "p_fail", "cloud_rw_m_rts", "beam_radius_m", "seed", "topo_rms_m"},
                  source);
   auto& g = c.grad;
   c.enabled = st::get_bool(*t, w, "enabled", c.enabled, source);
@@ -51,6 +51,9 @@ ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
   g.cloud_rw = st::get_num(*t, w, "cloud_rw_m_rts", g.cloud_rw, source);
   g.beam_radius = st::get_num(*t, w, "beam_radius_m", g.beam_radius, source);
   c.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(c.seed), source));
+  c.topo_rms_m = st::get_num(*t, w, "topo_rms_m", c.topo_rms_m, source);
+  if (!(c.topo_rms_m >= 0) || c.topo_rms_m > 5000)
+    st::fail(source, "coldatom.topo_rms_m must be in [0, 5000] m (the synthetic terrain's rms height)");
   if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal" && c.gzz_map != "field")
     st::fail(source, "coldatom.gzz_map must be \"phillips-route\", \"phillips-route-normal\" or \"field\"");
   if (!(g.rate_hz > 0) || !(g.dz > 0) || !(g.T > 0) || !(g.n_atoms > 0) || !(g.contrast > 0) || g.contrast > 1 ||
@@ -106,10 +109,11 @@ std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c) {
   static std::shared_ptr<const coldatom::RouteMap> cached;
   static std::string cached_key;
   const std::string egm = c.egm96.empty() ? std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt" : c.egm96;
-  const std::string key = c.gzz_map + "|" + egm + "|" + c.cache;
+  const std::string key = c.gzz_map + "|" + egm + "|" + c.cache + "|" + std::to_string(c.topo_rms_m);
   std::lock_guard<std::mutex> lock(mu);
   if (cached && cached_key == key) return cached;
   coldatom::RouteMapParams p;
+  p.topo_rms = c.topo_rms_m;
   if (c.gzz_map == "phillips-route-normal") {
     p.with_egm96 = false;
     p.with_topo = false;

@@ -163,7 +163,10 @@ std::vector<sch::Row> coldatom3_rows() {
           {"p_fail", "number", "1", sch::num_text(g.p_fail), "[0, 1]", "probability of a failed shot"},
           {"cloud_rw_m_rts", "number", "m/sqrt(s)", sch::num_text(g.cloud_rw), ">= 0", "cloud position random walk"},
           {"beam_radius_m", "number", "m", sch::num_text(g.beam_radius), "> 0", "beam radius"},
-          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "seed of the shots' draws"}};
+          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "seed of the shots' draws"},
+          {"topo_rms_m", "number", "m", sch::num_text(d.topo_rms_m), "[0, 5000]",
+           "rms height of the synthetic terrain in the route map (phillips-route; Gamma_zz 17.0 E rms at 3000 m for "
+           "150 m, proportional to it)"}};
 }
 
 std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(const ColdAtom3& c) {
@@ -174,7 +177,8 @@ std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(
           {"n_atoms", sch::num_text(g.n_atoms)}, {"contrast", sch::num_text(g.contrast)},
           {"phase_noise_mrad", sch::num_text(1e3 * g.phase_noise)}, {"shot_noise", g.shot_noise ? "true" : "false"},
           {"p_fail", sch::num_text(g.p_fail)}, {"cloud_rw_m_rts", sch::num_text(g.cloud_rw)},
-          {"beam_radius_m", sch::num_text(g.beam_radius)}, {"seed", std::to_string(c.seed)}};
+          {"beam_radius_m", sch::num_text(g.beam_radius)}, {"seed", std::to_string(c.seed)},
+          {"topo_rms_m", sch::num_text(c.topo_rms_m)}};
 }
 
 // [aid_pf] (coldatom3d.hpp): the filter's settings, their ranges the firmware's (limits.h,

@@ -13,7 +13,9 @@
 //                               # (relative names of both: from the scenario file's directory)
 //   rate_hz = 1.0, dz_m = 1.0, T_s = 0.16, n_atoms = 1e5, contrast = 0.5,
 //   phase_noise_mrad = 0.0, shot_noise = true, p_fail = 0.0, cloud_rw_m_rts = 0.0,
-//   beam_radius_m = 6e-3, seed = 1
+//   beam_radius_m = 6e-3, seed = 1,
+//   topo_rms_m = 150.0          # rms height of the route map's synthetic terrain, m
+//                               # (its Gamma_zz rms at 3000 m scales with it: 17.0 E at 150 m)
 //
 //   [aid_pf]                    # the particle filter of the 3-D task (aid_pf.h)
 //   enabled = true
@@ -60,6 +62,7 @@ struct ColdAtom3 {
   std::string cache;
   coldatom::GradiometerParams grad;
   std::uint64_t seed = 1;
+  double topo_rms_m = 150.0;  // m, the route map's synthetic terrain (coldatom/route_map.hpp)
 };
 
 struct AidPf3 {
