@@ -27,16 +27,6 @@ VALUES = ["nan", "-nan", "inf", "-inf", "0", "-0", "-1", "1e308", "-1e308", "1e-
 
 # option -> a few sensible values (mixed with the adversarial ones above)
 TOOLS = {
-    "ggins-coldatom": {
-        "base": ["--egm96", "{missing}", "--flights", "1", "--threads", "1"],
-        "opts": {"--out": ["{out}", "{under_file}"], "--cache": ["{out}/c", "{under_file}"], "--sweep": ["none", "z"],
-                 "--particles": ["1", "500"], "--duration": ["0", "10"], "--phase-noise": ["0"], "--p-fail": ["0", "1"],
-                 "--cloud-rw": ["0"], "--gain": ["0.05"], "--q-pos": ["-1"], "--q-vel": ["-1"], "--sigma0-pos": ["50"],
-                 "--sigma0-vel": ["-1"], "--model": ["rw", "ins", "rbpf", "q"], "--q-jerk": ["-1"], "--q-bias": ["-1"],
-                 "--q-acc": ["-1"], "--sigma0-acc": ["-1"], "--ess": ["0.5"], "--reg-bw": ["-1"], "--dz": ["1"],
-                 "--sigma-like": ["0"], "--atoms": ["1e5"], "--ins-scale": ["1"], "--seed": ["1"],
-                 "--tile-recentre": ["2000"], "--tile-step": ["250"], "--topo-rms": ["150"]},
-    },
     "ggins-covariance": {
         "base": ["--duration", "60", "--no-plot", "-o", "{out}"],
         "opts": {"-s": ["welker-table1", "{scenario}", "{missing}", "{a_file}"], "--dt": ["1", "0.5"],

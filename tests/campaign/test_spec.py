@@ -81,8 +81,6 @@ name = "long"
     av = mr[2].task()["argv"]
     C.ok(av[av.index("--seed") + 1] == "3" and "--hours" in av and av[av.index("--runs") + 1] == "4",
          "rw-eq8: seed S = --seed S, the command's own options kept and swept")
-    ca = camp('[campaign]\ncommand = "coldatom"\nseeds = 2\nseed0 = 7\n', "ca.toml").runs()[1].task()["argv"]
-    C.ok(ca[ca.index("--seed") + 1] == "8" and ca[ca.index("--flights") + 1] == "1", "coldatom: --flights 1 --seed 8")
     # run3d: the runs start from the scenario as it would fly (every key, the files it names
     # absolute: each run's copy sits in its own folder); every table's seed from S, the map's kept
     util.write(os.path.join(tmp, "s3.toml"), '[time]\nduration_s = 10.0\n[draw]\nposition_ned_m = [1.0, 1.0, 1.0]\n'

@@ -3,7 +3,7 @@
 the expected code (2: bad arguments, 1: the run failed), name the option or key in
 stderr, and never die of a signal or an uncaught exception (exit 134 / 139, 'terminate').
 
-usage: check_bad_arguments.py ggins-coldatom=/path/to/ggins-coldatom ...
+usage: check_bad_arguments.py ggins-run3d=/path/to/ggins-run3d ...
 """
 import os
 import subprocess
@@ -58,13 +58,6 @@ GMAP = ["--lat-min", "45", "--lat-max", "45.05", "--lon-min", "10", "--lon-max",
 
 # (tool, arguments, expected exit code, text that stderr must contain)
 CASES = [
-    ("ggins-coldatom", ["--out", os.path.join(afile, "sub")], 2, "--out"),
-    ("ggins-coldatom", ["--cache", os.path.join(afile, "c")], 2, "--cache"),
-    ("ggins-coldatom", ["--duration", "nan"], 2, "--duration"),
-    ("ggins-coldatom", ["--duration", "5"], 2, "--duration"),
-    ("ggins-coldatom", ["--gain", "nan"], 2, "--gain"),
-    ("ggins-coldatom", ["--q-pos", "nan"], 2, "--q-pos"),
-    ("ggins-coldatom", ["--seed", "-1"], 2, "--seed"),
     ("ggins-covariance", ["-s", typo_key, "--no-plot", "-o", out + "/c1"], 2, "sped_mps"),
     ("ggins-covariance", ["-s", unknown_section, "--no-plot", "-o", out + "/c2"], 2, "trajectoryy"),
     ("ggins-covariance", ["-s", unknown_initial, "--no-plot", "-o", out + "/c3"], 2, "initial.position_sigma"),

@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
 """One report shape for every command that flies: summary.json of a short `ggins run`,
-`ggins run3d`, `ggins montecarlo`, `ggins montecarlo3d` and `ggins coldatom`
-checked against one schema
+`ggins run3d`, `ggins montecarlo` and `ggins montecarlo3d` checked against one schema
 (report_schema.json, JSON Schema; the Monte Carlo reports also against its `ensemble`
 definition), units in every CSV column, the scenario.toml each writes flying again with the
 same command to the same numbers, and the ensemble's numbers against its own runs:
@@ -9,10 +8,8 @@ steps summed, errors.final the RMS of the runs' finals, max the largest, the chi
 band recomputed here (Wilson-Hilferty, independently of truth/stats.cpp). And Ctrl-C
 (SIGINT to the process group, as a terminal sends it) during `ggins montecarlo`: no run
 starts after it, exit 130, a report marked interrupted whose unflown steps include the
-runs never started; the same for `ggins montecarlo3d`, whose runs are threads of one process,
-and for `ggins coldatom` (in-process Monte Carlo runs on threads). The flights of the
-navigation tasks (run, run3d, montecarlo, montecarlo3d) report position, velocity and gravity
-errors; coldatom, which estimates no gravity, at least the position error.
+runs never started; the same for `ggins montecarlo3d`, whose runs are threads of one process. Every flight
+reports position, velocity and gravity errors.
 
 usage: report_shape_check.py --bin DIR --workdir DIR
 """
@@ -224,46 +221,6 @@ def interrupt_montecarlo3d(exe, d):
           f"{st.count('unflown')} never started")
 
 
-def interrupt_inprocess(what, cmd, d, n, per, wait_s):
-    """Ctrl-C during an in-process Monte Carlo (coldatom) of n runs of per steps each: no
-    run starts after it, exit 130, a partial report marked interrupted, every requested run listed,
-    the unflown counted. How many runs complete before the signal depends on the machine's speed
-    (none under the sanitizers on a loaded machine), so only their step counts are checked."""
-    p = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    time.sleep(wait_s)
-    os.killpg(p.pid, signal.SIGINT)
-    t0 = time.time()
-    try:
-        _, err = p.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        _, err = p.communicate()
-    dt = time.time() - t0
-    check(p.returncode == 130 and dt < 20, f"{what} Ctrl-C: exit {p.returncode} after {dt:.1f} s (want 130)")
-    p_rep = os.path.join(d, "summary.json")
-    if not os.path.exists(p_rep):
-        check(False, f"{what} Ctrl-C: a report is written\n" + err[-800:])
-        return
-    r = json.load(open(p_rep))
-    if "ensemble" not in r or "status" not in r:
-        check(False, f"{what} Ctrl-C: the report has the ensemble's shape")
-        return
-    pr = r["ensemble"]["per_run"]
-    done = [x for x in pr if x["status"] == "completed"]
-    unflown = [x for x in pr if x["steps_flown"] == 0]
-    check(r["status"] == "interrupted" and r["interrupted"] and not r["completed"] and r["frames_lost"] == 0 and
-          r["error_code"] == 130, f"{what} Ctrl-C: status {r['status']}, error {r.get('error')!r}")
-    stopped = [x for x in pr if x["status"] != "completed" and x["steps_flown"] > 0]
-    check(len(pr) == n and len(unflown) >= 1 and len(stopped) <= 1 and r["steps_expected"] == n * per and
-          all(x["steps_flown"] == per for x in done) and
-          r["steps_flown"] == sum(x["steps_flown"] for x in pr) and
-          r["steps_flown"] + r["steps_unflown"] == r["steps_expected"] and
-          r["ensemble"]["runs_failed"] == n - len(done),
-          f"{what} Ctrl-C: {len(pr)} of {n} runs listed, {len(done)} completed, {len(stopped)} stopped in flight, "
-          f"{len(unflown)} never started; "
-          f"{r['steps_flown']} flown + {r['steps_unflown']} unflown = {r['steps_expected']} = {n} x {per} steps")
-
-
 def numbers(rep):
     """The summary numbers a flight of the same scenario reproduces (not the wall times)."""
     keys = ("status", "task", "rate_hz", "dt_s", "duration_s", "flown_s", "steps_expected", "steps_flown",
@@ -309,7 +266,7 @@ def main():
     shutil.rmtree(w, ignore_errors=True)
     os.makedirs(w)
     b = lambda t: os.path.join(a.bin, t)
-    out = {k: os.path.join(w, k) for k in ("run", "run3d", "mc", "mc3d", "coldatom")}
+    out = {k: os.path.join(w, k) for k in ("run", "run3d", "mc", "mc3d")}
     flights = [
         ("run", [b("ggins-run"), "-s", "welker-table1", "--direct", "--duration", "5", "--no-plots", "-q", "--out", out["run"]]),
         ("run3d", [b("ggins-run3d"), "-s", "3d-stabilized-1h", "--direct", "--duration", "5", "--no-plots", "-q",
@@ -318,8 +275,6 @@ def main():
                         "-o", out["mc"]]),
         ("montecarlo3d", [b("ggins-montecarlo3d"), "-s", "gc3d-stabilized", "-n", "3", "-j", "1", "--rate-hz", "10",
                           "--duration", "20", "--output-dt", "10", "--no-plot", "-o", out["mc3d"]]),
-        ("coldatom", [b("ggins-coldatom"), "--no-egm96", "--flights", "3", "--threads", "1", "--duration", "60",
-                      "--particles", "50", "--no-plot", "--out", out["coldatom"]]),
     ]
     navigation = ("run", "run3d", "montecarlo", "montecarlo3d")  # tasks that estimate gravity
     for what, cmd in flights:
@@ -327,8 +282,7 @@ def main():
             print(f"skip {what} (not built)")
             continue
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-        d = out[{"run": "run", "run3d": "run3d", "montecarlo": "mc", "montecarlo3d": "mc3d",
-                 "coldatom": "coldatom"}[what]]
+        d = out[{"run": "run", "run3d": "run3d", "montecarlo": "mc", "montecarlo3d": "mc3d"}[what]]
         # exit 0, or a Monte Carlo whose few runs fall outside the chi-square band (a result)
         ok_codes = (0,) if what.startswith("run") else (0, 1, 3)
         check(r.returncode in ok_codes, f"{what}: exit {r.returncode}" + ("" if r.returncode in ok_codes else "\n" + r.stderr[-1500:]))
@@ -359,25 +313,12 @@ def main():
         if what == "montecarlo3d":
             csv_units(os.path.join(d, "montecarlo3d.csv"), what)
             ensemble_numbers(rep, what)
-        if what == "coldatom":
-            ensemble_numbers(rep, what)
-            check(rep["tool"] == "ggins " + what and rep["aids"] is not None, f"{what}: tool {rep['tool']!r}")
-        if what == "coldatom":
-            st = rep["ensemble"]["settings"]
-            check(len(st) == 1 and "mean_aided_m" in st[0] and "pf_err_over_spread_sq_final_mean" in st[0] and
-                  os.path.exists(os.path.join(d, rep["files"]["settings"])),
-                  f"{what}: the setting's results and the filter's (err/spread)^2 in the report")
         if what in navigation:
             refly(what, cmd, d, w)
     if os.path.exists(b("ggins-montecarlo")):
         interrupt_montecarlo(b("ggins-montecarlo"), os.path.join(w, "mc-int"))
     if os.path.exists(b("ggins-montecarlo3d")):
         interrupt_montecarlo3d(b("ggins-montecarlo3d"), os.path.join(w, "mc3d-int"))
-    if os.path.exists(b("ggins-coldatom")):
-        d = os.path.join(w, "coldatom-int")
-        interrupt_inprocess("coldatom", [b("ggins-coldatom"), "--no-egm96", "--flights", "1000", "--threads", "1",
-                                         "--duration", "1200", "--particles", "50", "--no-plot", "--out", d],
-                            d, 1000, 120, 4.0)
     print(f"{len(FAILS)} failure(s)")
     return 1 if FAILS else 0
 

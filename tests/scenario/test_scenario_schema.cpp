@@ -195,7 +195,6 @@ int main() {
     std::printf("%s thresholds given in the file are written back, derived ones are not\n", written ? "ok  " : "FAIL");
     if (!written) ++g_fail;
   }
-
   defaults_accepted(truth::scenario_schema(), p2, "");
   defaults_accepted(truth3d::scenario3_schema(), p3, "");
   documented_fault_kinds_accepted(truth::scenario_schema(), p2, "1");

@@ -1,6 +1,6 @@
 // The report of a flight (summary.json), one shape for every command that flies
 // (`ggins run`, `ggins run3d`, aided runs, and the Monte Carlo ensembles `ggins
-// montecarlo` / `ggins montecarlo3d` / `ggins coldatom`):
+// montecarlo` / `ggins montecarlo3d`):
 //
 //   report, report_version, tool, task ("2-D" | "3-D"), scenario, scenario_source, description
 //   status             "completed" | "degraded" | "failed" | "interrupted"

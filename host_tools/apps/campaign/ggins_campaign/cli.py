@@ -8,7 +8,7 @@ import time
 HELP = """\
 Runs a campaign file: a scenario (or a command's options), the parameters to sweep, the seeds
 per point. Every run is an ordinary run of an existing command (ggins run, run3d,
-coldatom, rw-eq8, montecarlo3d), fully determined by its scenario and seed. Results are stored
+rw-eq8, montecarlo3d), fully determined by its scenario and seed. Results are stored
 per run as they arrive (Parquet, <out>/runs/), so an interrupted campaign resumes where it
 stopped and a finished one is not recomputed; a failed run is retried once, then reported with
 its seed and log (<out>/failed/). At the end: summary.csv, summary.md, summary.json, series.csv

@@ -4,7 +4,7 @@ A campaign file:
 
   [campaign]
   name = "welker-table1-mc"         # default: the file's stem
-  command = "run"                   # run | run3d | coldatom | rw-eq8 | montecarlo3d
+  command = "run"                   # run | run3d | rw-eq8 | montecarlo3d
   scenario = "welker-table1"        # run, run3d: scenarios/NAME.toml, or a path (relative to this file)
   seeds = 200                       # runs per point
   seed0 = 1000                      # run i of every point uses seed seed0 + i
@@ -29,7 +29,6 @@ How `seed` reaches each command is the command's own convention (tools.py):
   run          --seed S (and [accel] seed = S in the scenario file)  (as ggins montecarlo: seed0 + i)
   run3d        the scenario's seed keys ([accel] seed = S, [gyro] S + 1, [baro] S + 2, [draw] S + 3,
                [coldatom] S + 4, [aid_pf] S + 5)
-  coldatom     --flights 1 --seed S: flight S (the command's flight i has seed --seed + i)
   rw-eq8, montecarlo3d   --seed S: one whole Monte Carlo of the command (its --runs) per seed
 """
 import hashlib

@@ -135,27 +135,6 @@ class Run3D(Tool):
         return out
 
 
-class ColdAtom(Tool):
-    """ggins coldatom: one Liverpool-Toulouse flight of the cold-atom particle filter, seed S."""
-    name = "coldatom"
-    default_seed0 = 1
-    default_series_dt = 60.0
-
-    def task(self, c, scenario, opts, seed):
-        argv = ["{bin}/ggins-coldatom", "--flights", "1", "--threads", "1", "--seed", str(seed), "--sweep", "none",
-                "--cache", "{cache}", "--egm96", "{data}/egm96_to360.ascii.txt", "--dump-flights",
-                "--out", "{out}"] + c.args + opts
-        return {"argv": argv, "files": {}, "cache_key": "coldatom", "data_probe": "egm96_to360.ascii.txt",
-                "parse": [{"json": "summary_none.json",
-                           "values": {"mean_aided_m": "0.mean_aided_m", "mean_unaided_m": "0.mean_unaided_m",
-                                      "final_unaided_m": "0.final_unaided_mean_m",
-                                      "ellipse_fit_err_mean_E": "0.ellipse_fit_err_mean_E",
-                                      "pf_err_mean_E": "0.pf_err_mean_E", "pf_err_std_E": "0.pf_err_std_E",
-                                      "failed_shots": "0.failed_shots", "shots": "0.shots"}},
-                          {"csv": "flight_*_0.csv", "time": "t_s",
-                           "columns": {"unaided_m": "unaided_m", "aided_m": "aided_m"}}]}
-
-
 class RwEq8(Tool):
     """ggins rw-eq8: one whole Monte Carlo (its --runs flights) per seed."""
     name = "rw-eq8"
@@ -181,4 +160,4 @@ class MonteCarlo3D(Tool):
                                                                    "ratio_min": "ratio_min", "ratio_max": "ratio_max"}}]}
 
 
-TOOLS = {t.name: t for t in (Run2D(), Run3D(), ColdAtom(), RwEq8(), MonteCarlo3D())}
+TOOLS = {t.name: t for t in (Run2D(), Run3D(), RwEq8(), MonteCarlo3D())}

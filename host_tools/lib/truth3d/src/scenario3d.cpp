@@ -383,16 +383,10 @@ sch::Schema<S> build_schema3() {
         c.fail_at(&n, p, p + " = " + sch::value_text(n) + ": must be 0 (off) or >= " + std::to_string(GG_FDI3D_FLOOR_MPS2) +
                              " m/s^2 (the pair means' curvature differences)");
       s.fdi_parity_f_max_mps2 = v;
-      s.fdi_parity_f_max_set = true;
     };
-    // written only when the file gave it (as acc_frozen_frames): a printed scenario whose
-    // [accel] is then edited derives the threshold from the new noise
-    fdi.write = [](const S& s) -> std::optional<std::string> {
-      if (!s.fdi_parity_f_max_set) return std::nullopt;
-      return sch::num_text(s.fdi_parity_f_max_mps2);
-    };
-    fdi.dflt_doc = "7 sigma of a pair-mean difference from [accel] + the fixed biases' + 2e-12 (scenario3d.hpp)";
-    t.custom(fdi);
+    fdi.write = [](const S& s) -> std::optional<std::string> { return sch::num_text(s.fdi_parity_f_max_mps2); };
+    t.custom(fdi).derived_unless_given(
+        &S::fdi_parity_f_max_set, "7 sigma of a pair-mean difference from [accel] + the fixed biases' + 2e-12 (scenario3d.hpp)");
     secs.push_back(sch::section<S>(t));
   }
   {

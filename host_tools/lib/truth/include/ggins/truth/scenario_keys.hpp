@@ -107,16 +107,10 @@ void firmware_keys(sch::Table<F>& t) {
       c.fail_at(&n, p, p + " = 1: must be 0 (off) or 2.." + std::to_string(GG_LIM_FROZEN_FRAMES_MAX) +
                            " (a run of one frame is every reading)");
     f.acc_frozen_frames = v;
-    f.acc_frozen_frames_set = true;
   };
-  // written only when the file gave it: a derived value stays derived in a printed scenario,
-  // so that one edited (another accelerometer noise) derives it again
-  frozen.write = [](const F& f) -> std::optional<std::string> {
-    if (!f.acc_frozen_frames_set) return std::nullopt;
-    return std::to_string(f.acc_frozen_frames);
-  };
-  frozen.dflt_doc = "10 when [accel] noise_sigma_mps2 >= 10 ulp(f_max_mps2), else 0 (fdi_thresholds.hpp)";
-  t.custom(frozen);
+  frozen.write = [](const F& f) -> std::optional<std::string> { return std::to_string(f.acc_frozen_frames); };
+  t.custom(frozen).derived_unless_given(
+      &F::acc_frozen_frames_set, "10 when [accel] noise_sigma_mps2 >= 10 ulp(f_max_mps2), else 0 (fdi_thresholds.hpp)");
 }
 
 // [time] of a scenario struct R with members duration_s and rate_hz.

@@ -225,6 +225,24 @@ class Table {
     };
     return *this;
   }
+  // the last key added is derived from other keys unless the file gives it: reading it sets
+  // t.*given, and it is written only when given, so that a printed scenario whose inputs are
+  // then edited derives it again (derived_doc: how, for the reference)
+  Table& derived_unless_given(bool T::*given, const std::string& derived_doc) {
+    Key<T>& k = keys_.back();
+    auto rd = k.read;
+    auto wr = k.write;
+    k.read = [rd, given](T& t, const toml::node& n, const Ctx& c, const std::string& p) {
+      rd(t, n, c, p);
+      t.*given = true;
+    };
+    k.write = [wr, given](const T& t) -> std::optional<std::string> {
+      if (!(t.*given)) return std::nullopt;
+      return wr(t);
+    };
+    k.dflt_doc = derived_doc;
+    return *this;
+  }
   // the last key added applies only when pred(t); `why` says when (in the error)
   Table& only_if(std::function<bool(const T&)> pred, const std::string& why) {
     keys_.back().applies = std::move(pred);
