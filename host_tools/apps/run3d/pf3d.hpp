@@ -6,8 +6,6 @@
 // mean of a chi-square with 2 dof over 2).
 #pragma once
 
-#include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -147,41 +145,42 @@ class ShotBaseline3 {
     if (static_cast<int>(x_.size()) < kBatch) return;
     const double t = gt_ / kBatch;
     const ggins::coldatom::EllipseFit f = ggins::coldatom::fit_ellipse(x_, y_);
-    if (f.ok) fit_.add(f.dphi / scale_ - t);
+    if (f.ok) fit_.push_back(f.dphi / scale_ - t);
     else ++fit_failed_;
-    pf_.add(gp_ / kBatch - t);
+    pf_.push_back(gp_ / kBatch - t);
     x_.clear();
     y_.clear();
     gt_ = gp_ = 0;
   }
   nlohmann::json block() const {
     return {{"batch_shots", kBatch},
-            {"batches", pf_.n},
+            {"batches", pf_.size()},
             {"definition", "batch estimate - batch-mean true Gamma_zz, E; ellipse fit: dphi / (k_eff dz T^2) of the "
                            "batch's pairs; filter: mean of pf_gzz_s2 (the weighted Gamma_zz of its candidates)"},
-            {"ellipse_fit_err_mean_E", fit_.mean() * 1e9},
-            {"ellipse_fit_err_std_E", fit_.sd() * 1e9},
+            {"ellipse_fit_err_mean_E", mean(fit_) * 1e9},
+            {"ellipse_fit_err_std_E", sd(fit_) * 1e9},
             {"ellipse_fit_failed", fit_failed_},
-            {"pf_err_mean_E", pf_.mean() * 1e9},
-            {"pf_err_std_E", pf_.sd() * 1e9}};
+            {"pf_err_mean_E", mean(pf_) * 1e9},
+            {"pf_err_std_E", sd(pf_) * 1e9}};
   }
 
  private:
-  struct Acc {
-    int64_t n = 0;
-    double s = 0, s2 = 0;
-    void add(double v) { ++n; s += v; s2 += v * v; }
-    double mean() const { return n > 0 ? s / static_cast<double>(n) : 0.0; }
-    double sd() const {
-      if (n < 2) return 0.0;
-      const double m = mean();
-      return std::sqrt(std::max(0.0, (s2 - static_cast<double>(n) * m * m) / static_cast<double>(n - 1)));
-    }
-  };
+  static double mean(const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+  }
+  static double sd(const std::vector<double>& v) {  // two passes: about the mean
+    if (v.size() < 2) return 0.0;
+    const double m = mean(v);
+    double s = 0;
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / static_cast<double>(v.size() - 1));
+  }
   double scale_;
   std::vector<double> x_, y_;
   double gt_ = 0, gp_ = 0;
-  Acc fit_, pf_;
+  std::vector<double> fit_, pf_;  // the batches' errors, s^-2
   int64_t fit_failed_ = 0;
 };
 

@@ -171,7 +171,11 @@ class Model3D {
   bool pf_on_ = false;
   // the ellipse-fit baseline on the weighed shots (pf3d.hpp): the pairs of the frames by step
   std::unique_ptr<ggins::run3d::ShotBaseline3> shots_;
-  std::vector<std::array<double, 3>> ca_ring_;  // ca_status, ca_s[0], ca_s[1] per step (ring)
+  struct Pair {
+    int32_t status = GG_SENSOR_ABSENT;  // ca_status
+    double s0 = 0, s1 = 0;              // ca_s
+  };
+  std::vector<Pair> ca_ring_;  // the cold-atom pair of each step (ring, as truth_ring_)
   static constexpr int64_t kTruthRing = 8192;  // > the transport's largest window (4096)
   std::vector<ggins::truth3d::Truth3> truth_ring_;
   // The unaided reference: the same task with every aid off, stepped in this process on the
@@ -380,7 +384,7 @@ ggins::sensor_frame_t Model3D::frame(int64_t k) {
     ++truth_published_;
   }
   truth_ring_[static_cast<size_t>(k % kTruthRing)] = t;
-  if (shots_) ca_ring_[static_cast<size_t>(k % kTruthRing)] = {static_cast<double>(f.ca_status), f.ca_s[0], f.ca_s[1]};
+  if (shots_) ca_ring_[static_cast<size_t>(k % kTruthRing)] = {f.ca_status, f.ca_s[0], f.ca_s[1]};
   return m;
 }
 
@@ -458,7 +462,7 @@ ggins::nav3d_config_t Model3D::config() {
   const auto* ca = gen_.coldatom();
   if (pf_on_ && ca && !ca->samples_field()) {
     shots_ = std::make_unique<ggins::run3d::ShotBaseline3>(ca->params().grad.scale());
-    ca_ring_.assign(static_cast<size_t>(kTruthRing), {0.0, 0.0, 0.0});
+    ca_ring_.assign(static_cast<size_t>(kTruthRing), Pair{});
   }
   ref_cfg_ = m;  // the unaided reference: the same configuration, every aid off
   ref_cfg_.aid_mm_enable = 0;
@@ -477,9 +481,9 @@ void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d
     const auto& p = ca_ring_[static_cast<size_t>(ks % kTruthRing)];
     const auto& ts = truth_ring_[static_cast<size_t>(ks % kTruthRing)].s;
     double g = 0;
-    if (ks > 0 && static_cast<int>(p[0]) == GG_SENSOR_OK &&
+    if (ks > 0 && p.status == GG_SENSOR_OK &&
         ca->map().gzz(static_cast<double>(ts.lat), static_cast<double>(ts.lon), static_cast<double>(ts.h), &g))
-      shots_->take(p[1], p[2], g, o.pf_gzz_s2);
+      shots_->take(p.s0, p.s1, g, o.pf_gzz_s2);
   }
   pos_.add(static_cast<double>(e.dr));
   vel_.add(static_cast<double>(e.dv));
