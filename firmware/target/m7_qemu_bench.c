@@ -141,7 +141,7 @@ int main(void)
     cfg.platform = GG_PLATFORM_STRAPDOWN;
     cfg.dt_us = 10000;
     cfg.dt_tol_us = 100;
-    cfg.r0_e[0] = 6378137.0L;
+    cfg.r0_e[0] = GG_WGS84_A_M;
     cfg.g0_e[0] = -9.798L;
     cfg.q0_b_e[0] = 1.0L;
     cfg.f_max = 100.0;

@@ -7,18 +7,18 @@ const gg_nav2d_config_t g_m7_demo_config = {
     .geometry = {0.5L, 0.5L},
     .dt_us = 10000,
     .dt_tol_us = 100,
-    .r0 = {6378137.0L, 0.0L, 0.0L},
+    .r0 = {GG_WGS84_A_M, 0.0L, 0.0L},
     .v0 = {0.0L, 0.0L, 300.0L},
     .g0 = {-9.798L, 0.0L, 0.0L},
     .f_max = 100.0,
     .asym_max = 1e-9,
     .gravdr_trapezoid_only = 0,
     .gravity_mode = GG_GRAVITY_GRADIOMETER,
-    .model = {.gm = 3.986004418e14L, .a_m = 6378137.0L},
+    .model = {.gm = GG_WGS84_GM_M3PS2, .a_m = GG_WGS84_A_M},
     .baro_enable = 1,
     .baro = {{0.005L, 0.01L, 0.015L}, 1.54e-6L, 1000000, 500000, 10000000, -500.0, 20000.0,
              50.0, 5},
-    .r_ref_m = 6378137.0L};
+    .r_ref_m = GG_WGS84_A_M};
 
 extern uint32_t _sbss, _ebss, _sdata, _edata, _sidata, _estack;
 void Reset_Handler(void);

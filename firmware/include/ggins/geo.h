@@ -34,7 +34,9 @@
 
 /** WGS-84 defining constants (TR8350.2 Table 3.1). */
 #define GG_WGS84_A_M 6378137.0L              /**< semi-major axis, m */
-#define GG_WGS84_F (1.0L / 298.257223563L)   /**< flattening */
+#define GG_WGS84_INV_F 298.257223563L        /**< inverse flattening 1/f */
+#define GG_WGS84_F (1.0L / GG_WGS84_INV_F)   /**< flattening */
+#define GG_WGS84_GM_M3PS2 3.986004418e14L    /**< GM incl. the atmosphere, m^3/s^2 */
 #define GG_WGS84_OMEGA_IE 7.292115e-5L       /**< Earth rotation rate, rad/s */
 
 /** First eccentricity squared from the flattening, e^2 = f (2 - f). */

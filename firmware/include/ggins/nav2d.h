@@ -43,6 +43,7 @@
 #include <stdint.h>
 #include "ggins/diff2d.h"
 #include "ggins/fdi2d.h"
+#include "ggins/geo.h"
 #include "ggins/frame.h"
 #include "ggins/gmodel.h"
 #include "ggins/gravdr.h"
@@ -75,7 +76,7 @@
 #define GG_NAV2D_MAX_BRIDGE 100
 
 /** Default altitude reference radius: WGS-84 semi-major axis, m. */
-#define GG_R_REF_DEFAULT_M 6378137.0L
+#define GG_R_REF_DEFAULT_M GG_WGS84_A_M
 
 typedef struct {
     gg_diff2d_config_t geometry; /**< half-baselines a (x) and b (z), m */

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ggins/covariance/nav3d_model.hpp"
+#include "ggins/gravity/wgs84.hpp"
 
 namespace ggins::covariance {
 
@@ -17,8 +18,8 @@ struct Cov3DScenario {
   std::string name = "gc3d-stabilized";
   Platform platform = Platform::kStabilized;
   std::string field = "normal";    // "normal" (WGS-84 normal gravitation) or "point-mass"
-  double omega_ie = 7.292115e-5;   // rad/s; 0 = non-rotating Earth
-  double radius_m = 6378137.0, height_m = 0.0;  // geocentric radius of the circle = radius + height
+  double omega_ie = static_cast<double>(gravity::wgs84::kOmega);  // rad/s; 0 = non-rotating Earth
+  double radius_m = static_cast<double>(gravity::wgs84::kA), height_m = 0.0;  // geocentric radius of the circle = radius + height
   double lat0_deg = 45.0, lon0_deg = 0.0, heading_deg = 45.0, speed_mps = 300.0;
   double duration_s = 3600.0;
   Nav3DModelConfig model;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "ggins/gravity/wgs84.hpp"
+
 namespace ggins::covariance {
 
 struct CovScenario {
@@ -13,8 +15,8 @@ struct CovScenario {
   std::string source = "built-in";  // "built-in" or the TOML path
   double duration_s = 3600.0;
   // Earth (spherical point mass) -- Welker et al. section VI.
-  double radius_m = 6378137.0;        // R_e, WGS-84 semi-major axis
-  double gm_m3ps2 = 3.986004418e14;   // GM, WGS-84
+  double radius_m = static_cast<double>(gravity::wgs84::kA);   // R_e, WGS-84 semi-major axis
+  double gm_m3ps2 = static_cast<double>(gravity::wgs84::kGm);  // GM, WGS-84
   // Trajectory: due north at constant speed (the only kind so far).
   std::string trajectory = "north-flight";
   double speed_mps = 300.0;

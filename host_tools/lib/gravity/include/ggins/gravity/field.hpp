@@ -19,6 +19,9 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+extern "C" {
+#include "ggins/geo.h"  // the WGS-84 defining constants
+}
 
 namespace ggins::gravity {
 
@@ -93,7 +96,7 @@ class PointMassField final : public Field {
   bool third(const Vec3& r_e, Tensor3& t) const override;
   Real gm() const { return gm_; }
 
-  static constexpr Real kGmWgs84 = 3.986004418e14L;  // m^3/s^2 (WGS-84, NIMA TR8350.2)
+  static constexpr Real kGmWgs84 = GG_WGS84_GM_M3PS2;  // m^3/s^2 (WGS-84, NIMA TR8350.2)
  private:
   Real gm_;
 };

@@ -1,18 +1,22 @@
 // WGS-84 constants and geodetic <-> Earth-fixed conversions.
-// Defining constants: NIMA TR8350.2 (3rd ed., 2000), Table 3.1;
+// Defining constants: NIMA TR8350.2 (3rd ed., 2000), Table 3.1, as the firmware
+// defines them (firmware/include/ggins/geo.h: one copy for the host and the target);
 // derived constants quoted for checks: the tables of derived geometric and
 // physical constants of TR8350.2 ch. 3 (table numbers not re-checked here).
 #pragma once
 
 #include "ggins/gravity/field.hpp"
+extern "C" {
+#include "ggins/geo.h"
+}
 
 namespace ggins::gravity::wgs84 {
 
-constexpr Real kA = 6378137.0L;                    // semi-major axis, m (Table 3.1)
-constexpr Real kInvF = 298.257223563L;             // 1/f (Table 3.1)
+constexpr Real kA = GG_WGS84_A_M;                  // semi-major axis, m (Table 3.1)
+constexpr Real kInvF = GG_WGS84_INV_F;             // 1/f (Table 3.1)
 constexpr Real kF = 1.0L / kInvF;
-constexpr Real kGm = 3.986004418e14L;              // m^3/s^2 incl. atmosphere (Table 3.1)
-constexpr Real kOmega = 7.292115e-5L;              // rad/s (Table 3.1)
+constexpr Real kGm = GG_WGS84_GM_M3PS2;            // m^3/s^2 incl. atmosphere (Table 3.1)
+constexpr Real kOmega = GG_WGS84_OMEGA_IE;         // rad/s (Table 3.1)
 constexpr Real kB = kA * (1.0L - kF);              // semi-minor axis, m
 constexpr Real kE2 = kF * (2.0L - kF);             // first eccentricity squared
 

@@ -169,7 +169,7 @@ class Circle3 final : public Trajectory3 {
 // Strapdown: body x along the flight direction, y = -n, z = -r^
 // (C_b_i = R3(omega_ie t) C_b_e); stabilized: C_b_i = C_b_e(0) = [w, -n, -u].
 struct GreatCircleParams {
-  Real radius_m = 6378137.0L, height_m = 0;
+  Real radius_m = gravity::wgs84::kA, height_m = 0;
   Real lat0 = 0, lon0 = 0, heading = 0;  // rad
   Real speed_mps = 200;
   Real omega_ie = kOmegaIe;  // rad/s
