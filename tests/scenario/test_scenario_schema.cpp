@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "ggins/truth/fdi_thresholds.hpp"
 #include "ggins/truth/scenario_schema.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
 
@@ -193,6 +194,32 @@ int main() {
                          printed.find("fdi_parity_f_max_mps2") == std::string::npos &&
                          printed.find("acc_frozen_frames") == std::string::npos;
     std::printf("%s thresholds given in the file are written back, derived ones are not\n", written ? "ok  " : "FAIL");
+    if (!written) ++g_fail;
+  }
+  {  // 2-D: the thresholds follow the biases drawn for the flight (fdi_thresholds.hpp), so a printed
+     // scenario flown with another seed derives them for that seed; given ones are written back
+    const std::string head = "[time]\nduration_s = 60.0\n[accel]\nbias_sigma_mps2 = 1e-9\nnoise_sigma_mps2 = 1e-10\n";
+    const auto base = p2(head + "seed = 1\n");
+    truth::Scenario edited = base;
+    edited.accel.seed = 2;
+    const std::string printed = truth::scenario_to_toml(edited);
+    const auto again = p2(printed);
+    const truth::FdiThresholds th = truth::derive_fdi_thresholds(edited);  // the seed-2 biases
+    const bool derived_again = again.firmware.fdi_parity_f_max_mps2 == th.parity_f_max_mps2 &&
+                               again.firmware.fdi_asym_max_ps2 == th.asym_max_ps2 &&
+                               again.firmware.fdi_parity_f_max_mps2 != base.firmware.fdi_parity_f_max_mps2 &&
+                               printed.find("fdi_parity_f_max_mps2") == std::string::npos &&
+                               printed.find("fdi_asym_max_ps2") == std::string::npos;
+    std::printf("%s 2-D printed, seed edited, read again: fdi_parity_f_max %.4g (seed 2's %.4g, seed 1's %.4g)\n",
+                derived_again ? "ok  " : "FAIL", again.firmware.fdi_parity_f_max_mps2, th.parity_f_max_mps2,
+                base.firmware.fdi_parity_f_max_mps2);
+    if (!derived_again) ++g_fail;
+    const auto given = p2(head + "[firmware]\nfdi_parity_f_max_mps2 = 1e-7\nfdi_asym_max_ps2 = 2e-7\n");
+    const std::string kept = truth::scenario_to_toml(given);
+    const bool written = kept.find("fdi_parity_f_max_mps2 = 1e-07") != std::string::npos &&
+                         kept.find("fdi_asym_max_ps2 = 2e-07") != std::string::npos &&
+                         given.firmware.fdi_parity_f_max_mps2 == 1e-7 && given.firmware.fdi_asym_max_ps2 == 2e-7;
+    std::printf("%s 2-D thresholds given in the file are kept and written back\n", written ? "ok  " : "FAIL");
     if (!written) ++g_fail;
   }
   defaults_accepted(truth::scenario_schema(), p2, "");

@@ -32,6 +32,7 @@
 #include "ggins/nav_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth/config2d.hpp"
+#include "ggins/truth/fdi_thresholds.hpp"
 #include "ggins/truth/generator.hpp"
 #include "ggins/truth/survey.hpp"
 #include "ggins/truth_t.hpp"
@@ -499,42 +500,22 @@ int main(int argc, char** argv) {
       "stopped, the report is written with status \"interrupted\" and the unflown steps).",
       "ggins run"};
   app.get_formatter()->column_width(34);
-  bool list = false, print_scenario = false;
   app.add_option("-s,--scenario", scenario, "scenario name or .toml path")->capture_default_str();
   ggins::hil::add_run_options(app, o);
-  app.add_flag("--list-scenarios", list, "list the built-in scenarios and exit");
-  bool print_defaults = false;
-  app.add_flag("--print-scenario", print_scenario,
-               "print the scenario as it would fly (every key: defaults filled in, overrides applied) and exit");
-  app.add_flag("--defaults", print_defaults,
-               "with --print-scenario: a complete template instead (every key at its default, commented\n"
-               "with unit, allowed range and meaning; docs/scenario-reference.md)");
+  ggins::hil::FrontEndFlags flags;
+  ggins::hil::add_scenario_flags(app, flags);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
-  if (list) {
-    for (const auto& n : ggins::truth::builtin_scenario_names()) {
-      auto s = ggins::truth::load_scenario(n, {GGINS_SCENARIO_DIR});
-      std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
-    }
-    return 0;
-  }
-  if (print_defaults && !print_scenario) {
-    std::fprintf(stderr, "%s: --defaults: allowed only with --print-scenario\n", o.tool.c_str());
-    return 2;
-  }
-  if (print_scenario && print_defaults) {
-    std::fputs(ggins::truth::scenario_to_toml(ggins::truth::Scenario{}, true).c_str(), stdout);
-    return 0;
-  }
-  ggins::truth::Scenario sc;
-  try {
-    sc = ggins::truth::load_scenario(scenario, {GGINS_SCENARIO_DIR});
-    if (o.duration_s) sc.duration_s = *o.duration_s;
-    if (o.seed) sc.accel.seed = *o.seed;
+  namespace truth = ggins::truth;
+  ggins::hil::ScenarioFrontEnd<truth::Scenario> fe;
+  fe.names = [] { return truth::builtin_scenario_names(); };
+  fe.load = [](const std::string& n) { return truth::load_scenario(n, {GGINS_SCENARIO_DIR}); };
+  fe.template_toml = [] { return truth::scenario_to_toml(truth::Scenario{}, true); };
+  fe.apply = [&](truth::Scenario& sc) {
     if (o.csv_rate) sc.output.csv_rate_hz = *o.csv_rate;
     if (o.truth_rate) sc.output.truth_rate_hz = *o.truth_rate;
     if (o.drop) sc.transport.drop_prob = *o.drop;
@@ -543,20 +524,14 @@ int main(int argc, char** argv) {
     if (o.drop_output) sc.transport.output_drop_prob = *o.drop_output;
     if (o.garbage) sc.transport.garbage_prob = *o.garbage;
     if (o.fault_seed) sc.transport.seed = *o.fault_seed;
-    if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
-    if (sc.n_steps() > 100000000)
-      throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +
-                               "): shorten the duration or lower the rate");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ggins run: %s\n", e.what());
-    return 2;
-  }
-  if (print_scenario) {
-    std::fputs(ggins::truth::scenario_to_toml(sc).c_str(), stdout);
-    return 0;
-  }
+    // the derived fault thresholds follow the sensor errors drawn for the flight as flown
+    truth::apply_default_fdi_thresholds(sc);
+  };
   // scenario.toml as flown: every key, the effective values (overrides applied)
-  const std::string as_flown = ggins::truth::scenario_to_toml(sc);
-  return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT_SCRIPT,
-                                           [&](const fs::path&) { return std::make_unique<Model2D>(o, sc); });
+  fe.as_flown = [](const truth::Scenario& sc) { return truth::scenario_to_toml(sc); };
+  fe.fly = [&](truth::Scenario& sc, const std::string& as_flown) {
+    return ggins::hil::fly_scenario<Model2D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT_SCRIPT,
+                                             [&](const fs::path&) { return std::make_unique<Model2D>(o, sc); });
+  };
+  return ggins::hil::scenario_main(o, scenario, flags, fe);
 }

@@ -681,7 +681,7 @@ int main(int argc, char** argv) {
   o.python = GGINS_PLOT_PYTHON;
   o.logger = GGINS_LCM_LOGGER;
   std::string scenario = "3d-stabilized-1h";
-  bool list = false, print_scenario = false, no_aids = false, no_reference = false;
+  bool no_aids = false, no_reference = false;
   CLI::App app{
       "ggins run3d: fly one 3-D scenario (six tri-axis accelerometers, rotating WGS-84 Earth,\n"
       "stabilized or strapdown platform) against the 3-D firmware (nav3d.h).\n\n"
@@ -718,58 +718,31 @@ int main(int argc, char** argv) {
                "with an aid on: do not fly the unaided reference (by default the same task with every aid off\n"
                "is stepped in this process on the same frames; summary.json \"unaided_reference\", CSV\n"
                "unaided_err_*, drawn on errors.png)");
-  app.add_flag("--list-scenarios", list, "list the built-in 3-D scenarios and exit");
-  bool print_defaults = false;
-  app.add_flag("--print-scenario", print_scenario,
-               "print the scenario as it would fly (every key: defaults filled in, overrides applied, the files\n"
-               "it names absolute) and exit");
-  app.add_flag("--defaults", print_defaults,
-               "with --print-scenario: a complete template instead (every key at its default, commented\n"
-               "with unit, allowed range and meaning; docs/scenario-reference.md)");
+  ggins::hil::FrontEndFlags flags;
+  ggins::hil::add_scenario_flags(app, flags);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
-  if (list) {
-    for (const auto& n : ggins::truth3d::builtin_scenario3_names()) {
-      auto s = ggins::truth3d::load_scenario3(n, {GGINS_SCENARIO_DIR});
-      std::printf("%-20s %s\n", n.c_str(), s.description.c_str());
-    }
-    return 0;
-  }
-  if (print_defaults && !print_scenario) {
-    std::fprintf(stderr, "%s: --defaults: allowed only with --print-scenario\n", o.tool.c_str());
-    return 2;
-  }
-  if (print_scenario && print_defaults) {
-    std::fputs(ggins::truth3d::scenario3_to_toml(ggins::truth3d::Scenario3{}, true).c_str(), stdout);
-    return 0;
-  }
-  ggins::truth3d::Scenario3 sc;
-  try {
-    sc = ggins::truth3d::load_scenario3(scenario, {GGINS_SCENARIO_DIR});
-    if (o.duration_s) sc.duration_s = *o.duration_s;
-    if (o.seed) sc.accel.seed = *o.seed;
+  namespace t3 = ggins::truth3d;
+  ggins::hil::ScenarioFrontEnd<t3::Scenario3> fe;
+  fe.names = [] { return t3::builtin_scenario3_names(); };
+  fe.load = [](const std::string& n) { return t3::load_scenario3(n, {GGINS_SCENARIO_DIR}); };
+  fe.template_toml = [] { return t3::scenario3_to_toml(t3::Scenario3{}, true); };
+  fe.apply = [&](t3::Scenario3& sc) {
     if (o.csv_rate) sc.csv_rate_hz = *o.csv_rate;
     if (no_aids) sc.aid_ukf.enabled = false;
     if (no_aids) sc.aid_pf.enabled = false;
-    if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
-    if (sc.n_steps() > 100000000)
-      throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +
-                               "): shorten the duration or lower the rate");
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ggins run3d: %s\n", e.what());
-    return 2;
-  }
+  };
   // the scenario as flown: every key, the effective values (overrides applied), every
   // file it names absolute (it flies again from the output folder, or from anywhere)
-  const std::string as_flown = ggins::truth3d::scenario3_to_toml(ggins::truth3d::with_absolute_files(sc));
-  if (print_scenario) {
-    std::fputs(as_flown.c_str(), stdout);
-    return 0;
-  }
-  return ggins::hil::fly_scenario<Model3D>(o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
-                                           [&](const std::filesystem::path& out) { return std::make_unique<Model3D>(o, sc, !no_reference, out); });
+  fe.as_flown = [](const t3::Scenario3& sc) { return t3::scenario3_to_toml(t3::with_absolute_files(sc)); };
+  fe.fly = [&](t3::Scenario3& sc, const std::string& as_flown) {
+    return ggins::hil::fly_scenario<Model3D>(
+        o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
+        [&](const std::filesystem::path& out) { return std::make_unique<Model3D>(o, sc, !no_reference, out); });
+  };
+  return ggins::hil::scenario_main(o, scenario, flags, fe);
 }

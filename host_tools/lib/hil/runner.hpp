@@ -37,6 +37,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -512,6 +513,72 @@ int fly_scenario(RunOptions& o, const std::string& name, const std::string& sour
   }
   if (!o.no_plots && !interrupted()) Model::before_plots(o, out, summary);
   return finish_run(o, summary, plot_script, Model::final_line(summary));
+}
+
+// A task's front-end (ggins run, ggins run3d) around fly_scenario, the same for every task:
+// --list-scenarios, --print-scenario [--defaults], the scenario read, the options that override
+// it (--duration, --seed, then the task's own), the step count checked, the scenario printed or
+// flown. S is the task's scenario (description, duration_s, accel.seed, n_steps()).
+template <class S>
+struct ScenarioFrontEnd {
+  std::function<std::vector<std::string>()> names;       // the built-in scenarios
+  std::function<S(const std::string&)> load;             // by name or path
+  std::function<std::string()> template_toml;            // every key at its default, commented
+  std::function<void(S&)> apply;                         // the task's own overrides (after --duration, --seed)
+  std::function<std::string(const S&)> as_flown;         // printed, and written beside the report
+  std::function<int(S&, const std::string& as_flown)> fly;
+};
+
+struct FrontEndFlags {
+  bool list = false, print = false, defaults = false;
+};
+
+inline void add_scenario_flags(CLI::App& app, FrontEndFlags& f) {
+  app.add_flag("--list-scenarios", f.list, "list the built-in scenarios and exit");
+  app.add_flag("--print-scenario", f.print,
+               "print the scenario as it would fly (every key: defaults filled in, overrides applied, the files\n"
+               "it names absolute; a threshold derived from other keys only where the file gives it) and exit");
+  app.add_flag("--defaults", f.defaults,
+               "with --print-scenario: a complete template instead (every key at its default, commented\n"
+               "with unit, allowed range and meaning; docs/scenario-reference.md)");
+}
+
+template <class S>
+int scenario_main(RunOptions& o, const std::string& scenario, const FrontEndFlags& f, const ScenarioFrontEnd<S>& fe) {
+  const char* tool = o.tool.c_str();
+  if (f.list) {
+    for (const auto& n : fe.names()) std::printf("%-20s %s\n", n.c_str(), fe.load(n).description.c_str());
+    return ggins::cli::kExitOk;
+  }
+  if (f.defaults && !f.print) {
+    std::fprintf(stderr, "%s: --defaults: allowed only with --print-scenario\n", tool);
+    return ggins::cli::kExitBadArgs;
+  }
+  if (f.print && f.defaults) {
+    std::fputs(fe.template_toml().c_str(), stdout);
+    return ggins::cli::kExitOk;
+  }
+  S sc;
+  std::string text;
+  try {
+    sc = fe.load(scenario);
+    if (o.duration_s) sc.duration_s = *o.duration_s;
+    if (o.seed) sc.accel.seed = *o.seed;
+    fe.apply(sc);
+    if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
+    if (sc.n_steps() > 100000000)
+      throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +
+                               "): shorten the duration or lower the rate");
+    text = fe.as_flown(sc);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+    return ggins::cli::kExitBadArgs;
+  }
+  if (f.print) {
+    std::fputs(text.c_str(), stdout);
+    return ggins::cli::kExitOk;
+  }
+  return fe.fly(sc, text);
 }
 
 }  // namespace ggins::hil

@@ -125,12 +125,12 @@ sch::Schema<S> build_schema() {
     t.boolean("gravdr_trapezoid_only", &F::gravdr_trapezoid_only, "gravity integration by the trapezoid rule only")
         .num("fdi_parity_f_max_mps2", &F::fdi_parity_f_max_mps2, "m/s^2", sch::in(0, 1e6),
              "accelerometer parity fault detection threshold (0: off)")
-        .then([](F& f) { f.fdi_parity_f_max_set = true; })
-        .default_doc("fdi_parity_f_max_mps2", "derived from the sensor errors, baseline and field (fdi_thresholds.hpp)")
+        .derived_unless_given(&F::fdi_parity_f_max_set,
+                              "derived from the sensor errors drawn for the flight, baseline and field (fdi_thresholds.hpp)")
         .num("fdi_asym_max_ps2", &F::fdi_asym_max_ps2, "1/s^2", sch::in(0, 1),
              "gradient-symmetry fault detection threshold (0: off)")
-        .then([](F& f) { f.fdi_asym_max_set = true; })
-        .default_doc("fdi_asym_max_ps2", "derived from the sensor errors, baseline and field (fdi_thresholds.hpp)");
+        .derived_unless_given(&F::fdi_asym_max_set,
+                              "derived from the sensor errors drawn for the flight, baseline and field (fdi_thresholds.hpp)");
     secs.push_back(sch::section<S>(t, &S::firmware));
   }
   {
@@ -317,6 +317,9 @@ Scenario parse_scenario_table(const toml::table& root, const std::string& text, 
       c.fail_key(root, "navigation.baro.poles_radps",
                  "navigation.baro: largest pole times period_s must be <= 1 (vchan.h)");
   }
+  // the fault thresholds and the frozen-reading window the file did not give, derived for the
+  // flight as read (a front-end that then changes the seed or the duration derives them again)
+  apply_default_fdi_thresholds(s);
   return s;
 }
 
@@ -326,13 +329,6 @@ std::vector<std::string> builtin_scenario_names() {
   for (int i = 0; i < kBuiltinScenarioCount; ++i) v.emplace_back(kBuiltinScenarios[i].name);
   return v;
 }
-
-namespace {
-Scenario with_fdi_defaults(Scenario s) {
-  apply_default_fdi_thresholds(s);
-  return s;
-}
-}  // namespace
 
 static void refuse_empty(const std::string& text, const std::string& path) {
   if (toml::parse(text).empty())
@@ -353,7 +349,7 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
   std::error_code ec;
   const fs::path p(name_or_path);
   if (fs::is_regular_file(p, ec)) {
-    Scenario s = with_fdi_defaults(parse_scenario(read_file(p), p.stem().string(), p.string()));
+    Scenario s = parse_scenario(read_file(p), p.stem().string(), p.string());
     refuse_empty(s.text, p.string());
     return s;
   }
@@ -363,14 +359,14 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
   for (const auto& d : search_dirs) {
     const fs::path f = fs::path(d) / (name_or_path + ".toml");
     if (fs::is_regular_file(f, ec)) {
-      Scenario s = with_fdi_defaults(parse_scenario(read_file(f), name_or_path, f.string()));
+      Scenario s = parse_scenario(read_file(f), name_or_path, f.string());
       refuse_empty(s.text, f.string());
       return s;
     }
   }
   for (int i = 0; i < kBuiltinScenarioCount; ++i)
     if (name_or_path == kBuiltinScenarios[i].name)
-      return with_fdi_defaults(parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path));
+      return parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path);
   std::string known;
   for (const auto& n : builtin_scenario_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::runtime_error("unknown scenario '" + name_or_path + "' (built-in: " + known +

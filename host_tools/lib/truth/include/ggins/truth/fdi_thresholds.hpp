@@ -61,7 +61,8 @@ int64_t default_frozen_frames(double noise_sigma_mps2, double f_max_mps2);
 FdiThresholds derive_fdi_thresholds(const Scenario& s);
 
 // Fill s.firmware.fdi_parity_f_max_mps2 / fdi_asym_max_ps2 with the derived
-// values where the scenario did not set them (load_scenario does this).
+// values where the scenario did not set them (parse_scenario does this for the flight as
+// read; a front-end that changes the seed or the duration calls it again).
 void apply_default_fdi_thresholds(Scenario& s);
 
 }  // namespace ggins::truth

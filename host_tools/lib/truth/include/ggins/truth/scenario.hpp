@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "ggins/gravity/wgs84.hpp"
 #include "ggins/truth/sensor_faults.hpp"
 
 namespace ggins::truth {
@@ -25,7 +26,7 @@ struct TrajectoryParams {
   double speed_mps = 300.0;
   double height_m = 0.0;
   double lat0_deg = 0.0;
-  double radius_m = 6378137.0;  // WGS-84 semi-major axis (the paper's R_e)
+  double radius_m = static_cast<double>(gravity::wgs84::kA);  // WGS-84 semi-major axis (the paper's R_e)
 };
 
 struct AnomalyParams {  // [gravity.anomaly], model = "rw-anomaly"
@@ -43,7 +44,7 @@ struct AnomalyParams {  // [gravity.anomaly], model = "rw-anomaly"
 
 struct GravityParams {
   std::string model = "point-mass";
-  double gm_m3ps2 = 3.986004418e14;
+  double gm_m3ps2 = static_cast<double>(gravity::wgs84::kGm);
   AnomalyParams anomaly;
 };
 
@@ -122,7 +123,7 @@ struct FirmwareParams {
   bool gravdr_trapezoid_only = false;
   double fdi_parity_f_max_mps2 = 0.0;  // accelerometer parity detection threshold (0: off)
   double fdi_asym_max_ps2 = 0.0;       // gradient-symmetry detection threshold (0: off)
-  bool fdi_parity_f_max_set = false;   // given in the scenario (else load_scenario derives it)
+  bool fdi_parity_f_max_set = false;   // given in the scenario (else derived, and not written back)
   bool fdi_asym_max_set = false;
   // Frozen-reading window (navtask.h): used frames in a row with one value that make an
   // accelerometer reading stuck; 0 off. Default derived from [accel] noise
