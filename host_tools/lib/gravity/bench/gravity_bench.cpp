@@ -2,6 +2,7 @@
 // (potential + G + Gamma) for each model, and the fast paths along a flight
 // of 6 accelerometers at 100 Hz, with the machine it ran on.
 //   ggins_gravity_bench [--egm96 data/egm96_to360.ascii.txt] [--km 20]
+#include <CLI/CLI.hpp>
 #include "ggins/gravity/composite.hpp"
 #include "ggins/gravity/lattice.hpp"
 #include "ggins/gravity/normal.hpp"
@@ -101,11 +102,19 @@ FlightCost fly(const Field& f, Real lat, Real lon, Real h, Real km, bool generat
 
 int main(int argc, char** argv) {
   std::string egm = "data/egm96_to360.ascii.txt";
-  Real km = 20;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--egm96")) egm = argv[i + 1];
-    else if (!std::strcmp(argv[i], "--km")) km = std::stold(argv[i + 1]);
+  double km_d = 20;
+  CLI::App app{"ggins_gravity_bench: evaluation time of the gravity models (potential, gravitation and\n"
+               "gradient; single thread), with the machine, compiler and load average it ran on."};
+  app.add_option("--egm96", egm, "EGM96 coefficient file (scripts/fetch-egm96)")->capture_default_str();
+  app.add_option("--km", km_d, "along-track distance of the moving-point benchmarks, km")
+      ->check(CLI::Range(0.001, 1e5))->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
   }
+  const Real km = static_cast<Real>(km_d);
   std::printf("machine: %s, %u hardware threads; compiler %s; long double %zu bytes; load average at start %s\n",
               cpu_model().c_str(), std::thread::hardware_concurrency(), __VERSION__, sizeof(long double), loadavg().c_str());
   const Real lat = 35.5L * M_PI / 180, lon = -82.5L * M_PI / 180;
