@@ -340,6 +340,37 @@ static void bwd(int32_t n, const double L[NZ][NZ], const double *b, double *y)
     }
 }
 
+/* Draw the sigma points of the current mean and covariance and pass each
+ * through h into st->zeta. A model error or a non-finite output is counted
+ * (GG_UKF_H_MODEL) and returned. */
+static gg_status_t sigma_measure(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ctx)
+{
+    const int32_t ns = (2 * st->cfg.nx) + 1;
+    draw(st, st->chi);
+    st->sigma_ready = 0;
+    for (int32_t i = 0; i < ns; ++i) {
+        double zz[NZ];
+        (void)memset(zz, 0, sizeof zz);
+        const gg_status_t s = h(ctx, st->chi[i], zz);
+        int32_t ok = 0;
+        if (s == GG_OK) {
+            ok = 1;
+        }
+        for (int32_t k = 0; k < nz; ++k) {
+            if (!finite_d(zz[k])) {
+                ok = 0;
+            }
+        }
+        if (ok == 0) {
+            st->health = GG_UKF_H_MODEL;
+            st->n_model_fail++;
+            return (s != GG_OK) ? s : GG_ERR_NONFINITE;
+        }
+        (void)memcpy(st->zeta[i], zz, sizeof zz);
+    }
+    return GG_OK;
+}
+
 gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const double R[NZ][NZ],
                           gg_ukf_hx_t h, void *ctx, gg_ukf_update_info_t *info)
 {
@@ -371,27 +402,11 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
     double wi;
     double c;
     weights(&st->cfg, &w0, &wi, &c);
-    draw(st, st->chi);
-    st->sigma_ready = 0;
-    for (int32_t i = 0; i < ns; ++i) {
-        double zz[NZ];
-        (void)memset(zz, 0, sizeof zz);
-        const gg_status_t s = h(ctx, st->chi[i], zz);
-        int32_t ok = 0;
-        if (s == GG_OK) {
-            ok = 1;
+    {
+        const gg_status_t sm = sigma_measure(st, nz, h, ctx);
+        if (sm != GG_OK) {
+            return sm;
         }
-        for (int32_t k = 0; k < nz; ++k) {
-            if (!finite_d(zz[k])) {
-                ok = 0;
-            }
-        }
-        if (ok == 0) {
-            st->health = GG_UKF_H_MODEL;
-            st->n_model_fail++;
-            return (s != GG_OK) ? s : GG_ERR_NONFINITE;
-        }
-        (void)memcpy(st->zeta[i], zz, sizeof zz);
     }
     double zm[NZ];
     (void)memset(zm, 0, sizeof zm);
@@ -565,27 +580,11 @@ gg_status_t gg_ukf_meas_spread(gg_ukf_t *st, int32_t nz, gg_ukf_hx_t h, void *ct
     double zmean[NZ];
     (void)memset(zmean, 0, sizeof zmean);
     weights(&st->cfg, &w0, &wi, &c);
-    draw(st, st->chi);
-    st->sigma_ready = 0;
-    for (int32_t i = 0; i < ns; ++i) {
-        double zz[NZ];
-        (void)memset(zz, 0, sizeof zz);
-        const gg_status_t s = h(ctx, st->chi[i], zz);
-        int32_t ok = 0;
-        if (s == GG_OK) {
-            ok = 1;
+    {
+        const gg_status_t sm = sigma_measure(st, nz, h, ctx);
+        if (sm != GG_OK) {
+            return sm;
         }
-        for (int32_t k = 0; k < nz; ++k) {
-            if (!finite_d(zz[k])) {
-                ok = 0;
-            }
-        }
-        if (ok == 0) {
-            st->health = GG_UKF_H_MODEL;
-            st->n_model_fail++;
-            return (s != GG_OK) ? s : GG_ERR_NONFINITE;
-        }
-        (void)memcpy(st->zeta[i], zz, sizeof zz);
     }
     for (int32_t k = 0; k < nz; ++k) {
         double m = 0.0;
