@@ -9,7 +9,6 @@
 #include <stdexcept>
 
 #include "ggins/truth/generator.hpp"
-#include "ggins/truth/scenario_toml.hpp"
 
 #ifndef GGINS_DATA_DIR
 #define GGINS_DATA_DIR "data"
@@ -17,51 +16,10 @@
 
 namespace ggins::truth3d {
 
-namespace st = ggins::truth::scenario_toml;
-
 namespace {
 constexpr uint64_t kStreamCa = 61;  // the shots' draws (streams of generator3d.cpp: 20-43)
 }
 
-namespace {
-std::string from_scenario_dir(const std::string& name, const std::string& source) { return scenario_file(name, source); }
-}  // namespace
-
-ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source) {
-  ColdAtom3 c;
-  if (!t) return c;
-  const std::string w = "coldatom";
-  st::check_keys(*t, w,
-                 {"enabled", "gzz_map", "egm96", "cache", "rate_hz", "dz_m", "T_s", "n_atoms", "contrast",
-                  "phase_noise_mrad", "shot_noise", "p_fail", "cloud_rw_m_rts", "beam_radius_m", "seed", "topo_rms_m"},
-                 source);
-  auto& g = c.grad;
-  c.enabled = st::get_bool(*t, w, "enabled", c.enabled, source);
-  c.gzz_map = st::get_str(*t, w, "gzz_map", c.gzz_map, source);
-  c.egm96 = from_scenario_dir(st::get_str(*t, w, "egm96", c.egm96, source), source);
-  c.cache = from_scenario_dir(st::get_str(*t, w, "cache", c.cache, source), source);
-  g.rate_hz = st::get_num(*t, w, "rate_hz", g.rate_hz, source);
-  g.dz = st::get_num(*t, w, "dz_m", g.dz, source);
-  g.T = st::get_num(*t, w, "T_s", g.T, source);
-  g.n_atoms = st::get_num(*t, w, "n_atoms", g.n_atoms, source);
-  g.contrast = st::get_num(*t, w, "contrast", g.contrast, source);
-  g.phase_noise = 1e-3 * st::get_num(*t, w, "phase_noise_mrad", 0.0, source);
-  g.shot_noise = st::get_bool(*t, w, "shot_noise", g.shot_noise, source);
-  g.p_fail = st::get_num(*t, w, "p_fail", g.p_fail, source);
-  g.cloud_rw = st::get_num(*t, w, "cloud_rw_m_rts", g.cloud_rw, source);
-  g.beam_radius = st::get_num(*t, w, "beam_radius_m", g.beam_radius, source);
-  c.seed = static_cast<uint64_t>(st::get_int(*t, w, "seed", static_cast<int64_t>(c.seed), source));
-  c.topo_rms_m = st::get_num(*t, w, "topo_rms_m", c.topo_rms_m, source);
-  if (!(c.topo_rms_m >= 0) || c.topo_rms_m > 5000)
-    st::fail(source, "coldatom.topo_rms_m must be in [0, 5000] m (the synthetic terrain's rms height)");
-  if (c.gzz_map != "phillips-route" && c.gzz_map != "phillips-route-normal" && c.gzz_map != "field")
-    st::fail(source, "coldatom.gzz_map must be \"phillips-route\", \"phillips-route-normal\" or \"field\"");
-  if (!(g.rate_hz > 0) || !(g.dz > 0) || !(g.T > 0) || !(g.n_atoms > 0) || !(g.contrast > 0) || g.contrast > 1 ||
-      g.phase_noise < 0 || g.p_fail < 0 || g.p_fail > 1 || g.cloud_rw < 0 || !(g.beam_radius > 0))
-    st::fail(source, "coldatom: rate_hz, dz_m, T_s, n_atoms, beam_radius_m > 0, contrast in (0, 1], p_fail in [0, 1], "
-                     "phase_noise_mrad, cloud_rw_m_rts >= 0");
-  return c;
-}
 
 void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
   gg_aid_pf_config_t& m = c.aid_pf;
@@ -100,7 +58,7 @@ void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
 }
 
 std::string aid_pf_map_dir(const AidPf3& a, const std::string& scenario_source) {
-  return from_scenario_dir(a.map_dir, scenario_source);
+  return scenario_file(a.map_dir, scenario_source);
 }
 
 std::shared_ptr<const coldatom::RouteMap> make_gzz_map3(const ColdAtom3& c) {

@@ -143,42 +143,41 @@ sch::Key<T3> maneuver_key() {
   return k;
 }
 
-// [coldatom] and [aid_pf] (coldatom3d.hpp): their readers check their own keys and ranges.
-std::vector<sch::Row> coldatom3_rows() {
-  const ColdAtom3 d;
-  const auto& g = d.grad;
-  return {{"enabled", "boolean", "", "false", "", "the cold-atom gradiometer is carried (a shot per 1/rate_hz)"},
-          {"gzz_map", "string", "", sch::str_text(d.gzz_map), "\"phillips-route\", \"phillips-route-normal\", \"field\"",
+// [coldatom] (coldatom3d.hpp): the cold-atom gradiometer of Phillips et al. as a sensor of the flight.
+sch::Table<ColdAtom3> coldatom3_table() {
+  using C = ColdAtom3;
+  using G = coldatom::GradiometerParams;
+  sch::Table<C> t("coldatom", "The cold-atom gradiometer (coldatom3d.hpp): two interferometers, fringe pairs.");
+  t.boolean("enabled", &C::enabled, "the cold-atom gradiometer is carried (a shot per 1/rate_hz)")
+      .str("gzz_map", &C::gzz_map, {"phillips-route", "phillips-route-normal", "field"},
            "the true Gamma_zz field the shots sample (Phillips et al.: EGM96 + topography, or normal only; or the "
-           "scenario's own [gravity] field, on any route)"},
-          {"egm96", "string", "", "data/egm96_to360.ascii.txt", "file name", "EGM96 coefficients (scenario-relative)"},
-          {"cache", "string", "", "\"\" (none)", "file name", "cache of the route map grid (scenario-relative)"},
-          {"rate_hz", "number", "Hz", sch::num_text(g.rate_hz), "> 0", "shot rate (fringe pairs)"},
-          {"dz_m", "number", "m", sch::num_text(g.dz), "> 0", "vertical separation of the two interferometers"},
-          {"T_s", "number", "s", sch::num_text(g.T), "> 0", "pulse separation"},
-          {"n_atoms", "number", "1", sch::num_text(g.n_atoms), "> 0", "atoms per cloud (shot noise)"},
-          {"contrast", "number", "1", sch::num_text(g.contrast), "(0, 1]", "fringe contrast"},
-          {"phase_noise_mrad", "number", "mrad", sch::num_text(1e3 * g.phase_noise), ">= 0", "phase noise per shot"},
-          {"shot_noise", "boolean", "", g.shot_noise ? "true" : "false", "", "atom shot noise on the fringe"},
-          {"p_fail", "number", "1", sch::num_text(g.p_fail), "[0, 1]", "probability of a failed shot"},
-          {"cloud_rw_m_rts", "number", "m/sqrt(s)", sch::num_text(g.cloud_rw), ">= 0", "cloud position random walk"},
-          {"beam_radius_m", "number", "m", sch::num_text(g.beam_radius), "> 0", "beam radius"},
-          {"seed", "integer", "", std::to_string(d.seed), ">= 0", "seed of the shots' draws"},
-          {"topo_rms_m", "number", "m", sch::num_text(d.topo_rms_m), "[0, 5000]",
+           "scenario's own [gravity] field, on any route)")
+      .str("egm96", &C::egm96, {}, "EGM96 coefficients (relative: from the scenario file's directory)")
+      .default_doc("egm96", "data/egm96_to360.ascii.txt")
+      .str("cache", &C::cache, {}, "cache of the route map grid (relative: from the scenario file's directory)")
+      .default_doc("cache", "\"\" (none)");
+  sch::Table<G> g("coldatom", "");
+  g.num("rate_hz", &G::rate_hz, "Hz", sch::gt(0), "shot rate (fringe pairs)")
+      .num("dz_m", &G::dz, "m", sch::gt(0), "vertical separation of the two interferometers")
+      .num("T_s", &G::T, "s", sch::gt(0), "pulse separation")
+      .num("n_atoms", &G::n_atoms, "1", sch::gt(0), "atoms per cloud (shot noise)")
+      .num("contrast", &G::contrast, "1", sch::in_lopen(0, 1), "fringe contrast");
+  sch::Key<G> phase = sch::mk<G>("phase_noise_mrad", "number", "mrad", sch::ge(0).text(), "phase noise per shot", "");
+  phase.read = [](G& x, const toml::node& n, const sch::Ctx& c, const std::string& p) {
+    x.phase_noise = 1e-3 * sch::read_num(n, c, p, sch::ge(0), "mrad");  // held in rad
+  };
+  phase.write = [](const G& x) -> std::optional<std::string> { return sch::num_text(1e3 * x.phase_noise); };
+  g.custom(phase)
+      .boolean("shot_noise", &G::shot_noise, "atom shot noise on the fringe")
+      .num("p_fail", &G::p_fail, "1", sch::in(0, 1), "probability of a failed shot")
+      .num("cloud_rw_m_rts", &G::cloud_rw, "m/sqrt(s)", sch::ge(0), "cloud position random walk")
+      .num("beam_radius_m", &G::beam_radius, "m", sch::gt(0), "beam radius");
+  t.lift(g, std::function<G&(C&)>([](C& c) -> G& { return c.grad; }));
+  t.seed("seed", &C::seed, "seed of the shots' draws")
+      .num("topo_rms_m", &C::topo_rms_m, "m", sch::in(0, 5000),
            "rms height of the synthetic terrain in the route map (phillips-route; Gamma_zz 17.0 E rms at 3000 m for "
-           "150 m, proportional to it)"}};
-}
-
-std::vector<std::pair<std::string, std::optional<std::string>>> write_coldatom3(const ColdAtom3& c) {
-  const auto& g = c.grad;
-  return {{"enabled", c.enabled ? "true" : "false"}, {"gzz_map", sch::str_text(c.gzz_map)},
-          {"egm96", sch::str_text(c.egm96)}, {"cache", sch::str_text(c.cache)},
-          {"rate_hz", sch::num_text(g.rate_hz)}, {"dz_m", sch::num_text(g.dz)}, {"T_s", sch::num_text(g.T)},
-          {"n_atoms", sch::num_text(g.n_atoms)}, {"contrast", sch::num_text(g.contrast)},
-          {"phase_noise_mrad", sch::num_text(1e3 * g.phase_noise)}, {"shot_noise", g.shot_noise ? "true" : "false"},
-          {"p_fail", sch::num_text(g.p_fail)}, {"cloud_rw_m_rts", sch::num_text(g.cloud_rw)},
-          {"beam_radius_m", sch::num_text(g.beam_radius)}, {"seed", std::to_string(c.seed)},
-          {"topo_rms_m", sch::num_text(c.topo_rms_m)}};
+           "150 m, proportional to it)");
+  return t;
 }
 
 // [aid_pf] (coldatom3d.hpp): the filter's settings, their ranges the firmware's (limits.h,
@@ -400,10 +399,7 @@ sch::Schema<S> build_schema3() {
       [](const S& s) { return write_sensor_faults3(s.sensor_faults); },
       [](const S& s) { return !s.sensor_faults.faults.empty(); }));
   secs.push_back(sch::section<S>(aid_ukf_table(), &S::aid_ukf, [](const S& s) { return s.aid_ukf.enabled; }));
-  secs.push_back(sch::delegated_section<S>(
-      "coldatom", "The cold-atom gradiometer (coldatom3d.hpp): two interferometers, fringe pairs.", coldatom3_rows(),
-      [](S& s, const toml::table& t, const sch::Ctx& c) { s.coldatom = parse_coldatom3(&t, c.source); },
-      [](const S& s) { return write_coldatom3(s.coldatom); }, [](const S& s) { return s.coldatom.enabled; }));
+  secs.push_back(sch::section<S>(coldatom3_table(), &S::coldatom, [](const S& s) { return s.coldatom.enabled; }));
   secs.push_back(sch::section<S>(aid_pf3_table(), &S::aid_pf, [](const S& s) { return s.aid_pf.enabled; }));
   return sc;
 }
@@ -530,6 +526,9 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
   if (s.aid_ukf.average_s > s.aid_ukf.update_period_s)
     c.fail_key(root, "aid_ukf.average_s", "aid_ukf.average_s = " + sch::num_text(s.aid_ukf.average_s) +
                                               ": must be <= aid_ukf.update_period_s");
+  // the sensor's files, relative from the scenario file's directory
+  s.coldatom.egm96 = scenario_file(s.coldatom.egm96, source);
+  s.coldatom.cache = scenario_file(s.coldatom.cache, source);
   if (s.aid_pf.enabled && !s.coldatom.enabled)
     c.fail_key(root, "aid_pf.enabled", "aid_pf.enabled needs [coldatom] enabled (its sensor)");
   if (s.aid_pf.enabled && s.aid_pf.map_dir.empty() && !s.aid_pf.map_from_field)

@@ -1,7 +1,7 @@
-// Checked readers of scenario TOML fields, shared by the 2-D (truth/src/scenario.cpp)
-// and 3-D (truth3d/src/scenario3d.cpp) scenario parsers. Every error throws
-// std::runtime_error("scenario <source>: <what>") naming the offending key as
-// <where>.<key>.
+// The scenario parser's entry for a table already parsed, and the key check of a table a
+// tool reads beside the scenario (ggins covariance's [initial]); the scenario's own tables
+// are read through the schema (scenario_schema.hpp). An error throws
+// std::runtime_error("scenario <source>: <what>") naming the offending key as <where>.<key>.
 #pragma once
 
 #include <cmath>
@@ -40,42 +40,6 @@ inline void check_keys(const toml::table& t, const std::string& where, const std
            "unknown key '" + (where.empty() ? key : where + "." + key) + "' (allowed: " + list + ")");
     }
   }
-}
-
-// t[key] as a finite number (an integer is taken too), dflt if absent.
-inline double get_num(const toml::table& t, const std::string& where, const char* key, double dflt,
-                      const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (auto d = n->value<double>()) {
-    if (!std::isfinite(*d)) fail(source, where + "." + key + " must be finite");
-    return *d;
-  }
-  fail(source, where + "." + key + " must be a number");
-}
-
-inline int64_t get_int(const toml::table& t, const std::string& where, const char* key, int64_t dflt,
-                       const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (n->is_integer()) return n->as_integer()->get();
-  fail(source, where + "." + key + " must be an integer");
-}
-
-inline bool get_bool(const toml::table& t, const std::string& where, const char* key, bool dflt,
-                     const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (n->is_boolean()) return n->as_boolean()->get();
-  fail(source, where + "." + key + " must be true or false");
-}
-
-inline std::string get_str(const toml::table& t, const std::string& where, const char* key, const std::string& dflt,
-                           const std::string& source) {
-  const toml::node* n = t.get(key);
-  if (!n) return dflt;
-  if (n->is_string()) return n->as_string()->get();
-  fail(source, where + "." + key + " must be a string");
 }
 
 }  // namespace ggins::truth::scenario_toml

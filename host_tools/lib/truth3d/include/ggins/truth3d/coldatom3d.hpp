@@ -81,8 +81,6 @@ struct AidPf3 {
   double reg_bw = 1.0, gain = 0.05, ess_frac = 0.5;
 };
 
-ColdAtom3 parse_coldatom3(const toml::table* t, const std::string& source);
-
 // [aid_pf] with the sensor's [coldatom] parameters onto c.aid_pf (the filter's ellipse
 // model is the sensor's: k_eff, T, dz, contrast, centre 1/2 + bias; likelihood sigma 0 = the
 // sensor's expected scatter, at least 1e-3); the firmware validates the values
