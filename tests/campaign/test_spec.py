@@ -109,6 +109,11 @@ name = "long"
     dv = r3.campaign.tool.derived(ser)
     C.ok(abs(dv["hmean_m"] - 3.75) < 1e-12 and abs(dv["rms2h_rn_m"] - math.sqrt(6.0)) < 1e-12
          and abs(dv["rms2h_rd_m"] - math.sqrt(3.0)) < 1e-12, "run3d: flight-mean horizontal error 3.75 m, RMS over the last 2 h")
+    C.ok("unaided_hmean_m" not in dv, "run3d: no unaided flight mean without the unaided reference's series")
+    # the unaided reference's series (5-12-13 for 2 samples, 8-15-17 for 2): mean 15 m
+    dv = r3.campaign.tool.derived(dict(ser, unaided_rn_m=[5.0, 5.0, 8.0, 8.0], unaided_re_m=[12.0, 12.0, 15.0, 15.0]))
+    C.ok(abs(dv["unaided_hmean_m"] - 15.0) < 1e-12 and abs(dv["hmean_m"] - 3.75) < 1e-12,
+         "run3d: the unaided reference's flight-mean horizontal error 15 m beside the aided 3.75 m")
     jp = util.write(os.path.join(tmp, "s.json"), '{"aids": [{"nis_mean": 6.5}, {"nis_mean": null}], "u": {"n": 1, "e": 2}}')
     jv = worker._read_json(jp, {"values": {"nis": "aids.0.nis_mean", "nees": "?aids.0.nees.position",
                                            "nis1": "?aids.1.nis_mean", "u_": "?u.*", "w_": "?w.*"}})

@@ -296,8 +296,8 @@ def aided3d_table(summary):
     md = ["Aided flights: mean over runs of |error| at the end (N / E / D, m), of each run's RMS over the last "
           "2 h, and of the horizontal error averaged over the flight; unaided: the same frames with every aid off", "",
           "| point | N | end N | end E | end D | RMS2h N | RMS2h E | RMS2h D | mean horiz. | unaided end N | "
-          "unaided end E | unaided end D | NEES pos/vel/att (3) | NIS (6) | PF (err/spread)^2 |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+          "unaided end E | unaided end D | unaided mean horiz. | NEES pos/vel/att (3) | NIS (6) | PF (err/spread)^2 |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for P in summary["points"]:
         f = P["final"]
         if "rms2h_rn_m" not in f:
@@ -307,5 +307,5 @@ def aided3d_table(summary):
         md.append("| %s | %d | %s |" % (P["name"] or str(P["point"]), P["stored"], " | ".join([
             cell(f, "rn_m"), cell(f, "re_m"), cell(f, "rd_m"), cell(f, "rms2h_rn_m"), cell(f, "rms2h_re_m"),
             cell(f, "rms2h_rd_m"), cell(f, "hmean_m"), cell(f, "unaided_rn"), cell(f, "unaided_re"),
-            cell(f, "unaided_rd"), nees, mean(f, "ukf_nis", "%.2f"), mean(f, "pf_err_over_spread_sq", "%.2f")])))
+            cell(f, "unaided_rd"), cell(f, "unaided_hmean_m"), nees, mean(f, "ukf_nis", "%.2f"), mean(f, "pf_err_over_spread_sq", "%.2f")])))
     return md

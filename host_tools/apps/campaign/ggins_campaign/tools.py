@@ -116,8 +116,11 @@ class Run3D(Tool):
                                "ellipse_fit_err_std_E": g + "ellipse_fit_err_std_E",
                                "pf_gzz_err_mean_E": g + "pf_err_mean_E", "pf_gzz_err_std_E": g + "pf_err_std_E"})
         values["unaided_r"] = "?unaided_reference.position_error_final_m.*"
+        columns = dict(RUN3D_STATES)
+        if aids:  # the unaided reference's series beside the aided one (for its flight mean)
+            columns.update({"unaided_err_n_m": "unaided_rn_m", "unaided_err_e_m": "unaided_re_m"})
         return {"argv": argv, "files": {"scenario.toml": tomlw.dumps(sc)},
-                "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": RUN3D_STATES},
+                "parse": [{"csv": "timeseries.csv", "time": "t_s", "columns": columns},
                           {"json": "summary.json", "values": values}]}
 
     def derived(self, series):
@@ -129,6 +132,9 @@ class Run3D(Tool):
             return {}
         n = len(t)
         out = {"hmean_m": sum(math.hypot(series["rn_m"][i], series["re_m"][i]) for i in range(n)) / n}
+        if "unaided_rn_m" in series and "unaided_re_m" in series:  # the same frames with every aid off
+            out["unaided_hmean_m"] = sum(math.hypot(series["unaided_rn_m"][i], series["unaided_re_m"][i])
+                                         for i in range(n)) / n
         last = [i for i in range(n) if t[i] >= t[-1] - 7200.0]
         for k in ("rn_m", "re_m", "rd_m"):
             out["rms2h_" + k] = math.sqrt(sum(series[k][i] ** 2 for i in last) / len(last))
