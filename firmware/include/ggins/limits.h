@@ -24,12 +24,21 @@
  *  the local-level frame's east axis is undefined at the pole). */
 #define GG_LIM_LAT_MAX_RAD 1.5533430342749532
 
-/* ---- both tasks (navtask.h) ---- */
+/* ---- both tasks (navtask.h, nav2d.h, nav3d.h) ---- */
 /** Longest frozen-reading window (acc_frozen_frames), frames: 10 min at 100 Hz. */
 #define GG_LIM_FROZEN_FRAMES_MAX 60000
+/** Configuration and frame ranges (beyond them the task's init returns GG_ERR_RANGE, a frame is
+ *  flagged out of range): a vehicle within the Earth's neighbourhood. */
+#define GG_LIM_R_MIN_M 3.0e6L       /**< |r0|, r_ref_m lower bound, m (half an Earth radius) */
+#define GG_LIM_R_MAX_M 1.0e8L       /**< |r0|, r_ref_m upper bound, m */
+#define GG_LIM_V_MAX_MPS 2.0e4L     /**< |v0|, m/s (above escape speed) */
+#define GG_LIM_G_MAX_MPS2 100.0L    /**< |g0|, m/s^2 */
+#define GG_LIM_BASE_MIN_M 1.0e-3L   /**< half-baselines, m */
+#define GG_LIM_BASE_MAX_M 100.0L
+#define GG_LIM_DT_MAX_US 10000000   /**< step, microseconds (10 s) */
+#define GG_LIM_F_MAX_MPS2 1.0e4     /**< accelerometer range f_max, m/s^2 */
 
-/* ---- 3-D task (nav3d.h; the frame and configuration ranges it shares
- *      with the 2-D task, GG_LIM_R_MIN_M ... GG_LIM_F_MAX_MPS2, are in nav2d.h) ---- */
+/* ---- 3-D task (nav3d.h) ---- */
 /** Gyro range: |w| above it is out of range, rad/s (~573 deg/s). */
 #define GG_LIM_W_MAX_RPS 10.0
 /** Configured Earth rate, rad/s (about 14 times the Earth's). */

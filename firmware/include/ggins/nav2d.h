@@ -58,17 +58,6 @@
 #define GG_GRAVITY_GRADIOMETER 0 /**< dead-reckoned from the differenced accelerometers */
 #define GG_GRAVITY_MODEL 1       /**< onboard model (conventional INS) */
 
-/** Configuration limits (beyond them gg_nav2d_init returns GG_ERR_RANGE): a
- *  vehicle within the Earth's neighbourhood. */
-#define GG_LIM_R_MIN_M 3.0e6L       /**< |r0|, r_ref_m lower bound, m (half an Earth radius) */
-#define GG_LIM_R_MAX_M 1.0e8L       /**< |r0|, r_ref_m upper bound, m */
-#define GG_LIM_V_MAX_MPS 2.0e4L     /**< |v0|, m/s (above escape speed) */
-#define GG_LIM_G_MAX_MPS2 100.0L    /**< |g0|, m/s^2 */
-#define GG_LIM_BASE_MIN_M 1.0e-3L   /**< half-baselines, m */
-#define GG_LIM_BASE_MAX_M 100.0L
-#define GG_LIM_DT_MAX_US 10000000   /**< step, microseconds (10 s) */
-#define GG_LIM_F_MAX_MPS2 1.0e4     /**< accelerometer range f_max, m/s^2 */
-
 /** Lost frames a step may bridge (a seq gap of n <= this, with a time stamp
  *  n + 1 steps on): the missing steps are flown with the gradient and specific
  *  force interpolated between the frames on either side, flagged
