@@ -208,6 +208,24 @@ gg_status_t gg_ukf_sigma_points(gg_ukf_t *st, int32_t *nsig)
     return GG_OK;
 }
 
+/* Commit a new mean and covariance with the covariance's Cholesky factor; a
+ * covariance that is not positive definite is counted (GG_UKF_H_CHOL_FAIL) and
+ * leaves the state as it was. */
+static gg_status_t commit(gg_ukf_t *st, int32_t n, const double x[NX], const double P[NX][NX])
+{
+    double L[NX][NX];
+    if (gg_ukf_cholesky(n, P, L) != GG_OK) {
+        st->health = GG_UKF_H_CHOL_FAIL;
+        st->n_chol_fail++;
+        return GG_ERR_RANGE;
+    }
+    (void)memcpy(st->x, x, sizeof(double) * (size_t)NX);
+    (void)memcpy(st->P, P, sizeof(double) * (size_t)NX * (size_t)NX);
+    (void)memcpy(st->L, L, sizeof L);
+    st->health = 0u;
+    return GG_OK;
+}
+
 gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
 {
     if ((st == NULL) || (Q == NULL)) {
@@ -246,7 +264,6 @@ gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
     }
     double x[NX];
     double P[NX][NX];
-    double L[NX][NX];
     (void)memset(x, 0, sizeof x);
     (void)memset(P, 0, sizeof P);
     for (int32_t k = 0; k < n; ++k) {
@@ -278,16 +295,13 @@ gg_status_t gg_ukf_predict_finish(gg_ukf_t *st, const double Q[NX][NX])
         }
     }
     st->sigma_ready = 0;
-    /* cppcheck-suppress misra-c2012-17.7 */
-    if (gg_ukf_cholesky(n, (const double(*)[NX])P, L) != GG_OK) {
-        st->health = GG_UKF_H_CHOL_FAIL;
-        st->n_chol_fail++;
-        return GG_ERR_RANGE;
+    {
+        /* cppcheck-suppress misra-c2012-17.7 */
+        const gg_status_t sc = commit(st, n, x, (const double(*)[NX])P);
+        if (sc != GG_OK) {
+            return sc;
+        }
     }
-    (void)memcpy(st->x, x, sizeof x);
-    (void)memcpy(st->P, P, sizeof P);
-    (void)memcpy(st->L, L, sizeof L);
-    st->health = 0u;
     return GG_OK;
 }
 
@@ -503,7 +517,6 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
     }
     double x[NX];
     double P[NX][NX];
-    double L[NX][NX];
     (void)memset(x, 0, sizeof x);
     (void)memset(P, 0, sizeof P);
     for (int32_t a = 0; a < n; ++a) {
@@ -523,16 +536,13 @@ gg_status_t gg_ukf_update(gg_ukf_t *st, int32_t nz, const double *z, const doubl
             P[b][a] = P[a][b];
         }
     }
-    /* cppcheck-suppress misra-c2012-17.7 */
-    if (gg_ukf_cholesky(n, (const double(*)[NX])P, L) != GG_OK) {
-        st->health = GG_UKF_H_CHOL_FAIL;
-        st->n_chol_fail++;
-        return GG_ERR_RANGE;
+    {
+        /* cppcheck-suppress misra-c2012-17.7 */
+        const gg_status_t sc = commit(st, n, x, (const double(*)[NX])P);
+        if (sc != GG_OK) {
+            return sc;
+        }
     }
-    (void)memcpy(st->x, x, sizeof x);
-    (void)memcpy(st->P, P, sizeof P);
-    (void)memcpy(st->L, L, sizeof L);
-    st->health = 0u;
     st->n_updates++;
     if (info != NULL) {
         info->accepted = 1;
