@@ -122,14 +122,7 @@ bool is_great_circle_text(const std::string& text) {
 Cov3DScenario parse_great_circle_scenario(const std::string& text, const std::string& fallback_name,
                                           const std::string& source) {
   const sch::Ctx c{source};
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << "scenario " << source << ":" << e.source().begin.line << ": " << e.description();
-    throw std::runtime_error(os.str());
-  }
+  const toml::table root = sch::parse_toml(text, source);
   Cov3DScenario s;
   s.name = fallback_name;
   schema().read(s, root, c);

@@ -63,12 +63,7 @@ double num(const toml::node* n, const std::string& key, const std::string& path)
 // covariance-only [initial] table, checked here. Returns the truth parser's scenario:
 // every shared key's value and default comes from there (truth/scenario.hpp).
 ggins::truth::Scenario parse_as_truth_scenario(const std::string& text, const std::string& path) {
-  toml::table rest;
-  try {
-    rest = toml::parse(text, path);  // the nodes keep their lines in the user's file
-  } catch (const toml::parse_error& e) {
-    throw std::runtime_error(path + ": " + std::string(e.description()));
-  }
+  toml::table rest = ggins::truth::sch::parse_toml(text, path);
   if (rest.empty())
     throw std::runtime_error("scenario " + path + ": the file sets no key (allowed: a scenario table; for the defaults "
                              "use the built-in welker-table1)");

@@ -267,16 +267,7 @@ std::string scenario_to_toml(const Scenario& s, bool template_comments) {
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << "scenario " << source << ":" << e.source().begin.line << ": " << e.description() << " (line "
-       << e.source().begin.line << ", column " << e.source().begin.column << ")";
-    throw std::runtime_error(os.str());
-  }
-  return parse_scenario_table(root, text, fallback_name, source);
+  return parse_scenario_table(sch::parse_toml(text, source), text, fallback_name, source);
 }
 
 Scenario parse_scenario_table(const toml::table& root, const std::string& text, const std::string& fallback_name,

@@ -479,15 +479,7 @@ int64_t Scenario3::baro_every() const {
 
 Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_name, const std::string& source) {
   const sch::Ctx c{source};
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream os;
-    os << "scenario " << source << ":" << e.source().begin.line << ": " << e.description() << " at line "
-       << e.source().begin.line;
-    throw std::runtime_error(os.str());
-  }
+  const toml::table root = sch::parse_toml(text, source);
   Scenario3 s;
   s.source = source;
   s.text = text;

@@ -24,12 +24,26 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 #include <toml++/toml.h>
 
 namespace ggins::truth::sch {
+
+// A scenario file's TOML text parsed (the nodes keep their lines in the user's file); a syntax
+// error names it as "scenario <source>:<line>: <what> (line <line>, column <column>)".
+inline toml::table parse_toml(const std::string& text, const std::string& source) {
+  try {
+    return toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream os;
+    os << "scenario " << source << ":" << e.source().begin.line << ": " << e.description() << " (line "
+       << e.source().begin.line << ", column " << e.source().begin.column << ")";
+    throw std::runtime_error(os.str());
+  }
+}
 
 // ---- errors ---------------------------------------------------------------------
 
