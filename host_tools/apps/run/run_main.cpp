@@ -32,7 +32,6 @@
 #include "ggins/nav_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth/config2d.hpp"
-#include "ggins/truth/fdi_thresholds.hpp"
 #include "ggins/truth/generator.hpp"
 #include "ggins/truth/survey.hpp"
 #include "ggins/truth_t.hpp"
@@ -513,7 +512,9 @@ int main(int argc, char** argv) {
   namespace truth = ggins::truth;
   ggins::hil::ScenarioFrontEnd<truth::Scenario> fe;
   fe.names = [] { return truth::builtin_scenario_names(); };
-  fe.load = [](const std::string& n) { return truth::load_scenario(n, {GGINS_SCENARIO_DIR}); };
+  fe.load = [](const std::string& n, const truth::ScenarioAdjust& adjust) {
+    return truth::load_scenario(n, {GGINS_SCENARIO_DIR}, adjust);
+  };
   fe.template_toml = [] { return truth::scenario_to_toml(truth::Scenario{}, true); };
   fe.apply = [&](truth::Scenario& sc) {
     if (o.csv_rate) sc.output.csv_rate_hz = *o.csv_rate;
@@ -524,8 +525,6 @@ int main(int argc, char** argv) {
     if (o.drop_output) sc.transport.output_drop_prob = *o.drop_output;
     if (o.garbage) sc.transport.garbage_prob = *o.garbage;
     if (o.fault_seed) sc.transport.seed = *o.fault_seed;
-    // the derived fault thresholds follow the sensor errors drawn for the flight as flown
-    truth::apply_default_fdi_thresholds(sc);
   };
   // scenario.toml as flown: every key, the effective values (overrides applied)
   fe.as_flown = [](const truth::Scenario& sc) { return truth::scenario_to_toml(sc); };

@@ -729,7 +729,13 @@ int main(int argc, char** argv) {
   namespace t3 = ggins::truth3d;
   ggins::hil::ScenarioFrontEnd<t3::Scenario3> fe;
   fe.names = [] { return t3::builtin_scenario3_names(); };
-  fe.load = [](const std::string& n) { return t3::load_scenario3(n, {GGINS_SCENARIO_DIR}); };
+  // (what the 3-D parser derives - the fault threshold, the frozen-reading window - depends on
+  // the error sigmas only, not on the seed or the duration: adjusted after the read)
+  fe.load = [](const std::string& n, const std::function<void(t3::Scenario3&)>& adjust) {
+    t3::Scenario3 s = t3::load_scenario3(n, {GGINS_SCENARIO_DIR});
+    if (adjust) adjust(s);
+    return s;
+  };
   fe.template_toml = [] { return t3::scenario3_to_toml(t3::Scenario3{}, true); };
   fe.apply = [&](t3::Scenario3& sc) {
     if (o.csv_rate) sc.csv_rate_hz = *o.csv_rate;

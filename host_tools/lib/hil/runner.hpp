@@ -522,7 +522,9 @@ int fly_scenario(RunOptions& o, const std::string& name, const std::string& sour
 template <class S>
 struct ScenarioFrontEnd {
   std::function<std::vector<std::string>()> names;       // the built-in scenarios
-  std::function<S(const std::string&)> load;             // by name or path
+  // by name or path; adjust (--duration, --seed, then apply) goes on the scenario as read,
+  // before anything the task derives from the flight
+  std::function<S(const std::string&, const std::function<void(S&)>& adjust)> load;
   std::function<std::string()> template_toml;            // every key at its default, commented
   std::function<void(S&)> apply;                         // the task's own overrides (after --duration, --seed)
   std::function<std::string(const S&)> as_flown;         // printed, and written beside the report
@@ -547,24 +549,25 @@ template <class S>
 int scenario_main(RunOptions& o, const std::string& scenario, const FrontEndFlags& f, const ScenarioFrontEnd<S>& fe) {
   const char* tool = o.tool.c_str();
   if (f.list) {
-    for (const auto& n : fe.names()) std::printf("%-20s %s\n", n.c_str(), fe.load(n).description.c_str());
+    for (const auto& n : fe.names()) std::printf("%-20s %s\n", n.c_str(), fe.load(n, {}).description.c_str());
     return ggins::cli::kExitOk;
   }
   if (f.defaults && !f.print) {
     std::fprintf(stderr, "%s: --defaults: allowed only with --print-scenario\n", tool);
     return ggins::cli::kExitBadArgs;
   }
-  if (f.print && f.defaults) {
+  if (f.defaults) {
     std::fputs(fe.template_toml().c_str(), stdout);
     return ggins::cli::kExitOk;
   }
   S sc;
   std::string text;
   try {
-    sc = fe.load(scenario);
-    if (o.duration_s) sc.duration_s = *o.duration_s;
-    if (o.seed) sc.accel.seed = *o.seed;
-    fe.apply(sc);
+    sc = fe.load(scenario, [&](S& s) {
+      if (o.duration_s) s.duration_s = *o.duration_s;
+      if (o.seed) s.accel.seed = *o.seed;
+      fe.apply(s);
+    });
     if (sc.n_steps() < 2) throw std::runtime_error("the scenario needs at least two steps");
     if (sc.n_steps() > 100000000)
       throw std::runtime_error("more than 1e8 steps in one run (" + std::to_string(sc.n_steps()) +

@@ -266,12 +266,13 @@ std::string scenario_to_toml(const Scenario& s, bool template_comments) {
   return head + scenario_schema().to_toml(s, template_comments);
 }
 
-Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source) {
-  return parse_scenario_table(sch::parse_toml(text, source), text, fallback_name, source);
+Scenario parse_scenario(const std::string& text, const std::string& fallback_name, const std::string& source,
+                        const ScenarioAdjust& adjust) {
+  return parse_scenario_table(sch::parse_toml(text, source), text, fallback_name, source, adjust);
 }
 
 Scenario parse_scenario_table(const toml::table& root, const std::string& text, const std::string& fallback_name,
-                              const std::string& source) {
+                              const std::string& source, const ScenarioAdjust& adjust) {
   const sch::Ctx c{source};
   Scenario s;
   s.source = source;
@@ -308,8 +309,9 @@ Scenario parse_scenario_table(const toml::table& root, const std::string& text, 
       c.fail_key(root, "navigation.baro.poles_radps",
                  "navigation.baro: largest pole times period_s must be <= 1 (vchan.h)");
   }
+  if (adjust) adjust(s);
   // the fault thresholds and the frozen-reading window the file did not give, derived for the
-  // flight as read (a front-end that then changes the seed or the duration derives them again)
+  // flight as flown (the drawn biases, the duration)
   apply_default_fdi_thresholds(s);
   return s;
 }
@@ -328,7 +330,8 @@ static void refuse_empty(const std::string& text, const std::string& path) {
                              "every default: start from ggins run --print-scenario --defaults)");
 }
 
-Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs) {
+Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs,
+                       const ScenarioAdjust& adjust) {
   namespace fs = std::filesystem;
   auto read_file = [](const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -340,7 +343,7 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
   std::error_code ec;
   const fs::path p(name_or_path);
   if (fs::is_regular_file(p, ec)) {
-    Scenario s = parse_scenario(read_file(p), p.stem().string(), p.string());
+    Scenario s = parse_scenario(read_file(p), p.stem().string(), p.string(), adjust);
     refuse_empty(s.text, p.string());
     return s;
   }
@@ -350,14 +353,14 @@ Scenario load_scenario(const std::string& name_or_path, const std::vector<std::s
   for (const auto& d : search_dirs) {
     const fs::path f = fs::path(d) / (name_or_path + ".toml");
     if (fs::is_regular_file(f, ec)) {
-      Scenario s = parse_scenario(read_file(f), name_or_path, f.string());
+      Scenario s = parse_scenario(read_file(f), name_or_path, f.string(), adjust);
       refuse_empty(s.text, f.string());
       return s;
     }
   }
   for (int i = 0; i < kBuiltinScenarioCount; ++i)
     if (name_or_path == kBuiltinScenarios[i].name)
-      return parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path);
+      return parse_scenario(kBuiltinScenarios[i].text, name_or_path, "built-in:" + name_or_path, adjust);
   std::string known;
   for (const auto& n : builtin_scenario_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::runtime_error("unknown scenario '" + name_or_path + "' (built-in: " + known +

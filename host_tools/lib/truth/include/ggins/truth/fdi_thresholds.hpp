@@ -62,7 +62,7 @@ FdiThresholds derive_fdi_thresholds(const Scenario& s);
 
 // Fill s.firmware.fdi_parity_f_max_mps2 / fdi_asym_max_ps2 with the derived
 // values where the scenario did not set them (parse_scenario does this for the flight as
-// read; a front-end that changes the seed or the duration calls it again).
+// flown: after its ScenarioAdjust, e.g. a front-end's --seed or --duration).
 void apply_default_fdi_thresholds(Scenario& s);
 
 }  // namespace ggins::truth

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -175,15 +176,20 @@ struct Scenario {
   NavModelParams nav_model() const;  // the onboard model, defaults resolved
 };
 
+// A change to the scenario as read (a front-end's --seed, --duration), applied before the
+// values derived from the flight (fault thresholds, frozen-reading window) are derived.
+using ScenarioAdjust = std::function<void(Scenario&)>;
+
 // Parse TOML text. `fallback_name` names the scenario when the text has no
 // `name`. Throws std::runtime_error with the offending key on bad input.
 Scenario parse_scenario(const std::string& toml_text, const std::string& fallback_name,
-                        const std::string& source);
+                        const std::string& source, const ScenarioAdjust& adjust = {});
 // (parse_scenario_table, in scenario_toml.hpp: the same on a table already parsed)
 
 // Resolve `name_or_path`: an existing file path; else <dir>/<name>.toml for each
 // dir in `search_dirs`; else a built-in. Throws with the list of known names.
-Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs);
+Scenario load_scenario(const std::string& name_or_path, const std::vector<std::string>& search_dirs,
+                       const ScenarioAdjust& adjust = {});
 
 // Names of the compiled-in scenarios.
 std::vector<std::string> builtin_scenario_names();

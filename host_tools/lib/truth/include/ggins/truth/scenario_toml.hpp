@@ -18,7 +18,7 @@ namespace ggins::truth {
 // source: an error names source:line of the user's file). A reader that takes a table
 // of its own out first (ggins covariance's [initial]) passes the rest here.
 Scenario parse_scenario_table(const toml::table& root, const std::string& text, const std::string& fallback_name,
-                              const std::string& source);
+                              const std::string& source, const ScenarioAdjust& adjust = {});
 }  // namespace ggins::truth
 
 namespace ggins::truth::scenario_toml {
