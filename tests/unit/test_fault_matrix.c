@@ -44,6 +44,7 @@
 #include "truth2d.h"
 #include "ggins/nav2d.h"
 #include "ggins/nav3d.h"
+#include "truth3.h"
 
 #define DT_US 10000
 #define K0 100 /* first faulty step (1 s) */
@@ -702,6 +703,223 @@ static void check_absurd_gradient(void)
     }
 }
 
+/* ---------------- strapdown: the GAMMA_ASYM parity with gyro noise ----------------
+ * nav3d on a strapdown body (truth3.h: the circle of latitude 3 km up, a body spinning
+ * about x and precessing, every reading from rigid-body kinematics), with Gao et al.'s
+ * gyro white noise (2.909e-6 rad/s per 10 ms sample) and 5.5e-10 m/s^2 accelerometer
+ * noise, pair-mean detection and the frozen-reading monitor off: GAMMA_ASYM alone.
+ * The threshold is the one a 3-D scenario derives (scenario3d.hpp), computed here from
+ * the noise propagation, not taken from the code:
+ *   S_j = sqrt(530)/6 sigma_g/h (+ the accelerometers' sigma_a sqrt((1/d1^2 + 1/d2^2)/8)),
+ *   S_3 = sqrt(16 W^2 sigma_g^2 + sigma_a^2 sum 1/(2 d_k^2)), W = GG_LIM_W_MAX_RPS,
+ *   asym_max = 7 max(S_x, S_y, S_z, S_3) + 1e-6 s^-2.
+ * The firmware also rejects a frame one of whose differenced gradient components exceeds
+ * GG_LIM_GAMMA_MAX_S2 = 1e-4 s^-2 (ACC_RANGE, limits.h) - before its parity is formed. A
+ * fault on one reading moves the symmetric part as much as the antisymmetric one (reading
+ * 0y by beta: M[1][0] by beta/(2a), Gamma_xy and p_z both by beta/(4a)), so with this gyro
+ * noise (asym_max 7.8e-3 s^-2, 78 x that range) what GAMMA_ASYM could see of one reading
+ * is rejected by the range check first; GAMMA_ASYM is what sees a fault that moves the
+ * antisymmetric part alone. Rows (expected outcome from the analysis, checked):
+ *   healthy, slow body (spin 0.2, precession 0.05 rad/s) and fast body (1, 0.3 rad/s): no
+ *     detection bit on any step (the former fixed 1e-6 would flag nearly every step:
+ *     counted from the same residuals); the measured sd of p_x..p_z against S_j;
+ *   0y biased by 2 x 4a asym_max: ACC_RANGE on every faulty step (Gamma_xy moved by 2 asym_max);
+ *   antisymmetric-only pair, 0y by +beta and 1x by -beta b/a (M[1][0] and M[0][1] by
+ *     +-beta/(2a): p_z by beta/(2a), the symmetric part unchanged), beta/(2a) = 2 asym_max:
+ *     GAMMA_ASYM on every faulty step; at 0.25 asym_max: below the check, silent;
+ *   0y stuck (fast body): detected no later than the step at which |f_0y(t) - f_0y(t_0)| / (4a)
+ *     exceeds GG_LIM_GAMMA_MAX_S2 + 2e-5 s^-2 (the truth's gradient and the gyro noise's
+ *     share of [w x]^2, below 1e-5, as margin; the truth's own readings);
+ *   the firmware's y half-baseline 5% long (fast body): Gamma_yy and the trace move by
+ *     (1 - 1/1.05) |(W - Gamma)_yy| >= 0.0476 s^2 = 0.0476 s^-2: ACC_RANGE on every step. */
+#define SD_SIG_G 2.909e-6L
+#define SD_SIG_A 5.5e-10L
+enum { SD_NONE, SD_BIAS, SD_ANTI, SD_STUCK, SD_BASE };
+typedef struct {
+    const char *name;
+    int fast;        /* body: 0 slow, 1 fast */
+    int fault;
+    long double size; /* SD_BIAS: x 4a asym_max; SD_ANTI: p_z in asym_max; SD_BASE: firmware's b / true b */
+    int expect;      /* 0 silent on every step, 1 flagged on every faulty step, 2 by the predicted step */
+    uint32_t bit;    /* the detection bit expected */
+} sd_case_t;
+static const sd_case_t kSd[] = {
+    {"healthy, slow body (0.2 rad/s spin, 0.05 precession)", 0, SD_NONE, 0.0L, 0, 0U},
+    {"healthy, fast body (1 rad/s spin, 0.3 precession)", 1, SD_NONE, 0.0L, 0, 0U},
+    {"0y biased by 2 x 4a asym_max (one reading)", 0, SD_BIAS, 2.0L, 1, GG_HEALTH_ACC_RANGE},
+    {"0y +beta, 1x -beta b/a (antisymmetric part only), p_z 2 asym_max", 0, SD_ANTI, 2.0L, 1, GG_HEALTH_GAMMA_ASYM},
+    {"0y +beta, 1x -beta b/a, p_z 0.25 asym_max (below the check)", 0, SD_ANTI, 0.25L, 0, 0U},
+    {"0y stuck (frozen monitor off), fast body", 1, SD_STUCK, 0.0L, 2, GG_HEALTH_ACC_RANGE},
+    {"firmware's b 5% long (wrong baseline), fast body", 1, SD_BASE, 1.05L, 1, GG_HEALTH_ACC_RANGE},
+};
+#define N_SD ((int)(sizeof kSd / sizeof kSd[0]))
+static char g_sd_rows[N_SD][320];
+
+static uint64_t g_sd_rng;
+static long double sd_gauss(void)
+{
+    /* splitmix64 -> two uniforms -> Box-Muller (one of the pair) */
+    long double u[2];
+    for (int i = 0; i < 2; ++i) {
+        uint64_t z = (g_sd_rng += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        u[i] = ((long double)(z >> 11) + 0.5L) / 9007199254740992.0L;
+    }
+    return sqrtl(-2.0L * logl(u[0])) * cosl(6.283185307179586476925L * u[1]);
+}
+
+static void sd_truth(const sd_case_t *c, truth3_t *T)
+{
+    default_truth(T);
+    T->p = c->fast ? 0.3L : 0.05L;
+    T->s = c->fast ? 1.0L : 0.2L;
+    rx(0.3L, T->c0);
+}
+
+static void sd_add(gg_frame_t *fr, int s, int j, long double d)
+{
+    const long double v = (long double)fr->f[s][j] + (long double)fr->f_lo[s][j] + d;
+    fr->f[s][j] = (double)v;
+    fr->f_lo[s][j] = (double)(v - (long double)fr->f[s][j]);
+}
+
+static void run_strapdown(void)
+{
+    const long double h = DT_US * 1e-6L;
+    long double sig[4];
+    truth3_t T0;
+    default_truth(&T0);
+    const long double *d = T0.hb;
+    for (int j = 0; j < 3; ++j) {
+        const long double d1 = d[(j + 1) % 3], d2 = d[(j + 2) % 3];
+        const long double g = sqrtl(530.0L) / 6.0L * SD_SIG_G / h;
+        sig[j] = sqrtl(g * g + SD_SIG_A * SD_SIG_A * (1.0L / (d1 * d1) + 1.0L / (d2 * d2)) / 8.0L);
+    }
+    sig[3] = sqrtl(16.0L * GG_LIM_W_MAX_RPS * GG_LIM_W_MAX_RPS * SD_SIG_G * SD_SIG_G +
+                   SD_SIG_A * SD_SIG_A * (1.0L / (d[0] * d[0]) + 1.0L / (d[1] * d[1]) + 1.0L / (d[2] * d[2])) / 2.0L);
+    long double smax = 0.0L;
+    for (int j = 0; j < 4; ++j) smax = fmaxl(smax, sig[j]);
+    const long double asym = 7.0L * smax + 1e-6L;
+    printf("3-D strapdown parity: S_xyz %.4Lg %.4Lg %.4Lg rad/s^2, S_trace %.3Lg s^-2, derived asym_max %.5Lg s^-2 "
+           "(smallest detectable bias on 0y: 4a asym_max = %.3Lg m/s^2)\n",
+           sig[0], sig[1], sig[2], sig[3], asym, 4.0L * d[0] * asym);
+    for (int ci = 0; ci < N_SD; ++ci) {
+        const sd_case_t *c = &kSd[ci];
+        static gg_nav3d_t nav;
+        gg_nav3d_config_t cfg;
+        gg_nav3d_output_t o;
+        gg_frame_t fr, f_k0, clean_k0;
+        truth3_t T;
+        sd_truth(c, &T);
+        make_config(&T, GG_PLATFORM_STRAPDOWN, 0, DT_US, &cfg);
+        cfg.asym_max = (double)asym;
+        cfg.fdi_parity_f_max = 0.0;
+        cfg.acc_frozen_frames = 0;
+        if (c->fault == SD_BASE) cfg.geometry.half_base_m[1] = T.hb[1] * c->size;
+        if (gg_nav3d_init(&nav, &cfg) != GG_OK) abort();
+        g_sd_rng = 0x5EED0000u + (uint64_t)ci;
+        const int64_t k_fault = (c->fault == SD_BASE) ? 0 : K0;
+        int64_t first = -1, predicted = -1;
+        int flagged_before = 0, flagged_after = 0, old_flagged = 0, n_after = 0, bad = 0;
+        int64_t first_any = -1;
+        uint32_t seen = 0U;
+        long double worst = 0.0L, ss = 0.0L;
+        int n_ss = 0;
+        memset(&f_k0, 0, sizeof f_k0);
+        memset(&clean_k0, 0, sizeof clean_k0);
+        for (int64_t k = 0; k < g_n; ++k) {
+            gg_frame_t clean;
+            make_frame(&T, k, DT_US, &clean);
+            fr = clean;
+            for (int s = 0; s < 6; ++s)
+                for (int j = 0; j < 3; ++j) sd_add(&fr, s, j, SD_SIG_A * sd_gauss());
+            for (int j = 0; j < 3; ++j) fr.omega_b[j] = (double)((long double)fr.omega_b[j] + SD_SIG_G * sd_gauss());
+            if (k == K0) {
+                f_k0 = fr;
+                clean_k0 = clean;
+            }
+            if (k >= K0 && c->fault == SD_BIAS) sd_add(&fr, 0, 1, c->size * 4.0L * T.hb[0] * asym);
+            if (k >= K0 && c->fault == SD_ANTI) {
+                const long double beta = c->size * 2.0L * T.hb[0] * asym;
+                sd_add(&fr, 0, 1, beta);
+                sd_add(&fr, 1, 0, -beta * T.hb[1] / T.hb[0]);
+            }
+            if (k > K0 && c->fault == SD_STUCK) {
+                fr.f[0][1] = f_k0.f[0][1];
+                fr.f_lo[0][1] = f_k0.f_lo[0][1];
+                /* the step by which the analysis says the check must fire */
+                const long double df = ((long double)clean.f[0][1] + (long double)clean.f_lo[0][1]) -
+                                       ((long double)clean_k0.f[0][1] + (long double)clean_k0.f_lo[0][1]);
+                if (predicted < 0 && fabsl(df) / (4.0L * T.hb[0]) > GG_LIM_GAMMA_MAX_S2 + 2e-5L) predicted = k - K0;
+            }
+            (void)gg_nav3d_step(&nav, &fr, NULL, &o); /* a rejected frame is a detection here */
+            seen |= o.health;
+            const int f = c->bit ? ((o.health & c->bit) != 0U) : ((o.health & DETECT_BITS) != 0U);
+            if (k >= k_fault && (o.health & DETECT_BITS) != 0U && first_any < 0) first_any = k - k_fault;
+            long double pm = 0.0L;
+            for (int j = 0; j < 4; ++j) pm = fmaxl(pm, fabsl((long double)o.parity[j]));
+            if (pm > 1e-6L) old_flagged++;
+            if (k < k_fault) flagged_before += f;
+            else {
+                n_after++;
+                flagged_after += f;
+                if (f && first < 0) first = k - k_fault;
+            }
+            if (c->fault == SD_NONE && k >= 3) {
+                for (int j = 0; j < 3; ++j) {
+                    worst = fmaxl(worst, fabsl((long double)o.parity[j]) / sig[j]);
+                    ss += (long double)o.parity[j] * (long double)o.parity[j] / (sig[j] * sig[j]);
+                    n_ss++;
+                }
+            }
+        }
+        /* healthy and below-the-check rows: no detection bit at all; fault rows: the expected bit */
+        int ok = !bad && flagged_before == 0;
+        if (c->expect == 0) ok = ok && flagged_after == 0 && first_any < 0;
+        else if (c->expect == 1) ok = ok && flagged_after == n_after;
+        else ok = ok && first >= 0 && predicted >= 0 && first <= predicted;
+        if (c->fault == SD_NONE && (seen & DETECT_BITS) != 0U) ok = 0;
+        char extra[160] = "";
+        if (c->fault == SD_NONE) {
+            /* the measured spread of p_x..p_z against the analysis; the estimate of a sigma from
+             * n residuals of this moving-average noise (lag correlations -0.71, 0.25, -0.04) has a
+             * relative sd of sqrt(2.15 / (2n)) (3.5% at n = 900); a second-order difference's gain
+             * (sqrt(26)/2 / h) would be 34% low */
+            const long double ratio = sqrtl(ss / (long double)n_ss);
+            if (fabsl(ratio - 1.0L) > 5.0L * sqrtl(2.15L / (2.0L * (long double)n_ss))) ok = 0;
+            snprintf(extra, sizeof extra, "measured sd / analytic %.3Lf, max |p_j| / S_j %.2Lf", ratio, worst);
+        } else if (c->fault == SD_STUCK) {
+            snprintf(extra, sizeof extra, "first flagged %lld steps after the fault (predicted by %lld)",
+                     (long long)first, (long long)predicted);
+        } else {
+            if (first < 0) snprintf(extra, sizeof extra, "never flagged");
+            else snprintf(extra, sizeof extra, "first flagged %lld steps after the fault", (long long)first);
+        }
+        const char *bn = c->bit == GG_HEALTH_GAMMA_ASYM ? "GAMMA_ASYM" : c->bit == GG_HEALTH_ACC_RANGE ? "ACC_RANGE" : "any";
+        const char *ex = c->expect == 0 ? "silent" : c->expect == 1 ? "every faulty step" : "by the predicted step";
+        char hn[96];
+        health_names(seen, hn, sizeof hn);
+        snprintf(g_sd_rows[ci], sizeof g_sd_rows[ci], "| %s | %s, %s | %d/%d | %d/%d | %s%s%s%s | %d/%d | %s | %s |",
+                 c->name, bn, ex, flagged_before, (int)k_fault, flagged_after, n_after,
+                 (seen & GG_HEALTH_GAMMA_ASYM) ? "GAMMA_ASYM " : "", (seen & GG_HEALTH_ACC_RANGE) ? "ACC_RANGE " : "",
+                 (seen & DETECT_BITS) ? "" : "none ", hn, old_flagged, (int)g_n, extra, ok ? "pass" : "FAIL");
+        printf("%s strapdown %s: %s before the fault %d/%lld, after %d/%d; health seen 0x%08x; former 1e-6: %d/%d; %s\n",
+               ok ? "CASE" : "FAIL", c->name, bn, flagged_before, (long long)k_fault, flagged_after, n_after, seen,
+               old_flagged, g_n, extra);
+        if (!ok) g_fail++;
+    }
+}
+
+static void print_sd_table(void)
+{
+    printf("ASYM | strapdown case | expected | flagged before the fault | flagged from the fault | bits seen | "
+           "steps the former fixed 1e-6 would flag | measured | result |\n");
+    printf("ASYM |---|---|---|---|---|---|---|---|\n");
+    for (int i = 0; i < N_SD; ++i) printf("ASYM %s\n", g_sd_rows[i]);
+}
+
 int main(int argc, char **argv)
 {
     int md = 0;
@@ -713,11 +931,15 @@ int main(int argc, char **argv)
     run_matrix(3);
     check_model_prior();
     check_absurd_gradient();
+    run_strapdown();
     int total = 0;
     for (int d = 2; d <= 3; ++d)
         for (int c = 0; c < C_COUNT; ++c)
             for (int k = 0; k < K_COUNT; ++k) total += g_agg[d][c][k].cases;
-    if (md) print_table();
+    if (md) {
+        print_table();
+        print_sd_table();
+    }
     printf("fault matrix: %d cases, %.1f s flights from a fault at %.1f s, %d failed\n", total,
            (g_n - 1) * DT_US * 1e-6, K0 * DT_US * 1e-6, g_fail);
     return g_fail ? 1 : 0;

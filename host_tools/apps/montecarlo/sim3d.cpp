@@ -37,6 +37,7 @@ truth3d::Scenario3 firmware_scenario(const Cov3DScenario& s, double rate_hz, int
   if (s.field == "point-mass") f.gravity.model = "point-mass";
   f.firmware.f_max_mps2 = 100.0;
   f.firmware.asym_max_ps2 = 1.0;
+  f.firmware.asym_max_set = true;  // given (not derived), and so written in the scenario it prints
   f.firmware.dt_tol_us = dt_us / 10;
   f.fdi_parity_f_max_mps2 = 0;  // off, and so written in the scenario it prints
   f.fdi_parity_f_max_set = true;

@@ -370,7 +370,8 @@ sch::Schema<S> build_schema3() {
   secs.push_back(sch::section<S>(keys::baro_loop_table(), &S::nav_baro));
   {
     sch::Table<truth::FirmwareParams> f("firmware", "");
-    keys::firmware_keys(f);
+    keys::firmware_keys(f, "7 sigma of the parity residuals from [gyro] noise (3.84 sigma_g / h, strapdown), [accel] "
+                           "errors over the baselines, + the fixed biases' + 1e-6 (scenario3d.hpp)");
     sch::Table<S> t("firmware", "The firmware's configuration (nav3d.h, fdi3d.h).");
     t.lift(f, std::function<truth::FirmwareParams&(S&)>([](S& s) -> truth::FirmwareParams& { return s.firmware; }));
     sch::Key<S> fdi = sch::mk<S>("fdi_parity_f_max_mps2", "number", "m/s^2",
@@ -557,7 +558,56 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                                                   (a.bias_mps2[w][j] + a.bias_mps2[w + 3][j])));
     s.fdi_parity_f_max_mps2 = 7.0 * sp + fixed + GG_FDI3D_FLOOR_MPS2;
   }
+  if (!s.firmware.asym_max_set) {
+    try {
+      s.firmware.asym_max_ps2 = derived_asym_max_ps2(s);
+    } catch (const std::runtime_error& e) {
+      c.fail(e.what());
+    }
+  }
   return s;
+}
+
+// The derivation and its equations: scenario3d.hpp, above the declaration.
+double derived_asym_max_ps2(const Scenario3& s) {
+  const double h = 1.0 / s.rate_hz;                        // step, s
+  const std::array<double, 3> d{s.a_m, s.b_m, s.c_m};      // half-baselines, m
+  const auto& a = s.accel;
+  const double sp2 = a.bias_sigma_mps2 * a.bias_sigma_mps2 + a.noise_sigma_mps2 * a.noise_sigma_mps2 +
+                     (10.0 * a.scale_sigma) * (10.0 * a.scale_sigma);  // per reading, (m/s^2)^2
+  const auto inv2 = [&](size_t k) { return 1.0 / (d[k] * d[k]); };
+  // accelerometer part of each residual's variance, s^-4: p_x (y, z baselines), p_y (z, x), p_z (x, y), trace
+  const std::array<double, 4> acc2{sp2 * (inv2(1) + inv2(2)) / 8.0, sp2 * (inv2(2) + inv2(0)) / 8.0,
+                                   sp2 * (inv2(0) + inv2(1)) / 8.0, sp2 * (inv2(0) + inv2(1) + inv2(2)) / 2.0};
+  // the fixed biases: the residuals they move, s^-2 (beta[i][j]: sensor i, body axis j)
+  const auto& be = a.bias_mps2;
+  const auto m = [&](size_t j, size_t k) { return (be[k][j] - be[k + 3][j]) / (2.0 * d[k]); };  // M[j][k]
+  double fixed = std::max({std::fabs(0.5 * (m(2, 1) - m(1, 2))), std::fabs(0.5 * (m(0, 2) - m(2, 0))),
+                           std::fabs(0.5 * (m(1, 0) - m(0, 1))), std::fabs(m(0, 0) + m(1, 1) + m(2, 2))});
+  double s_max = std::sqrt(std::max({acc2[0], acc2[1], acc2[2], acc2[3]}));
+  if (s.strapdown()) {
+    const auto& g = s.gyro;
+    const double sg = g.noise_sigma_radps;                                // rad/s per sample
+    const double wd = std::sqrt(530.0) / 6.0 * sg / h;                    // gyro-derived w' noise, rad/s^2
+    // constant rate error: random, a sigma per axis (the draw's largest axis value as one more), and fixed
+    double dmax = 0, fb2 = 0;
+    for (size_t j = 0; j < 3; ++j) {
+      dmax = std::max(dmax, std::fabs(s.draw.gyro_bias_radps[j]));
+      fb2 += g.bias_radps[j] * g.bias_radps[j];
+    }
+    const double eb2 = g.bias_sigma_radps * g.bias_sigma_radps + dmax * dmax;
+    const double W = GG_LIM_W_MAX_RPS, fb = std::sqrt(fb2);
+    const double tr2 = 16.0 * W * W * (sg * sg + eb2) + acc2[3];
+    for (size_t j = 0; j < 3; ++j) s_max = std::max(s_max, std::sqrt(wd * wd + acc2[j]));
+    s_max = std::max(s_max, std::sqrt(tr2));
+    fixed = std::max(fixed, std::fabs(m(0, 0) + m(1, 1) + m(2, 2)) + 4.0 * W * fb + 2.0 * fb2);
+  }
+  const double t = 7.0 * s_max + fixed + kAsymFloorPs2;
+  if (!(t <= GG_LIM_ASYM_MAX))
+    throw std::runtime_error("[firmware] asym_max_ps2: the threshold derived from [gyro] noise_sigma_radps, [accel] "
+                             "and the baselines, " + sch::num_text(t) + " s^-2, exceeds the firmware's limit " +
+                             sch::num_text(GG_LIM_ASYM_MAX) + " (limits.h): give asym_max_ps2");
+  return t;
 }
 
 std::vector<std::string> builtin_scenario3_names() {

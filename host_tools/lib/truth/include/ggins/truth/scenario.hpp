@@ -119,7 +119,10 @@ struct AccelErrorParams {
 
 struct FirmwareParams {
   double f_max_mps2 = 50.0;
+  // GG_HEALTH_GAMMA_ASYM threshold: 2-D a fixed default; 3-D derived from the gyro and
+  // accelerometer noise, baselines and step unless given (asym_max_set; scenario3d.hpp)
   double asym_max_ps2 = 1e-6;
+  bool asym_max_set = false;
   int64_t dt_tol_us = 0;
   bool gravdr_trapezoid_only = false;
   double fdi_parity_f_max_mps2 = 0.0;  // accelerometer parity detection threshold (0: off)

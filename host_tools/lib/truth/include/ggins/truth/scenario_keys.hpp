@@ -90,12 +90,14 @@ inline sch::Table<BaroParams> baro_table() {
   return t;
 }
 
-// [firmware]: the keys of the firmware configuration both scenarios set.
+// [firmware]: the keys of the firmware configuration both scenarios set. asym_derived: how
+// asym_max_ps2 is derived unless given (3-D: scenario3d.hpp); empty: a fixed default (2-D).
 template <class F>
-void firmware_keys(sch::Table<F>& t) {
+void firmware_keys(sch::Table<F>& t, const std::string& asym_derived = "") {
   t.num("f_max_mps2", &F::f_max_mps2, "m/s^2", sch::in_lopen(0, 1e6), "largest accepted specific force reading")
-      .num("asym_max_ps2", &F::asym_max_ps2, "1/s^2", sch::in_lopen(0, 1), "largest accepted gradient asymmetry")
-      .integer("dt_tol_us", &F::dt_tol_us, "us", sch::in(0, 1e9), "accepted deviation of a frame's time step");
+      .num("asym_max_ps2", &F::asym_max_ps2, "1/s^2", sch::in_lopen(0, 1), "largest accepted gradient asymmetry");
+  if (!asym_derived.empty()) t.derived_unless_given(&F::asym_max_set, asym_derived);
+  t.integer("dt_tol_us", &F::dt_tol_us, "us", sch::in(0, 1e9), "accepted deviation of a frame's time step");
   sch::Key<F> frozen = sch::mk<F>("acc_frozen_frames", "integer", "frames",
                                   "0 (off) or 2.." + std::to_string(GG_LIM_FROZEN_FRAMES_MAX),
                                   "used frames in a row in which an accelerometer reading keeps one value "

@@ -123,7 +123,7 @@ struct Scenario3 {
   InitialError3 initial_error;     // [initial_error]
   Draw3 draw;                      // [draw]: the run's Monte Carlo draw, added to the fixed errors
   truth::BaroLoopParams nav_baro;
-  truth::FirmwareParams firmware;  // f_max_mps2, asym_max_ps2, dt_tol_us
+  truth::FirmwareParams firmware;  // f_max_mps2, asym_max_ps2 (derived unless given: derived_asym_max_ps2), dt_tol_us
   // [firmware] fdi_parity_f_max_mps2: the pair-mean fault detection threshold
   // (fdi3d.h; 0 = off). Default, derived from [accel]: a pair-mean difference
   // (f_p + f_p' - f_q - f_q')/2 of four readings has sigma_p = sqrt(sigma_b^2 +
@@ -153,6 +153,66 @@ struct Scenario3 {
 };
 
 Scenario3 parse_scenario3(const std::string& toml_text, const std::string& fallback_name, const std::string& source);
+
+// [firmware] asym_max_ps2 unless the scenario gives it: the GG_HEALTH_GAMMA_ASYM threshold
+// of nav3d (nav3d.h, "Parity"), applied to each of its four parity residuals p_0..p_3 per
+// step. SI units throughout: h = 1 / time.rate_hz (s), half-baselines d = (a, b, c) =
+// platform a_m, b_m, c_m (m); sensors i = 0..5 at +a x, +b y, +c z, -a x, -b y, -c z.
+//
+// The residuals (diff3d.h: M[j][k] = (f_k,j - f_k+3,j) / (2 d_k), f_i,j reading of sensor i
+// on body axis j, m/s^2):
+//   p_x = (M[2][1] - M[1][2]) / 2 - wd_x,   p_y = (M[0][2] - M[2][0]) / 2 - wd_y,
+//   p_z = (M[1][0] - M[0][1]) / 2 - wd_z,   p_3 = trace(Gamma_b) = -2 |w|^2 - trace(M),
+// strapdown: wd = (11 w_k+1 - 18 w_k + 9 w_k-1 - 2 w_k-2) / (6 h), the gyro-derived angular
+// acceleration (w the gyro samples, rad/s); stabilized: wd = 0 and w = 0 (gyros unused).
+// On a healthy rigid body the antisymmetric part is the true angular acceleration and the
+// trace of the gravitational gradient is 0 (Laplace), so what the residuals carry is:
+//
+// 1. Gyro white noise, sigma_g = [gyro] noise_sigma_radps per sample (strapdown only): the
+//    difference weights 11, -18, 9, -2 over 6h of independent samples,
+//      sigma_wd = sigma_g sqrt(11^2 + 18^2 + 9^2 + 2^2) / (6 h) = sqrt(530)/6 sigma_g / h
+//               = 3.837 sigma_g / h   (rad/s^2)
+//    (Gao's 2.909e-6 rad/s at 100 Hz: 1.116e-3 rad/s^2, 1100 x the former fixed 1e-6).
+//    The gyro biases cancel (the weights sum to 0). In the trace, -2 |w|^2 moves by -4 w . e
+//    (e the rate error, rad/s): sigma 4 W sigma_g, W = GG_LIM_W_MAX_RPS (10 rad/s: the
+//    largest rate the task accepts, the flight's own rate unknown here), and a constant rate
+//    error e_b (random: [gyro] bias_sigma_radps and the [draw] gyro_bias_radps values, each a
+//    sigma; fixed: [gyro] bias_radps) by 4 W |e_b| + 2 |e_b|^2.
+// 2. Accelerometer errors, per reading sigma_p = sqrt(sigma_b^2 + sigma_n^2 + (10 m/s^2
+//    sigma_s)^2) ([accel] bias_sigma_mps2, noise_sigma_mps2, scale_sigma on a ~10 m/s^2
+//    reading; the same model as fdi_parity_f_max_mps2 above); each M entry is the difference
+//    of two readings over 2 d_k, so
+//      sigma_x^2 = sigma_p^2 (1/b^2 + 1/c^2) / 8,  sigma_y^2 = sigma_p^2 (1/c^2 + 1/a^2) / 8,
+//      sigma_z^2 = sigma_p^2 (1/a^2 + 1/b^2) / 8,  sigma_3^2 = sigma_p^2 (1/a^2 + 1/b^2 + 1/c^2) / 2;
+//    the fixed biases beta_i,j ([accel] bias_mps2) move them by
+//      p_x: ((beta_1z - beta_4z)/(2b) - (beta_2y - beta_5y)/(2c)) / 2,
+//      p_y: ((beta_2x - beta_5x)/(2c) - (beta_0z - beta_3z)/(2a)) / 2,
+//      p_z: ((beta_0y - beta_3y)/(2a) - (beta_1x - beta_4x)/(2b)) / 2,
+//      p_3: -sum_k (beta_k,k - beta_k+3,k) / (2 d_k);
+//    a bias common to all six ([draw] accel_common_bias_mps2) cancels.
+// 3. The differencing's own errors (nav3d.h): the third-order difference's h^3/4 |w''''|
+//    (7.5e-8 rad/s^2 on a body spinning at 1 rad/s with 0.3 rad/s precession at 100 Hz) and
+//    the field's curvature over the baselines: covered by the floor kAsymFloorPs2 = 1e-6
+//    s^-2, the fixed default this derivation replaces.
+//
+// Threshold: asym_max = 7 max(S_x, S_y, S_z, S_3) + max_j |fixed_j| + kAsymFloorPs2, where
+// S_j^2 = sigma_wd^2 + sigma_j^2 (j = x, y, z) and S_3^2 = 16 W^2 (sigma_g^2 + sigma_eb^2)
+// + sigma_3^2 (the gyro terms strapdown only). A Gaussian residual exceeds 7 sigma with
+// probability 2.6e-12 per test: four tests per step at 100 Hz make 1.4e7 in 10 h, 3.7e-5
+// expected false alarms per 10 h flight (the steps' residuals are correlated through the
+// shared gyro samples, which changes no single test's probability).
+// Not in it: a gyro scale-factor error s leaves s w' in p_x..p_z and -4 s |w|^2 in the
+// trace (unknown without the flight's rates): a scenario with [gyro] scale errors on a
+// manoeuvring body gives asym_max_ps2. What the threshold costs: the residual of an
+// accelerometer fault that corrupts the antisymmetric part must exceed it; a bias beta on
+// one reading of an antisymmetric entry moves it by beta / (4 d), so with Gao's gyro noise
+// and 0.5 m half-baselines a bias is seen by this check from 4 d asym_max = 1.6e-2 m/s^2 (the
+// pair-mean detection, fdi_parity_f_max_mps2, sees the same reading from 2 x 7 sigma_p =
+// 7.7e-9 m/s^2 with Gao's 5.5e-10 m/s^2 accelerometer noise).
+// Errors: std::runtime_error when the derived value exceeds GG_LIM_ASYM_MAX (gyro noise above
+// ~3.7e-4 rad/s per sample at 100 Hz: give asym_max_ps2).
+constexpr double kAsymFloorPs2 = 1e-6;
+double derived_asym_max_ps2(const Scenario3& s);
 // A file the scenario names: a relative name from the directory of the scenario's file (source).
 std::string scenario_file(const std::string& name, const std::string& source);
 // The scenario with every file it names absolute (the tiles of [aid_ukf].map, [aid_pf].map_dir,
