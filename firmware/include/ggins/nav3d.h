@@ -67,9 +67,11 @@
  * (third-order backward difference: its own error is h^3/4 w'''', 2.5e-8
  * rad/s^2 on a body spinning at 1 rad/s with 0.3 rad/s precession at
  * 100 Hz, where the second-order difference's h^2/3 w''' is 1e-5; its
- * gyro-noise gain is 3.8/h per unit rate noise - set asym_max above both;
- * 0 on the first three steps, before three earlier gyro samples exist) and
- * trace(Gamma_b).
+ * gyro-noise gain is sqrt(530)/6 = 3.84/h per unit rate noise, 1.1e-3
+ * rad/s^2 for 2.9e-6 rad/s per sample at 100 Hz - asym_max must be above
+ * both: a 3-D scenario derives it from the sensors' noise, the baselines and
+ * the step, host_tools/lib/truth3d scenario3d.hpp; 0 on the first three
+ * steps, before three earlier gyro samples exist) and trace(Gamma_b).
  *
  * Validation: a reading NaN/Inf, out of range or flagged bad is flagged and
  * rebuilt from the opposite pairs (fdi3d.h: one per pair and axis, GG_HEALTH_ACC_REBUILT,
