@@ -889,7 +889,7 @@ static void run_strapdown(void)
              * (sqrt(26)/2 / h) would be 34% low */
             const long double ratio = sqrtl(ss / (long double)n_ss);
             if (fabsl(ratio - 1.0L) > 5.0L * sqrtl(2.15L / (2.0L * (long double)n_ss))) ok = 0;
-            snprintf(extra, sizeof extra, "measured sd / analytic %.3Lf, max |p_j| / S_j %.2Lf", ratio, worst);
+            snprintf(extra, sizeof extra, "measured sd / analytic %.3Lf, max \\|p_j\\| / S_j %.2Lf", ratio, worst);
         } else if (c->fault == SD_STUCK) {
             snprintf(extra, sizeof extra, "first flagged %lld steps after the fault (predicted by %lld)",
                      (long long)first, (long long)predicted);
@@ -901,10 +901,15 @@ static void run_strapdown(void)
         const char *ex = c->expect == 0 ? "silent" : c->expect == 1 ? "every faulty step" : "by the predicted step";
         char hn[96];
         health_names(seen, hn, sizeof hn);
-        snprintf(g_sd_rows[ci], sizeof g_sd_rows[ci], "| %s | %s, %s | %d/%d | %d/%d | %s%s%s%s | %d/%d | %s | %s |",
-                 c->name, bn, ex, flagged_before, (int)k_fault, flagged_after, n_after,
-                 (seen & GG_HEALTH_GAMMA_ASYM) ? "GAMMA_ASYM " : "", (seen & GG_HEALTH_ACC_RANGE) ? "ACC_RANGE " : "",
-                 (seen & DETECT_BITS) ? "" : "none ", hn, old_flagged, (int)g_n, extra, ok ? "pass" : "FAIL");
+        char bits[128];
+        snprintf(bits, sizeof bits, "%s%s%s%s%s", (seen & GG_HEALTH_GAMMA_ASYM) ? "GAMMA_ASYM" : "",
+                 ((seen & GG_HEALTH_GAMMA_ASYM) && (seen & GG_HEALTH_ACC_RANGE)) ? "+" : "",
+                 (seen & GG_HEALTH_ACC_RANGE) ? "ACC_RANGE" : "", (seen & DETECT_BITS) ? "" : "none",
+                 (seen & FLAG_BITS) ? "; " : "");
+        if (seen & FLAG_BITS) strncat(bits, hn, sizeof bits - strlen(bits) - 1);
+        snprintf(g_sd_rows[ci], sizeof g_sd_rows[ci], "| %s | %s, %s | %d/%d | %d/%d | %s | %d/%d | %s | %s |",
+                 c->name, bn, ex, flagged_before, (int)k_fault, flagged_after, n_after, bits, old_flagged, (int)g_n,
+                 extra, ok ? "pass" : "FAIL");
         printf("%s strapdown %s: %s before the fault %d/%lld, after %d/%d; health seen 0x%08x; former 1e-6: %d/%d; %s\n",
                ok ? "CASE" : "FAIL", c->name, bn, flagged_before, (long long)k_fault, flagged_after, n_after, seen,
                old_flagged, g_n, extra);
