@@ -35,8 +35,9 @@ seed and the table):
      WGS-84 ellipsoid's great ellipse (the section through the Earth's centre that route3d.hpp
      flies), points along the leg checked against the region;
   3. heights: a leg is level with probability level_fraction, else climbs or descends by |dh|
-     in climb_m (the sign that stays in height_m; limited to what the leg's time allows at its
-     climb rate);
+     in climb_m (the sign that stays in height_m), |dh| cut to what the leg's time allows at its
+     climb rate (|dh| / rate + 40 tau_h within 80 % of it); a leg too short for climb_m's least
+     change is flown level;
   4. the timing of route3d.hpp (turn curves' path lengths, the speed changes' softplus steps,
      the climbs' time windows) computed here; a route that would not fit is drawn again; the
      time at the last waypoint is the flight time (must lie in duration_s) and
@@ -508,13 +509,13 @@ def _try(spec, rng):
                 sg = -sg
             if not spec.height[0] <= h + sg * mag <= spec.height[1]:
                 return None, "height"
-            # the climb within the leg's time (estimated at its speed, turns and speed steps included
-            # by the check below): |dh| / rate + 40 tau_h at most 80 % of it
+            # the climb within the leg's time (estimated at its speed; turns and speed steps in the
+            # check below): |dh| / rate + 40 tau_h at most 80 % of it; |dh| cut to what fits, a leg
+            # too short for climb_m's least change flown level
             tau_h = rate / (4.0 * spec.vaccel)
-            avail = 0.8 * L[k] / v[k] - 40.0 * tau_h
-            if mag / rate > avail:
-                return None, "climb"
-            h = h + sg * mag
+            fit = rate * (0.8 * L[k] / v[k] - 40.0 * tau_h)
+            if fit >= spec.climb[0]:
+                h = h + sg * min(mag, fit)
         w["height_m"] = h
         wps.append(w)
     try:

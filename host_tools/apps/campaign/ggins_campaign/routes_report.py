@@ -221,7 +221,8 @@ def markdown(R):
             else:
                 parts = []
             st = ", ".join("%s %d" % kv for kv in sorted(c["integrity_state_final"].items()))
-            md.append("- %s, %s: %s; integrity state at the end: %s" % (g, name, "; ".join(parts) or "–", st))
+            md.append("- %s: %s; integrity state at the end: %s" % (g if g == name else "%s, %s" % (g, name),
+                                                                   "; ".join(parts) or "–", st))
     for g, G in R["groups"].items():
         md += ["", "### %s: violations (worse than unaided, not flagged): %d" % (g, G["violations"]), ""]
         if G["violation_list"]:
