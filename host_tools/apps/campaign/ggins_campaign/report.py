@@ -19,7 +19,7 @@ import shutil
 import subprocess
 import tempfile
 
-from . import tomlw
+from . import routes_report, tomlw
 from .store import read_run
 
 # Student t, 97.5 % quantiles, dof 1..30
@@ -127,6 +127,7 @@ def summarize(campaign, store, runs, plot=True, log=None):
         by_point.setdefault(r.point_index, []).append(r)
     points = []
     series_rows = []
+    all_metas = []
     for pi, prs in sorted(by_point.items()):
         point = campaign.points[pi]
         metas, series = [], []
@@ -136,6 +137,7 @@ def summarize(campaign, store, runs, plot=True, log=None):
                 m["final"].update(campaign.tool.derived(s))
                 metas.append(m)
                 series.append(s)
+        all_metas += metas
         failed = store.failures([r.run_id for r in prs])
         names = []
         for m in metas:
@@ -197,7 +199,12 @@ def summarize(campaign, store, runs, plot=True, log=None):
                "sweep_keys": campaign.sweep_keys, "param_keys": campaign.param_keys, "points": points}
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
-    _write_table(summary, campaign, out)
+    routes_md = None
+    if getattr(campaign, "routes", None) is not None:  # random routes: the per-aid report (routes_report.py)
+        R, routes_md = routes_report.write(out, all_metas)
+        summary["routes"] = {g: {k: v for k, v in G.items() if not k.endswith("_list") and k != "log10_ratio"}
+                             for g, G in R["groups"].items()}
+    _write_table(summary, campaign, out, routes_md)
     if series_rows:
         keys = ["point", "t_s", "output", "sigma", "mean", "covariance"]
         with open(os.path.join(out, "series.csv"), "w", newline="") as f:
@@ -214,6 +221,12 @@ def summarize(campaign, store, runs, plot=True, log=None):
             if p.returncode != 0 and log:
                 log.write("ggins campaign: plot failed: %s\n" % p.stderr[-2000:])
             plots = [l.strip() for l in p.stdout.splitlines() if l.strip().endswith(".png")]
+            if routes_md is not None:
+                p = subprocess.run([py, os.path.join(os.path.dirname(script), "plot_routes.py"), out],
+                                   capture_output=True, text=True)
+                if p.returncode != 0 and log:
+                    log.write("ggins campaign: routes plot failed: %s\n" % p.stderr[-2000:])
+                plots += [l.strip() for l in p.stdout.splitlines() if l.strip().endswith(".png")]
         elif log:
             log.write("ggins campaign: no python with matplotlib (GGINS_PYTHON); no plots\n")
     return summary, plots
@@ -223,7 +236,7 @@ def _g(x):
     return "%.6g" % x if isinstance(x, float) else str(x)
 
 
-def _write_table(summary, campaign, out):
+def _write_table(summary, campaign, out, routes_md=None):
     keys = campaign.param_keys
     cols = ["point", "name"] + keys + ["output", "n", "failed", "mean", "sd", "ci95_lo", "ci95_hi", "sigma",
                                       "mean_abs", "sd_abs", "covariance", "ratio", "band_lo", "band_hi", "within"]
@@ -273,6 +286,8 @@ def _write_table(summary, campaign, out):
         md.append("| " + " | ".join(cells) + " |")
     if campaign.command == "run3d":
         md += [""] + aided3d_table(summary)
+    if routes_md:
+        md += [""] + routes_md
     fails = [(P["name"], f) for P in summary["points"] for f in P["failed"]]
     if fails:
         md += ["", "Failed runs (twice; logs in failed/):", ""]

@@ -20,6 +20,10 @@ A campaign file:
   name = "db"                       # a list or range in a point is swept within that point,
   "--db-noise-e" = [0.01, 0.1]      # {value = [..]} sets an array-valued key as it is
 
+  [routes]                          # run3d: every run flies its own route drawn from its seed
+  lat_deg = [45.0, 62.0]            # (routes.py: region, heights, legs, turns, climbs, speeds,
+  ...                               #  duration; time.duration_s = the route's flight time)
+
   [outputs]
   series_dt = 60                    # keep each run's time series every 60 s (0: final values only)
   compare = "covariance"            # run: sample sigma against ggins covariance (chi-square band)
@@ -37,6 +41,7 @@ import json
 import os
 import tomllib
 
+from . import routes as routes_mod
 from . import tomlw
 from .tools import TOOLS
 
@@ -83,8 +88,9 @@ def _expand_values(key, v):
 class Run:
     """One run: a point of the sweep and a seed; everything that determines it is in task()."""
 
-    def __init__(self, campaign, point_index, point, seed_index, seed, task):
+    def __init__(self, campaign, point_index, point, seed_index, seed, task, route=None):
         self.campaign = campaign
+        self.route = route          # the drawn route (routes.Route) of a [routes] campaign
         self.point_index = point_index
         self.point = point          # {"name":..., key: value}
         self.seed_index = seed_index
@@ -99,9 +105,14 @@ class Run:
         return dict(self._task)
 
     def info(self):
-        return {"run_id": self.run_id, "point": self.point_index, "point_name": self.point.get("name", ""),
-                "params": {k: v for k, v in self.point.items() if k != "name"},
-                "seed_index": self.seed_index, "seed": self.seed}
+        d = {"run_id": self.run_id, "point": self.point_index, "point_name": self.point.get("name", ""),
+             "params": {k: v for k, v in self.point.items() if k != "name"},
+             "seed_index": self.seed_index, "seed": self.seed}
+        if self.route is not None:  # the route and the whole scenario the run flew: it reproduces the run
+            d["route"] = self.route.info()
+            d["scenario_toml"] = (self._task.get("files") or {}).get("scenario.toml")
+            d["argv_template"] = self._task.get("argv")
+        return d
 
 
 class Campaign:
@@ -115,7 +126,7 @@ class Campaign:
         c = d.get("campaign")
         if not isinstance(c, dict):
             raise SpecError("%s: no [campaign] table" % path)
-        known = {"campaign", "sweep", "point", "outputs"}
+        known = {"campaign", "sweep", "point", "outputs", "routes"}
         extra = set(d) - known
         if extra:
             raise SpecError("%s: unknown table(s) %s (known: %s)" % (path, sorted(extra), sorted(known)))
@@ -147,6 +158,14 @@ class Campaign:
                 raise SpecError(str(e))
         elif self.scenario_name:
             raise SpecError("%s: command %s takes no scenario file (sweep its options)" % (path, self.command))
+        self.routes = None
+        if "routes" in d:
+            if self.command != "run3d":
+                raise SpecError("%s: [routes] is for command run3d (a route per run), not %s" % (path, self.command))
+            try:
+                self.routes = routes_mod.RouteSpec(d["routes"])
+            except routes_mod.RouteSpecError as e:
+                raise SpecError("%s: %s" % (path, e))
         o = d.get("outputs", {})
         self.series_dt = float(o.get("series_dt", self.tool.default_series_dt))
         self.compare = o.get("compare", self.tool.default_compare)
@@ -238,10 +257,21 @@ class Campaign:
             opts = self.point_options(p)
             for si in range(self.seeds):
                 seed = self.seed0 + si
-                task = self.tool.task(self, sc, opts, seed)
+                route = None
+                sc_run = sc
+                if self.routes is not None:
+                    try:
+                        route = routes_mod.draw(self.routes, seed)
+                    except routes_mod.RouteSpecError as e:
+                        raise SpecError("%s: %s" % (self.path, e))
+                    sc_run = route.apply(json.loads(json.dumps(sc)))
+                task = self.tool.task(self, sc_run, opts, seed)
+                # a route campaign stores its degraded flights (exit 4: the integrity monitor's
+                # flags are what its report lists), the others count them as failed
+                ok = self.tool.ok_codes + ([4] if self.routes is not None and self.command == "run3d" else [])
                 task.update({"series_dt": self.series_dt, "bin_dir": self.bin_dir, "data_dir": self.data_dir,
-                             "timeout_s": self.timeout_s, "ok_codes": self.tool.ok_codes})
-                out.append(Run(self, pi, p, si, seed, task))
+                             "timeout_s": self.timeout_s, "ok_codes": ok})
+                out.append(Run(self, pi, p, si, seed, task, route))
         return out
 
 

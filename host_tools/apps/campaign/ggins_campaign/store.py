@@ -3,7 +3,9 @@
   <out>/campaign.toml          the campaign file as run
   <out>/runs/<run_id>.parquet  one finished run: its time series (columns t_s, states...);
                                the schema metadata "ggins" holds the run (point, seed, final
-                               values, argv, host, wall time) as JSON
+                               values, argv, host, wall time) as JSON; a route campaign's
+                               run also its route, its scenario.toml and summary.json's status,
+                               degraded_reasons, aids, unaided_reference (meta "summary")
   <out>/failed/<run_id>.json   a run that failed twice: seed, point, rc, argv; .log: its log
   <out>/journal.csv            every event (stored / retry / failed), with the session number
 
@@ -58,6 +60,9 @@ class Store:
         meta.update({"final": res["final"], "argv": res.get("argv"), "host": res.get("host"),
                      "run_wall_s": res.get("run_wall_s"), "wall_s": res.get("wall_s"), "attempts": attempts,
                      "nonfinite": res.get("nonfinite", []), "session": self.session})
+        if res.get("info"):  # JSON kept as it is (a route campaign's summary.json fields)
+            meta["summary"] = res["info"]
+        meta["rc"] = res.get("rc")
         table = pa.table(cols).replace_schema_metadata({"ggins": json.dumps(meta)})
         path = self.run_path(run.run_id)
         tmp = path + ".tmp%d" % os.getpid()

@@ -13,6 +13,8 @@ A task is a plain dict (see tools.py, Run.task()):
   bin_dir, data_dir   where the client found the tools and data; a worker that has them
                elsewhere sets GGINS_BIN / GGINS_DATA
   timeout_s    a run that takes longer is killed and counts as failed
+  ok_codes     exit codes of a run that counts (default [0])
+  data_probe   a file the data folder must hold (default: any)
 """
 import csv
 import json
@@ -146,6 +148,25 @@ def _read_json(path, rule):
     return final
 
 
+def _keep_json(path, keep):
+    """`keep`: {stored name: dotted path} of any JSON value (a string, a list, a whole block) kept
+    as it is in the run's record; "?" as in _read_json (absent or null: not kept)."""
+    with open(path) as f:
+        j = json.load(f)
+    out = {}
+    for name, p in keep.items():
+        opt = p.startswith("?")
+        try:
+            v = _walk(j, p.lstrip("?").split("."))
+        except (KeyError, IndexError, TypeError, ValueError):
+            if opt:
+                continue
+            raise ValueError("%s has no %s" % (path, p))
+        if v is not None:
+            out[name] = v
+    return out
+
+
 def _glob_one(folder, pattern):
     import fnmatch
     hits = sorted(n for n in os.listdir(folder) if fnmatch.fnmatch(n, pattern))
@@ -202,7 +223,10 @@ def execute(task):
                 elif s and s.get("t_s") == series.get("t_s"):  # same time grid: one table
                     series.update({k: v for k, v in s.items() if k != "t_s"})
             else:
-                final.update(_read_json(_glob_one(out, rule["json"]), rule))
+                jpath = _glob_one(out, rule["json"])
+                final.update(_read_json(jpath, rule))
+                if rule.get("keep"):
+                    res.setdefault("info", {}).update(_keep_json(jpath, rule["keep"]))
         bad = [k for k, v in final.items() if not math.isfinite(v)]
         res["final"] = final
         res["series"] = series
