@@ -753,7 +753,7 @@ static const sd_case_t kSd[] = {
     {"firmware's b 5% long (wrong baseline), fast body", 1, SD_BASE, 1.05L, 1, GG_HEALTH_ACC_RANGE},
 };
 #define N_SD ((int)(sizeof kSd / sizeof kSd[0]))
-static char g_sd_rows[N_SD][320];
+static char g_sd_rows[N_SD][640];
 
 static uint64_t g_sd_rng;
 static long double sd_gauss(void)
