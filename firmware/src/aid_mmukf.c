@@ -65,6 +65,7 @@ static gg_status_t aid_cfg_ok(const gg_aid_mm_config_t *c)
 
 gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_t gravity_state)
 {
+    gg_integ_t integ;
     double zero[NXM];
     double P0[NXM][NXM];
     gg_ukf_config_t uc;
@@ -109,11 +110,16 @@ gg_status_t gg_aid_mm_init(gg_aid_mm_t *a, const gg_aid_mm_config_t *cfg, int32_
     uc.nx = nx;
     uc.lambda = cfg->lambda;
     uc.gate_nis = cfg->gate_nis;
+    if (gg_integ_init(&integ, &cfg->integ, 6.0) != GG_OK) {
+        return GG_ERR_CONFIG;
+    }
     /* cppcheck-suppress misra-c2012-17.7 */
     st = gg_ukf_init(&a->ukf, &uc, zero, (const double(*)[NXM])P0);
     if (st != GG_OK) {
         return st;
     }
+    a->integ = integ;
+    a->n_isolated = 0U;
     a->cfg = *cfg;
     a->nx = nx;
     mat_identity(nx, a->phi);
@@ -306,6 +312,18 @@ static void fill_r(const gg_aid_mm_t *a, double w, double R[GG_UKF_NZ_MAX][GG_UK
     }
 }
 
+/* The monitor's health bits for this step (aid_integ.h). */
+static void integ_health(gg_aid_mm_t *a)
+{
+    if (a->integ.state == GG_INTEG_SUSPECT) {
+        a->health |= GG_AID_MM_H_SUSPECT;
+    } else if (a->integ.state == GG_INTEG_ISOLATED) {
+        a->health |= GG_AID_MM_H_ISOLATED;
+    } else {
+        /* OK */
+    }
+}
+
 /* Pass weight from the predicted spread (aid_mmukf.h, progressive passes). */
 static void do_spread(gg_aid_mm_t *a)
 {
@@ -326,7 +344,14 @@ static void do_spread(gg_aid_mm_t *a)
         return;
     }
     if (a->pass == 0) {
+        /* the epoch's test statistic: NIS with the nominal R, before any update */
         a->last_nis = nis;
+        (void)gg_integ_test(&a->integ, nis); /* initialized with the aid: always GG_OK */
+        if (a->integ.state == GG_INTEG_ISOLATED) {
+            a->n_isolated++;
+            a->phase = GG_AID_MM_PH_FINISH; /* tested, not fed: no update, no correction */
+            return;
+        }
     }
     w = a->remaining;
     if (a->pass < (a->cfg.max_passes - 1)) {
@@ -349,7 +374,11 @@ static void do_update(gg_aid_mm_t *a)
     aid_hctx_t hc;
     gg_status_t st;
     hc.a = a;
-    fill_r(a, a->w_pass, R);
+    if (a->integ.state == GG_INTEG_SUSPECT) {
+        fill_r(a, a->w_pass / GG_INTEG_DEWEIGHT_R, R); /* de-weighted while SUSPECT */
+    } else {
+        fill_r(a, a->w_pass, R);
+    }
     st = gg_ukf_update(&a->ukf, 6, a->ep_z,
                        /* cppcheck-suppress misra-c2012-17.7 */
                        (const double(*)[GG_UKF_NZ_MAX])R, aid_mm_meas_model, &hc, &info);
@@ -456,5 +485,6 @@ gg_status_t gg_aid_mm_step(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal
     } else {
         do_finish(a, corr);
     }
+    integ_health(a);
     return GG_OK; /* a gated or failed epoch is counted once, at its finish */
 }

@@ -61,6 +61,10 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
         ((cfg->feedback != GG_AID_PF_FB_POS) && (cfg->feedback != GG_AID_PF_FB_POS_VEL))) {
         return GG_ERR_CONFIG;
     }
+    if (gg_integ_init(&a->integ, &cfg->integ, 1.0) != GG_OK) {
+        return GG_ERR_CONFIG;
+    }
+    a->n_isolated = 0U;
     pc = cfg->pf;
     pc.map.gzz = aid_pf_no_map;
     pc.map.ctx = NULL;
@@ -171,6 +175,48 @@ static gg_status_t aid_pf_begin(gg_aid_pf_t *a, const gg_hal_map_t *map)
     return st;
 }
 
+/* The end of a shot: its test (aid_integ.h) and the correction it feeds (aid_pf.h). */
+static void aid_pf_feed(gg_aid_pf_t *a, const gg_pf_output_t *o, gg_aid_pf_corr_t *corr)
+{
+    double f = 1.0;
+    if ((o->health & GG_PF_H_SKIPPED) != 0U) {
+        return; /* predicted only: nothing measured, nothing fed */
+    }
+    if ((o->health & GG_PF_H_DEGENERATE) != 0U) {
+        (void)gg_integ_test(&a->integ, GG_INTEG_STAT_FAIL); /* initialized with the aid: GG_OK */
+        return;
+    }
+    (void)gg_integ_test(&a->integ, o->nis);
+    if (a->integ.state == GG_INTEG_ISOLATED) {
+        a->n_isolated++;
+        return;
+    }
+    if (a->integ.state == GG_INTEG_SUSPECT) {
+        f = GG_INTEG_DEWEIGHT_FB;
+    }
+    corr->valid = 1;
+    corr->dn_m = f * o->corr[0];
+    corr->de_m = f * o->corr[1];
+    if (a->cfg.feedback == GG_AID_PF_FB_POS_VEL) {
+        /* the velocity's smoothed correction, reset to 0 by every feedback:
+         * gain x the particles' mean (paper eqs. 9-10 applied to the velocity) */
+        corr->dvn_mps = f * a->cfg.pf.gain * o->mean[2];
+        corr->dve_mps = f * a->cfg.pf.gain * o->mean[3];
+    }
+}
+
+/* The monitor's health bits of this step. */
+static void aid_pf_integ_health(gg_aid_pf_t *a)
+{
+    if (a->integ.state == GG_INTEG_SUSPECT) {
+        a->health |= GG_AID_PF_H_SUSPECT;
+    } else if (a->integ.state == GG_INTEG_ISOLATED) {
+        a->health |= GG_AID_PF_H_ISOLATED;
+    } else {
+        /* OK */
+    }
+}
+
 gg_status_t gg_aid_pf_step(gg_aid_pf_t *a, const gg_aid_pf_in_t *in, const gg_hal_map_t *map,
                            gg_aid_pf_corr_t *corr)
 {
@@ -235,15 +281,7 @@ gg_status_t gg_aid_pf_step(gg_aid_pf_t *a, const gg_aid_pf_in_t *in, const gg_ha
             if ((o.health & GG_PF_H_RESAMPLED) != 0U) {
                 a->n_resampled++;
             }
-            corr->valid = 1;
-            corr->dn_m = o.corr[0];
-            corr->de_m = o.corr[1];
-            if (a->cfg.feedback == GG_AID_PF_FB_POS_VEL) {
-                /* the velocity's smoothed correction, reset to 0 by every feedback:
-                 * gain x the particles' mean (paper eqs. 9-10 applied to the velocity) */
-                corr->dvn_mps = a->cfg.pf.gain * o.mean[2];
-                corr->dve_mps = a->cfg.pf.gain * o.mean[3];
-            }
+            aid_pf_feed(a, &o, corr);
         }
     }
     if (st != GG_OK) {
@@ -255,6 +293,7 @@ gg_status_t gg_aid_pf_step(gg_aid_pf_t *a, const gg_aid_pf_in_t *in, const gg_ha
         }
         corr->valid = 0;
     }
+    aid_pf_integ_health(a);
     return GG_OK;
 }
 

@@ -460,6 +460,9 @@ static gg_status_t pf_end_particle(gg_pf_t *st, int nx)
         } else if (st->sh_in.shot_ok != 0) {
             st->w[i] /= st->sh_sw;
             st->sh_gzz += st->w[i] * st->xs[i][0];
+            if (st->ll[i] <= 0.0) { /* on the map: ll = -d^2 / (2 sigma^2) */
+                st->sh_q += st->w[i] * (-2.0 * st->ll[i]);
+            }
         } else {
             /* failed shot: the weights stay */
         }
@@ -574,6 +577,7 @@ static gg_status_t pf_end_stage_done(gg_pf_t *st, int nx, gg_pf_output_t *out)
         out->spread[1] = (v1 > 0.0) ? gg_sqrt_d(v1) : 0.0;
         out->ess = st->sh_ess;
         out->gzz_mean = st->sh_gzz;
+        out->nis = ((st->sh_in.shot_ok != 0) && (st->sh_degen == 0)) ? st->sh_q : -1.0;
         out->health = st->sh_health;
         next = PF_E_DONE;
         break;
@@ -626,6 +630,7 @@ gg_status_t gg_pf_step_end_chunk(gg_pf_t *st, int max_particles, gg_pf_output_t 
         st->sh_sw = 0.0;
         st->sh_sw2 = 0.0;
         st->sh_gzz = 0.0;
+        st->sh_q = 0.0;
         st->sh_degen = 0;
         if (st->sh_in.shot_ok == 0) {
             st->n_skipped++;

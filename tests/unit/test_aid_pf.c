@@ -423,9 +423,12 @@ static void test_schedule_and_bad_input(void **state)
     do {
         assert_int_equal(gg_aid_pf_step(&g_aid, &in, &hm, &corr), GG_OK);
         if (steps == 0) assert_true((g_aid.health & GG_AID_PF_H_SHOT_INVALID) != 0U);
+        /* nothing measured, nothing fed: no correction at any step of the shot */
+        assert_int_equal(corr.valid, 0);
         ins_at(&in, 0, 0, 0, 0);
         ++steps;
-    } while (corr.valid == 0 && steps < 100);
+    } while (g_aid.phase != GG_AID_PF_PH_IDLE && steps < 100);
+    assert_int_equal(g_aid.n_corrections, 0);
     assert_int_equal(g_aid.n_invalid, 1);
     assert_int_equal(g_aid.n_failed, 1);
     assert_int_equal(g_aid.n_updates, 0);

@@ -107,6 +107,7 @@
 
 #include <stdint.h>
 
+#include "ggins/aid_integ.h"
 #include "ggins/gmap.h"
 #include "ggins/hal.h"
 #include "ggins/limits.h"
@@ -129,6 +130,8 @@
 #define GG_AID_MM_H_GATED 0x02u     /**< the epoch's innovation failed the NIS gate */
 #define GG_AID_MM_H_FAIL 0x04u      /**< the UKF rejected an operation (not PD, sigma point off the tile) */
 #define GG_AID_MM_H_BAD_MEAS 0x08u  /**< epoch postponed: the gradient was rebuilt, coasting or bridged */
+#define GG_AID_MM_H_SUSPECT 0x10u   /**< integrity monitor (aid_integ.h): SUSPECT, R de-weighted */
+#define GG_AID_MM_H_ISOLATED 0x20u  /**< integrity monitor: ISOLATED, no correction fed */
 
 /** Schedule phases. */
 #define GG_AID_MM_PH_PROPAGATE 0
@@ -163,6 +166,7 @@ typedef struct {
     double sig0_acc_bias_mps2;  /**< and of the accelerometers' common bias, m/s^2 (> 0) */
     double q_gyro_bias_rps_rts; /**< gyro bias random walk, rad/s/sqrt(s) (>= 0) */
     double q_acc_bias_mps2_rts; /**< accelerometer bias random walk, m/s^2/sqrt(s) (>= 0) */
+    gg_integ_config_t integ;    /**< integrity monitor on the epochs' NIS (aid_integ.h, 6 dof) */
 } gg_aid_mm_config_t;
 
 /** The task's INS solution and measurement at one navigation step. */
@@ -237,6 +241,8 @@ typedef struct {
     double ep_sb[3][6];                           /**< epoch: window mean of S_i, epoch's body axes (bias states) */
     double last_innov[6];                         /**< innovation of the last epoch (first pass), s^-2 */
     int32_t last_n_avg;                           /**< steps averaged into the last epoch */
+    gg_integ_t integ;                             /**< integrity monitor (aid_integ.h) */
+    uint32_t n_isolated;                          /**< epochs tested but not fed (ISOLATED) */
 } gg_aid_mm_t;
 
 /* gg_aid_mm_t has no gg_real_t member, on purpose: on x86-64 that would make

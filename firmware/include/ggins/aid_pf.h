@@ -58,6 +58,15 @@
  * of its arrival step, moved with every correction applied meanwhile); a
  * further one is dropped (counted, GG_HEALTH_PF_SHOT_INVALID).
  *
+ * Feedback only from a weighed shot. A failed shot, a shot without a tile and a
+ * degenerate one (every candidate off its ellipse) move nothing: the filter
+ * predicts its cloud and the correction waits for the next weighed shot (the
+ * smoothed mean of an unweighed cloud is the sampling noise of the prediction).
+ * Integrity (aid_integ.h): each weighed shot enters its statistic (pf.h nis),
+ * a degenerate one GG_INTEG_STAT_FAIL; SUSPECT feeds GG_INTEG_DEWEIGHT_FB of
+ * the correction (the filter keeps the rest), ISOLATED feeds none (the task
+ * flies on gravity dead reckoning) while the filter goes on weighing.
+ *
  * Bad input never reaches the filter: a shot with a non-finite or
  * out-of-range pair is used as a failed shot (predicted, not weighed) and
  * flagged GG_HEALTH_PF_SHOT_INVALID; a shot without a covering tile likewise,
@@ -68,6 +77,7 @@
 
 #include <stdint.h>
 
+#include "ggins/aid_integ.h"
 #include "ggins/frame.h"
 #include "ggins/gmap.h"
 #include "ggins/hal.h"
@@ -80,6 +90,8 @@
 #define GG_AID_PF_H_NO_MAP 0x04u       /**< no tile covers the shot's position: predicted only */
 #define GG_AID_PF_H_DEGENERATE 0x08u   /**< every candidate off the map: weights reset */
 #define GG_AID_PF_H_FAIL 0x10u         /**< an operation of the filter was rejected */
+#define GG_AID_PF_H_SUSPECT 0x20u      /**< integrity monitor (aid_integ.h): SUSPECT, feedback halved */
+#define GG_AID_PF_H_ISOLATED 0x40u     /**< integrity monitor: ISOLATED, no correction fed */
 
 /** What the closed loop feeds back (gg_aid_pf_config_t.feedback). */
 #define GG_AID_PF_FB_POS 0     /**< the horizontal position */
@@ -97,6 +109,7 @@ typedef struct {
     int32_t feedback;    /**< GG_AID_PF_FB_POS or GG_AID_PF_FB_POS_VEL */
     gg_pf_config_t pf;   /**< the filter (pf.h); pf.map is set by the aid (the HAL's map storage),
                               pf.dt is the shot period */
+    gg_integ_config_t integ; /**< integrity monitor on the weighed shots' statistic (pf.h nis, 1 dof) */
 } gg_aid_pf_config_t;
 
 /** The task's INS solution at a step, and the shot in its frame. */
@@ -145,6 +158,8 @@ typedef struct {
     uint32_t n_resampled;
     uint32_t n_corrections;    /**< corrections fed back */
     double corr_total_m[2];    /**< sum of the corrections fed back, north, east, m */
+    gg_integ_t integ;          /**< integrity monitor (aid_integ.h) */
+    uint32_t n_isolated;       /**< weighed shots whose correction was not fed (ISOLATED) */
     int32_t initialized;
 } gg_aid_pf_t;
 
@@ -156,8 +171,10 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg);
 /** One navigation step of the aid: take the shot of this step (if any), then
  *  do the schedule's next unit of work. map may be NULL (no map storage:
  *  shots are predicted only, NO_MAP). *corr is filled (valid = 1) at the end
- *  of a shot: the task must add it to its position and then call
- *  gg_aid_pf_applied. a->health holds this step's GG_AID_PF_H_* bits.
+ *  of a weighed shot that the integrity monitor lets through (halved while
+ *  SUSPECT): the task must add it to its position and then call
+ *  gg_aid_pf_applied. A shot predicted only (failed, off the map) and a shot
+ *  while ISOLATED feed nothing. a->health holds this step's GG_AID_PF_H_* bits.
  *  GG_ERR_NONFINITE / GG_ERR_RANGE on a bad INS solution (aid untouched). */
 gg_status_t gg_aid_pf_step(gg_aid_pf_t *a, const gg_aid_pf_in_t *in, const gg_hal_map_t *map,
                            gg_aid_pf_corr_t *corr);

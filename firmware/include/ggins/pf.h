@@ -166,6 +166,10 @@ typedef struct {
     double spread[2];     /**< weighted standard deviation of the particles' dN, dE, m (the cloud's spread) */
     double ess;           /**< effective sample size after the update */
     double gzz_mean;      /**< weighted mean of the candidates' Gamma_zz (s^-2; 0 when skipped) */
+    double nis;           /**< consistency statistic of a weighed shot: the posterior-weighted
+                               squared distance of the pair to the candidates' ellipses,
+                               sum_i w_i d_i^2 / sigma^2 (1 dof, mean 1 for a consistent filter:
+                               aid_integ.h); -1 when not weighed (skipped or degenerate) */
     uint32_t health;      /**< GG_PF_H_* of this step */
 } gg_pf_output_t;
 
@@ -206,6 +210,7 @@ typedef struct {
     double sh_sw;                /**< sum of the weights */
     double sh_sw2;               /**< sum of the squared normalised weights */
     double sh_gzz;               /**< weighted Gamma_zz of the candidates */
+    double sh_q;                 /**< posterior-weighted d^2 / sigma^2 of the candidates */
     double sh_ess;
     double sh_u0;                /**< resampling: the one uniform */
     double sh_cum;               /**< resampling: cumulative weight */
