@@ -41,7 +41,8 @@ static void check_output(const gg_nav3d_output_t *o)
         !isfinite(o->outage_s) || !isfinite(o->state_lag_s) || !isfinite(o->mm_nis) ||
         !fin(o->mm_sigma, 18) || !fin(o->mm_bias, 6) || !fin(o->mm_corr_m, 3) || !fin(o->mm_innov, 6) ||
         !fin(o->mm_pcov, 18) || !isfinite(o->pf_ess) || !fin(o->pf_spread_m, 2) ||
-        !fin(o->pf_corr_m, 2) || !fin(o->pf_mean_m, 2) || !isfinite(o->pf_gzz_s2))
+        !fin(o->pf_corr_m, 2) || !fin(o->pf_mean_m, 2) || !isfinite(o->pf_gzz_s2) || !isfinite(o->pf_nis) ||
+        !isfinite(o->mm_integ_ratio) || !isfinite(o->pf_integ_ratio))
         FAIL("non-finite value in the 3-D output of seq %lld (status %d, health 0x%x)",
              (long long)o->seq, (int)o->status, (unsigned)o->health);
 }

@@ -85,6 +85,16 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_pf.pf.dt = m->aid_pf_dt;
     c->aid_pf.pf.gain = m->aid_pf_gain;
     c->aid_pf.pf.ess_frac = m->aid_pf_ess_frac;
+    c->aid_mm.integ.enable = m->aid_mm_integ_enable;
+    c->aid_mm.integ.window = m->aid_mm_integ_window;
+    c->aid_mm.integ.z = m->aid_mm_integ_z;
+    c->aid_mm.integ.isolate_after = m->aid_mm_integ_isolate;
+    c->aid_mm.integ.recover_after = m->aid_mm_integ_recover;
+    c->aid_pf.integ.enable = m->aid_pf_integ_enable;
+    c->aid_pf.integ.window = m->aid_pf_integ_window;
+    c->aid_pf.integ.z = m->aid_pf_integ_z;
+    c->aid_pf.integ.isolate_after = m->aid_pf_integ_isolate;
+    c->aid_pf.integ.recover_after = m->aid_pf_integ_recover;
 }
 
 void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav3d_output_t *m)
@@ -160,4 +170,11 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     for (int i = 0; i < 2; ++i) m->pf_corr_m[i] = o->pf_corr_m[i];
     for (int i = 0; i < 2; ++i) m->pf_mean_m[i] = o->pf_mean_m[i];
     m->pf_gzz_s2 = o->pf_gzz_s2;
+    m->mm_integ = o->mm_integ;
+    m->mm_integ_ratio = o->mm_integ_ratio;
+    m->mm_isolated = (int64_t)o->mm_isolated;
+    m->pf_nis = o->pf_nis;
+    m->pf_integ = o->pf_integ;
+    m->pf_integ_ratio = o->pf_integ_ratio;
+    m->pf_isolated = (int64_t)o->pf_isolated;
 }

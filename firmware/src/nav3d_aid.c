@@ -181,6 +181,9 @@ static uint32_t n3_aid_health(uint32_t ah)
     if ((ah & GG_AID_MM_H_BAD_MEAS) != 0U) {
         h |= GG_HEALTH_MM_BAD_MEAS;
     }
+    if ((ah & (GG_AID_MM_H_SUSPECT | GG_AID_MM_H_ISOLATED)) != 0U) {
+        h |= GG_HEALTH_AID_INTEGRITY;
+    }
     return h;
 }
 
@@ -245,6 +248,9 @@ void n3_aid_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     out->mm_rejected = a->n_rejected;
     out->mm_no_map = a->n_no_map;
     out->mm_nis = a->last_nis;
+    out->mm_integ = a->integ.state;
+    out->mm_integ_ratio = a->integ.ratio;
+    out->mm_isolated = a->n_isolated;
     for (j = 0; (j < a->nx) && (j < 18); ++j) {
         const double p = a->ukf.P[j][j];
         out->mm_sigma[j] = sqrt(p);

@@ -58,6 +58,9 @@ static uint32_t n3_pf_health(uint32_t ah)
     if ((ah & (GG_AID_PF_H_NO_MAP | GG_AID_PF_H_DEGENERATE | GG_AID_PF_H_FAIL)) != 0U) {
         h |= GG_HEALTH_PF_FAIL;
     }
+    if ((ah & (GG_AID_PF_H_SUSPECT | GG_AID_PF_H_ISOLATED)) != 0U) {
+        h |= GG_HEALTH_AID_INTEGRITY;
+    }
     return h;
 }
 
@@ -186,6 +189,10 @@ void n3_pf_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     out->pf_corr_m[0] = a->last.corr[0];
     out->pf_corr_m[1] = a->last.corr[1];
     out->pf_gzz_s2 = a->last.gzz_mean;
+    out->pf_nis = a->last.nis;
+    out->pf_integ = a->integ.state;
+    out->pf_integ_ratio = a->integ.ratio;
+    out->pf_isolated = a->n_isolated;
     out->pf_mean_m[0] = a->last.mean[0] - a->last.corr[0];
     out->pf_mean_m[1] = a->last.mean[1] - a->last.corr[1];
 }

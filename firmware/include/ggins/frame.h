@@ -92,6 +92,8 @@ typedef struct {
 #define GG_HEALTH_MM_NO_MAP       0x10000000u /**< map aid: no tile of the map storage covers the position (epoch skipped) */
 #define GG_HEALTH_MM_GATED        0x20000000u /**< map aid: the epoch's innovation failed the NIS gate (no correction) */
 #define GG_HEALTH_MM_FAIL         0x40000000u /**< map aid: UKF operation rejected (not PD, sigma point off the tile) or correction not applied */
+#define GG_HEALTH_AID_INTEGRITY   0x80000000u  /**< an aid's integrity monitor (aid_integ.h) is SUSPECT (de-weighted) or ISOLATED
+                                                     (no correction fed): which, in the output's mm_integ / pf_integ */
 
 /** Timed firmware modules (index into gg_nav_output_t.cycles). */
 enum {

@@ -261,6 +261,9 @@ typedef struct gg_nav3d_output_s {
     double mm_pcov[18];          /**< covariance after this step, upper triangles (xx yy zz xy xz yz)
                                       of the dr_i (m^2), dv_i ((m/s)^2), psi_i (rad^2) blocks */
     int32_t mm_n_avg;            /**< samples averaged into the last epoch's measurement */
+    int32_t mm_integ;            /**< integrity monitor (aid_integ.h): GG_INTEG_OK / SUSPECT / ISOLATED */
+    double mm_integ_ratio;       /**< its test ratio after the last epoch (window sum / chi-square band; > 1 outside) */
+    uint32_t mm_isolated;        /**< epochs tested but not fed (ISOLATED) so far */
     /* cold-atom particle-filter aid (aid_pf.h); all 0 when it is off */
     int32_t pf_phase;            /**< schedule phase after this step (GG_AID_PF_PH_*) */
     int32_t pf_corrected;        /**< 1: this step fed the filter's correction back into the state */
@@ -279,6 +282,10 @@ typedef struct gg_nav3d_output_s {
     double pf_mean_m[2];         /**< the particles' mean after the last shot relative to the corrected
                                       state, north, east, m (the filter's estimate: state + pf_mean_m) */
     double pf_gzz_s2;            /**< weighted Gamma_zz of the last shot's candidates, s^-2 (0: not weighed) */
+    double pf_nis;               /**< the last weighed shot's statistic (pf.h nis, 1 dof; -1: not weighed) */
+    int32_t pf_integ;            /**< integrity monitor (aid_integ.h): GG_INTEG_OK / SUSPECT / ISOLATED */
+    double pf_integ_ratio;       /**< its test ratio after the last weighed shot (> 1 outside the band) */
+    uint32_t pf_isolated;        /**< weighed shots whose correction was not fed (ISOLATED) so far */
 } gg_nav3d_output_t;
 
 /** Validate and store the configuration. GG_ERR_CONFIG on a non-finite or

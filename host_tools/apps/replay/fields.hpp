@@ -106,6 +106,11 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kI64, pf_resampled, 1, 1, true), GG_FIELD(T, kF64, pf_ess, 1, 1, true),
       GG_FIELD(T, kF64, pf_spread_m, 2, 1, true),  GG_FIELD(T, kF64, pf_corr_m, 2, 1, true),
       GG_FIELD(T, kF64, pf_mean_m, 2, 1, true),    GG_FIELD(T, kF64, pf_gzz_s2, 1, 1, true),
+      // the aids' integrity monitors (aid_integ.h)
+      GG_FIELD(T, kI32, mm_integ, 1, 1, true),     GG_FIELD(T, kF64, mm_integ_ratio, 1, 1, true),
+      GG_FIELD(T, kI64, mm_isolated, 1, 1, true),  GG_FIELD(T, kF64, pf_nis, 1, 1, true),
+      GG_FIELD(T, kI32, pf_integ, 1, 1, true),     GG_FIELD(T, kF64, pf_integ_ratio, 1, 1, true),
+      GG_FIELD(T, kI64, pf_isolated, 1, 1, true),
       GG_FIELD(T, kI8, mac, 32, 1, false),  // bus MAC (hal_sim/bus_auth.h): replay has no key
   };
   return f;

@@ -53,6 +53,11 @@ inline void aid_pf_config_to_lcm(const gg_aid_pf_config_t& a, ggins::nav3d_confi
   m.aid_pf_dt = p.dt;
   m.aid_pf_gain = p.gain;
   m.aid_pf_ess_frac = p.ess_frac;
+  m.aid_pf_integ_enable = static_cast<int8_t>(a.integ.enable);
+  m.aid_pf_integ_window = a.integ.window;
+  m.aid_pf_integ_z = a.integ.z;
+  m.aid_pf_integ_isolate = a.integ.isolate_after;
+  m.aid_pf_integ_recover = a.integ.recover_after;
 }
 
 inline void aid_pf_output_from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
@@ -74,6 +79,10 @@ inline void aid_pf_output_from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_outp
     o.pf_mean_m[i] = m.pf_mean_m[i];
   }
   o.pf_gzz_s2 = m.pf_gzz_s2;
+  o.pf_nis = m.pf_nis;
+  o.pf_integ = m.pf_integ;
+  o.pf_integ_ratio = m.pf_integ_ratio;
+  o.pf_isolated = static_cast<uint32_t>(m.pf_isolated);
 }
 
 // Accumulates the filter's consistency over the shots of a flight.

@@ -36,6 +36,7 @@
 #include "ggins/nav3d_output_t.hpp"
 #include "ggins/sensor_frame_t.hpp"
 #include "ggins/truth3d_t.hpp"
+#include "integrity.hpp"
 #include "runner.hpp"
 #include "field_map.hpp"
 #include "map_storage.hpp"
@@ -168,6 +169,7 @@ class Model3D {
   double aid_nis_sum_ = 0;           // sum of their NIS
   ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
   ggins::run3d::PfReport3 pf_;        // the cold-atom aid's counters and consistency (pf3d.hpp)
+  ggins::hil::IntegrityTrack mm_integ_, pf_integ_;  // each aid's integrity verdict (integrity.hpp)
   bool pf_on_ = false;
   // the ellipse-fit baseline on the weighed shots (pf3d.hpp): the pairs of the frames by step
   std::unique_ptr<ggins::run3d::ShotBaseline3> shots_;
@@ -324,7 +326,12 @@ void Model3D::take(const ggins::nav3d_output_t& m, bool latest) {
     aid_nis_sum_ += m.mm_nis;
     if (ep_csv_.is_open()) aid_epoch(m, accepted);
   }
-  if (latest) aid_last_ = m;
+  if (latest) {
+    aid_last_ = m;
+    const double dt = 1.0 / sc_.rate_hz;
+    if (sc_.aid_ukf.enabled) mm_integ_.take(m.t_s, dt, m.mm_integ, m.mm_integ_ratio, m.mm_no_map);
+    if (pf_on_) pf_integ_.take(m.t_s, dt, m.pf_integ, m.pf_integ_ratio, m.pf_no_map);
+  }
   gg_nav3d_output_t o;
   from_lcm(m, o);
   consume(m.seq, truth_ring_[static_cast<size_t>(m.seq % kTruthRing)], o, m.mm_sigma);
@@ -446,6 +453,11 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_sig0_acc_bias_mps2 = c.aid_mm.sig0_acc_bias_mps2;
   m.aid_mm_q_gyro_bias_rps_rts = c.aid_mm.q_gyro_bias_rps_rts;
   m.aid_mm_q_acc_bias_mps2_rts = c.aid_mm.q_acc_bias_mps2_rts;
+  m.aid_mm_integ_enable = static_cast<int8_t>(c.aid_mm.integ.enable);
+  m.aid_mm_integ_window = c.aid_mm.integ.window;
+  m.aid_mm_integ_z = c.aid_mm.integ.z;
+  m.aid_mm_integ_isolate = c.aid_mm.integ.isolate_after;
+  m.aid_mm_integ_recover = c.aid_mm.integ.recover_after;
   // the map storage as a whole, for a replay to load the same one (map_storage.hpp)
   m.map_n_sources = static_cast<int8_t>(sources_.size());
   for (size_t i = 0; i < sources_.size(); ++i) {
@@ -625,11 +637,24 @@ void Model3D::report(json& s) {
                   {"blake2b", ggins::run3d::hex(records_[i].blake2b)}});
   s["map_storage"] = ms;
   // one block per aid of the flight, each named ({"name": ..., its counters})
-  if (sc_.aid_ukf.enabled) s["aids"].push_back(aid_ukf_block());
+  std::vector<std::string> why;  // an aid inconsistent or refused for part of the flight: degraded
+  if (sc_.aid_ukf.enabled) {
+    s["aids"].push_back(aid_ukf_block());
+    mm_integ_.set_enabled(sc_.aid_ukf.integrity);
+    s["aids"].back()["integrity"] = mm_integ_.json();
+    s["aids"].back()["integrity"]["isolated_epochs"] = aid_last_.mm_isolated;
+    mm_integ_.reasons("map aid", "epochs", aid_last_.mm_epochs, why);
+  }
   if (pf_on_) {
     s["aids"].push_back(pf_.block(maps_.size()));
     if (shots_) s["aids"].back()["gradient_estimates"] = shots_->block();
+    pf_integ_.set_enabled(sc_.aid_pf.integrity);
+    s["aids"].back()["integrity"] = pf_integ_.json();
+    s["aids"].back()["integrity"]["isolated_shots"] = aid_last_.pf_isolated;
+    pf_integ_.reasons("particle filter", "shots", aid_last_.pf_shots, why);
   }
+  if (s.value("completed", false))
+    for (const auto& w : why) s["degraded_reasons"].push_back(w);
   if (ref_) {
     json r;
     r["description"] = "the same task with every aid off, stepped in this process on the same sensor frames "

@@ -52,6 +52,7 @@ inline constexpr HealthBitName kHealthBits[] = {
     {GG_HEALTH_MM_NO_MAP, "MM_NO_MAP"},
     {GG_HEALTH_MM_GATED, "MM_GATED"},
     {GG_HEALTH_MM_FAIL, "MM_FAIL"},
+    {GG_HEALTH_AID_INTEGRITY, "AID_INTEGRITY"},
 };
 
 // The name of one bit, or its hex value if frame.h's table here does not name it.

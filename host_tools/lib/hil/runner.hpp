@@ -295,6 +295,11 @@ class Flight {
     s["health_counts"] = hc;
     s["aids"] = nlohmann::json::array();
     m_.report(s);
+    // the model's own reasons (an aid inconsistent or refused for part of the flight)
+    if (s["status"] == "completed" && !s["degraded_reasons"].empty()) {
+      s["status"] = "degraded";
+      s["degraded"] = true;
+    }
 
     s["wall_s"] = wall;
     s["setup_s"] = setup_s;

@@ -49,6 +49,7 @@ void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro
   m.sig0_acc_bias_mps2 = a.sig0_acc_bias_mps2;
   m.q_gyro_bias_rps_rts = a.q_gyro_bias_rps_rts;
   m.q_acc_bias_mps2_rts = a.q_acc_bias_mps2_rts;
+  m.integ = integrity_config(a);
 }
 
 }  // namespace ggins::truth3d

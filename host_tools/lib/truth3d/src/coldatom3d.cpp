@@ -29,6 +29,7 @@ void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
   m.chunk = a.chunk;
   m.end_chunk = a.end_chunk;
   m.feedback = a.feedback == "position" ? GG_AID_PF_FB_POS : GG_AID_PF_FB_POS_VEL;
+  m.integ = integrity_config(a);
   gg_pf_config_t& p = m.pf;
   const coldatom::GradiometerParams& g = ca.grad;
   p.n = a.particles;

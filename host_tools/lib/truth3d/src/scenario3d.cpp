@@ -220,6 +220,7 @@ sch::Table<AidPf3> aid_pf3_table() {
       .num("reg_bw", &A::reg_bw, "1", sch::in(0, 100), "regularisation bandwidth, x Silverman (the kernel h it gives must stay < 1: pf.h)")
       .num("gain", &A::gain, "1", sch::in_lopen(0, 1), "smoothing gain of the fed-back correction")
       .num("ess_frac", &A::ess_frac, "1", sch::in(0, 1), "resample when N_eff < ess_frac N");
+  integrity_keys(t, "weighed shots");
   return t;
 }
 

@@ -28,6 +28,7 @@
 //                              # reckoning, 15 in model mode): the task subtracts its estimates
 //   sig0_gyro_bias_rps, sig0_acc_bias_mps2            # their initial one-sigma (Gao Table 1)
 //   q_gyro_bias_rps_rts, q_acc_bias_mps2_rts          # their random walks
+//   integrity = true, integrity_window = 8, ...       # the integrity monitor (integrity3d.hpp)
 #pragma once
 
 #include <cstdint>
@@ -36,10 +37,11 @@
 #include <toml++/toml.h>
 
 #include "ggins/truth/scenario_schema.hpp"
+#include "ggins/truth3d/integrity3d.hpp"
 
 namespace ggins::truth3d {
 
-struct AidUkf3 {
+struct AidUkf3 : Integrity3 {
   bool enabled = false;
   std::vector<std::string> maps;  // as written in the scenario
   // the onboard map built from the scenario's field (ggins run3d: field_map.hpp)
@@ -148,6 +150,7 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
            "gyro bias random walk (bias states)")
       .num("q_acc_bias_mps2_rts", &A::q_acc_bias_mps2_rts, "m/s^2/sqrt(s)", sch::in(0, 1),
            "accelerometer bias random walk (bias states)");
+  integrity_keys(t, "map epochs");
   return t;
 }
 

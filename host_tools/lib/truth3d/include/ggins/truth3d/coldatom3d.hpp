@@ -52,6 +52,7 @@ extern "C" {
 }
 #include "ggins/coldatom/gradiometer.hpp"
 #include "ggins/coldatom/route_map.hpp"
+#include "ggins/truth3d/integrity3d.hpp"
 
 namespace ggins::truth3d {
 
@@ -65,7 +66,7 @@ struct ColdAtom3 {
   double topo_rms_m = 150.0;  // m, the route map's synthetic terrain (coldatom/route_map.hpp)
 };
 
-struct AidPf3 {
+struct AidPf3 : Integrity3 {
   bool enabled = false;
   std::string map_dir;  // as written in the scenario
   bool map_from_field = false;  // the runner writes the tiles from the sensor's route map
