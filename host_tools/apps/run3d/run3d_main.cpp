@@ -67,6 +67,7 @@ class Model3D {
     // directory of the cold-atom aid's Gamma_zz tiles (pf3d.hpp)
     using ggins::run3d::MapSource;
     using ggins::run3d::SourceKind;
+    const double t_maps = ggins::hil::mono_s();
     if (sc_.aid_ukf.enabled && sc_.aid_ukf.map_from_field) {  // tiles of the scenario's own field (field_map.hpp)
       if (!opt_.quiet) std::fprintf(stderr, "%s: the map aid's tiles from the scenario's field ...\n", opt_.tool.c_str());
       const fs::path dir = fs::absolute(out / "maps" / "aid_ukf").lexically_normal();
@@ -97,6 +98,7 @@ class Model3D {
       sources_.push_back(
           {fs::absolute(ggins::truth3d::aid_pf_map_dir(sc_.aid_pf, sc_.source)).lexically_normal().string(), SourceKind::kDir});
     }
+    map_build_s_ = ggins::hil::mono_s() - t_maps;
     if (sources_.size() > static_cast<size_t>(ggins::run3d::kMaxSources))
       throw Fail("the map storage has " + std::to_string(sources_.size()) + " sources; the configuration records " +
                  std::to_string(ggins::run3d::kMaxSources) + " at most (put the tiles into a directory)");
@@ -165,6 +167,7 @@ class Model3D {
   ggins::hil::LinkBase* link_ = nullptr;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
+  double map_build_s_ = 0;           // wall time of building the maps before the flight, s
   int64_t aid_closed_ = 0;           // map-aid epochs closed (updated or rejected)
   double aid_nis_sum_ = 0;           // sum of their NIS
   ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
@@ -636,6 +639,8 @@ void Model3D::report(json& s) {
                   {"tiles", records_[i].tiles}, {"bytes", records_[i].bytes},
                   {"blake2b", ggins::run3d::hex(records_[i].blake2b)}});
   s["map_storage"] = ms;
+  // the maps built before the flight (map_from_field): wall time apart from setup_s and wall_s
+  s["map_build_s"] = map_build_s_;
   // one block per aid of the flight, each named ({"name": ..., its counters})
   std::vector<std::string> why;  // an aid inconsistent or refused for part of the flight: degraded
   if (sc_.aid_ukf.enabled) {
