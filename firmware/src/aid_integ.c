@@ -46,7 +46,7 @@ gg_status_t gg_integ_init(gg_integ_t *m, const gg_integ_config_t *cfg, double do
     m->dof = dof;
     for (i = 0; i < GG_INTEG_WINDOW_MAX; ++i) {
         m->ring[i] = 0.0;
-        m->band[i] = wh_quantile(dof * (double)(i + 1), c.z);
+        m->band[i] = wh_quantile(dof * ((double)i + 1.0), c.z);
     }
     m->n = 0;
     m->head = 0;
@@ -85,7 +85,11 @@ static void integ_ladder(gg_integ_t *m, int out)
         m->run_in++;
         m->run_out = 0;
         if ((m->state != GG_INTEG_OK) && (m->run_in >= m->cfg.recover_after)) {
-            m->state = (m->state == GG_INTEG_ISOLATED) ? GG_INTEG_SUSPECT : GG_INTEG_OK;
+            if (m->state == GG_INTEG_ISOLATED) {
+                m->state = GG_INTEG_SUSPECT;
+            } else {
+                m->state = GG_INTEG_OK;
+            }
             m->run_in = 0;
         }
     }
