@@ -76,9 +76,10 @@ static struct {
     int ready;
 } g_fz_storage;
 
-static gg_status_t fz_tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
+static gg_status_t fz_tile_at(void *ctx, uint32_t kind, double lat, double lon, double h, const gg_gmap_t **tile)
 {
     (void)ctx;
+    (void)h;
     const gg_gmap_t *m = (kind == GG_GMAP_KIND_GZZ)      ? &g_fz_storage.map_gzz
                          : (kind == GG_GMAP_KIND_TENSOR) ? &g_fz_storage.map
                                                          : NULL;

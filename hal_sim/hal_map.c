@@ -1,6 +1,7 @@
 /* The simulated computer's map storage (hal_map.h). */
 #include "hal_map.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,23 +26,37 @@ static uint32_t kind_of(const gg_gmap_t *m)
     return (m->tile.flags & GG_GMAP_GZZ_ONLY) != 0u ? GG_GMAP_KIND_GZZ : GG_GMAP_KIND_TENSOR;
 }
 
-static gg_status_t tile_at(void *ctx, uint32_t kind, double lat_rad, double lon_rad, const gg_gmap_t **tile)
+static gg_status_t tile_at(void *ctx, uint32_t kind, double lat_rad, double lon_rad, double h_m,
+                          const gg_gmap_t **tile)
 {
     hal_map_store_t *s = (hal_map_store_t *)ctx;
-    int best = -1;
+    int best = -1;      /* farthest edge among all covering tiles */
     double best_m = 0.0;
+    int band = -1;      /* farthest edge, then nearest h0, among those holding h (the
+                         * layers of one grid have equal margins) */
+    double band_m = 0.0;
+    double band_dh = 0.0;
     s->lookups++;
     if (tile == NULL) return GG_ERR_NULL;
     for (int k = 0; k < s->n_tiles; ++k) {
         if (kind_of(s->tiles[k]) != kind) continue;
-        const double m = edge_margin(&s->tiles[k]->tile, lat_rad, lon_rad);
-        if (m >= 0.0 && (best < 0 || m > best_m)) {
+        const gg_gmap_tile_t *t = &s->tiles[k]->tile;
+        const double m = edge_margin(t, lat_rad, lon_rad);
+        if (!(m >= 0.0)) continue;
+        if (best < 0 || m > best_m) {
             best = k;
             best_m = m;
         }
+        const double dh = fabs(h_m - t->h0_m);
+        if (dh <= t->h_range_m &&
+            (band < 0 || m > band_m || (!(m < band_m) && dh < band_dh))) {
+            band = k;
+            band_m = m;
+            band_dh = dh;
+        }
     }
     if (best < 0) return GG_ERR_RANGE;
-    *tile = s->tiles[best];
+    *tile = s->tiles[band >= 0 ? band : best];
     return GG_OK;
 }
 

@@ -269,7 +269,10 @@ static void start_epoch(gg_aid_mm_t *a, const gg_aid_ins_t *ins, const gg_hal_ma
         (gg_geo_ecef_to_geodetic(ins->r_e, &lat, &lon, &h) == GG_OK)) {
         const double dlat = (double)lat;
         const double dlon = (double)lon;
-        st = map->tile_at(map->ctx, GG_GMAP_KIND_TENSOR, dlat, dlon, &tile);
+        st = map->tile_at(map->ctx, GG_GMAP_KIND_TENSOR, dlat, dlon, (double)h, &tile);
+    }
+    if ((st == GG_OK) && (tile != NULL) && !(fabs((double)h - tile->tile.h0_m) <= tile->tile.h_range_m)) {
+        st = GG_ERR_RANGE; /* the tile's height band does not hold the position */
     }
     if ((st != GG_OK) || (tile == NULL)) {
         a->health |= GG_AID_MM_H_NO_MAP;

@@ -3,6 +3,7 @@
  * closed-loop hand-over (aid_pf.h). */
 #include "ggins/aid_pf.h"
 
+#include <math.h>
 #include <stddef.h>
 
 #include "ggins/geo.h"
@@ -30,8 +31,8 @@ static int32_t aid_pf_page(gg_aid_pf_t *a, const gg_hal_map_t *map)
     ops.gzz = aid_pf_no_map;
     ops.ctx = NULL;
     if ((map != NULL) && (map->tile_at != NULL) &&
-        (map->tile_at(map->ctx, GG_GMAP_KIND_GZZ, a->shot.lat, a->shot.lon, &tile) == GG_OK) && (tile != NULL) &&
-        ((tile->tile.flags & GG_GMAP_ANOMALY) == 0U) && (gg_pf_map_from_gmap(tile, &ops) == GG_OK)) {
+        (map->tile_at(map->ctx, GG_GMAP_KIND_GZZ, a->shot.lat, a->shot.lon, a->shot.h, &tile) == GG_OK) && (tile != NULL) &&
+        (fabs(a->shot.h - tile->tile.h0_m) <= tile->tile.h_range_m) && ((tile->tile.flags & GG_GMAP_ANOMALY) == 0U) && (gg_pf_map_from_gmap(tile, &ops) == GG_OK)) {
         ok = 1;
     } else {
         ops.gzz = aid_pf_no_map;

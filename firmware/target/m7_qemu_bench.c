@@ -75,9 +75,11 @@ static gg_nav3d_output_t g_out3;
 static gg_gmap_tile_t g_tile;
 static gg_gmap_t g_map;
 
-static gg_status_t board_tile_at(void *ctx, uint32_t kind, double lat_rad, double lon_rad, const gg_gmap_t **tile)
+static gg_status_t board_tile_at(void *ctx, uint32_t kind, double lat_rad, double lon_rad, double h_m,
+                                 const gg_gmap_t **tile)
 {
     (void)ctx;
+    (void)h_m;
     (void)kind; /* one tile of the whole tensor serves both aids (the cycle count only) */
     (void)lat_rad;
     (void)lon_rad;

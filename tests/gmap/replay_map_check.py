@@ -36,7 +36,7 @@ def main():
     os.makedirs(os.path.join(w, "tiles"))
     tile = os.path.join(w, "tiles", "tile_45n10e.bin")
     subprocess.run([a.ggins_gmap, "--lat-min", "44.8", "--lat-max", "45.78", "--lon-min", "9.51", "--lon-max",
-                    "10.49", "--spacing", "0.02", "--alt", "5000", "--h-range", "500", "--degree", "36",
+                    "10.49", "--spacing", "0.02", "--alt", "5000", "--h-range", "3000", "--degree", "36",
                     "--noise-e", "0.001", "--egm96", a.egm96, "--threads", "1", "--out", tile], check=True,
                    stdout=subprocess.DEVNULL)
     text = open(SCEN).read()
@@ -60,7 +60,8 @@ def main():
 
     # the tile is of degree 36, the field of degree 360: its innovations are far outside their
     # chi-square band, so the integrity monitor de-weights, then isolates the aid, and the flight
-    # ends degraded; the replay below covers updates and isolated epochs both
+    # ends degraded; the replay below covers updates and isolated epochs both (the tile's height
+    # band is wide, so that the wrong map's pull on the height does not end its epochs first)
     s = json.load(open(os.path.join(out, "summary.json")))
     check(p.returncode == 4 and s.get("status") == "degraded" and
           any(r.startswith("map aid inconsistent") for r in s.get("degraded_reasons", [])),

@@ -87,8 +87,9 @@ typedef struct {
     int calls;
 } store_t;
 
-static gg_status_t store_tile_at(void *ctx, uint32_t kind, double lat, double lon, const gg_gmap_t **tile)
+static gg_status_t store_tile_at(void *ctx, uint32_t kind, double lat, double lon, double h, const gg_gmap_t **tile)
 {
+    (void)h;
     store_t *s = (store_t *)ctx;
     const gg_gmap_tile_t *t = &s->map->tile;
     s->calls++;

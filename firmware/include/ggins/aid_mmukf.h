@@ -126,7 +126,7 @@
 #endif
 
 /** Aid health (gg_aid_mm_t.health, mapped onto GG_HEALTH_MM_* by the task). */
-#define GG_AID_MM_H_NO_MAP 0x01u    /**< no tile of the map storage covers the position */
+#define GG_AID_MM_H_NO_MAP 0x01u    /**< no tile of the map storage covers the position at its height */
 #define GG_AID_MM_H_GATED 0x02u     /**< the epoch's innovation failed the NIS gate */
 #define GG_AID_MM_H_FAIL 0x04u      /**< the UKF rejected an operation (not PD, sigma point off the tile) */
 #define GG_AID_MM_H_BAD_MEAS 0x08u  /**< epoch postponed: the gradient was rebuilt, coasting or bridged */
@@ -223,7 +223,7 @@ typedef struct {
     uint32_t n_epochs;                            /**< epochs started */
     uint32_t n_updates;                           /**< epochs with an accepted update */
     uint32_t n_rejected;                          /**< epochs gated or failed */
-    uint32_t n_no_map;                            /**< epochs without a covering tile */
+    uint32_t n_no_map;                            /**< epochs without a tile covering the position at its height */
     double last_nis;                              /**< NIS of the last epoch (single update with R) */
     int32_t initialized;
     /* the epoch's averaging window (sums over its valid steps, ECEF axes) */

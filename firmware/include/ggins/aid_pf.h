@@ -87,7 +87,7 @@
 /** Aid health (gg_aid_pf_t.health, mapped onto GG_HEALTH_PF_* by the task). */
 #define GG_AID_PF_H_SHOT_INVALID 0x01u /**< the shot's pair was NaN/Inf or out of range */
 #define GG_AID_PF_H_DROPPED 0x02u      /**< a shot was dropped (one already waiting) */
-#define GG_AID_PF_H_NO_MAP 0x04u       /**< no tile covers the shot's position: predicted only */
+#define GG_AID_PF_H_NO_MAP 0x04u       /**< no tile covers the shot's position at its height: predicted only */
 #define GG_AID_PF_H_DEGENERATE 0x08u   /**< every candidate off the map: weights reset */
 #define GG_AID_PF_H_FAIL 0x10u         /**< an operation of the filter was rejected */
 #define GG_AID_PF_H_SUSPECT 0x20u      /**< integrity monitor (aid_integ.h): SUSPECT, feedback halved */

@@ -21,15 +21,20 @@ struct gg_nav3d_output_s; /* nav3d.h */
  *  carries (flash, a file system), paged by the navigation task as it flies.
  *  An aid asks for the tile of its kind (GG_GMAP_KIND_TENSOR: the map UKF;
  *  GG_GMAP_KIND_GZZ: the cold-atom particle filter) covering its estimated
- *  position at each measurement and reads it through gg_gmap_eval; the storage
- *  chooses among the overlapping tiles of that kind the one whose edge is
- *  farthest from the point. */
+ *  position at each measurement and reads it through gg_gmap_eval. A map may
+ *  hold several height layers of the same area (tiles of one grid at different
+ *  h0_m): the storage chooses, among the tiles of that kind covering (lat, lon),
+ *  those whose height band |h - h0_m| <= h_range_m holds h, and among them the
+ *  one whose edge is farthest from the point (equal margins: the nearest h0_m);
+ *  when no covering tile holds h, the covering tile with the farthest edge (the
+ *  aid then sees h outside the tile's band and refuses the tile). */
 typedef struct {
     void *ctx; /**< implementation's own state */
-    /** The tile of the kind asked for covering geodetic (lat, lon), rad: GG_OK
-     *  with *tile set (valid until the next call), GG_ERR_RANGE when no tile of
-     *  that kind covers the point. */
-    gg_status_t (*tile_at)(void *ctx, uint32_t kind, double lat_rad, double lon_rad, const gg_gmap_t **tile);
+    /** The tile of the kind asked for covering geodetic (lat, lon), rad, at
+     *  ellipsoidal height h_m: GG_OK with *tile set (valid until the next call),
+     *  GG_ERR_RANGE when no tile of that kind covers the point horizontally. */
+    gg_status_t (*tile_at)(void *ctx, uint32_t kind, double lat_rad, double lon_rad, double h_m,
+                           const gg_gmap_t **tile);
 } gg_hal_map_t;
 
 typedef struct {

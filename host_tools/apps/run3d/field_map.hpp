@@ -11,11 +11,23 @@
 // their neighbours by map_margin_deg; a tile no route sample comes within the margin of
 // is left out. The aid takes, at each epoch's start, the tile whose edge is farthest
 // from the position (hal_sim/hal_map.c), so within the overlap an epoch's sigma points
-// stay inside one tile. Height: the tiles are at the route's mid height and accept
-// |h - alt| up to half the route's height span + 300 m.
+// stay inside one tile.
+//
+// Height: a route whose height span is at most kLayerMaxM (600 m) gets one layer, at its
+// mid height, accepting |h - alt| up to half the span + 300 m. A route that climbs or
+// descends more gets height layers per footprint: the heights of the route samples within
+// the footprint (and its margin) span [h_lo, h_hi]; n = ceil((h_hi - h_lo) / 600 m) layers
+// (1 where the route is level there) of equal thickness t <= 600 m, centred at
+// h_lo + (k + 1/2) t, each accepting |h - h0| <= t/2 + 300 m (the 300 m: an epoch's climb
+// after its tile was chosen). The storage serves the layer whose h0 is nearest (hal.h), so
+// |h - h0| <= t/2 at an epoch's start. The first-order height term errs by ~(h - h0)^2/2
+// d2Gamma/dh2: measured 3.8e-3 E at 1000 m from h0 (docs/map-matching.md), so <= 3.4e-4 E at
+// 300 m and <= 1.4e-3 E at 600 m, beside the map's 1e-3 E database noise. A position above
+// or below every layer is refused by the aid (no map at that height).
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -54,23 +66,30 @@ class ThirdByDifferences final : public gravity::Field {
   const gravity::Field& f_;
 };
 
+constexpr double kLayerMaxM = 600.0;    // thickest height layer, m
+constexpr double kLayerEpochM = 300.0;  // band beyond a layer's half thickness, m
+
 struct FieldMap {
   std::filesystem::path dir;  // the tiles, *.gmap in load order
   int tiles = 0;
-  double lat_min_deg = 0, lat_max_deg = 0, lon_min_deg = 0, lon_max_deg = 0, alt_m = 0, h_range_m = 0;
+  double lat_min_deg = 0, lat_max_deg = 0, lon_min_deg = 0, lon_max_deg = 0;
+  double alt_m = 0, h_range_m = 0;  // one layer: its height and band; layers: the route's mid height, widest band
+  double h_min_m = 0, h_max_m = 0;  // the route's height span
+  int footprints = 0;               // horizontal tiles
+  int layers_max = 1;               // most layers of one footprint
 };
 
 inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_s, int nmax,
-                                const truth3d::AidUkf3& a, const std::filesystem::path& dir) {
+                                const truth3d::AidUkf3& a, const std::filesystem::path& dir, int threads = 2) {
   namespace fs = std::filesystem;
   const double deg = 180.0 / M_PI;
-  std::vector<std::array<double, 2>> pts;  // lat, lon (deg) of the route samples
+  std::vector<std::array<double, 3>> pts;  // lat, lon (deg), h (m) of the route samples
   double h_min = 1e300, h_max = -1e300;
   const int64_t n = static_cast<int64_t>(std::ceil(duration_s / 10.0));
   for (int64_t i = 0; i <= n; ++i) {
     const double t = std::min(duration_s, 10.0 * static_cast<double>(i));
     const truth3d::State3 s = gen.trajectory().at(static_cast<truth3d::Real>(t));
-    pts.push_back({static_cast<double>(s.lat) * deg, static_cast<double>(s.lon) * deg});
+    pts.push_back({static_cast<double>(s.lat) * deg, static_cast<double>(s.lon) * deg, static_cast<double>(s.h)});
     h_min = std::min(h_min, static_cast<double>(s.h));
     h_max = std::max(h_max, static_cast<double>(s.h));
   }
@@ -97,6 +116,10 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
     throw std::runtime_error("aid_ukf.map_from_field: the route with its margin reaches beyond 89 deg of latitude");
   fm.alt_m = 0.5 * (h_min + h_max);
   fm.h_range_m = 0.5 * (h_max - h_min) + 300.0;
+  fm.h_min_m = h_min;
+  fm.h_max_m = h_max;
+  const bool layered = h_max - h_min > kLayerMaxM;
+  if (layered) fm.h_range_m = 0;
   const int side = static_cast<int>(std::floor(std::sqrt(static_cast<double>(GG_GMAP_MAX_NODES))));
   const double span = (side - 1) * d, stride = span - m;
   if (!(stride > d)) throw std::runtime_error("aid_ukf.map_margin_deg is too wide for tiles of " + std::to_string(side) +
@@ -110,29 +133,48 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
     for (double lo = fm.lon_min_deg; lo < fm.lon_max_deg - 1e-12; lo += stride) {
       const double la1 = std::min(la + span, fm.lat_max_deg), lo1 = std::min(lo + span, fm.lon_max_deg);
       bool near = false;  // a route sample within the margin of this tile
+      double f_lo = 1e300, f_hi = -1e300;  // its heights there
       for (const auto& p : pts)
-        near = near || (p[0] >= la - m && p[0] <= la1 + m && p[1] >= lo - m && p[1] <= lo1 + m);
+        if (p[0] >= la - m && p[0] <= la1 + m && p[1] >= lo - m && p[1] <= lo1 + m) {
+          near = true;
+          f_lo = std::min(f_lo, p[2]);
+          f_hi = std::max(f_hi, p[2]);
+        }
       if (!near) continue;
-      gmap::TileSpec spec;
-      spec.lat_min_deg = la;
-      spec.lat_max_deg = std::max(la1, la + 3 * d);  // at least 4 nodes a side (gmap_gen)
-      spec.lon_min_deg = lo;
-      spec.lon_max_deg = std::max(lo1, lo + 3 * d);
-      spec.spacing_deg = d;
-      spec.alt_m = fm.alt_m;
-      spec.h_range_m = fm.h_range_m;
-      spec.nmax = nmax;
-      spec.noise_e = a.map_noise_E;
-      spec.seed = a.map_seed * 1000003ull + static_cast<uint64_t>(fm.tiles);
-      spec.threads = 1;
-      const auto tile = gmap::make_tile(field, spec);
-      const std::vector<std::uint8_t> bytes = gmap::encode(*tile);
-      char name[32];
-      std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
-      std::ofstream f(dir / name, std::ios::binary);
-      f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-      if (!f) throw std::runtime_error("cannot write " + (dir / name).string());
-      ++fm.tiles;
+      ++fm.footprints;
+      // the layers of this footprint: (h0, band)
+      std::vector<std::array<double, 2>> layers;
+      if (!layered) {
+        layers.push_back({fm.alt_m, fm.h_range_m});
+      } else {
+        const int nl = std::max(1, static_cast<int>(std::ceil((f_hi - f_lo) / kLayerMaxM - 1e-9)));
+        const double t = (f_hi - f_lo) / nl;
+        for (int k = 0; k < nl; ++k) layers.push_back({f_lo + (k + 0.5) * t, 0.5 * t + kLayerEpochM});
+        fm.layers_max = std::max(fm.layers_max, nl);
+        fm.h_range_m = std::max(fm.h_range_m, 0.5 * t + kLayerEpochM);
+      }
+      for (const auto& L : layers) {
+        gmap::TileSpec spec;
+        spec.lat_min_deg = la;
+        spec.lat_max_deg = std::max(la1, la + 3 * d);  // at least 4 nodes a side (gmap_gen)
+        spec.lon_min_deg = lo;
+        spec.lon_max_deg = std::max(lo1, lo + 3 * d);
+        spec.spacing_deg = d;
+        spec.alt_m = L[0];
+        spec.h_range_m = L[1];
+        spec.nmax = nmax;
+        spec.noise_e = a.map_noise_E;
+        spec.seed = a.map_seed * 1000003ull + static_cast<uint64_t>(fm.tiles);
+        spec.threads = threads;
+        const auto tile = gmap::make_tile(field, spec);
+        const std::vector<std::uint8_t> bytes = gmap::encode(*tile);
+        char name[32];
+        std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
+        std::ofstream f(dir / name, std::ios::binary);
+        f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+        if (!f) throw std::runtime_error("cannot write " + (dir / name).string());
+        ++fm.tiles;
+      }
     }
   }
   if (fm.tiles == 0) throw std::runtime_error("aid_ukf.map_from_field: no tile along the route");

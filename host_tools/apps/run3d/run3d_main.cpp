@@ -73,7 +73,11 @@ class Model3D {
       const fs::path dir = fs::absolute(out / "maps" / "aid_ukf").lexically_normal();
       const int nmax = sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0;  // tile metadata
       try {
-        ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, sc_.aid_ukf, dir);
+        const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, sc_.aid_ukf, dir);
+        if (!opt_.quiet)
+          std::fprintf(stderr, "%s: %d tiles: %d footprints, up to %d height layers over %.0f .. %.0f m (%.1f s)\n",
+                       opt_.tool.c_str(), fm.tiles, fm.footprints, fm.layers_max, fm.h_min_m, fm.h_max_m,
+                       ggins::hil::mono_s() - t_maps);
       } catch (const std::exception& e) {
         throw Fail(e.what(), ggins::cli::kExitBadArgs);
       }

@@ -69,7 +69,7 @@ class IntegrityTrack {
       out.push_back(b);
     }
     if (refused_ > 0) {
-      std::snprintf(b, sizeof b, "%s refused %lld of %lld %s: no map tile covers the position (first at t = %.1f s)",
+      std::snprintf(b, sizeof b, "%s refused %lld of %lld %s: no map tile covers the position at its height (first at t = %.1f s)",
                     aid.c_str(), static_cast<long long>(refused_), static_cast<long long>(total), unit.c_str(),
                     first_refused_s_);
       out.push_back(b);
