@@ -6,9 +6,11 @@
  * flash; each aid of the 3-D task asks for the tile of its kind (the whole
  * tensor for the map UKF, Gamma_DD alone for the cold-atom aid: the flag
  * GG_GMAP_GZZ_ONLY, gmap.h) covering its estimated position at each of its
- * measurements, and is served only tiles of that kind. Of several such tiles
- * covering a point the one whose nearest edge is farthest from it (in node
- * spacings) is given, so the aid's sigma points or particles stay inside.
+ * measurements and height, and is served only tiles of that kind. Of several
+ * such tiles covering a point, those whose height band holds the height come
+ * first (height layers of one area); of those the one whose nearest edge is
+ * farthest from it (in node spacings) is given, so the aid's sigma points or
+ * particles stay inside, and among equal margins the nearest layer (hal.h).
  */
 #ifndef GGINS_HAL_MAP_H
 #define GGINS_HAL_MAP_H

@@ -6,7 +6,11 @@
 //     the scenario's field is its fast lattice of the same synthesis and the height
 //     derivatives are central differences;
 //   - the route covered: every point of it inside a tile by at least half the margin;
-//   - central-difference third derivatives against the point mass's closed form.
+//   - central-difference third derivatives against the point mass's closed form;
+//   - a route climbing 3000 -> 6000 m: the layers the map storage (hal_sim/hal_map.c) serves
+//     at each point of the route, interpolated by the firmware (gg_gmap_eval) at the point's
+//     own height, against the exact EGM96 synthesis there; above and below every layer the
+//     storage's tile does not hold the height (the aid refuses it).
 // Skipped (77) without data/egm96_to360.ascii.txt.
 #include <unistd.h>
 
@@ -19,6 +23,7 @@
 #include "ggins/gmap_gen.hpp"
 #include "ggins/truth3d/generator3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
+#include "hal_map.h"
 
 // cmocka last: its fail() macro would rename the schema's fail()
 #include <setjmp.h>
@@ -126,6 +131,89 @@ static void test_third_by_differences(void** state) {
   assert_true(worst < 1e-8L * big);
 }
 
+static void test_layers_climbing(void** state) {
+  (void)state;
+  const std::string toml = R"(name = "climb-layers"
+[trajectory]
+type = "route"
+lat_deg = 50.0
+lon_deg = 8.0
+height_m = 3000.0
+speed_mps = 200.0
+[[trajectory.waypoint]]
+lat_deg = 50.0
+lon_deg = 9.5
+height_m = 6000.0
+climb_rate_mps = 10.0
+vertical_accel_mps2 = 0.5
+[gravity]
+model = "egm96"
+[time]
+duration_s = 500.0
+rate_hz = 100.0
+)";
+  ggins::truth3d::Scenario3 sc = ggins::truth3d::parse_scenario3(toml, "climb-layers", "test_field_map");
+  sc.sh.path = kEgm;
+  const ggins::truth3d::Generator3 gen(sc);
+  ggins::truth3d::AidUkf3 a;
+  a.map_from_field = true;
+  a.map_noise_E = 0.0;
+  a.map_spacing_deg = 0.05;
+  a.map_margin_deg = 0.1;
+  const fs::path dir = fs::temp_directory_path() / ("ggins-field-layers-" + std::to_string(::getpid()));
+  const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen, sc.duration_s, 360, a, dir);
+  std::printf("climb %.0f .. %.0f m: %d tiles in %d footprints, up to %d layers, widest band %.1f m\n", fm.h_min_m,
+              fm.h_max_m, fm.tiles, fm.footprints, fm.layers_max, fm.h_range_m);
+  assert_true(fm.h_max_m - fm.h_min_m > 2900.0);
+  assert_true(fm.layers_max >= 5);
+  static hal_map_store_t store;
+  hal_map_init(&store);
+  char err[256];
+  for (int k = 0; k < fm.tiles; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "tile_%04d.gmap", k);
+    assert_int_equal(hal_map_load(&store, (dir / name).string().c_str(), err, sizeof err), 0);
+  }
+  const auto exact = gm::make_egm96_field(kEgm, 360, false);
+  double worst = 0, worst_dh = 0, change = 0;
+  for (int s = 0; s <= static_cast<int>(sc.duration_s); s += 5) {
+    const auto st = gen.trajectory().at(static_cast<ggins::truth3d::Real>(s));
+    const double la = static_cast<double>(st.lat), lo = static_cast<double>(st.lon), h = static_cast<double>(st.h);
+    const gg_gmap_t* t = nullptr;
+    assert_int_equal(store.ops.tile_at(store.ops.ctx, GG_GMAP_KIND_TENSOR, la, lo, h, &t), GG_OK);
+    const double dh = std::fabs(h - t->tile.h0_m);
+    assert_true(dh <= t->tile.h_range_m);
+    assert_true(dh <= 0.5 * ggins::run3d::kLayerMaxM + 1e-6);  // the nearest layer
+    worst_dh = std::max(worst_dh, dh);
+    gg_gmap_sample_t smp;
+    assert_int_equal(gg_gmap_eval(t, la, lo, h, GG_GMAP_MASK_ALL, 0, &smp), GG_OK);
+    double ref[GG_GMAP_NVAL], ref0[GG_GMAP_NVAL];
+    gm::node_values(*exact, la, lo, h, ref);
+    gm::node_values(*exact, la, lo, t->tile.h0_m, ref0);
+    for (int c = 0; c < 6; ++c) {
+      worst = std::max(worst, std::fabs(static_cast<double>(smp.gamma[c]) - ref[c]));
+      change = std::max(change, std::fabs(ref[c] - ref0[c]));
+    }
+  }
+  std::printf("served layer at the route's height: |h - h0| <= %.1f m (the field changes by up to %.3f E over it); "
+              "interpolation error against exact EGM96-360 %.3e E\n",
+              worst_dh, change * 1e9, worst * 1e9);
+  // 0.05 deg horizontally 4.5e-4 E, the height term <= 3.4e-4 E at 300 m (docs/map-matching.md)
+  assert_true(worst * 1e9 < 1.0e-3);
+  // beyond the span: the storage's tile does not hold the height
+  const auto st = gen.trajectory().at(250.0L);
+  for (const double h : {fm.h_min_m - 1000.0, fm.h_max_m + 1000.0}) {
+    const gg_gmap_t* t = nullptr;
+    assert_int_equal(store.ops.tile_at(store.ops.ctx, GG_GMAP_KIND_TENSOR, static_cast<double>(st.lat),
+                                       static_cast<double>(st.lon), h, &t),
+                     GG_OK);
+    assert_false(std::fabs(h - t->tile.h0_m) <= t->tile.h_range_m);
+  }
+  hal_map_free(&store);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
 int main() {
   if (!fs::exists(kEgm)) {
     std::printf("no %s: skipped\n", kEgm.c_str());
@@ -134,6 +222,7 @@ int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_third_by_differences),
       cmocka_unit_test(test_tiles_against_egm96),
+      cmocka_unit_test(test_layers_climbing),
   };
   return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
