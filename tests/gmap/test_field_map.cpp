@@ -183,7 +183,7 @@ rate_hz = 100.0
     assert_int_equal(store.ops.tile_at(store.ops.ctx, GG_GMAP_KIND_TENSOR, la, lo, h, &t), GG_OK);
     const double dh = std::fabs(h - t->tile.h0_m);
     assert_true(dh <= t->tile.h_range_m);
-    assert_true(dh <= 0.5 * ggins::run3d::kLayerMaxM + 1e-6);  // the nearest layer
+    assert_true(dh <= 0.5 * gm::kLayerMaxM + 1e-6);  // the nearest layer
     worst_dh = std::max(worst_dh, dh);
     gg_gmap_sample_t smp;
     assert_int_equal(gg_gmap_eval(t, la, lo, h, GG_GMAP_MASK_ALL, 0, &smp), GG_OK);

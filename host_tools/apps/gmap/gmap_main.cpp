@@ -1,10 +1,14 @@
 // ggins gmap: generate an onboard gravity-gradient map tile (firmware gmap.h)
-// from EGM96 for a lat/lon box at one altitude, for the map-matching UKF (Gao et al.) and the cold-atom particle filter (Phillips et al.).
+// from EGM96 for a lat/lon box at one altitude (or height layers over a span), for the map-matching UKF (Gao et al.) and the cold-atom particle filter (Phillips et al.).
 #include <CLI/CLI.hpp>
 
 #include "ggins/cli_checks.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
 #include <cstdio>
 #include <fstream>
 
@@ -24,7 +28,11 @@ int main(int argc, char** argv) {
       "Gradient tensor Gamma = dG/dx of EGM96 (spherical harmonics to --degree; total = WGS-84 normal\n"
       "gravitation + disturbance, or --anomaly = disturbance only) in the NED frame of each node, six\n"
       "components NN EE DD NE ND ED (s^-2) and their height derivatives, on a lat/lon grid at --alt.\n"
-      "The map-matching UKF uses the TOTAL field. --noise-e adds seeded N(0, sigma) database noise.\n\n"
+      "The map-matching UKF uses the TOTAL field. --noise-e adds seeded N(0, sigma) database noise.\n"
+      "Height layers for a flight that climbs: --alt-to H writes the layers between --alt and H\n"
+      "(at most --layer-m thick, each accepting half its thickness + --h-range), one file per layer,\n"
+      "named after --out/--json with _h<height> before the extension; the map storage serves the layer\n"
+      "holding the aid's height.\n\n"
       "Exit status: 0 written; 1 failed (e.g. the coefficient file does not read, an output not written);\n"
       "2 bad arguments (the option, its value and the allowed range are named)."};
   app.add_option("--lat-min", sp.lat_min_deg, "south edge, deg")->required()->check(cli::FiniteRange(-90, 90));
@@ -41,7 +49,13 @@ int main(int argc, char** argv) {
   app.add_option("--alt", sp.alt_m, "grid height above the WGS-84 ellipsoid, m")
       ->capture_default_str()
       ->check(cli::FiniteRange(-1e4, 1e6));
-  app.add_option("--h-range", sp.h_range_m, "accepted |h - alt| on board, m")
+  double alt_to = NAN, layer_m = ggins::gmap::kLayerMaxM;
+  app.add_option("--alt-to", alt_to, "top of the height span: height layers from --alt to this, m")
+      ->check(cli::FiniteRange(-1e4, 1e6));
+  app.add_option("--layer-m", layer_m, "thickest height layer with --alt-to, m")
+      ->capture_default_str()
+      ->check(cli::FiniteRange(0, 1e5, cli::kOpenLow));
+  app.add_option("--h-range", sp.h_range_m, "accepted |h - alt| on board, m (with --alt-to: beyond each layer's half thickness)")
       ->capture_default_str()
       ->check(cli::FiniteRange(0, 1e6, cli::kOpenLow));
   app.add_option("--degree", sp.nmax, "spherical-harmonic degree (2..360)")->capture_default_str()->check(cli::IntRange(2, 360));
@@ -62,24 +76,50 @@ int main(int argc, char** argv) {
     if (out_bin.empty() && out_json.empty()) throw cli::BadArgument("give --out and/or --json");
     if (!(sp.lat_max_deg >= sp.lat_min_deg) || !(sp.lon_max_deg >= sp.lon_min_deg))
       throw cli::BadArgument("the box needs --lat-max >= --lat-min and --lon-max >= --lon-min");
-    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<ggins::gmap::Layer> layers{{sp.alt_m, sp.h_range_m}};
+    const bool layered = !std::isnan(alt_to);
+    if (layered) {
+      if (!(alt_to > sp.alt_m)) throw cli::BadArgument("--alt-to must be above --alt");
+      layers = ggins::gmap::height_layers(sp.alt_m, alt_to, layer_m, sp.h_range_m);
+    }
+    // with layers: tile.bin -> tile_h03150.bin
+    auto named = [&](const std::string& path, double h0) {
+      if (!layered || path.empty()) return path;
+      const std::filesystem::path p(path);
+      char tag[32];
+      std::snprintf(tag, sizeof tag, "_h%05.0f", h0);
+      return (p.parent_path() / (p.stem().string() + tag + p.extension().string())).string();
+    };
     auto field = ggins::gmap::make_egm96_field(egm, sp.nmax, sp.anomaly);
-    auto tile = ggins::gmap::make_tile(*field, sp);
-    if (gzz_only) {
-      tile->flags |= GG_GMAP_GZZ_ONLY;
-      for (int n = 0; n < tile->nlat * tile->nlon; ++n)
-        for (int k = 0; k < GG_GMAP_NVAL; ++k)
-          if (k != GG_GMAP_C_DD && k != GG_GMAP_NCOMP + GG_GMAP_C_DD) tile->node[n][k] = 0.0;
+    const std::uint64_t seed0 = sp.seed;
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      sp.alt_m = layers[k].h0_m;
+      sp.h_range_m = layers[k].h_range_m;
+      sp.seed = seed0 + k;  // each layer its own noise
+      auto tile = ggins::gmap::make_tile(*field, sp);
+      if (gzz_only) {
+        tile->flags |= GG_GMAP_GZZ_ONLY;
+        for (int n = 0; n < tile->nlat * tile->nlon; ++n)
+          for (int c = 0; c < GG_GMAP_NVAL; ++c)
+            if (c != GG_GMAP_C_DD && c != GG_GMAP_NCOMP + GG_GMAP_C_DD) tile->node[n][c] = 0.0;
+      }
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (!out_bin.empty()) {
+        const auto b = ggins::gmap::encode(*tile);
+        cli::write_file(named(out_bin, sp.alt_m), std::string(reinterpret_cast<const char*>(b.data()), b.size()),
+                        true);
+      }
+      if (!out_json.empty()) cli::write_file(named(out_json, sp.alt_m), ggins::gmap::to_json(*tile).dump(1) + "\n");
+      std::printf("gmap: %d x %d nodes (%d of %d), %.4f deg, alt %.1f m +- %.1f m, degree %d, %s, noise %.4g E, seed %llu, "
+                  "%.1f s%s\n",
+                  tile->nlat, tile->nlon, tile->nlat * tile->nlon, GG_GMAP_MAX_NODES, sp.spacing_deg, sp.alt_m,
+                  sp.h_range_m, sp.nmax,
+                  gzz_only ? (sp.anomaly ? "anomaly Gamma_DD" : "total Gamma_DD") : (sp.anomaly ? "anomaly" : "total"),
+                  sp.noise_e, static_cast<unsigned long long>(sp.seed), s,
+                  layered ? (" -> " + named(out_bin.empty() ? out_json : out_bin, sp.alt_m)).c_str() : "");
+      std::fflush(stdout);
     }
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!out_bin.empty()) {
-      const auto b = ggins::gmap::encode(*tile);
-      cli::write_file(out_bin, std::string(reinterpret_cast<const char*>(b.data()), b.size()), true);
-    }
-    if (!out_json.empty()) cli::write_file(out_json, ggins::gmap::to_json(*tile).dump(1) + "\n");
-    std::printf("gmap: %d x %d nodes (%d of %d), %.4f deg, alt %.1f m, degree %d, %s, noise %.4g E, seed %llu, %.1f s\n",
-                tile->nlat, tile->nlon, tile->nlat * tile->nlon, GG_GMAP_MAX_NODES, sp.spacing_deg, sp.alt_m, sp.nmax,
-                gzz_only ? (sp.anomaly ? "anomaly Gamma_DD" : "total Gamma_DD") : (sp.anomaly ? "anomaly" : "total"), sp.noise_e, static_cast<unsigned long long>(sp.seed), s);
     return 0;
   });
 }

@@ -13,13 +13,12 @@
 // from the position (hal_sim/hal_map.c), so within the overlap an epoch's sigma points
 // stay inside one tile.
 //
-// Height: a route whose height span is at most kLayerMaxM (600 m) gets one layer, at its
-// mid height, accepting |h - alt| up to half the span + 300 m. A route that climbs or
-// descends more gets height layers per footprint: the heights of the route samples within
-// the footprint (and its margin) span [h_lo, h_hi]; n = ceil((h_hi - h_lo) / 600 m) layers
-// (1 where the route is level there) of equal thickness t <= 600 m, centred at
-// h_lo + (k + 1/2) t, each accepting |h - h0| <= t/2 + 300 m (the 300 m: an epoch's climb
-// after its tile was chosen). The storage serves the layer whose h0 is nearest (hal.h), so
+// Height: a route whose height span is at most gmap::kLayerMaxM (600 m) gets one layer, at
+// its mid height, accepting |h - alt| up to half the span + 300 m. A route that climbs or
+// descends more gets height layers per footprint (gmap::height_layers): the heights of the
+// route samples within the footprint (and its margin) span [h_lo, h_hi]; layers of equal
+// thickness t <= 600 m (one where the route is level there), each accepting
+// |h - h0| <= t/2 + 300 m (the 300 m: an epoch's climb after its tile was chosen). The storage serves the layer whose h0 is nearest (hal.h), so
 // |h - h0| <= t/2 at an epoch's start. The first-order height term errs by ~(h - h0)^2/2
 // d2Gamma/dh2: measured 3.8e-3 E at 1000 m from h0 (docs/map-matching.md), so <= 3.4e-4 E at
 // 300 m and <= 1.4e-3 E at 600 m, beside the map's 1e-3 E database noise. A position above
@@ -65,9 +64,6 @@ class ThirdByDifferences final : public gravity::Field {
  private:
   const gravity::Field& f_;
 };
-
-constexpr double kLayerMaxM = 600.0;    // thickest height layer, m
-constexpr double kLayerEpochM = 300.0;  // band beyond a layer's half thickness, m
 
 struct FieldMap {
   std::filesystem::path dir;  // the tiles, *.gmap in load order
@@ -118,7 +114,7 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
   fm.h_range_m = 0.5 * (h_max - h_min) + 300.0;
   fm.h_min_m = h_min;
   fm.h_max_m = h_max;
-  const bool layered = h_max - h_min > kLayerMaxM;
+  const bool layered = h_max - h_min > gmap::kLayerMaxM;
   if (layered) fm.h_range_m = 0;
   const int side = static_cast<int>(std::floor(std::sqrt(static_cast<double>(GG_GMAP_MAX_NODES))));
   const double span = (side - 1) * d, stride = span - m;
@@ -143,15 +139,11 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
       if (!near) continue;
       ++fm.footprints;
       // the layers of this footprint: (h0, band)
-      std::vector<std::array<double, 2>> layers;
-      if (!layered) {
-        layers.push_back({fm.alt_m, fm.h_range_m});
-      } else {
-        const int nl = std::max(1, static_cast<int>(std::ceil((f_hi - f_lo) / kLayerMaxM - 1e-9)));
-        const double t = (f_hi - f_lo) / nl;
-        for (int k = 0; k < nl; ++k) layers.push_back({f_lo + (k + 0.5) * t, 0.5 * t + kLayerEpochM});
-        fm.layers_max = std::max(fm.layers_max, nl);
-        fm.h_range_m = std::max(fm.h_range_m, 0.5 * t + kLayerEpochM);
+      std::vector<gmap::Layer> layers{{fm.alt_m, fm.h_range_m}};
+      if (layered) {
+        layers = gmap::height_layers(f_lo, f_hi);
+        fm.layers_max = std::max(fm.layers_max, static_cast<int>(layers.size()));
+        for (const auto& L : layers) fm.h_range_m = std::max(fm.h_range_m, L.h_range_m);
       }
       for (const auto& L : layers) {
         gmap::TileSpec spec;
@@ -160,8 +152,8 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
         spec.lon_min_deg = lo;
         spec.lon_max_deg = std::max(lo1, lo + 3 * d);
         spec.spacing_deg = d;
-        spec.alt_m = L[0];
-        spec.h_range_m = L[1];
+        spec.alt_m = L.h0_m;
+        spec.h_range_m = L.h_range_m;
         spec.nmax = nmax;
         spec.noise_e = a.map_noise_E;
         spec.seed = a.map_seed * 1000003ull + static_cast<uint64_t>(fm.tiles);

@@ -1,6 +1,7 @@
 // Tile generation and file formats for the onboard gradient map (see gmap_gen.hpp).
 #include "ggins/gmap_gen.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -61,6 +62,16 @@ void node_values(const gravity::Field& f, double lat, double lon, double h, doub
   Mat3 dgh;
   const gravity::FieldSample s = row(f, lat, h)->eval(lon, &dgh);
   ned_values(s.gamma, dgh, lat, lon, out);
+}
+
+std::vector<Layer> height_layers(double h_lo, double h_hi, double max_m, double margin_m) {
+  if (!(h_hi >= h_lo) || !(max_m > 0) || !(margin_m >= 0))
+    throw std::invalid_argument("gmap: height layers need h_hi >= h_lo, a thickness > 0 and a margin >= 0");
+  const int n = std::max(1, static_cast<int>(std::ceil((h_hi - h_lo) / max_m - 1e-9)));
+  const double t = (h_hi - h_lo) / n;
+  std::vector<Layer> out;
+  for (int k = 0; k < n; ++k) out.push_back({h_lo + (k + 0.5) * t, 0.5 * t + margin_m});
+  return out;
 }
 
 std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpec& sp) {

@@ -53,6 +53,19 @@ std::shared_ptr<const gravity::Field> make_egm96_field(const std::string& path, 
 // Node values at geodetic (lat, lon) rad, height h: 6 components + 6 height derivatives.
 void node_values(const gravity::Field& f, double lat, double lon, double h, double out[GG_GMAP_NVAL]);
 
+// Height layers over [h_lo, h_hi] m: n = ceil((h_hi - h_lo) / max_m) layers (at least 1) of
+// equal thickness t <= max_m centred at h_lo + (k + 1/2) t, each accepting |h - h0| <= t/2 +
+// margin_m. The first-order height term of a tile errs by ~(h - h0)^2/2 d2Gamma/dh2 (EGM96-360
+// at 0.05 deg: 3.8e-3 E at 1000 m, docs/map-matching.md), so max_m = 600 m keeps it <= 3.4e-4 E
+// where the storage serves the nearest layer (hal.h). Returns (h0, band) pairs.
+constexpr double kLayerMaxM = 600.0;    // thickest layer of map_from_field and ggins gmap --alt-to
+constexpr double kLayerMarginM = 300.0;  // band beyond the half thickness (an epoch's climb)
+struct Layer {
+  double h0_m, h_range_m;
+};
+std::vector<Layer> height_layers(double h_lo, double h_hi, double max_m = kLayerMaxM,
+                                 double margin_m = kLayerMarginM);
+
 // Builds a tile (heap-allocated: 240 kB). Throws std::invalid_argument on a
 // spec the firmware would reject (too many nodes, spacing <= 0, ...).
 std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpec& spec);
