@@ -62,7 +62,7 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
         ((cfg->feedback != GG_AID_PF_FB_POS) && (cfg->feedback != GG_AID_PF_FB_POS_VEL))) {
         return GG_ERR_CONFIG;
     }
-    if (gg_integ_init(&a->integ, &cfg->integ, 1.0) != GG_OK) {
+    if (gg_integ_init(&a->integ, &cfg->integ, GG_AID_PF_INTEG_DOF) != GG_OK) {
         return GG_ERR_CONFIG;
     }
     a->n_isolated = 0U;
@@ -187,7 +187,7 @@ static void aid_pf_feed(gg_aid_pf_t *a, const gg_pf_output_t *o, gg_aid_pf_corr_
         (void)gg_integ_test(&a->integ, GG_INTEG_STAT_FAIL); /* initialized with the aid: GG_OK */
         return;
     }
-    (void)gg_integ_test(&a->integ, o->nis);
+    (void)gg_integ_test(&a->integ, o->nis / GG_AID_PF_INTEG_SCALE);
     if (a->integ.state == GG_INTEG_ISOLATED) {
         a->n_isolated++;
         return;

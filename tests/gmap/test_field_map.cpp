@@ -175,7 +175,8 @@ rate_hz = 100.0
     assert_int_equal(hal_map_load(&store, (dir / name).string().c_str(), err, sizeof err), 0);
   }
   const auto exact = gm::make_egm96_field(kEgm, 360, false);
-  double worst = 0, worst_dh = 0, change = 0;
+  double worst = 0, worst_dh = 0, change = 0, worst_one = 0;
+  const double mid = 0.5 * (fm.h_min_m + fm.h_max_m);  // one layer at mid height, for comparison
   for (int s = 0; s <= static_cast<int>(sc.duration_s); s += 5) {
     const auto st = gen.trajectory().at(static_cast<ggins::truth3d::Real>(s));
     const double la = static_cast<double>(st.lat), lo = static_cast<double>(st.lon), h = static_cast<double>(st.h);
@@ -190,7 +191,10 @@ rate_hz = 100.0
     double ref[GG_GMAP_NVAL], ref0[GG_GMAP_NVAL];
     gm::node_values(*exact, la, lo, h, ref);
     gm::node_values(*exact, la, lo, t->tile.h0_m, ref0);
+    double one[GG_GMAP_NVAL];
+    gm::node_values(*exact, la, lo, mid, one);
     for (int c = 0; c < 6; ++c) {
+      worst_one = std::max(worst_one, std::fabs(one[c] + (h - mid) * one[6 + c] - ref[c]));
       worst = std::max(worst, std::fabs(static_cast<double>(smp.gamma[c]) - ref[c]));
       change = std::max(change, std::fabs(ref[c] - ref0[c]));
     }
@@ -198,8 +202,10 @@ rate_hz = 100.0
   std::printf("served layer at the route's height: |h - h0| <= %.1f m (the field changes by up to %.3f E over it); "
               "interpolation error against exact EGM96-360 %.3e E\n",
               worst_dh, change * 1e9, worst * 1e9);
+  std::printf("one layer at %.0f m instead (its first-order term, exact nodes): %.3e E\n", mid, worst_one * 1e9);
   // 0.05 deg horizontally 4.5e-4 E, the height term <= 3.4e-4 E at 300 m (docs/map-matching.md)
   assert_true(worst * 1e9 < 1.0e-3);
+  assert_true(worst_one > 10.0 * worst);  // what the layers are for
   // beyond the span: the storage's tile does not hold the height
   const auto st = gen.trajectory().at(250.0L);
   for (const double h : {fm.h_min_m - 1000.0, fm.h_max_m + 1000.0}) {

@@ -12,10 +12,9 @@
  * of freedom:
  *   - map UKF: the epoch's NIS, nu^T S^-1 nu with S = H P H^T + R (6 dof);
  *   - particle filter: the posterior-weighted squared distance of the measured
- *     fringe pair to the particles' ellipses, sum_i w_i d_i^2 / sigma^2 (1 dof:
- *     the pair's noise normal to the ellipse; with the cloud narrower than the
- *     likelihood its mean is that of chi^2(1), with a cloud wider than it the
- *     weights are the likelihood itself and the mean is 1 as well).
+ *     fringe pair to the particles' ellipses, sum_i w_i d_i^2 / sigma^2, whose
+ *     mean is ~1 but whose tail is heavier than chi^2(1)'s: taken as a scaled
+ *     chi-square (aid_pf.h, GG_AID_PF_INTEG_SCALE / _DOF, measured).
  * A measurement the aid could not use for want of consistency (a gated epoch,
  * every particle off the ellipse: degenerate weights) enters with its own
  * statistic (the gated NIS) or, without one, with GG_INTEG_STAT_FAIL.
