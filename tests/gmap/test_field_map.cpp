@@ -51,7 +51,7 @@ static void test_tiles_against_egm96(void** state) {
   a.map_spacing_deg = 0.02;
   a.map_margin_deg = 0.1;
   const fs::path dir = fs::temp_directory_path() / ("ggins-field-map-" + std::to_string(::getpid()));
-  const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen, sc.duration_s, 360, a, dir);
+  const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen, sc.duration_s, 360, ggins::run3d::field_tiles(a), dir);
   std::printf("field %s\n", gen.field().name().c_str());
   std::printf("%d tiles, lat %.3f..%.3f lon %.3f..%.3f deg, alt %.1f m, h range %.1f m\n", fm.tiles, fm.lat_min_deg,
               fm.lat_max_deg, fm.lon_min_deg, fm.lon_max_deg, fm.alt_m, fm.h_range_m);
@@ -161,7 +161,7 @@ rate_hz = 100.0
   a.map_spacing_deg = 0.05;
   a.map_margin_deg = 0.1;
   const fs::path dir = fs::temp_directory_path() / ("ggins-field-layers-" + std::to_string(::getpid()));
-  const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen, sc.duration_s, 360, a, dir);
+  const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen, sc.duration_s, 360, ggins::run3d::field_tiles(a), dir);
   std::printf("climb %.0f .. %.0f m: %d tiles in %d footprints, up to %d layers, widest band %.1f m\n", fm.h_min_m,
               fm.h_max_m, fm.tiles, fm.footprints, fm.layers_max, fm.h_range_m);
   assert_true(fm.h_max_m - fm.h_min_m > 2900.0);

@@ -162,7 +162,7 @@ map_dir = "x"
       threw = std::string(e.what()).find("dz") != std::string::npos;
     }
     check(threw, "an unknown [coldatom] key is refused, named");
-    // the onboard map: map_dir or map_from_field, one of them; map_from_field needs a route map
+    // the onboard map: map_dir or map_from_field, one of them
     const auto refusal = [](const std::string& text) {
       try {
         parse_scenario3(text, "t", "t");
@@ -181,9 +181,11 @@ map_dir = "x"
           "[aid_pf] map_dir with map_from_field is refused");
     std::string field = scenario("", 10.0);
     field.replace(field.find("\"phillips-route-normal\""), 23, "\"field\"");
-    check(refusal(field + "[aid_pf]\nenabled = true\nmap_from_field = true\n").find("ggins gmap --gzz-only") !=
-              std::string::npos,
-          "[aid_pf] map_from_field with the sensor on the [gravity] field is refused, ggins gmap named");
+    check(refusal(field + "[aid_pf]\nenabled = true\nmap_from_field = true\n").empty(),
+          "[aid_pf] map_from_field with the sensor on the [gravity] field parses (tiles of the field)");
+    check(refusal(field + "[aid_pf]\nenabled = true\nmap_from_field = true\nmap_spacing_deg = 2\n")
+                  .find("map_spacing_deg") != std::string::npos,
+          "[aid_pf] map_spacing_deg above 1 deg is refused, named");
     check(refusal(scenario("", 10.0) + "[aid_pf]\nenabled = true\nmap_from_field = true\nmap_step_m = 5\n")
                   .find("map_step_m") != std::string::npos,
           "[aid_pf] map_step_m below 10 m is refused, named");

@@ -98,12 +98,7 @@ int main(int argc, char** argv) {
       sp.h_range_m = layers[k].h_range_m;
       sp.seed = seed0 + k;  // each layer its own noise
       auto tile = ggins::gmap::make_tile(*field, sp);
-      if (gzz_only) {
-        tile->flags |= GG_GMAP_GZZ_ONLY;
-        for (int n = 0; n < tile->nlat * tile->nlon; ++n)
-          for (int c = 0; c < GG_GMAP_NVAL; ++c)
-            if (c != GG_GMAP_C_DD && c != GG_GMAP_NCOMP + GG_GMAP_C_DD) tile->node[n][c] = 0.0;
-      }
+      if (gzz_only) ggins::gmap::keep_gzz_only(*tile);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!out_bin.empty()) {
         const auto b = ggins::gmap::encode(*tile);

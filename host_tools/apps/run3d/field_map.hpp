@@ -1,11 +1,12 @@
-// The gradient-map aid's onboard map built from the scenario's own gravity field
-// ([aid_ukf] map_from_field): the runner writes gmap tiles (ggins/gmap_gen.hpp: the
-// tensor Gamma rotated into each node's NED frame and its height derivative, plus
-// database noise) over the route before the flight, into a directory that becomes one
-// source of the computer's map storage (map_storage.hpp: recorded with its digest, so a
-// replay loads the same tiles).
+// The onboard map of an aid built from the scenario's own gravity field (map_from_field):
+// for the map UKF ([aid_ukf]) tiles of the whole tensor, for the particle filter ([aid_pf]
+// with [coldatom] gzz_map = "field") of Gamma_DD alone. The runner writes gmap tiles
+// (ggins/gmap_gen.hpp: the tensor Gamma rotated into each node's NED frame and its height
+// derivative, plus database noise) over the route before the flight, into a directory that
+// becomes one source of the computer's map storage (map_storage.hpp: recorded with its
+// digest, so a replay loads the same tiles).
 //
-// Coverage: the route is sampled every 10 s (and at its end); the box of its latitudes
+// Coverage: the route is sampled every 10 s (and at its end: map_coverage.hpp route_samples); the box of its latitudes
 // and longitudes, widened by map_margin_deg, is cut into tiles of at most
 // GG_GMAP_MAX_NODES nodes (n x n, n = floor(sqrt(max))) at map_spacing_deg that overlap
 // their neighbours by map_margin_deg; a tile no route sample comes within the margin of
@@ -37,7 +38,9 @@
 
 #include "ggins/gmap_gen.hpp"
 #include "ggins/truth3d/aids3d.hpp"
+#include "ggins/truth3d/coldatom3d.hpp"
 #include "ggins/truth3d/generator3d.hpp"
+#include "map_coverage.hpp"
 
 namespace ggins::run3d {
 
@@ -75,19 +78,30 @@ struct FieldMap {
   int layers_max = 1;               // most layers of one footprint
 };
 
-inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_s, int nmax,
-                                const truth3d::AidUkf3& a, const std::filesystem::path& dir, int threads = 2) {
+// What an aid's map_from_field asks for: the map UKF's tiles hold the whole tensor, the
+// particle filter's Gamma_DD alone (gmap::keep_gzz_only); the cut and the layers are the same.
+struct FieldTiles {
+  std::string key;  // the scenario table, for messages ("aid_ukf", "aid_pf")
+  double spacing_deg = 0.05, margin_deg = 0.1, noise_E = 0.001;
+  uint64_t seed = 1;
+  bool gzz_only = false;
+};
+inline FieldTiles field_tiles(const truth3d::AidUkf3& a) {
+  return {"aid_ukf", a.map_spacing_deg, a.map_margin_deg, a.map_noise_E, a.map_seed, false};
+}
+inline FieldTiles field_tiles(const truth3d::AidPf3& a) {
+  return {"aid_pf", a.map_spacing_deg, a.map_margin_deg, a.map_noise_E, a.map_seed, true};
+}
+
+inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_s, int nmax, const FieldTiles& a,
+                                const std::filesystem::path& dir, int threads = 2) {
   namespace fs = std::filesystem;
-  const double deg = 180.0 / M_PI;
   std::vector<std::array<double, 3>> pts;  // lat, lon (deg), h (m) of the route samples
   double h_min = 1e300, h_max = -1e300;
-  const int64_t n = static_cast<int64_t>(std::ceil(duration_s / 10.0));
-  for (int64_t i = 0; i <= n; ++i) {
-    const double t = std::min(duration_s, 10.0 * static_cast<double>(i));
-    const truth3d::State3 s = gen.trajectory().at(static_cast<truth3d::Real>(t));
-    pts.push_back({static_cast<double>(s.lat) * deg, static_cast<double>(s.lon) * deg, static_cast<double>(s.h)});
-    h_min = std::min(h_min, static_cast<double>(s.h));
-    h_max = std::max(h_max, static_cast<double>(s.h));
+  for (const RoutePoint& p : route_samples(gen, duration_s)) {
+    pts.push_back({p.lat_deg, p.lon_deg, p.h_m});
+    h_min = std::min(h_min, p.h_m);
+    h_max = std::max(h_max, p.h_m);
   }
   FieldMap fm;
   fm.dir = dir;
@@ -100,16 +114,16 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
     fm.lon_max_deg = std::max(fm.lon_max_deg, p[1]);
   }
   if (fm.lon_max_deg - fm.lon_min_deg > 180.0)
-    throw std::runtime_error("aid_ukf.map_from_field: the route crosses the antimeridian (longitudes " +
+    throw std::runtime_error(a.key + ".map_from_field: the route crosses the antimeridian (longitudes " +
                              std::to_string(fm.lon_min_deg) + " .. " + std::to_string(fm.lon_max_deg) +
                              " deg); give map tiles instead");
-  const double m = a.map_margin_deg, d = a.map_spacing_deg;
+  const double m = a.margin_deg, d = a.spacing_deg;
   fm.lat_min_deg -= m;
   fm.lat_max_deg += m;
   fm.lon_min_deg -= m;
   fm.lon_max_deg += m;
   if (fm.lat_min_deg < -89.0 || fm.lat_max_deg > 89.0)
-    throw std::runtime_error("aid_ukf.map_from_field: the route with its margin reaches beyond 89 deg of latitude");
+    throw std::runtime_error(a.key + ".map_from_field: the route with its margin reaches beyond 89 deg of latitude");
   fm.alt_m = 0.5 * (h_min + h_max);
   fm.h_range_m = 0.5 * (h_max - h_min) + 300.0;
   fm.h_min_m = h_min;
@@ -118,7 +132,7 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
   if (layered) fm.h_range_m = 0;
   const int side = static_cast<int>(std::floor(std::sqrt(static_cast<double>(GG_GMAP_MAX_NODES))));
   const double span = (side - 1) * d, stride = span - m;
-  if (!(stride > d)) throw std::runtime_error("aid_ukf.map_margin_deg is too wide for tiles of " + std::to_string(side) +
+  if (!(stride > d)) throw std::runtime_error(a.key + ".map_margin_deg is too wide for tiles of " + std::to_string(side) +
                                               " x " + std::to_string(side) + " nodes at map_spacing_deg");
   const ThirdByDifferences field(gen.field());
   std::error_code ec;
@@ -155,10 +169,11 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
         spec.alt_m = L.h0_m;
         spec.h_range_m = L.h_range_m;
         spec.nmax = nmax;
-        spec.noise_e = a.map_noise_E;
-        spec.seed = a.map_seed * 1000003ull + static_cast<uint64_t>(fm.tiles);
+        spec.noise_e = a.noise_E;
+        spec.seed = a.seed * 1000003ull + static_cast<uint64_t>(fm.tiles);
         spec.threads = threads;
         const auto tile = gmap::make_tile(field, spec);
+        if (a.gzz_only) gmap::keep_gzz_only(*tile);
         const std::vector<std::uint8_t> bytes = gmap::encode(*tile);
         char name[32];
         std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
@@ -169,7 +184,7 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
       }
     }
   }
-  if (fm.tiles == 0) throw std::runtime_error("aid_ukf.map_from_field: no tile along the route");
+  if (fm.tiles == 0) throw std::runtime_error(a.key + ".map_from_field: no tile along the route");
   return fm;
 }
 

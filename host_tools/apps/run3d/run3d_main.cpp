@@ -39,6 +39,7 @@
 #include "integrity.hpp"
 #include "runner.hpp"
 #include "field_map.hpp"
+#include "map_coverage.hpp"
 #include "map_storage.hpp"
 #include "pf3d.hpp"
 
@@ -73,11 +74,7 @@ class Model3D {
       const fs::path dir = fs::absolute(out / "maps" / "aid_ukf").lexically_normal();
       const int nmax = sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0;  // tile metadata
       try {
-        const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, sc_.aid_ukf, dir);
-        if (!opt_.quiet)
-          std::fprintf(stderr, "%s: %d tiles: %d footprints, up to %d height layers over %.0f .. %.0f m (%.1f s)\n",
-                       opt_.tool.c_str(), fm.tiles, fm.footprints, fm.layers_max, fm.h_min_m, fm.h_max_m,
-                       ggins::hil::mono_s() - t_maps);
+        field_map(ggins::run3d::field_tiles(sc_.aid_ukf), nmax, dir);
       } catch (const std::exception& e) {
         throw Fail(e.what(), ggins::cli::kExitBadArgs);
       }
@@ -86,7 +83,19 @@ class Model3D {
       for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         sources_.push_back({fs::absolute(p).lexically_normal().string(), SourceKind::kFile});
     }
-    if (sc_.aid_pf.enabled && sc_.aid_pf.map_from_field) {  // Gamma_zz tiles of the sensor's route map (route_tiles.hpp)
+    if (sc_.aid_pf.enabled && sc_.aid_pf.map_from_field && sc_.coldatom.gzz_map == "field") {
+      // Gamma_zz tiles of the scenario's field along the route (field_map.hpp)
+      if (!opt_.quiet)
+        std::fprintf(stderr, "%s: the cold-atom aid's Gamma_zz tiles from the scenario's field ...\n", opt_.tool.c_str());
+      const fs::path dir = fs::absolute(out / "maps" / "aid_pf").lexically_normal();
+      const int nmax = sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0;
+      try {
+        field_map(ggins::run3d::field_tiles(sc_.aid_pf), nmax, dir);
+      } catch (const std::exception& e) {
+        throw Fail(e.what(), ggins::cli::kExitBadArgs);
+      }
+      sources_.push_back({dir.string(), SourceKind::kDir});
+    } else if (sc_.aid_pf.enabled && sc_.aid_pf.map_from_field) {  // Gamma_zz tiles of the sensor's route map (route_tiles.hpp)
       if (!opt_.quiet) std::fprintf(stderr, "%s: the cold-atom aid's tiles from the sensor's route map ...\n", opt_.tool.c_str());
       const fs::path dir = fs::absolute(out / "maps" / "aid_pf").lexically_normal();
       try {
@@ -116,6 +125,41 @@ class Model3D {
     if (maps_.size() > static_cast<size_t>(ggins::run3d::kMaxTiles))
       throw Fail("the map storage would hold " + std::to_string(maps_.size()) + " tiles; it holds " +
                  std::to_string(ggins::run3d::kMaxTiles) + " at most");
+    // the route against the storage, as each aid will ask it (map_coverage.hpp)
+    if (sc_.aid_ukf.enabled || sc_.aid_pf.enabled) {
+      const auto pts = ggins::run3d::route_samples(gen_, sc_.duration_s);
+      auto check = [&](const ggins::truth3d::Integrity3& a, uint32_t kind, const char* aid, const char* table,
+                       ggins::run3d::Coverage& cov) {
+        try {
+          cov = ggins::run3d::route_coverage(pts, maps_, kind);
+        } catch (const std::exception& e) {
+          throw Fail(std::string("map storage: ") + e.what());
+        }
+        if (cov.complete()) return;
+        if (a.map_uncovered != "fly")
+          throw Fail(std::string("the map storage does not cover the route for the ") + aid + " (" +
+                         std::to_string(cov.samples - cov.covered) + " of " + std::to_string(cov.samples) +
+                         " route samples, every " + std::to_string(static_cast<int>(ggins::run3d::kCoverageStepS)) +
+                         " s):" + cov.text() + "\ngive tiles that cover it, or set " + table +
+                         ".map_uncovered = \"fly\" to fly it with the aid off there",
+                     ggins::cli::kExitBadArgs);
+        if (!opt_.quiet)
+          std::fprintf(stderr, "%s: the %s flies %zu uncovered stretches with no update (%s.map_uncovered = \"fly\"):%s\n",
+                       opt_.tool.c_str(), aid, cov.gaps.size(), table, cov.text().c_str());
+      };
+      if (sc_.aid_ukf.enabled) check(sc_.aid_ukf, GG_GMAP_KIND_TENSOR, "map aid", "aid_ukf", mm_cov_);
+      if (sc_.aid_pf.enabled) check(sc_.aid_pf, GG_GMAP_KIND_GZZ, "particle filter", "aid_pf", pf_cov_);
+    }
+  }
+
+  // map_from_field: an aid's tiles of the scenario's field along the route into dir
+  void field_map(const ggins::run3d::FieldTiles& ft, int nmax, const fs::path& dir) {
+    const double t0 = ggins::hil::mono_s();
+    const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, ft, dir);
+    if (!opt_.quiet)
+      std::fprintf(stderr, "%s: %d tiles: %d footprints, up to %d height layers over %.0f .. %.0f m (%.1f s)\n",
+                   opt_.tool.c_str(), fm.tiles, fm.footprints, fm.layers_max, fm.h_min_m, fm.h_max_m,
+                   ggins::hil::mono_s() - t0);
   }
 
   int64_t n_steps() const { return gen_.n_steps(); }
@@ -168,6 +212,7 @@ class Model3D {
   std::vector<ggins::run3d::MapSource> sources_;     // the map storage's sources (map_storage.hpp)
   std::vector<ggins::run3d::SourceRecord> records_;  // and their records
   std::vector<std::string> maps_;                    // its tile files in load order
+  ggins::run3d::Coverage mm_cov_, pf_cov_;           // the route's coverage for each aid (map_coverage.hpp)
   ggins::hil::LinkBase* link_ = nullptr;  // over LCM (none with --direct)
   int64_t run_id_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
@@ -262,7 +307,9 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
   n_ = gen_.n_steps();
   truth_ring_.resize(static_cast<size_t>(kTruthRing));
   if (reference_) {
-    ref_ = std::make_unique<ggins::hil::Direct<ggins::hil::Task3D>>(ref_cfg_);
+    // untimed: its step times are this process's scheduling between frames, not the flight's
+    // (the flight's own steps carry the DEADLINE check)
+    ref_ = std::make_unique<ggins::hil::Direct<ggins::hil::Task3D>>(ref_cfg_, false);
     ref_ring_.resize(static_cast<size_t>(kTruthRing));
   }
   csv_every_ = std::max<int64_t>(1, std::llround(sc_.rate_hz / (opt_.csv_rate ? *opt_.csv_rate : sc_.csv_rate_hz)));
@@ -653,6 +700,8 @@ void Model3D::report(json& s) {
     s["aids"].back()["integrity"] = mm_integ_.json();
     s["aids"].back()["integrity"]["isolated_epochs"] = aid_last_.mm_isolated;
     mm_integ_.reasons("map aid", "epochs", aid_last_.mm_epochs, why);
+    s["aids"].back()["map_coverage"] = mm_cov_.json();
+    ggins::run3d::coverage_reason("map aid", mm_cov_, why);
   }
   if (pf_on_) {
     s["aids"].push_back(pf_.block(maps_.size()));
@@ -661,13 +710,16 @@ void Model3D::report(json& s) {
     s["aids"].back()["integrity"] = pf_integ_.json();
     s["aids"].back()["integrity"]["isolated_shots"] = aid_last_.pf_isolated;
     pf_integ_.reasons("particle filter", "shots", aid_last_.pf_shots, why);
+    s["aids"].back()["map_coverage"] = pf_cov_.json();
+    ggins::run3d::coverage_reason("particle filter", pf_cov_, why);
   }
   if (s.value("completed", false))
     for (const auto& w : why) s["degraded_reasons"].push_back(w);
   if (ref_) {
     json r;
     r["description"] = "the same task with every aid off, stepped in this process on the same sensor frames "
-                       "(the pure inertial solution of this flight)";
+                       "(the pure inertial solution of this flight); untimed (no cycle counter: its steps are "
+                       "not checked against the frame period, the flight's are)";
     r["steps"] = ref_next_;
     r["steps_rejected"] = ref_rejected_;
     r["health_seen"] = ref_health_or_;

@@ -34,14 +34,16 @@ class DirectImpl {
   std::vector<uint8_t> buf = std::vector<uint8_t>(1 << 16);
   hal_map_store_t maps{};  // the computer's map storage (hal_sim/hal_map.h)
 
-  DirectImpl() {
+  explicit DirectImpl(bool timed) {
     hal_map_init(&maps);
     hal.ctx = this;
     hal.read_frame = read_frame;
     hal.write_output = write_output;
     hal.write_output3d = write_output3d;
-    hal.cycle_count = cycle_count;
-    hal.cycles_per_second = 1000000000u;
+    if (timed) {
+      hal.cycle_count = cycle_count;
+      hal.cycles_per_second = 1000000000u;
+    }
   }
   ~DirectImpl() { hal_map_free(&maps); }
   DirectImpl(const DirectImpl&) = delete;
@@ -92,7 +94,7 @@ class DirectImpl {
 };
 
 template <>
-Direct<Task2D>::Direct(const ggins::nav2d_config_t& cfg) : impl_(std::make_unique<DirectImpl>()) {
+Direct<Task2D>::Direct(const ggins::nav2d_config_t& cfg, bool timed) : impl_(std::make_unique<DirectImpl>(timed)) {
   const int n = cfg.encode(impl_->buf.data(), 0, static_cast<int>(impl_->buf.size()));
   ggins_nav2d_config_t cm;
   if (n < 0 || ggins_nav2d_config_t_decode(impl_->buf.data(), 0, n, &cm) != n) throw Fail("--direct: configuration encoding failed");
@@ -104,7 +106,7 @@ Direct<Task2D>::Direct(const ggins::nav2d_config_t& cfg) : impl_(std::make_uniqu
 }
 
 template <>
-Direct<Task3D>::Direct(const ggins::nav3d_config_t& cfg) : impl_(std::make_unique<DirectImpl>()) {
+Direct<Task3D>::Direct(const ggins::nav3d_config_t& cfg, bool timed) : impl_(std::make_unique<DirectImpl>(timed)) {
   const int n = cfg.encode(impl_->buf.data(), 0, static_cast<int>(impl_->buf.size()));
   ggins_nav3d_config_t cm;
   if (n < 0 || ggins_nav3d_config_t_decode(impl_->buf.data(), 0, n, &cm) != n) throw Fail("--direct: configuration encoding failed");

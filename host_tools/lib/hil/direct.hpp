@@ -20,8 +20,12 @@ class DirectImpl;
 template <class Task>
 class Direct {
  public:
-  // Throws Fail if the firmware refuses the configuration.
-  explicit Direct(const typename Task::Config& cfg);
+  // Throws Fail if the firmware refuses the configuration. timed: the HAL's cycle counter is
+  // CLOCK_MONOTONIC (as hal_sim's), so each step's cycles are measured and a step longer than the
+  // frame period sets GG_HEALTH_DEADLINE; untimed: no cycle counter (cycles 0, never DEADLINE),
+  // for a computer stepped beside the flight only for its numbers (the unaided reference), whose
+  // wall time is the host's scheduling, not the flight's.
+  explicit Direct(const typename Task::Config& cfg, bool timed = true);
   ~Direct();
   Direct(const Direct&) = delete;
   Direct& operator=(const Direct&) = delete;
@@ -36,9 +40,9 @@ class Direct {
 };
 
 template <>
-Direct<Task2D>::Direct(const ggins::nav2d_config_t& cfg);
+Direct<Task2D>::Direct(const ggins::nav2d_config_t& cfg, bool timed);
 template <>
-Direct<Task3D>::Direct(const ggins::nav3d_config_t& cfg);
+Direct<Task3D>::Direct(const ggins::nav3d_config_t& cfg, bool timed);
 template <>
 ggins::nav_output_t Direct<Task2D>::step(const ggins::sensor_frame_t& m);
 template <>

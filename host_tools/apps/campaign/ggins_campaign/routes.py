@@ -19,7 +19,7 @@
   vertical_accel_mps2 = 0.5
   seed_offset = 6                   # the draw's generator: random.Random(S + seed_offset)
   pf_map_spacing_deg = 0.05         # particle filter on [coldatom] gzz_map = "field": its Gamma_zz
-  pf_map_margin_deg = 0.1           # tiles along the route (ggins gmap --gzz-only; tools.py),
+  pf_map_margin_deg = 0.1           # tiles along the route (aid_pf.map_from_field; tools.py),
   pf_map_noise_E = 0.001            # their spacing, margin (overlap), database noise and seed
   pf_map_seed = 1
   attempts = 20000                  # draws tried before the seed is refused

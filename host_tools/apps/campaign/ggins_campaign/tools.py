@@ -99,13 +99,15 @@ class Run3D(Tool):
                 "--out", "{out}"] + c.args + opts
         routes = getattr(c, "routes", None)
         pf = sc.get("aid_pf") or {}
-        gmap = None
         if (routes is not None and pf.get("enabled") and not pf.get("map_from_field")
                 and (sc.get("coldatom") or {}).get("gzz_map") == "field"):
             # a drawn route's particle filter on the [gravity] field: its Gamma_zz tiles along this
-            # route (ggins gmap --gzz-only, before the flight, into the run's folder gzz/)
-            gmap = gzz_tiles_argv(sc, routes)
-            sc["aid_pf"] = dict(pf, map_dir="gzz")
+            # route, in height layers where it climbs, written by ggins run3d before the flight
+            # (aid_pf.map_from_field: the map UKF's cut, run3d field_map.hpp)
+            pf = {k: v for k, v in pf.items() if k != "map_dir"}
+            sc["aid_pf"] = dict(pf, map_from_field=True, map_spacing_deg=routes.pf_map_spacing_deg,
+                                map_margin_deg=routes.pf_map_margin_deg, map_noise_E=routes.pf_map_noise_E,
+                                map_seed=routes.pf_map_seed)
         # the aids' consistency (summary.json "aids", in the order the scenario switches them on)
         # and the unaided reference's final error (the same frames with every aid off)
         values = {}
@@ -136,9 +138,6 @@ class Run3D(Tool):
             parse[1]["keep"] = {"status": "?status", "degraded_reasons": "?degraded_reasons", "aids": "?aids",
                                 "unaided_reference": "?unaided_reference",
                                 "position_error_m": "?errors.position_error_m"}
-            if gmap:
-                task["argv"] = gmap + argv
-                task["data_probe"] = "egm96_to360.ascii.txt"
         return task
 
     def derived(self, series):
@@ -158,64 +157,6 @@ class Run3D(Tool):
             out["rms2h_" + k] = math.sqrt(sum(series[k][i] ** 2 for i in last) / len(last))
         return out
 
-
-def gzz_tiles(sc, routes_spec, spacing_deg=None, margin_deg=None):
-    """The Gamma_zz tiles of a drawn route (as field_map.hpp cuts the map UKF's): the box of the
-    route's footprint (its legs sampled every 5 km) widened by the margin, cut into tiles of at
-    most GG_GMAP_MAX_NODES = 2500 nodes (50 x 50) at the spacing that overlap by the margin; a
-    tile no route sample comes within the margin of is left out. Height: the route's mid height,
-    accepting half its height span + 300 m. Returns [{lat_min, lat_max, lon_min, lon_max, alt,
-    h_range}] (deg, m)."""
-    from . import routes as R
-    t = sc["trajectory"]
-    d = spacing_deg if spacing_deg is not None else routes_spec.pf_map_spacing_deg
-    m = margin_deg if margin_deg is not None else routes_spec.pf_map_margin_deg
-    pts = [(t["lat_deg"], t["lon_deg"])]
-    hs = [t["height_m"]]
-    prev = (t["lat_deg"], t["lon_deg"])
-    for w in t["waypoint"]:
-        e = R.Ellipse(R.ecef(*prev), R.ecef(w["lat_deg"], w["lon_deg"]))
-        k = max(1, int(math.ceil(e.length() / 5000.0)))
-        for i in range(1, k + 1):
-            la, lo = R.geodetic_of_surface(e.point(e.beta0 + (e.beta1 - e.beta0) * i / k))
-            pts.append((la, pts[-1][1] + R._wrap180(lo - pts[-1][1])))
-        prev = (w["lat_deg"], w["lon_deg"])
-        hs.append(w.get("height_m", hs[-1]))
-    la0, la1 = min(p[0] for p in pts) - m, max(p[0] for p in pts) + m
-    lo0, lo1 = min(p[1] for p in pts) - m, max(p[1] for p in pts) + m
-    side = 50
-    span = (side - 1) * d
-    stride = span - m
-    alt, hr = 0.5 * (min(hs) + max(hs)), 0.5 * (max(hs) - min(hs)) + 300.0
-    tiles = []
-    la = la0
-    while la < la1 - 1e-12:
-        lo = lo0
-        while lo < lo1 - 1e-12:
-            a1, b1 = min(la + span, la1), min(lo + span, lo1)
-            if any(la - m <= p[0] <= a1 + m and lo - m <= p[1] <= b1 + m for p in pts):
-                tiles.append({"lat_min": la, "lat_max": max(a1, la + 3 * d), "lon_min": lo,
-                              "lon_max": max(b1, lo + 3 * d), "alt": alt, "h_range": hr})
-            lo += stride
-        la += stride
-    return tiles
-
-
-def gzz_tiles_argv(sc, routes_spec):
-    """sh -c: ggins-gmap --gzz-only for each tile into gzz/, then exec the flight's command."""
-    tiles = gzz_tiles(sc, routes_spec)
-    if len(tiles) > 255:
-        raise RuntimeError("the route needs %d Gamma_zz tiles (at most 255): widen pf_map_spacing_deg" % len(tiles))
-    noise = routes_spec.pf_map_noise_E
-    lines = ['set -e', 'b=$1; d=$2; shift 2', 'mkdir -p gzz']
-    for i, tl in enumerate(tiles):
-        lines.append('"$b/ggins-gmap" --lat-min %r --lat-max %r --lon-min %r --lon-max %r --spacing %r --alt %r '
-                     '--h-range %r --gzz-only --noise-e %r --seed %d --threads 1 --egm96 "$d/egm96_to360.ascii.txt" '
-                     '--out gzz/tile_%04d.gmap'
-                     % (tl["lat_min"], tl["lat_max"], tl["lon_min"], tl["lon_max"], routes_spec.pf_map_spacing_deg,
-                        tl["alt"], tl["h_range"], noise, 1000003 * routes_spec.pf_map_seed + i, i))
-    lines.append('exec "$@"')
-    return ["sh", "-c", "\n".join(lines), "sh", "{bin}", "{data}"]
 
 
 class RwEq8(Tool):

@@ -74,6 +74,13 @@ std::vector<Layer> height_layers(double h_lo, double h_hi, double max_m, double 
   return out;
 }
 
+void keep_gzz_only(gg_gmap_tile_t& t) {
+  t.flags |= GG_GMAP_GZZ_ONLY;
+  for (int n = 0; n < t.nlat * t.nlon; ++n)
+    for (int c = 0; c < GG_GMAP_NVAL; ++c)
+      if (c != GG_GMAP_C_DD && c != GG_GMAP_NCOMP + GG_GMAP_C_DD) t.node[n][c] = 0.0;
+}
+
 std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpec& sp) {
   if (!(sp.spacing_deg > 0) || !(sp.lat_max_deg > sp.lat_min_deg) || !(sp.lon_max_deg > sp.lon_min_deg))
     throw std::invalid_argument("gmap: need lat_max > lat_min, lon_max > lon_min, spacing > 0");

@@ -21,7 +21,7 @@ constexpr uint64_t kStreamCa = 61;  // the shots' draws (streams of generator3d.
 }
 
 
-void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
+void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, const PfImu& imu, gg_nav3d_config_t& c) {
   gg_aid_pf_config_t& m = c.aid_pf;
   m = gg_aid_pf_config_t{};
   m.enable = a.enabled ? 1 : 0;
@@ -45,11 +45,13 @@ void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c) {
   p.sigma0_pos = a.sigma0_pos_m;
   p.sigma0_vel = a.sigma0_vel_mps;
   p.sigma0_acc = a.sigma0_tilt_mps2;
-  p.sigma0_jerk = a.sigma0_gyro_mps3;
-  p.sigma0_bias = a.sigma0_accel_mps2;
+  const double g0 = 9.80665, dt = 1.0 / imu.rate_hz;
+  const double per_shot = dt * std::sqrt(imu.rate_hz / g.rate_hz);  // dt sqrt(n)
+  p.sigma0_jerk = a.sigma0_gyro_mps3 >= 0 ? a.sigma0_gyro_mps3 : g0 * imu.gyro_bias_radps;
+  p.sigma0_bias = a.sigma0_accel_mps2 >= 0 ? a.sigma0_accel_mps2 : imu.accel_bias_mps2;
   p.q_pos = a.q_pos_m;
-  p.q_vel = a.q_vel_mps;
-  p.q_acc = a.q_tilt_mps2;
+  p.q_vel = a.q_vel_mps >= 0 ? a.q_vel_mps : std::fmax(kPfQVelFloor, imu.accel_noise_mps2 * per_shot);
+  p.q_acc = a.q_tilt_mps2 >= 0 ? a.q_tilt_mps2 : g0 * imu.gyro_noise_radps * per_shot;
   p.q_jerk = a.q_gyro_mps3;
   p.q_bias = a.q_accel_mps2;
   p.reg_bw = a.reg_bw;

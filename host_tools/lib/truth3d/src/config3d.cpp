@@ -63,7 +63,18 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   const double dmax = *std::max_element(s.draw.gyro_bias_radps.begin(), s.draw.gyro_bias_radps.end());
   known.bias_sigma_radps = std::hypot(known.bias_sigma_radps, dmax);
   apply_aid_ukf(s.aid_ukf, s.rate_hz, known, c);  // [aid_ukf], aids3d.cpp
-  apply_aid_pf(s.aid_pf, s.coldatom, c);           // [aid_pf] with [coldatom], coldatom3d.cpp
+  PfImu imu;  // the same knowledge for the particle filter's model
+  imu.gyro_bias_radps = std::hypot(known.bias_sigma_radps,
+                                   std::fabs(*std::max_element(s.gyro.bias_radps.begin(), s.gyro.bias_radps.end(),
+                                                               [](double x, double y) { return std::fabs(x) < std::fabs(y); })));
+  imu.gyro_noise_radps = s.gyro.noise_sigma_radps;
+  double ab2 = 0;  // the largest horizontal fixed bias of one accelerometer
+  for (const auto& b : s.accel.bias_mps2) ab2 = std::max(ab2, b[0] * b[0] + b[1] * b[1]);
+  const double da = std::hypot(s.draw.accel_common_bias_mps2[0], s.draw.accel_common_bias_mps2[1]);
+  imu.accel_bias_mps2 = std::sqrt(ab2 + 2.0 * s.accel.bias_sigma_mps2 * s.accel.bias_sigma_mps2 + da * da);
+  imu.accel_noise_mps2 = s.accel.noise_sigma_mps2;
+  imu.rate_hz = s.rate_hz;
+  apply_aid_pf(s.aid_pf, s.coldatom, imu, c);      // [aid_pf] with [coldatom], coldatom3d.cpp
   return c;
 }
 

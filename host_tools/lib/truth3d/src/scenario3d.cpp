@@ -191,10 +191,20 @@ sch::Table<AidPf3> aid_pf3_table() {
       .boolean("map_from_field", &A::map_from_field,
                "the onboard map written by the runner from the sensor's own route map ([coldatom] gzz_map "
                "phillips-route or phillips-route-normal): Gamma_zz tiles of 50 x 50 nodes centred on the route, "
-               "in <out>/maps/aid_pf/, instead of map_dir")
-      .num("map_step_m", &A::map_step_m, "m", sch::in(10, 5000), "map_from_field: node spacing")
+               "in <out>/maps/aid_pf/, instead of map_dir; with gzz_map \"field\": Gamma_zz tiles of the "
+               "scenario's own [gravity] field along the route, in height layers where it climbs (cut as the map "
+               "UKF's map_from_field)")
+      .num("map_step_m", &A::map_step_m, "m", sch::in(10, 5000), "map_from_field, route map: node spacing")
       .num("map_tile_spacing_m", &A::map_tile_spacing_m, "m", sch::in(100, 1e6),
-           "map_from_field: distance along the route between the tiles' centres")
+           "map_from_field, route map: distance along the route between the tiles' centres")
+      .num("map_spacing_deg", &A::map_spacing_deg, "deg", sch::in(0.001, 1),
+           "map_from_field, gzz_map \"field\": node spacing")
+      .num("map_margin_deg", &A::map_margin_deg, "deg", sch::in(0, 5),
+           "map_from_field, gzz_map \"field\": margin around the route and overlap of neighbouring tiles (the "
+           "cloud's spread must stay inside a tile)")
+      .num("map_noise_E", &A::map_noise_E, "E", sch::in(0, 1e3),
+           "map_from_field, gzz_map \"field\": database noise, one sigma, on Gamma_DD of a node")
+      .seed("map_seed", &A::map_seed, "map_from_field, gzz_map \"field\": seed of the database noise")
       .integer("particles", &A::particles, "", sch::in(1, GG_PF_MAX), "particles")
       .integer("chunk", &A::chunk, "", sch::in(1, GG_PF_MAX), "particles predicted and weighed per step")
       .integer("end_chunk", &A::end_chunk, "", sch::in(1, GG_PF_MAX), "particle passes of a shot's end per step")
@@ -206,13 +216,17 @@ sch::Table<AidPf3> aid_pf3_table() {
       .num("sigma0_vel_mps", &A::sigma0_vel_mps, "m/s", sch::in(0, GG_LIM_PF_VEL_SIGMA_MAX_MPS), "initial spread of velocity")
       .num("sigma0_tilt_mps2", &A::sigma0_tilt_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2), "initial spread of tilt")
       .num("sigma0_gyro_mps3", &A::sigma0_gyro_mps3, "m/s^3", sch::in(0, GG_LIM_PF_JERK_SIGMA_MAX_MPS3),
-           "initial spread of g x gyro bias")
+           "initial spread of g x gyro bias", -1.0,
+           "g x (gyro.bias_sigma_radps + the largest |gyro.bias_radps| + the largest draw.gyro_bias_radps)")
       .num("sigma0_accel_mps2", &A::sigma0_accel_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2),
-           "initial spread of acc error")
+           "initial spread of the horizontal accelerometer error", -1.0,
+           "the largest horizontal accel.bias_mps2 + accel.bias_sigma_mps2 (two axes) + draw.accel_common_bias_mps2")
       .num("q_pos_m", &A::q_pos_m, "m", sch::in(0, GG_LIM_PF_POS_SIGMA_MAX_M), "process noise per shot: position")
       .num("q_vel_mps", &A::q_vel_mps, "m/s", sch::in(0, GG_LIM_PF_VEL_SIGMA_MAX_MPS),
-           "process noise per shot: velocity (> 0 with model rbpf)")
-      .num("q_tilt_mps2", &A::q_tilt_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2), "process noise per shot: tilt")
+           "process noise per shot: velocity (> 0 with model rbpf)", -1.0,
+           "accel.noise_sigma_mps2 x dt x sqrt(steps per shot), at least 1e-9")
+      .num("q_tilt_mps2", &A::q_tilt_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2), "process noise per shot: tilt",
+           -1.0, "g x gyro.noise_sigma_radps x dt x sqrt(steps per shot)")
       .num("q_gyro_mps3", &A::q_gyro_mps3, "m/s^3", sch::in(0, GG_LIM_PF_JERK_SIGMA_MAX_MPS3),
            "process noise per shot: g x gyro bias")
       .num("q_accel_mps2", &A::q_accel_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2),
@@ -530,11 +544,7 @@ Scenario3 parse_scenario3(const std::string& text, const std::string& fallback_n
                "aid_pf.enabled needs aid_pf.map_dir (the onboard Gamma_zz tiles) or aid_pf.map_from_field = true");
   if (s.aid_pf.map_from_field && !s.aid_pf.map_dir.empty())
     c.fail_key(root, "aid_pf.map_from_field", "aid_pf: map_from_field and map_dir exclude each other (one map storage)");
-  if (s.aid_pf.map_from_field && s.coldatom.gzz_map == "field")
-    c.fail_key(root, "aid_pf.map_from_field",
-               "aid_pf.map_from_field needs a route map ([coldatom] gzz_map phillips-route or phillips-route-normal); "
-               "for gzz_map \"field\" write the tiles with ggins gmap --gzz-only and give aid_pf.map_dir");
-  if (s.aid_pf.enabled && s.aid_pf.model == "rbpf" && !(s.aid_pf.q_vel_mps > 0))
+  if (s.aid_pf.enabled && s.aid_pf.model == "rbpf" && s.aid_pf.q_vel_mps == 0.0)
     c.fail_key(root, "aid_pf.q_vel_mps", "aid_pf.q_vel_mps must be > 0 with model rbpf (it keeps the position "
                                          "prediction's covariance positive definite)");
   if (s.aid_ukf.enabled && s.aid_ukf.maps.empty() && !s.aid_ukf.map_from_field)

@@ -70,6 +70,10 @@ std::vector<Layer> height_layers(double h_lo, double h_hi, double max_m = kLayer
 // spec the firmware would reject (too many nodes, spacing <= 0, ...).
 std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpec& spec);
 
+// A tile of Gamma_DD alone (the particle filter's kind, GG_GMAP_GZZ_ONLY): every other
+// value and its height derivative set to zero, the flag set.
+void keep_gzz_only(gg_gmap_tile_t& t);
+
 std::vector<std::uint8_t> encode(const gg_gmap_tile_t& t);   // binary format of gmap.h
 nlohmann::json to_json(const gg_gmap_tile_t& t);
 std::unique_ptr<gg_gmap_tile_t> from_json(const nlohmann::json& j);

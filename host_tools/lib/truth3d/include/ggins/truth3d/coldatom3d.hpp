@@ -25,6 +25,10 @@
 //                               # route map (coldatom/route_tiles.hpp) into <out>/maps/aid_pf/:
 //   map_step_m = 250.0          #   node spacing, m (50 x 50 nodes a tile)
 //   map_tile_spacing_m = 5000.0 #   distance along the route between tile centres, m
+//                               # with gzz_map = "field": Gamma_zz tiles of the scenario's own
+//                               # [gravity] field along the route in height layers, cut as the
+//                               # map UKF's (run3d field_map.hpp):
+//   map_spacing_deg = 0.05, map_margin_deg = 0.25, map_noise_E = 0.001, map_seed = 1
 //   particles = 500, chunk = 50, end_chunk = 250, model = "rbpf" ("rw", "ins"), seed = 1,
 //   feedback = "position-velocity" (or "position": what the closed loop feeds back),
 //   sigma = 0 (likelihood sigma, signal units; 0: the sensor's expected scatter, at least 1e-3),
@@ -71,14 +75,19 @@ struct AidPf3 : Integrity3 {
   std::string map_dir;  // as written in the scenario
   bool map_from_field = false;  // the runner writes the tiles from the sensor's route map
   double map_step_m = 250.0, map_tile_spacing_m = 5000.0;
+  // map_from_field with [coldatom] gzz_map = "field": Gamma_zz tiles of the scenario's field
+  // along the route (ggins run3d: field_map.hpp, the map UKF's cut and height layers)
+  double map_spacing_deg = 0.05, map_margin_deg = 0.25, map_noise_E = 0.001;
+  uint64_t map_seed = 1;
   int particles = 500, chunk = 50, end_chunk = 250;
   std::string model = "rbpf";
   std::string feedback = "position-velocity";  // or "position"
   std::uint64_t seed = 1;
   double sigma = 0.0;
-  double sigma0_pos_m = 50.0, sigma0_vel_mps = 0.0, sigma0_tilt_mps2 = 0.0, sigma0_gyro_mps3 = 4.9e-7,
-         sigma0_accel_mps2 = 3.1e-4;
-  double q_pos_m = 0.0, q_vel_mps = 1.47e-4, q_tilt_mps2 = 1.96e-5, q_gyro_mps3 = 0.0, q_accel_mps2 = 0.0;
+  // < 0: derived from the scenario's IMU as the filter knows it (apply_aid_pf, PfImu)
+  double sigma0_pos_m = 50.0, sigma0_vel_mps = 0.0, sigma0_tilt_mps2 = 0.0, sigma0_gyro_mps3 = -1.0,
+         sigma0_accel_mps2 = -1.0;
+  double q_pos_m = 0.0, q_vel_mps = -1.0, q_tilt_mps2 = -1.0, q_gyro_mps3 = 0.0, q_accel_mps2 = 0.0;
   double reg_bw = 1.0, gain = 0.05, ess_frac = 0.5;
 };
 
@@ -86,7 +95,22 @@ struct AidPf3 : Integrity3 {
 // model is the sensor's: k_eff, T, dz, contrast, centre 1/2 + bias; likelihood sigma 0 = the
 // sensor's expected scatter, at least 1e-3); the firmware validates the values
 // (gg_nav3d_init). Part of the scenario -> configuration mapping (config3d.hpp).
-void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, gg_nav3d_config_t& c);
+// The IMU as the particle filter's model knows it (the scenario's fixed values and the
+// one-sigma of its draws, never a draw's outcome), from which the model's spreads not given
+// in [aid_pf] are derived, per shot of dt_shot = 1 / [coldatom] rate_hz and g = 9.80665:
+//   sigma0_gyro_mps3  = g sigma_bg                  (the tilt rate g x gyro bias)
+//   sigma0_accel_mps2 = b_a                         (the horizontal accelerometer error)
+//   q_vel_mps         = sigma_a dt sqrt(n)          (accelerometer white noise over a shot)
+//   q_tilt_mps2       = g sigma_g dt sqrt(n)        (gyro white noise over a shot)
+// with dt the navigation step, n = dt_shot / dt its steps per shot, sigma_a and sigma_g the
+// white noise per sample; q_vel_mps at least kPfQVelFloor (the rbpf model needs it > 0).
+struct PfImu {
+  double gyro_bias_radps = 0, gyro_noise_radps = 0;  // one sigma: bias, white noise per sample
+  double accel_bias_mps2 = 0, accel_noise_mps2 = 0;  // horizontal bias magnitude, white noise per sample
+  double rate_hz = 100;                              // navigation steps per second
+};
+constexpr double kPfQVelFloor = 1e-9;  // m/s per shot
+void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, const PfImu& imu, gg_nav3d_config_t& c);
 
 // The directory of [aid_pf].map_dir (its *.gmap tiles: run3d/map_storage.hpp), a relative name
 // from the scenario's directory.

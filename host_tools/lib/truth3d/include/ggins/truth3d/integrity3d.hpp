@@ -8,7 +8,12 @@
 //   integrity_z = 4.265           # the band's standard-normal quantile (1e-5 per window)
 //   integrity_isolate_after = 3   # windows outside while SUSPECT before ISOLATED
 //   integrity_recover_after = 8   # windows inside per rung of recovery
+//   map_uncovered = "refuse"      # a route the map storage does not cover (area or height) is
+//                                 # refused before take-off, naming the stretches; "fly": flown
+//                                 # with no update over them (counted, the flight ends degraded)
 #pragma once
+
+#include <string>
 
 #include "ggins/aid_integ.h"
 #include "ggins/truth/scenario_schema.hpp"
@@ -16,11 +21,14 @@
 namespace ggins::truth3d {
 
 struct Integrity3 {
+  Integrity3() {}  // user-provided: the aids' tables value-initialise this base through it (GCC 12's
+                   // -Wmaybe-uninitialized misreads aggregate-initialising a std::string in a base)
   bool integrity = true;
   int integrity_window = GG_INTEG_WINDOW_DEFAULT;
   double integrity_z = GG_INTEG_Z_DEFAULT;
   int integrity_isolate_after = GG_INTEG_ISOLATE_AFTER_DEFAULT;
   int integrity_recover_after = GG_INTEG_RECOVER_AFTER_DEFAULT;
+  std::string map_uncovered = "refuse";  // "refuse" | "fly" (ggins run3d: map_coverage.hpp)
 };
 
 inline gg_integ_config_t integrity_config(const Integrity3& a) {
@@ -49,7 +57,11 @@ void integrity_keys(truth::sch::Table<A>& t, const std::string& what) {
       .integer("integrity_isolate_after", static_cast<int A::*>(&Integrity3::integrity_isolate_after), "",
                sch::in(1, 1000), "windows outside the band while SUSPECT before the aid is isolated")
       .integer("integrity_recover_after", static_cast<int A::*>(&Integrity3::integrity_recover_after), "",
-               sch::in(1, 1000), "windows inside the band per rung of recovery (ISOLATED -> SUSPECT -> OK)");
+               sch::in(1, 1000), "windows inside the band per rung of recovery (ISOLATED -> SUSPECT -> OK)")
+      .str("map_uncovered", static_cast<std::string A::*>(&Integrity3::map_uncovered), {"refuse", "fly"},
+           "a route the map storage does not cover (outside every tile of the aid's kind, or at a height no layer "
+           "holds), checked every 10 s of the route before take-off: refuse names the stretches and does not fly; "
+           "fly flies them with no update there (each refused measurement counted; the flight ends degraded)");
 }
 
 }  // namespace ggins::truth3d
