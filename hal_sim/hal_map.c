@@ -9,10 +9,13 @@
 
 /* distance of (lat, lon) from the tile's nearest edge in node spacings;
  * negative outside */
-static double edge_margin(const gg_gmap_tile_t *t, double lat, double lon)
+static double edge_margin(const gg_gmap_t *g, double lat, double lon)
 {
+    const gg_gmap_tile_t *t = &g->tile;
+    double dl = lon - t->lon0_rad;
+    (void)gg_gmap_lon_offset(g, lon, &dl); /* across +-pi as the tile's interpolation takes it */
     const double i = (lat - t->lat0_rad) / t->dlat_rad;
-    const double j = (lon - t->lon0_rad) / t->dlon_rad;
+    const double j = dl / t->dlon_rad;
     double m = i;
     if ((double)(t->nlat - 1) - i < m) m = (double)(t->nlat - 1) - i;
     if (j < m) m = j;
@@ -41,7 +44,7 @@ static gg_status_t tile_at(void *ctx, uint32_t kind, double lat_rad, double lon_
     for (int k = 0; k < s->n_tiles; ++k) {
         if (kind_of(s->tiles[k]) != kind) continue;
         const gg_gmap_tile_t *t = &s->tiles[k]->tile;
-        const double m = edge_margin(t, lat_rad, lon_rad);
+        const double m = edge_margin(s->tiles[k], lat_rad, lon_rad);
         if (!(m >= 0.0)) continue;
         if (best < 0 || m > best_m) {
             best = k;

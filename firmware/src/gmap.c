@@ -30,10 +30,43 @@ static int geometry_ok(int32_t nlat, int32_t nlon, double lat0, double lon0, dou
     const double lat1 = lat0 + (dlat * (double)nlat1);
     const double lon1 = lon0 + (dlon * (double)nlon1);
     if ((lat0 < -GG_LIM_LAT_MAX_RAD) || (lat1 > GG_LIM_LAT_MAX_RAD) || (lon0 < -(double)GG_PI) ||
-        (lon1 > (double)GG_PI)) {
+        (lon0 > (double)GG_PI) || (!((lon1 - lon0) < (2.0 * (double)GG_PI)))) {
         return 0;
     }
     return 1;
+}
+
+/* lon - lon0 of a tile, rad, taken across +-pi where the point lies on the tile's side of
+ * it: the offset brought within pi of the tile's centre (a tile may span the antimeridian;
+ * its span is below 2 pi). A point whose offset needs no wrap keeps lon - lon0 exactly. */
+static gg_real_t gmap_dlon(const gg_gmap_tile_t *t, gg_real_t lon)
+{
+    const gg_real_t half = 0.5L * (gg_real_t)t->dlon_rad * (gg_real_t)(t->nlon - 1);
+    const gg_real_t two_pi = 2.0L * (gg_real_t)GG_PI;
+    gg_real_t d = lon - (gg_real_t)t->lon0_rad;
+    if (d < (half - (gg_real_t)GG_PI)) {
+        d += two_pi;
+    } else if (d >= (half + (gg_real_t)GG_PI)) {
+        d -= two_pi;
+    } else {
+        /* within pi of the centre: as it is */
+    }
+    return d;
+}
+
+gg_status_t gg_gmap_lon_offset(const gg_gmap_t *st, double lon_rad, double *dlon_rad)
+{
+    if ((st == NULL) || (dlon_rad == NULL)) {
+        return GG_ERR_NULL;
+    }
+    if (st->initialized == 0) {
+        return GG_ERR_NOT_INIT;
+    }
+    if (!GG_ISFINITE(lon_rad)) {
+        return GG_ERR_NONFINITE;
+    }
+    *dlon_rad = (double)gmap_dlon(&st->tile, (gg_real_t)lon_rad);
+    return GG_OK;
 }
 
 /* value k of a node may be non-zero in a tile of these flags: every value, or
@@ -244,7 +277,7 @@ gg_status_t gg_gmap_eval(const gg_gmap_t *st, gg_real_t lat, gg_real_t lon, gg_r
     }
     const gg_gmap_tile_t *t = &st->tile;
     const gg_real_t tl = (lat - (gg_real_t)t->lat0_rad) / (gg_real_t)t->dlat_rad;
-    const gg_real_t tn = (lon - (gg_real_t)t->lon0_rad) / (gg_real_t)t->dlon_rad;
+    const gg_real_t tn = gmap_dlon(t, lon) / (gg_real_t)t->dlon_rad;
     const gg_real_t dh = h - (gg_real_t)t->h0_m;
     /* MISRA 12.2: false positive on the constant mask macro (shift by 8 of an unsigned) */
     /* cppcheck-suppress misra-c2012-12.2 */

@@ -8,6 +8,7 @@
  *    and state untouched. (Against the EGM96 model: tests/gmap/.) */
 #include "test_common.h"
 #include "ggins/gmap.h"
+#include "ggins/ggmath.h"
 
 static gg_gmap_t g_map; /* 240 kB: static */
 static gg_gmap_tile_t g_tile;
@@ -102,6 +103,57 @@ static void test_cubic_polynomial_exact(void **state)
     /* values ~1e-8 stored as double (rel 1.1e-16): rounding ~1e-23 */
     assert_true(worst_v < 1e-21L);
     assert_true(worst_g < 1e-9L);
+}
+
+/* A tile across the antimeridian (lon0 = pi - 3 cells, 9 columns: 5 beyond +pi): the cubic is
+ * reproduced at longitudes given on the far side as -pi + y', as at the same points given
+ * beyond +pi, the gradient too; the storage's offset agrees; points a cell west of the tile and
+ * a cell east of its last column are outside; a tile of 2 pi or more, or lon0 beyond pi, is
+ * refused. */
+static void test_antimeridian(void **state)
+{
+    (void)state;
+    fill_tile(7, 9, 0);
+    const double lon0 = (double)GG_PI - 3.0 * kD;
+    g_tile.lon0_rad = lon0;
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_OK);
+    long double worst_v = 0, worst_g = 0;
+    for (int k = 0; k < 100; ++k) {
+        const long double x = 6.0L * (long double)((k * 37) % 101) / 100.0L;
+        const long double y = 8.0L * (long double)((k * 53) % 97) / 96.0L;
+        long double lon = (long double)lon0 + y * kD; /* beyond +pi for y > 3 */
+        if (lon > (long double)GG_PI) lon -= 2.0L * (long double)GG_PI;
+        gg_gmap_sample_t s;
+        assert_int_equal(gg_gmap_eval(&g_map, kLat0 + x * kD, lon, kH0, GG_GMAP_MASK_ALL, 1, &s), GG_OK);
+        double off = 0.0;
+        assert_int_equal(gg_gmap_lon_offset(&g_map, (double)lon, &off), GG_OK);
+        assert_true(fabsl((long double)off - y * kD) < 1e-12L);
+        for (int c = 0; c < 6; ++c) {
+            long double gw[3];
+            poly_grad(c, x, y, 0, gw);
+            const long double ev = fabsl(s.gamma[c] - poly(c, x, y, 0));
+            if (ev > worst_v) worst_v = ev;
+            for (int q = 0; q < 3; ++q) {
+                const long double eg = fabsl(s.dgamma[c][q] - gw[q]) / (fabsl(gw[q]) + 1e-12L);
+                if (eg > worst_g) worst_g = eg;
+            }
+        }
+    }
+    printf("  antimeridian: worst value error %.3Le s^-2, worst relative gradient error %.3Le\n", worst_v, worst_g);
+    /* as the cubic test: the nodes' double rounding (the far-side longitudes round to 4e-16
+     * rad = 4e-13 cells, times slopes ~1e-10 per cell) */
+    assert_true(worst_v < 1e-21L);
+    assert_true(worst_g < 1e-9L);
+    gg_gmap_sample_t s;
+    assert_int_equal(gg_gmap_eval(&g_map, kLat0, lon0 - kD, kH0, GG_GMAP_MASK_ALL, 0, &s), GG_ERR_RANGE);
+    assert_int_equal(gg_gmap_eval(&g_map, kLat0, lon0 + 9.0 * kD - 2.0 * GG_PI, kH0, GG_GMAP_MASK_ALL, 0, &s),
+                     GG_ERR_RANGE);
+    assert_int_equal(gg_gmap_eval(&g_map, kLat0, 0.0, kH0, GG_GMAP_MASK_ALL, 0, &s), GG_ERR_RANGE);
+    g_tile.lon0_rad = (double)GG_PI + kD;
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG);
+    g_tile.lon0_rad = -1.0;
+    g_tile.dlon_rad = 2.0 * (double)GG_PI / 8.0; /* 9 columns: 2 pi */
+    assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_ERR_CONFIG);
 }
 
 /* f = x^4 (grid units): the cubic Lagrange interpolant through nodes s..s+3
@@ -286,6 +338,7 @@ int main(void)
         cmocka_unit_test(test_cubic_polynomial_exact),
         cmocka_unit_test(test_quartic_remainder),
         cmocka_unit_test(test_rejects),
+        cmocka_unit_test(test_antimeridian),
         cmocka_unit_test(test_load_blob),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -113,7 +113,9 @@ typedef struct {
     uint32_t flags;        /**< GG_GMAP_ANOMALY, GG_GMAP_GZZ_ONLY or 0 */
     int32_t nmax;          /**< SH degree of the source model (metadata) */
     double lat0_rad;       /**< south-west node, geodetic latitude, rad (|lat| < 89 deg) */
-    double lon0_rad;       /**< south-west node, longitude, rad (tile does not cross +-pi) */
+    double lon0_rad;       /**< south-west node, longitude, rad, in [-pi, pi]; the tile spans
+                                *   (nlon - 1) dlon_rad < 2 pi eastward and may cross +-pi (a
+                                *   point's longitude is taken within pi of the tile's centre) */
     double dlat_rad;       /**< spacing, rad (> 0) */
     double dlon_rad;       /**< spacing, rad (> 0) */
     double h0_m;           /**< altitude of the grid above the ellipsoid, m */
@@ -153,6 +155,12 @@ gg_status_t gg_gmap_load(gg_gmap_t *st, const uint8_t *buf, size_t len);
  *  before init (out untouched on error). */
 gg_status_t gg_gmap_eval(const gg_gmap_t *st, gg_real_t lat, gg_real_t lon, gg_real_t h,
                          uint32_t mask, int want_grad, gg_gmap_sample_t *out);
+
+/** The longitude offset lon - lon0_rad of a point from the tile's first column, rad, taken
+ *  across +-pi where the tile spans the antimeridian (within pi of the tile's centre): the
+ *  offset gg_gmap_eval interpolates at, for the map storage's choice among tiles (hal.h).
+ *  GG_ERR_NONFINITE for a NaN/Inf longitude, GG_ERR_NOT_INIT before init. */
+gg_status_t gg_gmap_lon_offset(const gg_gmap_t *st, double lon_rad, double *dlon_rad);
 
 /** Expand the six components (GG_GMAP_C_* order) into the symmetric 3x3
  *  tensor m[j][k]. */

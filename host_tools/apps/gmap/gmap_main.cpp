@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
   app.add_option("--lat-max", sp.lat_max_deg, "north edge, deg (rounded up to a whole node)")
       ->required()
       ->check(cli::FiniteRange(-90, 90));
-  app.add_option("--lon-min", sp.lon_min_deg, "west edge, deg")->required()->check(cli::FiniteRange(-360, 360));
+  app.add_option("--lon-min", sp.lon_min_deg,
+                 "west edge, deg (a tile may cross the antimeridian: e.g. --lon-min 175 --lon-max 185)")->required()->check(cli::FiniteRange(-360, 360));
   app.add_option("--lon-max", sp.lon_max_deg, "east edge, deg (rounded up to a whole node)")
       ->required()
       ->check(cli::FiniteRange(-360, 360));

@@ -99,7 +99,10 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
   std::vector<std::array<double, 3>> pts;  // lat, lon (deg), h (m) of the route samples
   double h_min = 1e300, h_max = -1e300;
   for (const RoutePoint& p : route_samples(gen, duration_s)) {
-    pts.push_back({p.lat_deg, p.lon_deg, p.h_m});
+    // longitudes continuous along the route (across the antimeridian: beyond +-180)
+    double lon = p.lon_deg;
+    if (!pts.empty()) lon = pts.back()[1] + std::remainder(lon - pts.back()[1], 360.0);
+    pts.push_back({p.lat_deg, lon, p.h_m});
     h_min = std::min(h_min, p.h_m);
     h_max = std::max(h_max, p.h_m);
   }
@@ -113,10 +116,9 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
     fm.lon_min_deg = std::min(fm.lon_min_deg, p[1]);
     fm.lon_max_deg = std::max(fm.lon_max_deg, p[1]);
   }
-  if (fm.lon_max_deg - fm.lon_min_deg > 180.0)
-    throw std::runtime_error(a.key + ".map_from_field: the route crosses the antimeridian (longitudes " +
-                             std::to_string(fm.lon_min_deg) + " .. " + std::to_string(fm.lon_max_deg) +
-                             " deg); give map tiles instead");
+  if (fm.lon_max_deg - fm.lon_min_deg > 300.0)
+    throw std::runtime_error(a.key + ".map_from_field: the route spans " + std::to_string(fm.lon_max_deg - fm.lon_min_deg) +
+                             " deg of longitude (around a pole?); give map tiles instead");
   const double m = a.margin_deg, d = a.spacing_deg;
   fm.lat_min_deg -= m;
   fm.lat_max_deg += m;

@@ -97,7 +97,12 @@ std::unique_ptr<gg_gmap_tile_t> make_tile(const gravity::Field& f, const TileSpe
   tile->flags = sp.anomaly ? GG_GMAP_ANOMALY : 0u;
   tile->nmax = sp.nmax;
   tile->lat0_rad = sp.lat_min_deg * d2r;
-  tile->lon0_rad = sp.lon_min_deg * d2r;
+  double lon0 = sp.lon_min_deg;  // a tile across the antimeridian: its west edge within [-180, 180)
+  while (lon0 >= 180.0) lon0 -= 360.0;
+  while (lon0 < -180.0) lon0 += 360.0;
+  if (!((nlon - 1) * sp.spacing_deg < 360.0))
+    throw std::invalid_argument("gmap: a tile spans less than 360 deg of longitude");
+  tile->lon0_rad = lon0 * d2r;
   tile->dlat_rad = sp.spacing_deg * d2r;
   tile->dlon_rad = sp.spacing_deg * d2r;
   tile->h0_m = sp.alt_m;
