@@ -108,18 +108,6 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
     if (s != GG_OK) {
         return s;
     }
-    /* the draw centred on the prior mean (zero): its sample mean, ~sigma0 / sqrt(N), would
-     * otherwise be fed back as a correction no shot ever measured (pf.h) */
-    for (k = 0; k < nx; ++k) {
-        double m = 0.0;
-        for (i = 0; i < cfg->n; ++i) {
-            m += st->xs[i][k];
-        }
-        m /= (double)cfg->n;
-        for (i = 0; i < cfg->n; ++i) {
-            st->xs[i][k] -= m;
-        }
-    }
     st->reg_h = h;
     for (i = 0; i < GG_PF_NL; ++i) { /* RBPF: linear states start at zero mean, covariance P */
         for (k = 0; k < GG_PF_NL; ++k) {

@@ -126,8 +126,7 @@ typedef struct {
     double c0;        /**< calibrated ellipse centre (1/2 + bias), signal units */
     double c1;
     double sigma;         /**< likelihood standard deviation, signal units (paper 0.003..0.010) */
-    double sigma0_pos;    /**< initial spread of the position corrections, m (the draw is centred: its
-                           *   sample mean subtracted, so the cloud starts at zero exactly) */
+    double sigma0_pos;    /**< initial spread of the position corrections, m */
     double sigma0_vel;    /**< initial spread of the velocity corrections, m/s */
     double q_pos;         /**< process noise per step on dN, dE, m */
     double q_vel;         /**< process noise per step on dvN, dvE, m/s */
