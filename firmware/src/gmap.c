@@ -41,7 +41,8 @@ static int geometry_ok(int32_t nlat, int32_t nlon, double lat0, double lon0, dou
  * its span is below 2 pi). A point whose offset needs no wrap keeps lon - lon0 exactly. */
 static gg_real_t gmap_dlon(const gg_gmap_tile_t *t, gg_real_t lon)
 {
-    const gg_real_t half = 0.5L * (gg_real_t)t->dlon_rad * (gg_real_t)(t->nlon - 1);
+    const int32_t nlon1 = t->nlon - 1;
+    const gg_real_t half = 0.5L * (gg_real_t)t->dlon_rad * (gg_real_t)nlon1;
     const gg_real_t two_pi = 2.0L * (gg_real_t)GG_PI;
     gg_real_t d = lon - (gg_real_t)t->lon0_rad;
     if (d < (half - (gg_real_t)GG_PI)) {
