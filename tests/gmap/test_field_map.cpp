@@ -20,6 +20,7 @@
 #include <string>
 
 #include "field_map.hpp"
+#include "map_coverage.hpp"
 #include "ggins/gmap_gen.hpp"
 #include "ggins/truth3d/generator3d.hpp"
 #include "ggins/truth3d/scenario3d.hpp"
@@ -215,6 +216,42 @@ rate_hz = 100.0
                      GG_OK);
     assert_false(std::fabs(h - t->tile.h0_m) <= t->tile.h_range_m);
   }
+  // the route against the storage before take-off (run3d map_coverage.hpp), against the
+  // route's own heights and the layers' bands read from the tiles
+  std::vector<std::string> all, low;
+  double low_top = -1e300;  // the top of the bands of the tiles with h0 below 3600 m
+  for (int k = 0; k < fm.tiles; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "tile_%04d.gmap", k);
+    all.push_back((dir / name).string());
+    const gg_gmap_tile_t& tk = store.tiles[k]->tile;
+    if (tk.h0_m < 3600.0) {
+      low.push_back(all.back());
+      low_top = std::max(low_top, tk.h0_m + tk.h_range_m);
+    }
+  }
+  const auto pts = ggins::run3d::route_samples(gen, sc.duration_s);
+  const ggins::run3d::Coverage full = ggins::run3d::route_coverage(pts, all, GG_GMAP_KIND_TENSOR);
+  assert_true(full.complete());
+  assert_int_equal(full.covered, static_cast<int64_t>(pts.size()));
+  const ggins::run3d::Coverage gzz = ggins::run3d::route_coverage(pts, all, GG_GMAP_KIND_GZZ);
+  assert_int_equal(gzz.gaps.size(), 1);
+  assert_true(gzz.gaps[0].why == "area" && gzz.covered == 0 && gzz.gaps[0].to.t_s == sc.duration_s);
+  const ggins::run3d::Coverage lo_only = ggins::run3d::route_coverage(pts, low, GG_GMAP_KIND_TENSOR);
+  double first_above = -1;  // the first sample above the low layers' bands
+  for (const auto& q : pts)
+    if (q.h_m > low_top) {
+      first_above = q.t_s;
+      break;
+    }
+  std::printf("coverage: all tiles %lld of %zu samples; Gamma_zz kind none; the layers below 3600 m (bands up to "
+              "%.0f m) leave %zu stretch(es), the first from t = %.0f s (the route passes %.0f m at t = %.0f s):%s\n",
+              static_cast<long long>(full.covered), pts.size(), low_top, lo_only.gaps.size(),
+              lo_only.gaps.empty() ? -1.0 : lo_only.gaps[0].from.t_s, low_top, first_above, lo_only.text(2).c_str());
+  assert_true(first_above > 0);
+  assert_true(!lo_only.gaps.empty() && lo_only.gaps[0].why == "height");
+  assert_true(lo_only.gaps[0].from.t_s == first_above);
+  assert_true(lo_only.gaps.back().to.t_s == sc.duration_s);  // climbing to the end
   hal_map_free(&store);
   std::error_code ec;
   fs::remove_all(dir, ec);
