@@ -540,11 +540,15 @@ def test_realtime_stall(a):
     stopped = 0.0
     if hal is not None:
         time.sleep(1.0)  # 1 s into the 5 s flight
-        t_stop = time.time()
+        # the interval hal_sim is certainly stopped: from the return of SIGSTOP's kill to
+        # the call of SIGCONT's (the clock read around either call, not across them, so
+        # that this process's own scheduling does not lengthen it)
         os.kill(hal, signal.SIGSTOP)
+        t_stop = time.time()
         time.sleep(2.0)
+        t_cont = time.time()
         os.kill(hal, signal.SIGCONT)
-        stopped = time.time() - t_stop
+        stopped = t_cont - t_stop
     p.wait(timeout=120)
     th.join(timeout=10)
     text = "".join(lines)
