@@ -13,6 +13,7 @@
 #include <fstream>
 
 #include "ggins/gmap_gen.hpp"
+#include "ggins/tile_cache.hpp"
 
 #ifndef GGINS_DATA_DIR
 #define GGINS_DATA_DIR "data"
@@ -71,6 +72,14 @@ int main(int argc, char** argv) {
   app.add_option("--seed", sp.seed, "noise seed")->capture_default_str()->check(cli::Seed());
   app.add_option("--threads", sp.threads, "worker threads")->capture_default_str()->check(cli::IntRange(1, 1024));
   app.add_option("--egm96", egm, "EGM96 coefficient file (NASA ASCII)")->capture_default_str()->check(CLI::ExistingFile);
+  std::string cache = ggins::gmap::default_cache_dir().string();
+  bool no_cache = false;
+  app.add_option("--cache", cache,
+                 "tile cache folder: a tile is built once, named by its content (the coefficient file's digest, "
+                 "degree, area, spacing, height, band, noise, seed, kind), shared with ggins run3d (default: "
+                 "$GGINS_MAP_CACHE, else $XDG_CACHE_HOME/ggins/maps, else ~/.cache/ggins/maps)")
+      ->capture_default_str();
+  app.add_flag("--no-cache", no_cache, "build the tile afresh and keep no copy");
   app.add_option("--out", out_bin, "binary tile (format in gmap.h)")->check(cli::OutputFile());
   app.add_option("--json", out_json, "JSON copy of the tile")->check(cli::OutputFile());
   return cli::run("ggins gmap", app, argc, argv, [&] {
@@ -91,28 +100,39 @@ int main(int argc, char** argv) {
       std::snprintf(tag, sizeof tag, "_h%05.0f", h0);
       return (p.parent_path() / (p.stem().string() + tag + p.extension().string())).string();
     };
-    auto field = ggins::gmap::make_egm96_field(egm, sp.nmax, sp.anomaly);
+    std::shared_ptr<const ggins::gravity::Field> field;  // read when a tile is to be built
+    const std::filesystem::path cache_dir = no_cache ? std::filesystem::path() : std::filesystem::path(cache);
+    const std::string field_id = cache_dir.empty() ? std::string() : ggins::gmap::egm96_field_id(egm, sp.nmax, sp.anomaly);
     const std::uint64_t seed0 = sp.seed;
     for (std::size_t k = 0; k < layers.size(); ++k) {
       const auto t0 = std::chrono::steady_clock::now();
       sp.alt_m = layers[k].h0_m;
       sp.h_range_m = layers[k].h_range_m;
       sp.seed = seed0 + k;  // each layer its own noise
-      auto tile = ggins::gmap::make_tile(*field, sp);
-      if (gzz_only) ggins::gmap::keep_gzz_only(*tile);
+      const auto make = [&] {
+        if (!field) field = ggins::gmap::make_egm96_field(egm, sp.nmax, sp.anomaly);
+        auto t = ggins::gmap::make_tile(*field, sp);
+        if (gzz_only) ggins::gmap::keep_gzz_only(*t);
+        return ggins::gmap::encode(*t);
+      };
+      bool hit = false;
+      const std::vector<std::uint8_t> b =
+          cache_dir.empty() ? make() : ggins::gmap::cached_tile(cache_dir, ggins::gmap::tile_key(field_id, sp, gzz_only), make, &hit);
+      auto st = std::make_unique<gg_gmap_t>();
+      if (gg_gmap_load(st.get(), b.data(), b.size()) != GG_OK) throw std::runtime_error("gmap: the tile does not load");
+      const gg_gmap_tile_t* tile = &st->tile;
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!out_bin.empty()) {
-        const auto b = ggins::gmap::encode(*tile);
         cli::write_file(named(out_bin, sp.alt_m), std::string(reinterpret_cast<const char*>(b.data()), b.size()),
                         true);
       }
       if (!out_json.empty()) cli::write_file(named(out_json, sp.alt_m), ggins::gmap::to_json(*tile).dump(1) + "\n");
       std::printf("gmap: %d x %d nodes (%d of %d), %.4f deg, alt %.1f m +- %.1f m, degree %d, %s, noise %.4g E, seed %llu, "
-                  "%.1f s%s\n",
+                  "%.1f s%s%s\n",
                   tile->nlat, tile->nlon, tile->nlat * tile->nlon, GG_GMAP_MAX_NODES, sp.spacing_deg, sp.alt_m,
                   sp.h_range_m, sp.nmax,
                   gzz_only ? (sp.anomaly ? "anomaly Gamma_DD" : "total Gamma_DD") : (sp.anomaly ? "anomaly" : "total"),
-                  sp.noise_e, static_cast<unsigned long long>(sp.seed), s,
+                  sp.noise_e, static_cast<unsigned long long>(sp.seed), s, hit ? " (from the cache)" : "",
                   layered ? (" -> " + named(out_bin.empty() ? out_json : out_bin, sp.alt_m)).c_str() : "");
       std::fflush(stdout);
     }

@@ -32,11 +32,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "ggins/gmap_gen.hpp"
+#include "ggins/gravity/lattice.hpp"
+#include "ggins/tile_cache.hpp"
 #include "ggins/truth3d/aids3d.hpp"
 #include "ggins/truth3d/coldatom3d.hpp"
 #include "ggins/truth3d/generator3d.hpp"
@@ -76,6 +80,9 @@ struct FieldMap {
   double h_min_m = 0, h_max_m = 0;  // the route's height span
   int footprints = 0;               // horizontal tiles
   int layers_max = 1;               // most layers of one footprint
+  int built = 0, cache_hits = 0;    // tiles computed, tiles taken from the cache
+  bool exact = false;               // from the model itself (MapField), not its lattice
+  bool cached = false;              // through the tile cache
 };
 
 // What an aid's map_from_field asks for: the map UKF's tiles hold the whole tensor, the
@@ -93,8 +100,37 @@ inline FieldTiles field_tiles(const truth3d::AidPf3& a) {
   return {"aid_pf", a.map_spacing_deg, a.map_margin_deg, a.map_noise_E, a.map_seed, true};
 }
 
+// How the tiles are built: threads per tile (rows of nodes in parallel), the cache folder
+// (gmap/tile_cache.hpp; empty: no cache) and the identity of the field for its keys (empty:
+// not cached, e.g. a field that names no model file), and a progress callback (tiles done,
+// tiles in all).
+struct MapBuild {
+  int threads = 2;
+  std::filesystem::path cache_dir;
+  std::string field_id;
+  std::function<void(int, int)> progress;
+};
+
+// The field the tiles are computed from: the scenario's model itself where the truth
+// generator samples it on a lattice (gravity::FastField::exact: normal + the disturbance's
+// spherical harmonics, whose circles of latitude share the Legendre sums along a row of
+// nodes and give the height derivative by dual numbers), else the generator's field with
+// third derivatives by differences (ThirdByDifferences, node by node).
+struct MapField {
+  std::shared_ptr<const gravity::Field> exact;
+  std::unique_ptr<ThirdByDifferences> diff;
+  const gravity::Field& field() const { return exact ? *exact : static_cast<const gravity::Field&>(*diff); }
+  bool is_exact() const { return exact != nullptr; }
+};
+inline MapField map_field(const gravity::Field& f) {
+  MapField m;
+  if (const auto* ff = dynamic_cast<const gravity::FastField*>(&f)) m.exact = ff->exact();
+  if (!m.exact) m.diff = std::make_unique<ThirdByDifferences>(f);
+  return m;
+}
+
 inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_s, int nmax, const FieldTiles& a,
-                                const std::filesystem::path& dir, int threads = 2) {
+                                const std::filesystem::path& dir, const MapBuild& mb = {}) {
   namespace fs = std::filesystem;
   std::vector<std::array<double, 3>> pts;  // lat, lon (deg), h (m) of the route samples
   double h_min = 1e300, h_max = -1e300;
@@ -136,11 +172,13 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
   const double span = (side - 1) * d, stride = span - m;
   if (!(stride > d)) throw std::runtime_error(a.key + ".map_margin_deg is too wide for tiles of " + std::to_string(side) +
                                               " x " + std::to_string(side) + " nodes at map_spacing_deg");
-  const ThirdByDifferences field(gen.field());
+  const MapField mf = map_field(gen.field());
+  const std::string field_id = mf.is_exact() ? mb.field_id : std::string();  // the key names the model
   std::error_code ec;
   fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+  std::vector<gmap::TileSpec> plan;  // the tiles in load order
   for (double la = fm.lat_min_deg; la < fm.lat_max_deg - 1e-12; la += stride) {
     for (double lo = fm.lon_min_deg; lo < fm.lon_max_deg - 1e-12; lo += stride) {
       const double la1 = std::min(la + span, fm.lat_max_deg), lo1 = std::min(lo + span, fm.lon_max_deg);
@@ -172,20 +210,34 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
         spec.h_range_m = L.h_range_m;
         spec.nmax = nmax;
         spec.noise_e = a.noise_E;
-        spec.seed = a.seed * 1000003ull + static_cast<uint64_t>(fm.tiles);
-        spec.threads = threads;
-        const auto tile = gmap::make_tile(field, spec);
-        if (a.gzz_only) gmap::keep_gzz_only(*tile);
-        const std::vector<std::uint8_t> bytes = gmap::encode(*tile);
-        char name[32];
-        std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
-        std::ofstream f(dir / name, std::ios::binary);
-        f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-        if (!f) throw std::runtime_error("cannot write " + (dir / name).string());
-        ++fm.tiles;
+        spec.seed = a.seed * 1000003ull + static_cast<uint64_t>(plan.size());
+        spec.threads = mb.threads;
+        plan.push_back(spec);
       }
     }
   }
+  const int n_tiles = static_cast<int>(plan.size());
+  for (const gmap::TileSpec& spec : plan) {
+    if (mb.progress) mb.progress(fm.tiles, n_tiles);
+    bool hit = false;
+    const auto make = [&] {
+      const auto tile = gmap::make_tile(mf.field(), spec);
+      if (a.gzz_only) gmap::keep_gzz_only(*tile);
+      return gmap::encode(*tile);
+    };
+    const std::vector<std::uint8_t> bytes =
+        field_id.empty() ? make() : gmap::cached_tile(mb.cache_dir, gmap::tile_key(field_id, spec, a.gzz_only), make, &hit);
+    (hit ? fm.cache_hits : fm.built) += 1;
+    char name[32];
+    std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
+    std::ofstream f(dir / name, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!f) throw std::runtime_error("cannot write " + (dir / name).string());
+    ++fm.tiles;
+  }
+  if (mb.progress) mb.progress(fm.tiles, n_tiles);
+  fm.exact = mf.is_exact();
+  fm.cached = !field_id.empty() && !mb.cache_dir.empty();
   if (fm.tiles == 0) throw std::runtime_error(a.key + ".map_from_field: no tile along the route");
   return fm;
 }

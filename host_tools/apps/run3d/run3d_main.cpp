@@ -61,40 +61,25 @@ class Model3D {
  public:
   using Task = ggins::hil::Task3D;
 
+  // map_cache: the tile cache's folder for map_from_field (gmap/tile_cache.hpp; empty: none)
   Model3D(const ggins::hil::RunOptions& o, const ggins::truth3d::Scenario3& sc, bool reference,
-          const std::filesystem::path& out)
+          const std::filesystem::path& out, const std::filesystem::path& map_cache)
       : opt_(o), sc_(sc), gen_(sc), reference_(reference && (sc.aid_ukf.enabled || sc.aid_pf.enabled)) {
+    map_cache_ = map_cache;
     // the computer's map storage (map_storage.hpp): the map aid's tile files, then the
     // directory of the cold-atom aid's Gamma_zz tiles (pf3d.hpp)
     using ggins::run3d::MapSource;
     using ggins::run3d::SourceKind;
     const double t_maps = ggins::hil::mono_s();
     if (sc_.aid_ukf.enabled && sc_.aid_ukf.map_from_field) {  // tiles of the scenario's own field (field_map.hpp)
-      if (!opt_.quiet) std::fprintf(stderr, "%s: the map aid's tiles from the scenario's field ...\n", opt_.tool.c_str());
-      const fs::path dir = fs::absolute(out / "maps" / "aid_ukf").lexically_normal();
-      const int nmax = sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0;  // tile metadata
-      try {
-        field_map(ggins::run3d::field_tiles(sc_.aid_ukf), nmax, dir);
-      } catch (const std::exception& e) {
-        throw Fail(e.what(), ggins::cli::kExitBadArgs);
-      }
-      sources_.push_back({dir.string(), SourceKind::kDir});
+      field_map(ggins::run3d::field_tiles(sc_.aid_ukf), "the map aid's tiles", out / "maps" / "aid_ukf");
     } else if (sc_.aid_ukf.enabled) {
       for (const auto& p : ggins::truth3d::aid_ukf_map_paths(sc_.aid_ukf, sc_.source))
         sources_.push_back({fs::absolute(p).lexically_normal().string(), SourceKind::kFile});
     }
     if (sc_.aid_pf.enabled && sc_.aid_pf.map_from_field && sc_.coldatom.gzz_map == "field") {
       // Gamma_zz tiles of the scenario's field along the route (field_map.hpp)
-      if (!opt_.quiet)
-        std::fprintf(stderr, "%s: the cold-atom aid's Gamma_zz tiles from the scenario's field ...\n", opt_.tool.c_str());
-      const fs::path dir = fs::absolute(out / "maps" / "aid_pf").lexically_normal();
-      const int nmax = sc_.gravity.model == "egm96" ? static_cast<int>(sc_.sh.nmax) : 0;
-      try {
-        field_map(ggins::run3d::field_tiles(sc_.aid_pf), nmax, dir);
-      } catch (const std::exception& e) {
-        throw Fail(e.what(), ggins::cli::kExitBadArgs);
-      }
-      sources_.push_back({dir.string(), SourceKind::kDir});
+      field_map(ggins::run3d::field_tiles(sc_.aid_pf), "the cold-atom aid's Gamma_zz tiles", out / "maps" / "aid_pf");
     } else if (sc_.aid_pf.enabled && sc_.aid_pf.map_from_field) {  // Gamma_zz tiles of the sensor's route map (route_tiles.hpp)
       if (!opt_.quiet) std::fprintf(stderr, "%s: the cold-atom aid's tiles from the sensor's route map ...\n", opt_.tool.c_str());
       const fs::path dir = fs::absolute(out / "maps" / "aid_pf").lexically_normal();
@@ -152,14 +137,41 @@ class Model3D {
     }
   }
 
-  // map_from_field: an aid's tiles of the scenario's field along the route into dir
-  void field_map(const ggins::run3d::FieldTiles& ft, int nmax, const fs::path& dir) {
+  // map_from_field: an aid's tiles of the scenario's field along the route, written into
+  // dir, which becomes a source of the map storage; through the tile cache where the field
+  // is an EGM96 model (its file's digest names it)
+  void field_map(const ggins::run3d::FieldTiles& ft, const char* what, const fs::path& out_dir) {
+    if (!opt_.quiet) std::fprintf(stderr, "%s: %s from the scenario's field ...\n", opt_.tool.c_str(), what);
+    const fs::path dir = fs::absolute(out_dir).lexically_normal();
+    const bool egm = sc_.gravity.model == "egm96";
+    const int nmax = egm ? static_cast<int>(sc_.sh.nmax) : 0;  // tile metadata
     const double t0 = ggins::hil::mono_s();
-    const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, ft, dir);
-    if (!opt_.quiet)
-      std::fprintf(stderr, "%s: %d tiles: %d footprints, up to %d height layers over %.0f .. %.0f m (%.1f s)\n",
-                   opt_.tool.c_str(), fm.tiles, fm.footprints, fm.layers_max, fm.h_min_m, fm.h_max_m,
-                   ggins::hil::mono_s() - t0);
+    const bool tty = isatty(2) != 0 && opt_.progress != "off";
+    try {
+      ggins::run3d::MapBuild mb;
+      mb.cache_dir = map_cache_;
+      if (egm && !map_cache_.empty()) mb.field_id = ggins::gmap::egm96_field_id(ggins::truth3d::egm96_path(sc_), nmax, false);
+      if (!opt_.quiet && tty)
+        mb.progress = [&](int done, int total) {
+          const int w = 30, k = total > 0 ? w * done / total : w;
+          std::fprintf(stderr, "\r  maps [%.*s%*s] %d / %d tiles  %.1f s", k, "##############################", w - k,
+                       "", done, total, ggins::hil::mono_s() - t0);
+          if (done == total) std::fprintf(stderr, "\n");
+        };
+      const ggins::run3d::FieldMap fm = ggins::run3d::build_field_map(gen_, sc_.duration_s, nmax, ft, dir, mb);
+      if (!opt_.quiet)
+        std::fprintf(stderr,
+                     "%s: %d tiles (%d built, %d from the cache%s): %d footprints, up to %d height layers over %.0f .. "
+                     "%.0f m (%.1f s)\n",
+                     opt_.tool.c_str(), fm.tiles, fm.built, fm.cache_hits,
+                     fm.cached ? (" " + map_cache_.string()).c_str() : ", not cached", fm.footprints, fm.layers_max,
+                     fm.h_min_m, fm.h_max_m, ggins::hil::mono_s() - t0);
+      map_tiles_built_ += fm.built;
+      map_tiles_cached_ += fm.cache_hits;
+    } catch (const std::exception& e) {
+      throw Fail(e.what(), ggins::cli::kExitBadArgs);
+    }
+    sources_.push_back({dir.string(), ggins::run3d::SourceKind::kDir});
   }
 
   int64_t n_steps() const { return gen_.n_steps(); }
@@ -217,6 +229,8 @@ class Model3D {
   int64_t run_id_ = 0;
   int64_t n_ = 0, csv_every_ = 1, truth_every_ = 1, truth_published_ = 0;
   double map_build_s_ = 0;           // wall time of building the maps before the flight, s
+  std::filesystem::path map_cache_;  // the tile cache's folder (empty: none)
+  int map_tiles_built_ = 0, map_tiles_cached_ = 0;  // map_from_field tiles computed, taken from the cache
   int64_t aid_closed_ = 0;           // map-aid epochs closed (updated or rejected)
   double aid_nis_sum_ = 0;           // sum of their NIS
   ggins::nav3d_output_t aid_last_{};  // the output of the last step flown (the aid's counters)
@@ -692,6 +706,8 @@ void Model3D::report(json& s) {
   s["map_storage"] = ms;
   // the maps built before the flight (map_from_field): wall time apart from setup_s and wall_s
   s["map_build_s"] = map_build_s_;
+  s["map_tiles"] = {{"built", map_tiles_built_}, {"from_cache", map_tiles_cached_},
+                    {"cache_dir", map_cache_.empty() ? json(nullptr) : json(map_cache_.string())}};
   // one block per aid of the flight, each named ({"name": ..., its counters})
   std::vector<std::string> why;  // an aid inconsistent or refused for part of the flight: degraded
   if (sc_.aid_ukf.enabled) {
@@ -804,6 +820,15 @@ int main(int argc, char** argv) {
                "with an aid on: do not fly the unaided reference (by default the same task with every aid off\n"
                "is stepped in this process on the same frames; summary.json \"unaided_reference\", CSV\n"
                "unaided_err_*, drawn on errors.png)");
+  std::string map_cache = ggins::gmap::default_cache_dir().string();
+  bool no_map_cache = false;
+  app.add_option("--map-cache", map_cache,
+                 "folder of the tile cache: map_from_field tiles of an EGM96 field are built once, named by\n"
+                 "their content (the coefficient file's digest, degree, area, spacing, heights, noise), and\n"
+                 "shared by ggins gmap, run3d and campaign workers (default: $GGINS_MAP_CACHE, else\n"
+                 "$XDG_CACHE_HOME/ggins/maps, else ~/.cache/ggins/maps)")
+      ->capture_default_str();
+  app.add_flag("--no-map-cache", no_map_cache, "build every map_from_field tile afresh and keep none");
   ggins::hil::FrontEndFlags flags;
   ggins::hil::add_scenario_flags(app, flags);
   try {
@@ -834,7 +859,9 @@ int main(int argc, char** argv) {
   fe.fly = [&](t3::Scenario3& sc, const std::string& as_flown) {
     return ggins::hil::fly_scenario<Model3D>(
         o, sc.name, sc.source, as_flown, json::object(), GGINS_PLOT3D_SCRIPT,
-        [&](const std::filesystem::path& out) { return std::make_unique<Model3D>(o, sc, !no_reference, out); });
+        [&](const std::filesystem::path& out) {
+          return std::make_unique<Model3D>(o, sc, !no_reference, out, no_map_cache ? fs::path() : fs::path(map_cache));
+        });
   };
   return ggins::hil::scenario_main(o, scenario, flags, fe);
 }

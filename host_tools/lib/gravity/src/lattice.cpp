@@ -1,5 +1,7 @@
 #include "ggins/gravity/lattice.hpp"
 
+#include "ggins/gravity/composite.hpp"
+
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -163,6 +165,14 @@ FieldSample FastField::eval_pairs(const Vec3& r, const Vec3* d, std::size_t n, V
   s.g += a.g;
   s.gamma += a.gamma;
   return s;
+}
+
+std::shared_ptr<const Field> FastField::exact() const {
+  const auto* l = dynamic_cast<const LatticeField*>(anomaly_.get());
+  if (l == nullptr) return nullptr;
+  return std::make_shared<SumField>(
+      std::vector<std::pair<Real, std::shared_ptr<const Field>>>{{1.0L, normal_}, {1.0L, l->source()}},
+      normal_->name() + " + " + l->source()->name());
 }
 
 std::string FastField::name() const { return "fast(" + normal_->name() + " + " + anomaly_->name() + ")"; }

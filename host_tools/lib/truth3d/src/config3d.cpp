@@ -64,9 +64,9 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   known.bias_sigma_radps = std::hypot(known.bias_sigma_radps, dmax);
   apply_aid_ukf(s.aid_ukf, s.rate_hz, known, c);  // [aid_ukf], aids3d.cpp
   PfImu imu;  // the same knowledge for the particle filter's model
-  imu.gyro_bias_radps = std::hypot(known.bias_sigma_radps,
-                                   std::fabs(*std::max_element(s.gyro.bias_radps.begin(), s.gyro.bias_radps.end(),
-                                                               [](double x, double y) { return std::fabs(x) < std::fabs(y); })));
+  double bg = 0;  // the largest fixed gyro bias, magnitude
+  for (const double b : s.gyro.bias_radps) bg = std::max(bg, std::fabs(b));
+  imu.gyro_bias_radps = std::hypot(known.bias_sigma_radps, bg);
   imu.gyro_noise_radps = s.gyro.noise_sigma_radps;
   double ab2 = 0;  // the largest horizontal fixed bias of one accelerometer
   for (const auto& b : s.accel.bias_mps2) ab2 = std::max(ab2, b[0] * b[0] + b[1] * b[1]);

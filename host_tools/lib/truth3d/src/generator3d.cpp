@@ -62,12 +62,16 @@ std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s) {
   throw std::invalid_argument("unknown 3-D trajectory type " + t.type);
 }
 
+std::string egm96_path(const Scenario3& s) {
+  return s.sh.path.empty() ? std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt" : s.sh.path;
+}
+
 std::unique_ptr<gravity::Field> make_field3(const Scenario3& s) {
   if (s.gravity.model == "egm96") {
     // WGS-84 normal field exactly + the EGM96 disturbing field (coefficients minus
     // the normal zonal series, double-precision synthesis) on a lattice centred
     // on the trajectory's start point (the 2-D fast path, gravity/lattice.hpp)
-    const std::string path = s.sh.path.empty() ? std::string(GGINS_DATA_DIR) + "/egm96_to360.ascii.txt" : s.sh.path;
+    const std::string path = egm96_path(s);
     const int n = static_cast<int>(s.sh.nmax);
     const gravity::ShCoefficients c = gravity::read_nasa_ascii(path, gravity::kEgm96Gm, gravity::kEgm96A, n);
     auto anomaly = std::make_shared<gravity::SphericalHarmonicField>(gravity::subtract_normal(c), n, 2,

@@ -217,10 +217,12 @@ sch::Table<AidPf3> aid_pf3_table() {
       .num("sigma0_tilt_mps2", &A::sigma0_tilt_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2), "initial spread of tilt")
       .num("sigma0_gyro_mps3", &A::sigma0_gyro_mps3, "m/s^3", sch::in(0, GG_LIM_PF_JERK_SIGMA_MAX_MPS3),
            "initial spread of g x gyro bias", -1.0,
-           "g x (gyro.bias_sigma_radps + the largest |gyro.bias_radps| + the largest draw.gyro_bias_radps)")
+           "g x the root sum of squares of gyro.bias_sigma_radps, the largest |gyro.bias_radps| and the largest "
+           "draw.gyro_bias_radps")
       .num("sigma0_accel_mps2", &A::sigma0_accel_mps2, "m/s^2", sch::in(0, GG_LIM_PF_ACC_SIGMA_MAX_MPS2),
            "initial spread of the horizontal accelerometer error", -1.0,
-           "the largest horizontal accel.bias_mps2 + accel.bias_sigma_mps2 (two axes) + draw.accel_common_bias_mps2")
+           "the root sum of squares of the largest horizontal accel.bias_mps2, accel.bias_sigma_mps2 on two axes and "
+           "the horizontal draw.accel_common_bias_mps2")
       .num("q_pos_m", &A::q_pos_m, "m", sch::in(0, GG_LIM_PF_POS_SIGMA_MAX_M), "process noise per shot: position")
       .num("q_vel_mps", &A::q_vel_mps, "m/s", sch::in(0, GG_LIM_PF_VEL_SIGMA_MAX_MPS),
            "process noise per shot: velocity (> 0 with model rbpf)", -1.0,

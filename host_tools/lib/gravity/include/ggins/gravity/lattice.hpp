@@ -56,6 +56,7 @@ class LatticeField final : public Field {
   std::string name() const override;
   std::size_t nodes_computed() const;
   const LatticeOptions& options() const { return opt_; }
+  const std::shared_ptr<const Field>& source() const { return src_; }  // the field sampled
   using Node = std::array<double, 10>;  // V, gx, gy, gz, xx, xy, xz, yy, yz, zz
 
  private:
@@ -129,6 +130,11 @@ class FastField final : public Field {
   FieldSample eval_pairs(const Vec3& r_e, const Vec3* d, std::size_t n, Vec3* plus, Vec3* minus) const override;
   std::string name() const override;
   const Field& anomaly() const { return *anomaly_; }
+  // The model this fast path approximates, without the lattice: normal + the lattice's
+  // source (a SumField, whose circles share the source's work along a row, e.g. the
+  // Legendre sums of spherical harmonics), for products that want the model itself (map
+  // tiles); nullptr when the anomaly is not a LatticeField (split point masses).
+  std::shared_ptr<const Field> exact() const;
 
  private:
   std::shared_ptr<const NormalField> normal_;

@@ -64,6 +64,8 @@ struct Generator3Options {
 
 std::unique_ptr<Trajectory3> make_trajectory3(const Scenario3& s);
 std::unique_ptr<gravity::Field> make_field3(const Scenario3& s);
+// The EGM96 coefficient file of [gravity] model "egm96" ([sh] path, or the data folder's).
+std::string egm96_path(const Scenario3& s);
 // Quaternion (w, x, y, z) of a rotation matrix (Shepperd's method), w >= 0.
 std::array<Real, 4> quat_from_dcm(const Mat3& C);
 
