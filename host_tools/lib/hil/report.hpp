@@ -14,7 +14,8 @@
 //   errors             the task's error metrics against truth, final (last step flown) and max;
 //                      "frame" names the axes, every key carries its unit
 //   aids               a list of aid blocks ({"name": ..., counters}), empty without aids
-//   map_build_s (3-D: wall time of the maps built before the flight; setup_s: the link and
+//   map_build_s (3-D: wall time of the maps built before the flight, map_tiles {built,
+//   from_cache, cache_dir} of map_from_field: run3d field_map.hpp; setup_s: the link and
 //   processes; wall_s: the flight), recovery, wall_s, setup_s, cpu_s, realtime_factor, steps_per_s, firmware_step_ns,
 //   transport, bus_auth, realtime, hal_sim, log, lcm_url(s), channel_prefix, run_id, files, output_dir
 //   and the task's own blocks (2-D: vertical, horizontal, gravimeter, baro; 3-D: parity, acceptance).
