@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
       };
       bool hit = false;
       const std::vector<std::uint8_t> b =
-          cache_dir.empty() ? make() : ggins::gmap::cached_tile(cache_dir, ggins::gmap::tile_key(field_id, sp, gzz_only), make, &hit);
+          ggins::gmap::cached_tile(cache_dir, ggins::gmap::tile_key(field_id, sp, gzz_only), make, &hit);
       auto st = std::make_unique<gg_gmap_t>();
       if (gg_gmap_load(st.get(), b.data(), b.size()) != GG_OK) throw std::runtime_error("gmap: the tile does not load");
       const gg_gmap_tile_t* tile = &st->tile;

@@ -173,7 +173,9 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
   if (!(stride > d)) throw std::runtime_error(a.key + ".map_margin_deg is too wide for tiles of " + std::to_string(side) +
                                               " x " + std::to_string(side) + " nodes at map_spacing_deg");
   const MapField mf = map_field(gen.field());
-  const std::string field_id = mf.is_exact() ? mb.field_id : std::string();  // the key names the model
+  // cached only where the key names the model (cached_tile: an empty folder builds every tile)
+  const std::string field_id = mf.is_exact() ? mb.field_id : std::string();
+  const fs::path cache_dir = field_id.empty() ? fs::path() : mb.cache_dir;
   std::error_code ec;
   fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
@@ -226,7 +228,7 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
       return gmap::encode(*tile);
     };
     const std::vector<std::uint8_t> bytes =
-        field_id.empty() ? make() : gmap::cached_tile(mb.cache_dir, gmap::tile_key(field_id, spec, a.gzz_only), make, &hit);
+        gmap::cached_tile(cache_dir, gmap::tile_key(field_id, spec, a.gzz_only), make, &hit);
     (hit ? fm.cache_hits : fm.built) += 1;
     char name[32];
     std::snprintf(name, sizeof name, "tile_%04d.gmap", fm.tiles);
@@ -237,7 +239,7 @@ inline FieldMap build_field_map(const truth3d::Generator3& gen, double duration_
   }
   if (mb.progress) mb.progress(fm.tiles, n_tiles);
   fm.exact = mf.is_exact();
-  fm.cached = !field_id.empty() && !mb.cache_dir.empty();
+  fm.cached = !cache_dir.empty();
   if (fm.tiles == 0) throw std::runtime_error(a.key + ".map_from_field: no tile along the route");
   return fm;
 }
