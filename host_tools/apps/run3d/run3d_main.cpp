@@ -39,6 +39,7 @@
 #include "integrity.hpp"
 #include "runner.hpp"
 #include "field_map.hpp"
+#include "gravimetry_record.hpp"
 #include "map_coverage.hpp"
 #include "map_storage.hpp"
 #include "pf3d.hpp"
@@ -205,6 +206,7 @@ class Model3D {
   void end() {
     csv_.close();
     if (ep_csv_.is_open()) ep_csv_.close();
+    if (gravrec_) gravrec_->close();
   }
   void report(json& s);
   static std::string final_line(const json& s);
@@ -262,6 +264,7 @@ class Model3D {
   std::array<double, 3> fpos_n_{}, fvel_n_{}, fatt_n_{}, fg_n_{};
   std::ofstream csv_;
   std::ofstream ep_csv_;                  // aid_epochs.csv (map aid on)
+  std::unique_ptr<ggins::run3d::GravimetryRecord> gravrec_;  // gravimetry_raw.csv (gravimetry_record.hpp)
   std::array<double, 3> nees_sum_{};      // position, velocity, attitude NEES summed over epochs
   int64_t nees_n_ = 0;
 };
@@ -331,6 +334,10 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
   truth_every_ = truth_rate > 0 ? std::max<int64_t>(1, std::llround(sc_.rate_hz / truth_rate)) : 1;
   csv_.open(out / "timeseries.csv");
   if (!csv_) throw Fail("cannot write " + (out / "timeseries.csv").string());
+  gravrec_ = std::make_unique<ggins::run3d::GravimetryRecord>(gen_.field(), ggins::run3d::gravimetry_model(sc_),
+                                                           1.0 / sc_.rate_hz);
+  if (!gravrec_->open((out / "gravimetry_raw.csv").string()))
+    throw Fail("cannot write " + (out / "gravimetry_raw.csv").string());
   csv_ << "t_s,seq,lat_deg,lon_deg,h_m,roll_deg,pitch_deg,yaw_deg,speed_mps,nav_lat_deg,nav_lon_deg,nav_h_m,"
           "err_n_m,err_e_m,err_d_m,err_r_m,err_vn_mps,err_ve_mps,err_vd_mps,err_v_mps,"
           "att_err_n_rad,att_err_e_rad,att_err_d_rad,att_err_rad,err_gn_mps2,err_ge_mps2,err_gd_mps2,err_g_mps2,"
@@ -553,6 +560,7 @@ ggins::nav3d_config_t Model3D::config() {
 
 void Model3D::consume(int64_t k, const ggins::truth3d::Truth3& t, const gg_nav3d_output_t& o, const double* sig_pos) {
   const ggins::run3d::Errors3 e = ggins::run3d::compare(t, o);
+  if (gravrec_) gravrec_->step(t, o, k % csv_every_ == 0 || k == n_ - 1);
   if (pf_on_) pf_.take(o, static_cast<double>(e.dr_n(0)), static_cast<double>(e.dr_n(1)));
   if (shots_ && o.pf_corrected != 0 && o.pf_gzz_s2 != 0.0) {
     // the shot this end weighed: the last shot step (a shot ends before the next begins)
@@ -708,6 +716,15 @@ void Model3D::report(json& s) {
   s["map_build_s"] = map_build_s_;
   s["map_tiles"] = {{"built", map_tiles_built_}, {"from_cache", map_tiles_cached_},
                     {"cache_dir", map_cache_.empty() ? json(nullptr) : json(map_cache_.string())}};
+  {  // the along-track gravimetry record and its error model (gravimetry_record.hpp)
+    const auto gm = ggins::run3d::gravimetry_model(sc_);
+    s["gravimetry"] = {{"file", "gravimetry_raw.csv"},
+                       {"mode", sc_.nav_gravity},
+                       {"field", sc_.gravity.model},
+                       {"sigma_gamma_noise_ps2", gm.sigma_gamma_noise_ps2},
+                       {"sigma_gyro_radps", gm.sigma_w_radps},
+                       {"sigma_gamma_bias_ps2", gm.sigma_gamma_bias_ps2}};
+  }
   // one block per aid of the flight, each named ({"name": ..., its counters})
   std::vector<std::string> why;  // an aid inconsistent or refused for part of the flight: degraded
   if (sc_.aid_ukf.enabled) {
@@ -800,6 +817,9 @@ int main(int argc, char** argv) {
       "                   max): position (NED), velocity, attitude, gravity, gradient (Eotvos);\n"
       "                   parity, step time, transport counters, acceptance, aids (a list)\n"
       "  timeseries.csv   truth, navigation and errors at --csv-rate, units in every column\n"
+      "  gravimetry_raw.csv  the gravity disturbance the navigation carries along its track,\n"
+      "                   the truth at the nav and the true positions, the predicted error's\n"
+      "                   random-walk variance (input of ggins gravimetry)\n"
       "  errors.png       position error N/E/D, attitude error, G error, Gamma error vs time;\n"
       "                   the position error's one-sigma envelope is the aid's covariance\n"
       "                   (with an aid on) or the 3-D error model's (covariance/: ggins\n"

@@ -187,8 +187,9 @@ Route3::Route3(const RouteParams& p, Attitude att) : p_(p), att_(att) {
     const Real need = 4 * ((turns_[k - 1].on ? turns_[k - 1].lambda : 0) + (turns_[k].on ? turns_[k].lambda : 0));
     if (!(s_wp_[k] - s_wp_[k - 1] > need))
       throw RouteError(static_cast<int>(k), "route: leg of " + num(legs_[k - 1].length) +
-                                                " m is too short for the turns at its ends (needs > " + num(need) +
-                                                " m: lower the speed or raise turn_rate_dps)");
+                                                " m is too short for the turns at its ends (their centres " +
+                                                num(s_wp_[k] - s_wp_[k - 1]) + " m apart along the path, needs > " +
+                                                num(need) + " m: lower the speed or raise turn_rate_dps)");
   }
 
   // ---- speed changes (sequential: each placed with the ones before it)

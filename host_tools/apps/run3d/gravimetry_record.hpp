@@ -1,0 +1,147 @@
+// The flight's along-track gravimetry record (gravimetry_raw.csv), written by ggins run3d
+// beside timeseries.csv and read by ggins gravimetry (ggins/gravimetry/survey.hpp).
+//
+// What the navigation believes gravity to be, as a disturbance: the task's gravitation
+// and its vertical loop's integral state (nav3d.h, vchan.h: r'' = f + G_e - a_c u),
+//   g_nav = G_e(hi + lo) - a_c u,          u = the ellipsoid normal (up) at the NAV position,
+//   dg_nav = C_e_n(nav) (g_nav - gamma(r_nav))      (NED at the nav position, m/s^2),
+// gamma the WGS-84 normal gravitation (gravity/normal.hpp; the centrifugal part is common to
+// gravity and normal gravity, so the disturbance of gravitation is that of gravity). In
+// gradiometer mode G_e is dead-reckoned from the measured gradient (a_c absorbs what the
+// barometer loop takes out); in model mode G_e is the onboard normal model and -a_c u is
+// Rubenstein & Winter's airborne-gravimeter estimate of the vertical disturbance.
+//
+// The measured gradient's disturbance Gamma_e(nav) - Gamma_normal(r_nav) in NED (E): what
+// carries a value from one point to a nearby one (closing point, crossovers).
+// Truth for the same row, from the scenario's field (never seen by the task):
+//   at the nav position   C_e_n(nav) (G(r_nav) - gamma(r_nav))     (what a map made of
+//                         the navigation's positions should read there)
+//   at the true position  C_e_n(true) (G(r_true) - gamma(r_true))
+//
+// The predicted error of the dead-reckoned G (gradiometer mode), per NED component:
+//   dG(t) = integral dGamma dr,  so for white gradient noise of sigma_Gamma per step a
+//   random walk in the accumulated variance
+//     tau(t) = sum_k sigma_Gamma,k^2 |v_k h|^2                       ((m/s^2)^2)
+//   with, per step, sigma_Gamma^2 = sigma_n^2 / (2 d_min^2)   (one tensor entry is the
+//   difference of two readings over 2 d: diff3d.h; d_min the shortest half-baseline, so
+//   the bound holds for every entry) + (2 |w| sigma_w)^2 (strapdown: the [w x]^2 removal
+//   with a gyro rate error dw moves the tensor by sum_i dw_i S_i, |S_i| <= 2 |w|; aid_mmukf.h),
+//   and for constant reading errors (random biases sigma_b, scale sigma_s on a ~10 m/s^2
+//   reading, the fixed biases' largest pair difference) a constant gradient error
+//   sigma_Gb = sqrt(sigma_b^2 + (10 sigma_s)^2) / (sqrt(2) d_min) + max fixed difference / (2 d_min),
+//   whose share at a point is sigma_Gb |r - r0| (r0 the start). Both are written per row
+//   (var_rw_mps2sq, dist_start_m) and the constant sigma_Gb in summary.json.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "compare3d.hpp"
+#include "ggins/gravity/normal.hpp"
+#include "ggins/truth3d/scenario3d.hpp"
+#include "ggins/truth3d/trajectory3d.hpp"
+
+namespace ggins::run3d {
+
+struct GravimetryModel {  // the error model's constants (above), from the scenario's sensors
+  double sigma_gamma_noise_ps2 = 0;  // per step, accelerometer white noise
+  double sigma_w_radps = 0;          // gyro white noise per step (strapdown; 0 stabilized)
+  double sigma_gamma_bias_ps2 = 0;   // constant gradient error
+};
+
+inline GravimetryModel gravimetry_model(const truth3d::Scenario3& sc) {
+  GravimetryModel m;
+  const auto a = sc.accel_flown();
+  const auto g = sc.gyro_flown();
+  const double d = std::min({sc.a_m, sc.b_m, sc.c_m});
+  m.sigma_gamma_noise_ps2 = a.noise_sigma_mps2 / (std::sqrt(2.0) * d);
+  m.sigma_w_radps = sc.strapdown() ? g.noise_sigma_radps : 0.0;
+  double fixed = 0;  // the fixed biases' largest difference between opposite readings
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      fixed = std::max(fixed, std::fabs(a.bias_mps2[static_cast<size_t>(k)][static_cast<size_t>(j)] -
+                                        a.bias_mps2[static_cast<size_t>(k + 3)][static_cast<size_t>(j)]));
+  const double sp = std::hypot(a.bias_sigma_mps2, 10.0 * a.scale_sigma);
+  m.sigma_gamma_bias_ps2 = sp / (std::sqrt(2.0) * d) + fixed / (2 * d);
+  return m;
+}
+
+class GravimetryRecord {
+ public:
+  GravimetryRecord(const gravity::Field& field, GravimetryModel model, double h_s)
+      : field_(field), model_(model), h_(h_s) {}
+
+  bool open(const std::string& path) {
+    f_.open(path);
+    if (!f_) return false;
+    f_ << "t_s,seq,nav_lat_deg,nav_lon_deg,nav_h_m,true_lat_deg,true_lon_deg,true_h_m,speed_mps,"
+          "est_dg_n_mps2,est_dg_e_mps2,est_dg_d_mps2,truth_nav_dg_n_mps2,truth_nav_dg_e_mps2,truth_nav_dg_d_mps2,"
+          "truth_true_dg_n_mps2,truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_mps2sq,dist_start_m,"
+          "est_gam_nn_E,est_gam_ee_E,est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health\n";
+    return true;
+  }
+  // Every step (the variance accumulates per step); a row when `write`.
+  void step(const truth3d::Truth3& t, const gg_nav3d_output_t& o, bool write) {
+    using truth3d::Real;
+    truth3d::Vec3 r, g;
+    for (int i = 0; i < 3; ++i) {
+      r(i) = static_cast<Real>(o.r_e[i]) + static_cast<Real>(o.r_e_lo[i]);
+      g(i) = static_cast<Real>(o.g_e[i]) + static_cast<Real>(o.g_e_lo[i]);
+    }
+    if (!started_) {
+      r0_ = r;
+      started_ = true;
+    }
+    const double v = std::sqrt(o.v_n[0] * o.v_n[0] + o.v_n[1] * o.v_n[1] + o.v_n[2] * o.v_n[2]);
+    const double w = std::sqrt(o.omega_b[0] * o.omega_b[0] + o.omega_b[1] * o.omega_b[1] + o.omega_b[2] * o.omega_b[2]);
+    const double sg2 = model_.sigma_gamma_noise_ps2 * model_.sigma_gamma_noise_ps2 +
+                       4 * w * w * model_.sigma_w_radps * model_.sigma_w_radps;
+    if (std::isfinite(v) && std::isfinite(sg2)) tau_ += sg2 * v * v * h_ * h_;
+    if (!write || !f_) return;
+    const truth3d::Mat3 C_n_e = truth3d::ned_to_ecef(static_cast<Real>(o.lat_rad), static_cast<Real>(o.lon_rad));
+    const truth3d::Vec3 up = -C_n_e.col(2);
+    const truth3d::Vec3 g_nav = g - static_cast<Real>(o.g_up_corr) * up;
+    const truth3d::Vec3 est = C_n_e.transpose() * (g_nav - normal_.gravitation(r));
+    const truth3d::Vec3 tn = C_n_e.transpose() * (field_.gravitation(r) - normal_.gravitation(r));
+    truth3d::Mat3 gam;  // the measured gradient's disturbance at the nav position, NED (s^-2)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) gam(i, j) = static_cast<Real>(o.gamma_e[i][j]);
+    gam = C_n_e.transpose() * (gam - normal_.eval(r).gamma) * C_n_e;
+    const truth3d::Mat3 C_t = truth3d::ned_to_ecef(t.s.lat, t.s.lon);
+    const truth3d::Vec3 tt = C_t.transpose() * (t.g_e - normal_.gravitation(t.s.r_e));
+    const double deg = 180.0 / M_PI;
+    char line[1024];
+    std::snprintf(line, sizeof line,
+                  "%.3f,%lld,%.10f,%.10f,%.4f,%.10f,%.10f,%.4f,%.4f,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,"
+                  "%.9e,%.6e,%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u\n",
+                  static_cast<double>(t.t_s), static_cast<long long>(t.seq), o.lat_rad * deg, o.lon_rad * deg, o.h_m,
+                  static_cast<double>(t.s.lat) * deg, static_cast<double>(t.s.lon) * deg, static_cast<double>(t.s.h), v,
+                  static_cast<double>(est(0)), static_cast<double>(est(1)), static_cast<double>(est(2)),
+                  static_cast<double>(tn(0)), static_cast<double>(tn(1)), static_cast<double>(tn(2)),
+                  static_cast<double>(tt(0)), static_cast<double>(tt(1)), static_cast<double>(tt(2)), o.g_up_corr, tau_,
+                  static_cast<double>((r - r0_).norm()), static_cast<double>(gam(0, 0)) * 1e9,
+                  static_cast<double>(gam(1, 1)) * 1e9, static_cast<double>(gam(2, 2)) * 1e9,
+                  static_cast<double>(gam(0, 1)) * 1e9, static_cast<double>(gam(0, 2)) * 1e9,
+                  static_cast<double>(gam(1, 2)) * 1e9, o.health);
+    f_ << line;
+  }
+  void close() {
+    if (f_.is_open()) f_.close();
+  }
+  const GravimetryModel& model() const { return model_; }
+
+ private:
+  const gravity::Field& field_;
+  gravity::NormalField normal_;
+  GravimetryModel model_;
+  double h_ = 0.01;
+  double tau_ = 0;
+  bool started_ = false;
+  truth3d::Vec3 r0_ = truth3d::Vec3::Zero();
+  std::ofstream f_;
+};
+
+}  // namespace ggins::run3d
