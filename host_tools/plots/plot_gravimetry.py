@@ -4,7 +4,8 @@
                 truth at the same wavelength, with the stated one-sigma band;
   spectrum.png  rms error against the filter's full wavelength (scalar and horizontal),
                 beside the rms of the signal itself: where the product stops resolving;
-  map.png       the estimated disturbance on the survey's lines, the truth, the error.
+  map.png       the estimated disturbance on the survey's lines and gridded (grid.csv),
+                the truth, the error.
 
 Usage: plot_gravimetry.py OUT_DIR. Needs matplotlib (Debian python3-matplotlib).
 """
@@ -78,17 +79,45 @@ def main():
     fig.savefig(os.path.join(d, "spectrum.png"), dpi=90)
     plt.close(fig)
 
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5), sharey=True)
+    grid = None
+    gpath = os.path.join(d, "grid.csv")
+    if os.path.exists(gpath):
+        with open(gpath) as f:
+            f.readline()  # the "# nodes ..." comment
+            grid = list(csv.DictReader(f))
+    fig, ax = plt.subplots(2 if grid else 1, 3, figsize=(15, 9 if grid else 4.5), sharex=True, sharey=True,
+                           squeeze=False)
     lon, lat = num["lon_deg"], num["lat_deg"]
     vals = [num["dg_mgal"], num["truth_dg_mgal"], num["err_dg_mgal"]]
     lim = max(abs(x) for x in vals[1]) or 1
     elim = max(abs(x) for x in vals[2]) or 1
-    for a, v, title, vl in zip(ax, vals, ["estimate", "truth", "error"], [lim, lim, elim]):
+    for a, v, title, vl in zip(ax[0], vals, ["estimate", "truth (true path)", "error"], [lim, lim, elim]):
         sc = a.scatter(lon, lat, c=v, s=4, cmap="RdBu_r", vmin=-vl, vmax=vl)
-        a.set_title("%s (mGal)" % title)
-        a.set_xlabel("longitude (deg)")
+        a.set_title("lines: %s (mGal)" % title)
         fig.colorbar(sc, ax=a)
-    ax[0].set_ylabel("latitude (deg)")
+    if grid:
+        nx = max(int(r["ix"]) for r in grid) + 1
+        ny = max(int(r["iy"]) for r in grid) + 1
+
+        def field(k):
+            z = [[float("nan")] * nx for _ in range(ny)]
+            for r in grid:
+                z[int(r["iy"])][int(r["ix"])] = float(r[k])
+            return z
+        glon = [[float("nan")] * nx for _ in range(ny)]
+        glat = [[float("nan")] * nx for _ in range(ny)]
+        for r in grid:
+            glon[int(r["iy"])][int(r["ix"])] = float(r["lon_deg"])
+            glat[int(r["iy"])][int(r["ix"])] = float(r["lat_deg"])
+        for a, k, title, vl in zip(ax[1], ["dg_mgal", "truth_dg_mgal", "err_dg_mgal"], ["estimate", "truth", "error"],
+                                   [lim, lim, elim]):
+            pc = a.pcolormesh(glon, glat, field(k), cmap="RdBu_r", vmin=-vl, vmax=vl, shading="nearest")
+            a.set_title("gridded: %s (mGal)" % title)
+            fig.colorbar(pc, ax=a)
+    for a in ax[-1]:
+        a.set_xlabel("longitude (deg)")
+    for row in ax:
+        row[0].set_ylabel("latitude (deg)")
     fig.tight_layout()
     fig.savefig(os.path.join(d, "map.png"), dpi=90)
     plt.close(fig)

@@ -44,7 +44,7 @@ gv::Record track(const std::vector<std::pair<double, double>>& pts, double v, do
       s.lon_deg = 10 + s.enu[0] / 55.6e3;
       s.h_m = 1000;
       s.speed_mps = v;
-      s.var_rw = tau;
+      s.var_rw = {tau, tau, tau};
       s.g_abs = 9.81;
       r.s.push_back(s);
       t += 1;
@@ -86,14 +86,14 @@ void test_bridge(void**) {
   o.y = {3e-6, -2e-6, 1e-6};
   o.var = 1e-30;
   const gv::Adjusted a = gv::adjust(r, {o});
-  const double tc = r.s[c].var_rw;
+  const double tc = r.s[c].var_rw[0];
   double worst_m = 0, worst_s = 0;
   for (size_t i = 0; i < r.s.size(); ++i) {
-    const double tau = r.s[i].var_rw;
+    const double tau = r.s[i].var_rw[0];
     const double m = tau <= tc ? tau / tc : 1.0;
     const double v = tau <= tc ? tau * (tc - tau) / tc : tau - tc;
     worst_m = std::max(worst_m, std::fabs(a.value[i][0] - (0 - m * o.y[0])));
-    worst_s = std::max(worst_s, std::fabs(a.sigma[i] - std::sqrt(v)));
+    worst_s = std::max(worst_s, std::fabs(a.sigma[i][0] - std::sqrt(v)));
   }
   std::printf("  bridge: mean worst %.2e, sigma worst %.2e (sigma at the middle %.2e)\n", worst_m, worst_s,
               std::sqrt(tc / 4));
@@ -154,7 +154,7 @@ void test_posterior_matches_monte_carlo(void**) {
     std::vector<double> err(r.s.size());
     double x = 0;
     for (size_t i = 0; i < r.s.size(); ++i) {
-      if (i) x += std::sqrt(r.s[i].var_rw - r.s[i - 1].var_rw) * N(rng);
+      if (i) x += std::sqrt(r.s[i].var_rw[0] - r.s[i - 1].var_rw[0]) * N(rng);
       err[i] = x;
       r.s[i].est = {err[i], err[i], err[i]};  // truth 0
     }
@@ -171,7 +171,7 @@ void test_posterior_matches_monte_carlo(void**) {
     }
     const gv::Adjusted a = gv::adjust(r, obs);
     for (size_t i = 10; i + 30 < r.s.size(); i += 25) {
-      const double z = a.value[i][0] / a.sigma[i];
+      const double z = a.value[i][0] / a.sigma[i][0];
       sum_z2 += z * z;
       ++nz;
     }
@@ -208,14 +208,15 @@ void test_read_record(void**) {
   const char* head =
       "t_s,seq,nav_lat_deg,nav_lon_deg,nav_h_m,true_lat_deg,true_lon_deg,true_h_m,speed_mps,est_dg_n_mps2,"
       "est_dg_e_mps2,est_dg_d_mps2,truth_nav_dg_n_mps2,truth_nav_dg_e_mps2,truth_nav_dg_d_mps2,truth_true_dg_n_mps2,"
-      "truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_mps2sq,dist_start_m,est_gam_nn_E,est_gam_ee_E,"
+      "truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_n_mps2sq,var_rw_e_mps2sq,var_rw_d_mps2sq,"
+      "dist_start_m,est_gam_nn_E,est_gam_ee_E,"
       "est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health\n";
   {
     std::ofstream f(dir / "gravimetry_raw.csv");
     f << head;
     for (int i = 0; i < 20; ++i)
       f << i << "," << i * 100 << "," << 45.0 + i * 1e-3 << ",10,1000,45,10,1000,100,1e-5,2e-5,3e-5,0,0,0,0,0,0,0,"
-        << i * 1e-15 << ",0,1,2,3,4,5,6,0\n";
+        << i * 1e-15 << "," << i * 1e-15 << "," << i * 1e-15 << ",0,1,2,3,4,5,6,0\n";
   }
   const gv::Record r = gv::read_record(dir);
   assert_int_equal(r.s.size(), 20);

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   gv::LineOptions lo;
   gv::ClosingOptions co;
   bool no_crossovers = false, no_plots = false, quiet = false;
-  double position_sigma_m = 100;
+  double position_sigma_m = 100, grid_m = 0, grid_radius_m = 0;
   std::string python = GGINS_PLOT_PYTHON;
   CLI::App app{
       "ggins gravimetry - the survey product of a flight: the gravity disturbance (scalar, mGal) and\n"
@@ -82,10 +82,12 @@ int main(int argc, char** argv) {
       "  survey.csv        line, type, fid, time, lat, lon, height, dg, xi, eta, sigmas, truth (along\n"
       "                    the true path), errors; the truth at the nav's positions\n"
       "  survey.xyz        the same lines in the XYZ line layout of survey packages (Line N / Tie N)\n"
+      "  grid.csv          the gridded map: estimate, truth and error at regular nodes\n"
       "  gravimetry.json   per line and pooled: rms and max error, the one-sigma's rms, the chi-square\n"
       "                    check over the lines; the table at --wavelengths-km; the error against\n"
       "                    wavelength; the observations and their residuals\n"
-      "  profiles.png, spectrum.png, map.png (with Python + matplotlib)\n\n"
+      "  profiles.png, spectrum.png, map.png (the lines and the gridded map beside the truth;\n"
+      "                    with Python + matplotlib)\n\n"
       "Exit status: 0 written; 1 failed (input unreadable, no lines found); 2 bad arguments."};
   app.add_option("run", run_dir, "ggins run3d output folder")->required()->check(CLI::ExistingDirectory);
   app.add_option("-o,--out", out_dir, "output folder (default RUN/gravimetry)");
@@ -110,6 +112,11 @@ int main(int argc, char** argv) {
                  "the navigation's horizontal position one-sigma (no GNSS: the INS's own; weighs the crossovers)")
       ->capture_default_str()
       ->check(ggins::cli::FiniteRange(0, 1e5));
+  app.add_option("--grid-m", grid_m, "node spacing of grid.csv, m (default: a quarter of the wavelength)")
+      ->check(ggins::cli::FiniteRange(10, 1e6));
+  app.add_option("--grid-radius-m", grid_radius_m,
+                 "samples within this of a node make it, m (default: half the wavelength)")
+      ->check(ggins::cli::FiniteRange(10, 1e6));
   app.add_flag("--no-plots", no_plots, "no PNG plots");
   app.add_option("--python", python, "Python with matplotlib for the plots")->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "no summary on stdout");
@@ -148,6 +155,11 @@ int main(int argc, char** argv) {
     const gv::Adjusted adj = gv::adjust(rec, obs);
     const gv::Product pr = gv::make_product(rec, lines, adj, wavelength_km * 1000);
     gv::write_csv(out / "survey.csv", rec, pr);
+    // the gridded map: nodes every wavelength / 4, each from the samples within half the
+    // wavelength (at least 1.5 node spacings)
+    const double gsp = grid_m > 0 ? grid_m : wavelength_km * 1000 / 4;
+    const gv::Grid grid = gv::make_grid(rec, pr, gsp, grid_radius_m > 0 ? grid_radius_m : std::max(1.5 * gsp, wavelength_km * 500));
+    gv::write_grid_csv(out / "grid.csv", grid);
     gv::write_xyz(out / "survey.xyz", rec, pr,
                   "ggins gravimetry of " + fs::absolute(run_dir).string() + " (" + rec.mode + " mode)");
     json j;

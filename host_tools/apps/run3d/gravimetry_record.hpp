@@ -1,15 +1,17 @@
 // The flight's along-track gravimetry record (gravimetry_raw.csv), written by ggins run3d
 // beside timeseries.csv and read by ggins gravimetry (ggins/gravimetry/survey.hpp).
 //
-// What the navigation believes gravity to be, as a disturbance: the task's gravitation
-// and its vertical loop's integral state (nav3d.h, vchan.h: r'' = f + G_e - a_c u),
-//   g_nav = G_e(hi + lo) - a_c u,          u = the ellipsoid normal (up) at the NAV position,
-//   dg_nav = C_e_n(nav) (g_nav - gamma(r_nav))      (NED at the nav position, m/s^2),
-// gamma the WGS-84 normal gravitation (gravity/normal.hpp; the centrifugal part is common to
-// gravity and normal gravity, so the disturbance of gravitation is that of gravity). In
-// gradiometer mode G_e is dead-reckoned from the measured gradient (a_c absorbs what the
-// barometer loop takes out); in model mode G_e is the onboard normal model and -a_c u is
-// Rubenstein & Winter's airborne-gravimeter estimate of the vertical disturbance.
+// The gravity the navigation carries, as a disturbance, NED at the nav position (m/s^2):
+//   gradiometer mode  dg_nav = C_e_n (G_e - gamma(r_nav)), G_e (hi + lo) dead-reckoned from
+//                     the measured gradient. The barometer loop's integral state a_c is left
+//                     out: here it absorbs the barometer's own slow errors (d^2 h_baro/dt^2 of
+//                     its Gauss-Markov part), not gravity (vchan.h);
+//   model mode        dg_nav = C_e_n (G_e - a_c u - gamma(r_nav)), G_e the onboard normal model
+//                     and -a_c u Rubenstein & Winter's airborne-gravimeter estimate of the
+//                     vertical disturbance (the loop's integral state, vchan.h: r'' = f + G_e - a_c u),
+// u the ellipsoid normal (up) at the nav position, gamma the WGS-84 normal gravitation
+// (gravity/normal.hpp; the centrifugal part is common to gravity and normal gravity, so the
+// disturbance of gravitation is that of gravity).
 //
 // The measured gradient's disturbance Gamma_e(nav) - Gamma_normal(r_nav) in NED (E): what
 // carries a value from one point to a nearby one (closing point, crossovers).
@@ -18,22 +20,28 @@
 //                         the navigation's positions should read there)
 //   at the true position  C_e_n(true) (G(r_true) - gamma(r_true))
 //
-// The predicted error of the dead-reckoned G (gradiometer mode), per NED component:
-//   dG(t) = integral dGamma dr,  so for white gradient noise of sigma_Gamma per step a
-//   random walk in the accumulated variance
-//     tau(t) = sum_k sigma_Gamma,k^2 |v_k h|^2                       ((m/s^2)^2)
-//   with, per step, sigma_Gamma^2 = sigma_n^2 / (2 d_min^2)   (one tensor entry is the
-//   difference of two readings over 2 d: diff3d.h; d_min the shortest half-baseline, so
-//   the bound holds for every entry) + (2 |w| sigma_w)^2 (strapdown: the [w x]^2 removal
-//   with a gyro rate error dw moves the tensor by sum_i dw_i S_i, |S_i| <= 2 |w|; aid_mmukf.h),
+// The predicted error of the dead-reckoned G (gradiometer mode), per NED component j:
+//   dG(t) = integral dGamma dr,  so for white gradient noise a random walk in the
+//   accumulated variance tau_j(t) = sum over steps of var((dGamma dr)_j), dr = v_n h:
+//   * accelerometer noise sigma_n per reading: a diagonal tensor entry is the difference of
+//     two readings over 2 d (diff3d.h), variance s^2 = sigma_n^2 / (2 d^2) (d_min, the
+//     shortest half-baseline, bounds every entry), an off-diagonal one the mean of two such
+//     differences, s^2 / 2; that structure is the same in every frame, so
+//       var((dGamma dr)_j) = s^2 / 2 (|dr|^2 + dr_j^2);
+//   * gyro noise sigma_w per sample (strapdown): the [w x]^2 removal with a rate error dw
+//     moves the tensor by sum_i dw_i S_i, S_i = e_i w^T + w e_i^T - 2 w_i I (body axes; Gao
+//     et al. eqs. 26-30, aid_mmukf.h), so with dr_b the step in body axes
+//       var((dGamma dr)_j) = sigma_w^2 sum_i (C_b_n (e_i (w . dr_b) + w dr_b,i - 2 w_i dr_b))_j^2;
 //   and for constant reading errors (random biases sigma_b, scale sigma_s on a ~10 m/s^2
 //   reading, the fixed biases' largest pair difference) a constant gradient error
 //   sigma_Gb = sqrt(sigma_b^2 + (10 sigma_s)^2) / (sqrt(2) d_min) + max fixed difference / (2 d_min),
 //   whose share at a point is sigma_Gb |r - r0| (r0 the start). Both are written per row
-//   (var_rw_mps2sq, dist_start_m) and the constant sigma_Gb in summary.json.
+//   (var_rw_*_mps2sq, dist_start_m) and the constant sigma_Gb in summary.json.
 #pragma once
 
+#include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -71,15 +79,16 @@ inline GravimetryModel gravimetry_model(const truth3d::Scenario3& sc) {
 
 class GravimetryRecord {
  public:
-  GravimetryRecord(const gravity::Field& field, GravimetryModel model, double h_s)
-      : field_(field), model_(model), h_(h_s) {}
+  GravimetryRecord(const gravity::Field& field, GravimetryModel model, double h_s, bool model_mode)
+      : field_(field), model_(model), h_(h_s), model_mode_(model_mode) {}
 
   bool open(const std::string& path) {
     f_.open(path);
     if (!f_) return false;
     f_ << "t_s,seq,nav_lat_deg,nav_lon_deg,nav_h_m,true_lat_deg,true_lon_deg,true_h_m,speed_mps,"
           "est_dg_n_mps2,est_dg_e_mps2,est_dg_d_mps2,truth_nav_dg_n_mps2,truth_nav_dg_e_mps2,truth_nav_dg_d_mps2,"
-          "truth_true_dg_n_mps2,truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_mps2sq,dist_start_m,"
+          "truth_true_dg_n_mps2,truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_n_mps2sq,"
+          "var_rw_e_mps2sq,var_rw_d_mps2sq,dist_start_m,"
           "est_gam_nn_E,est_gam_ee_E,est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health\n";
     return true;
   }
@@ -96,14 +105,26 @@ class GravimetryRecord {
       started_ = true;
     }
     const double v = std::sqrt(o.v_n[0] * o.v_n[0] + o.v_n[1] * o.v_n[1] + o.v_n[2] * o.v_n[2]);
-    const double w = std::sqrt(o.omega_b[0] * o.omega_b[0] + o.omega_b[1] * o.omega_b[1] + o.omega_b[2] * o.omega_b[2]);
-    const double sg2 = model_.sigma_gamma_noise_ps2 * model_.sigma_gamma_noise_ps2 +
-                       4 * w * w * model_.sigma_w_radps * model_.sigma_w_radps;
-    if (std::isfinite(v) && std::isfinite(sg2)) tau_ += sg2 * v * v * h_ * h_;
-    if (!write || !f_) return;
     const truth3d::Mat3 C_n_e = truth3d::ned_to_ecef(static_cast<Real>(o.lat_rad), static_cast<Real>(o.lon_rad));
+    {
+      const Eigen::Vector3d dr(o.v_n[0] * h_, o.v_n[1] * h_, o.v_n[2] * h_);
+      const double s2 = model_.sigma_gamma_noise_ps2 * model_.sigma_gamma_noise_ps2;
+      Eigen::Vector3d inc = s2 / 2 * (Eigen::Vector3d::Constant(dr.squaredNorm()) + dr.cwiseAbs2());
+      if (model_.sigma_w_radps > 0) {
+        const Eigen::Matrix3d C_b_n = (C_n_e.transpose() * dcm_from_quat(o.q_b_e)).cast<double>();
+        const Eigen::Vector3d w(o.omega_b[0], o.omega_b[1], o.omega_b[2]);
+        const Eigen::Vector3d db = C_b_n.transpose() * dr;
+        for (int i = 0; i < 3; ++i) {
+          const Eigen::Vector3d u = C_b_n * (Eigen::Vector3d::Unit(i) * w.dot(db) + w * db(i) - 2 * w(i) * db);
+          inc += model_.sigma_w_radps * model_.sigma_w_radps * u.cwiseAbs2();
+        }
+      }
+      if (inc.allFinite() && std::isfinite(v))
+        for (int j = 0; j < 3; ++j) tau_[static_cast<size_t>(j)] += inc(j);
+    }
+    if (!write || !f_) return;
     const truth3d::Vec3 up = -C_n_e.col(2);
-    const truth3d::Vec3 g_nav = g - static_cast<Real>(o.g_up_corr) * up;
+    const truth3d::Vec3 g_nav = model_mode_ ? truth3d::Vec3(g - static_cast<Real>(o.g_up_corr) * up) : g;
     const truth3d::Vec3 est = C_n_e.transpose() * (g_nav - normal_.gravitation(r));
     const truth3d::Vec3 tn = C_n_e.transpose() * (field_.gravitation(r) - normal_.gravitation(r));
     truth3d::Mat3 gam;  // the measured gradient's disturbance at the nav position, NED (s^-2)
@@ -116,12 +137,13 @@ class GravimetryRecord {
     char line[1024];
     std::snprintf(line, sizeof line,
                   "%.3f,%lld,%.10f,%.10f,%.4f,%.10f,%.10f,%.4f,%.4f,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,"
-                  "%.9e,%.6e,%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u\n",
+                  "%.9e,%.6e,%.6e,%.6e,%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u\n",
                   static_cast<double>(t.t_s), static_cast<long long>(t.seq), o.lat_rad * deg, o.lon_rad * deg, o.h_m,
                   static_cast<double>(t.s.lat) * deg, static_cast<double>(t.s.lon) * deg, static_cast<double>(t.s.h), v,
                   static_cast<double>(est(0)), static_cast<double>(est(1)), static_cast<double>(est(2)),
                   static_cast<double>(tn(0)), static_cast<double>(tn(1)), static_cast<double>(tn(2)),
-                  static_cast<double>(tt(0)), static_cast<double>(tt(1)), static_cast<double>(tt(2)), o.g_up_corr, tau_,
+                  static_cast<double>(tt(0)), static_cast<double>(tt(1)), static_cast<double>(tt(2)), o.g_up_corr, tau_[0],
+                  tau_[1], tau_[2],
                   static_cast<double>((r - r0_).norm()), static_cast<double>(gam(0, 0)) * 1e9,
                   static_cast<double>(gam(1, 1)) * 1e9, static_cast<double>(gam(2, 2)) * 1e9,
                   static_cast<double>(gam(0, 1)) * 1e9, static_cast<double>(gam(0, 2)) * 1e9,
@@ -138,7 +160,8 @@ class GravimetryRecord {
   gravity::NormalField normal_;
   GravimetryModel model_;
   double h_ = 0.01;
-  double tau_ = 0;
+  bool model_mode_ = false;
+  std::array<double, 3> tau_{};  // accumulated random-walk variance per NED component
   bool started_ = false;
   truth3d::Vec3 r0_ = truth3d::Vec3::Zero();
   std::ofstream f_;

@@ -335,7 +335,7 @@ void Model3D::begin(const fs::path& out, ggins::hil::LinkBase* link, int64_t run
   csv_.open(out / "timeseries.csv");
   if (!csv_) throw Fail("cannot write " + (out / "timeseries.csv").string());
   gravrec_ = std::make_unique<ggins::run3d::GravimetryRecord>(gen_.field(), ggins::run3d::gravimetry_model(sc_),
-                                                           1.0 / sc_.rate_hz);
+                                                              1.0 / sc_.rate_hz, sc_.nav_gravity == "model");
   if (!gravrec_->open((out / "gravimetry_raw.csv").string()))
     throw Fail("cannot write " + (out / "gravimetry_raw.csv").string());
   csv_ << "t_s,seq,lat_deg,lon_deg,h_m,roll_deg,pitch_deg,yaw_deg,speed_mps,nav_lat_deg,nav_lon_deg,nav_h_m,"

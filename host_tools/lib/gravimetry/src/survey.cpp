@@ -71,7 +71,8 @@ Record read_record(const std::filesystem::path& dir) {
   const char* need[] = {"t_s", "seq", "nav_lat_deg", "nav_lon_deg", "nav_h_m", "true_lat_deg", "true_lon_deg",
                         "true_h_m", "speed_mps", "est_dg_n_mps2", "est_dg_e_mps2", "est_dg_d_mps2",
                         "truth_nav_dg_n_mps2", "truth_nav_dg_e_mps2", "truth_nav_dg_d_mps2", "truth_true_dg_n_mps2",
-                        "truth_true_dg_e_mps2", "truth_true_dg_d_mps2", "loop_a_c_mps2", "var_rw_mps2sq",
+                        "truth_true_dg_e_mps2", "truth_true_dg_d_mps2", "loop_a_c_mps2", "var_rw_n_mps2sq",
+                        "var_rw_e_mps2sq", "var_rw_d_mps2sq",
                         "dist_start_m", "est_gam_nn_E", "est_gam_ee_E", "est_gam_dd_E", "est_gam_ne_E",
                         "est_gam_nd_E", "est_gam_ed_E", "health"};
   for (const char* c : need)
@@ -110,7 +111,7 @@ Record read_record(const std::filesystem::path& dir) {
       s.truth_true[static_cast<size_t>(j)] = num(tt[j]);
     }
     s.a_c = num("loop_a_c_mps2");
-    s.var_rw = num("var_rw_mps2sq");
+    s.var_rw = {num("var_rw_n_mps2sq"), num("var_rw_e_mps2sq"), num("var_rw_d_mps2sq")};
     s.dist_start_m = num("dist_start_m");
     const char* g[6] = {"est_gam_nn_E", "est_gam_ee_E", "est_gam_dd_E", "est_gam_ne_E", "est_gam_nd_E", "est_gam_ed_E"};
     for (int j = 0; j < 6; ++j) s.gam_E[static_cast<size_t>(j)] = num(g[j]);
@@ -301,7 +302,8 @@ Adjusted adjust(const Record& r, const std::vector<Observation>& obs) {
   const size_t n = r.s.size(), m = obs.size();
   Adjusted a;
   a.value.resize(n);
-  a.sigma.assign(n, std::numeric_limits<double>::quiet_NaN());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  a.sigma.assign(n, V3{nan, nan, nan});
   a.residual.assign(m, V3{});
   for (size_t i = 0; i < n; ++i) a.value[i] = r.s[i].est;
   if (r.mode != "gradiometer") {
@@ -314,45 +316,46 @@ Adjusted adjust(const Record& r, const std::vector<Observation>& obs) {
   }
   const double sb2 = r.sigma_gamma_bias_ps2 * r.sigma_gamma_bias_ps2;
   const V3 z = r.s[0].enu;
-  auto K = [&](size_t i, size_t j) {
-    const V3 &p = r.s[i].enu, &q = r.s[j].enu;
-    const double dot = (p[0] - z[0]) * (q[0] - z[0]) + (p[1] - z[1]) * (q[1] - z[1]) + (p[2] - z[2]) * (q[2] - z[2]);
-    return std::min(r.s[i].var_rw, r.s[j].var_rw) + sb2 * dot;
-  };
-  for (size_t i = 0; i < n; ++i) a.sigma[i] = std::sqrt(std::max(0.0, K(i, i)));
-  if (m == 0) return a;
-  Eigen::MatrixXd KA(n, static_cast<Eigen::Index>(m));  // K A^T
-  for (size_t t = 0; t < n; ++t)
-    for (size_t k = 0; k < m; ++k) {
-      double s = 0;
-      for (const auto& c : obs[k].coef) s += c.second * K(t, c.first);
-      KA(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(k)) = s;
-    }
-  Eigen::MatrixXd S(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-  for (size_t k = 0; k < m; ++k)
-    for (size_t l = 0; l < m; ++l) {
-      double s = 0;
-      for (const auto& c : obs[k].coef) s += c.second * KA(static_cast<Eigen::Index>(c.first), static_cast<Eigen::Index>(l));
-      S(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) = s + (k == l ? obs[k].var : 0.0);
-    }
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
-  if (ldlt.info() != Eigen::Success) throw std::runtime_error("gravimetry: the observations' covariance is singular");
-  for (size_t u = 0; u < 3; ++u) {
+  for (size_t u = 0; u < 3; ++u) {  // each component with its own random walk
+    auto K = [&](size_t i, size_t j) {
+      const V3 &p = r.s[i].enu, &q = r.s[j].enu;
+      const double dot =
+          (p[0] - z[0]) * (q[0] - z[0]) + (p[1] - z[1]) * (q[1] - z[1]) + (p[2] - z[2]) * (q[2] - z[2]);
+      return std::min(r.s[i].var_rw[u], r.s[j].var_rw[u]) + sb2 * dot;
+    };
+    for (size_t i = 0; i < n; ++i) a.sigma[i][u] = std::sqrt(std::max(0.0, K(i, i)));
+    if (m == 0) continue;
+    Eigen::MatrixXd KA(n, static_cast<Eigen::Index>(m));  // K A^T
+    for (size_t t = 0; t < n; ++t)
+      for (size_t k = 0; k < m; ++k) {
+        double sum = 0;
+        for (const auto& c : obs[k].coef) sum += c.second * K(t, c.first);
+        KA(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(k)) = sum;
+      }
+    Eigen::MatrixXd S(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    for (size_t k = 0; k < m; ++k)
+      for (size_t l = 0; l < m; ++l) {
+        double sum = 0;
+        for (const auto& c : obs[k].coef)
+          sum += c.second * KA(static_cast<Eigen::Index>(c.first), static_cast<Eigen::Index>(l));
+        S(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) = sum + (k == l ? obs[k].var : 0.0);
+      }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
+    if (ldlt.info() != Eigen::Success) throw std::runtime_error("gravimetry: the observations' covariance is singular");
     Eigen::VectorXd y(static_cast<Eigen::Index>(m));
     for (size_t k = 0; k < m; ++k) y(static_cast<Eigen::Index>(k)) = obs[k].y[u];
-    const Eigen::VectorXd w = ldlt.solve(y);
-    const Eigen::VectorXd e = KA * w;
+    const Eigen::VectorXd e = KA * ldlt.solve(y);
     for (size_t t = 0; t < n; ++t) a.value[t][u] -= e(static_cast<Eigen::Index>(t));
     for (size_t k = 0; k < m; ++k) {
-      double s = 0;
-      for (const auto& c : obs[k].coef) s += c.second * e(static_cast<Eigen::Index>(c.first));
-      a.residual[k][u] = obs[k].y[u] - s;
+      double sum = 0;
+      for (const auto& c : obs[k].coef) sum += c.second * e(static_cast<Eigen::Index>(c.first));
+      a.residual[k][u] = obs[k].y[u] - sum;
     }
-  }
-  const Eigen::MatrixXd SiKt = ldlt.solve(KA.transpose());  // m x n
-  for (size_t t = 0; t < n; ++t) {
-    const double red = KA.row(static_cast<Eigen::Index>(t)).dot(SiKt.col(static_cast<Eigen::Index>(t)));
-    a.sigma[t] = std::sqrt(std::max(0.0, K(t, t) - red));
+    const Eigen::MatrixXd SiKt = ldlt.solve(KA.transpose());  // m x n
+    for (size_t t = 0; t < n; ++t) {
+      const double red = KA.row(static_cast<Eigen::Index>(t)).dot(SiKt.col(static_cast<Eigen::Index>(t)));
+      a.sigma[t][u] = std::sqrt(std::max(0.0, K(t, t) - red));
+    }
   }
   return a;
 }
@@ -442,6 +445,7 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
       p.truth.push_back(t);
       p.truth_true.push_back(tt);
       p.sigma.push_back(a.sigma[k]);
+      const double sd = a.sigma[k][2];
       const double d = e[2] - tt[2];
       le += d * d;
       lmax = std::max(lmax, std::fabs(d));
@@ -450,9 +454,9 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
       leta2 += std::pow((e[1] - tt[1]) / s.g_abs, 2);
       let += (e[2] - t[2]) * (e[2] - t[2]);
       lt += tt[2] * tt[2];
-      lsig += a.sigma[k] * a.sigma[k];
-      if (std::isfinite(a.sigma[k]) && a.sigma[k] > 0)
-        for (size_t u = 0; u < 3; ++u) lnm += std::pow((e[u] - tt[u]) / a.sigma[k], 2) / 3;
+      lsig += sd * sd;
+      for (size_t u = 0; u < 3; ++u)
+        if (std::isfinite(a.sigma[k][u]) && a.sigma[k][u] > 0) lnm += std::pow((e[u] - tt[u]) / a.sigma[k][u], 2) / 3;
       lpos += std::pow(s.enu[0] - s.true_enu[0], 2) + std::pow(s.enu[1] - s.true_enu[1], 2);
     }
     (void)lxi;
@@ -496,6 +500,76 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
   return p;
 }
 
+Grid make_grid(const Record& r, const Product& p, double spacing_m, double radius_m) {
+  Grid g;
+  g.spacing_m = spacing_m;
+  g.radius_m = radius_m;
+  if (p.idx.empty() || !(spacing_m > 0) || !(radius_m > 0)) return g;
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (size_t k : p.idx) {
+    x0 = std::min(x0, r.s[k].enu[0]);
+    x1 = std::max(x1, r.s[k].enu[0]);
+    y0 = std::min(y0, r.s[k].enu[1]);
+    y1 = std::max(y1, r.s[k].enu[1]);
+  }
+  g.nx = static_cast<size_t>(std::floor((x1 - x0) / spacing_m)) + 1;
+  g.ny = static_cast<size_t>(std::floor((y1 - y0) / spacing_m)) + 1;
+  if (g.nx * g.ny > 4000000) throw std::runtime_error("gravimetry: grid of over 4e6 nodes (raise the spacing)");
+  std::vector<double> w(g.nx * g.ny, 0.0), se(g.nx * g.ny, 0.0), st(g.nx * g.ny, 0.0);
+  std::vector<int> cnt(g.nx * g.ny, 0);
+  const double s2 = std::pow(radius_m / 2, 2);
+  const long reach = static_cast<long>(std::ceil(radius_m / spacing_m));
+  for (size_t i = 0; i < p.idx.size(); ++i) {
+    const V3& q = r.s[p.idx[i]].enu;
+    const long cx = std::lround((q[0] - x0) / spacing_m), cy = std::lround((q[1] - y0) / spacing_m);
+    for (long iy = std::max(0L, cy - reach); iy <= std::min(static_cast<long>(g.ny) - 1, cy + reach); ++iy)
+      for (long ix = std::max(0L, cx - reach); ix <= std::min(static_cast<long>(g.nx) - 1, cx + reach); ++ix) {
+        const double dx = x0 + static_cast<double>(ix) * spacing_m - q[0], dy = y0 + static_cast<double>(iy) * spacing_m - q[1];
+        const double d2 = dx * dx + dy * dy;
+        if (d2 > radius_m * radius_m) continue;
+        const size_t k = static_cast<size_t>(iy) * g.nx + static_cast<size_t>(ix);
+        const double wk = std::exp(-d2 / (2 * s2));
+        w[k] += wk;
+        se[k] += wk * p.est[i][2];
+        st[k] += wk * p.truth_true[i][2];
+        ++cnt[k];
+      }
+  }
+  // nodes back to latitude and longitude: the local plane's inverse to first order (the plane
+  // spans a survey block; the positions are for display and gridding software)
+  const Sample& o = r.s[0];
+  const double la = o.lat_deg * kPi / 180;
+  const double m = kA * (1 - kE2) / std::pow(1 - kE2 * std::sin(la) * std::sin(la), 1.5) + o.h_m;
+  const double nrad = (kA / std::sqrt(1 - kE2 * std::sin(la) * std::sin(la)) + o.h_m) * std::cos(la);
+  g.node.resize(g.nx * g.ny);
+  for (size_t iy = 0; iy < g.ny; ++iy)
+    for (size_t ix = 0; ix < g.nx; ++ix) {
+      const size_t k = iy * g.nx + ix;
+      GridNode& n = g.node[k];
+      n.lat_deg = o.lat_deg + (y0 + static_cast<double>(iy) * spacing_m) / m * 180 / kPi;
+      n.lon_deg = o.lon_deg + (x0 + static_cast<double>(ix) * spacing_m) / nrad * 180 / kPi;
+      n.n = cnt[k];
+      n.dg = cnt[k] ? se[k] / w[k] : std::numeric_limits<double>::quiet_NaN();
+      n.truth = cnt[k] ? st[k] / w[k] : std::numeric_limits<double>::quiet_NaN();
+    }
+  return g;
+}
+
+void write_grid_csv(const std::filesystem::path& path, const Grid& g) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+  f << "# nodes " << g.nx << " x " << g.ny << ", spacing " << g.spacing_m << " m, radius " << g.radius_m << " m\n";
+  f << "ix,iy,lat_deg,lon_deg,dg_mgal,truth_dg_mgal,err_dg_mgal,samples\n";
+  char b[256];
+  for (size_t iy = 0; iy < g.ny; ++iy)
+    for (size_t ix = 0; ix < g.nx; ++ix) {
+      const GridNode& n = g.node[iy * g.nx + ix];
+      std::snprintf(b, sizeof b, "%zu,%zu,%.8f,%.8f,%.4f,%.4f,%.4f,%d\n", ix, iy, n.lat_deg, n.lon_deg, n.dg / kMgal,
+                    n.truth / kMgal, (n.dg - n.truth) / kMgal, n.n);
+      f << b;
+    }
+}
+
 void write_csv(const std::filesystem::path& path, const Record& r, const Product& p) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write " + path.string());
@@ -506,14 +580,15 @@ void write_csv(const std::filesystem::path& path, const Record& r, const Product
   for (size_t i = 0; i < p.idx.size(); ++i) {
     const Sample& s = r.s[p.idx[i]];
     const V3 &e = p.est[i], &t = p.truth_true[i];  // the truth along the true path
-    const double g = s.g_abs, sg = p.sigma[i];
+    const double g = s.g_abs;
+    const V3& sg = p.sigma[i];
     const bool tie = p.line_of[i] >= 1000;
     std::snprintf(b, sizeof b,
                   "%d,%s,%lld,%.2f,%.8f,%.8f,%.2f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,"
                   "%.4f,%.4f,%.8f,%.8f\n",
                   p.line_of[i], tie ? "tie" : "line", static_cast<long long>(s.seq), s.t, s.lat_deg, s.lon_deg, s.h_m,
-                  e[2] / kMgal, -e[0] / g / kArcsec, -e[1] / g / kArcsec, e[0] / kMgal, e[1] / kMgal, sg / kMgal,
-                  sg / g / kArcsec, sg / g / kArcsec, t[2] / kMgal, -t[0] / g / kArcsec, -t[1] / g / kArcsec,
+                  e[2] / kMgal, -e[0] / g / kArcsec, -e[1] / g / kArcsec, e[0] / kMgal, e[1] / kMgal, sg[2] / kMgal,
+                  sg[0] / g / kArcsec, sg[1] / g / kArcsec, t[2] / kMgal, -t[0] / g / kArcsec, -t[1] / g / kArcsec,
                   (e[2] - t[2]) / kMgal, -(e[0] - t[0]) / g / kArcsec, -(e[1] - t[1]) / g / kArcsec,
                   p.truth[i][2] / kMgal, s.true_lat_deg, s.true_lon_deg);
     f << b;
@@ -538,7 +613,8 @@ void write_xyz(const std::filesystem::path& path, const Record& r, const Product
     const V3& e = p.est[i];
     std::snprintf(b, sizeof b, "%lld %.2f %.8f %.8f %.2f %.4f %.4f %.4f %.4f %.4f\n", static_cast<long long>(s.seq),
                   s.t, s.lat_deg, s.lon_deg, s.h_m, e[2] / kMgal, -e[0] / s.g_abs / kArcsec,
-                  -e[1] / s.g_abs / kArcsec, p.sigma[i] / kMgal, p.sigma[i] / s.g_abs / kArcsec);
+                  -e[1] / s.g_abs / kArcsec, p.sigma[i][2] / kMgal,
+                  std::hypot(p.sigma[i][0], p.sigma[i][1]) / std::sqrt(2.0) / s.g_abs / kArcsec);
     f << b;
   }
 }

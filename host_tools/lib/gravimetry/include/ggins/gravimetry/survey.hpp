@@ -22,7 +22,7 @@
 // e(t) = est(t) - truth(r_true(t)): a Brownian motion in the accumulated variance tau(t)
 // (white gradient noise integrated along the path) plus a constant gradient error dGamma_b
 // times the displacement from the start, so that
-//   K(t, s) = min(tau_t, tau_s) + sigma_Gb^2 (r_t - r_0) . (r_s - r_0),   e(0) = 0
+//   K_j(t, s) = min(tau_j,t, tau_j,s) + sigma_Gb^2 (r_t - r_0) . (r_s - r_0),   e(0) = 0
 // (the task starts from the surveyed gravitation of its start point). Observations are
 // linear in e: a closing measurement (back over the zero point: e = est - known - the
 // measured gradient's disturbance times the nav's offset from the point; Rubenstein &
@@ -58,7 +58,8 @@ struct Sample {  // one row of gravimetry_raw.csv
   double true_lat_deg = 0, true_lon_deg = 0, true_h_m = 0;
   double speed_mps = 0;
   V3 est{}, truth_nav{}, truth_true{};                   // disturbance, NED, m/s^2
-  double a_c = 0, var_rw = 0, dist_start_m = 0;
+  double a_c = 0, dist_start_m = 0;
+  V3 var_rw{};                                           // random-walk variance per NED component, (m/s^2)^2
   std::array<double, 6> gam_E{};                         // measured gradient's disturbance NN EE DD NE ND ED, E
   uint32_t health = 0;
   // filled by read_record: nav position in the local plane of the first sample (east,
@@ -124,7 +125,7 @@ std::vector<Observation> crossovers(const Record& r, const std::vector<Line>& li
 
 struct Adjusted {
   std::vector<V3> value;      // corrected estimate, NED, m/s^2
-  std::vector<double> sigma;  // one-sigma of each component (NaN: no error model)
+  std::vector<V3> sigma;      // one-sigma of each component (NaN: no error model)
   std::vector<V3> residual;   // observation residuals after the adjustment (y - A e_hat)
 };
 Adjusted adjust(const Record& r, const std::vector<Observation>& obs);
@@ -156,11 +157,27 @@ struct Product {
   std::vector<size_t> idx;            // the samples of the lines, in line order
   std::vector<int> line_of;           // per idx entry: the line's number
   std::vector<V3> est, truth, truth_true;  // filtered, NED, m/s^2
-  std::vector<double> sigma;
+  std::vector<V3> sigma;
   std::vector<LineStats> stats;
   LineStats all;                      // pooled over the lines
 };
 Product make_product(const Record& r, const std::vector<Line>& lines, const Adjusted& a, double wavelength_m);
+
+// A gridded map of the product: nodes every `spacing_m` over the lines' extent (in the local
+// east-north plane of the first sample), each the Gaussian-weighted mean (sigma = radius / 2)
+// of the samples within `radius_m` of it (NaN where there are none), for the estimate and
+// for the truth along the true path alike. Columns: lat, lon, dg, truth, error (mGal), samples.
+struct GridNode {
+  double lat_deg = 0, lon_deg = 0, dg = 0, truth = 0;
+  int n = 0;
+};
+struct Grid {
+  size_t nx = 0, ny = 0;
+  double spacing_m = 0, radius_m = 0;
+  std::vector<GridNode> node;  // row-major, south to north, west to east
+};
+Grid make_grid(const Record& r, const Product& p, double spacing_m, double radius_m);
+void write_grid_csv(const std::filesystem::path& p, const Grid& g);
 
 // Survey line formats: CSV (a header row, one row per sample) and Geosoft-style XYZ ("/"
 // comment header, "Line N" / "Tie N" blocks).
