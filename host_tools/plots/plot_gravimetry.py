@@ -59,7 +59,7 @@ def main():
         ax[-1][c].set_xlabel("time (min)")
     fig.suptitle("%s mode: dg rms %.3f mGal, deflection rms %.3f arcsec" %
                  (js["mode"], js["all"]["rms_dg_mgal"], js["all"]["rms_xi_arcsec"]))
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.4 / (2.0 * n + 1)))
     fig.savefig(os.path.join(d, "profiles.png"), dpi=90)
     plt.close(fig)
 

@@ -101,6 +101,86 @@ void test_bridge(void**) {
   assert_true(worst_s < 1e-12);
 }
 
+// 2b. A constant body-axis gradient error (no random walk): its share is dGamma B(t) with B the
+//     path integral (on a strapdown body flying forward: the path length). One exact closing
+//     observation of it fixes the error everywhere, before and after, and the sigma goes to 0.
+void test_bias_from_closing(void**) {
+  gv::Record r = track({{0, 0}, {20000, 0}, {20000, 3000}, {0, 3000}}, 100, 0);
+  r.sigma_gamma_bias_ps2 = 3e-12;
+  double len = 0;
+  for (size_t i = 0; i < r.s.size(); ++i) {
+    if (i) len += std::hypot(r.s[i].enu[0] - r.s[i - 1].enu[0], r.s[i].enu[1] - r.s[i - 1].enu[1]);
+    for (auto& b : r.s[i].bias_coef) b[6] = len;  // the zx entry
+    const double e = 5e-12 * len;                   // the drawn constant: 5e-12 s^-2
+    r.s[i].est = {e, e, e};
+  }
+  gv::Observation o;
+  o.kind = "closing";
+  o.coef = {{r.s.size() - 1, 1.0}};
+  o.y = r.s.back().est;
+  o.var = 1e-30;
+  const gv::Adjusted a = gv::adjust(r, {o});
+  double worst = 0, worst_s = 0, prior_end = 3e-12 * len;
+  for (size_t i = 0; i < r.s.size(); ++i) {
+    worst = std::max(worst, std::fabs(a.value[i][2]));
+    worst_s = std::max(worst_s, a.sigma[i][2]);
+  }
+  std::printf("  bias: prior sigma at the end %.2e, residual worst %.2e, posterior sigma worst %.2e\n", prior_end, worst,
+              worst_s);
+  assert_true(worst < 1e-14 && worst_s < 1e-12);
+}
+
+// 2c. Rubenstein & Winter's loop output -a_c = H_g(s) dg (a third-order low-pass, poles p_i),
+//     simulated by integrating its ODE (RK4, 10 ms steps) on a sinusoidal disturbance of 900 s
+//     period, is undone by the product within its band: the result against the filtered truth.
+void test_loop_inverse(void**) {
+  gv::Record r = track({{0, 0}, {300000, 0}}, 100, 0);
+  r.mode = "model";
+  r.loop_poles = {0.01, 0.02, 0.03};
+  const double A = 2e-4, T = 900, w = 2 * kPi / T;
+  const double p1 = 0.01, p2 = 0.02, p3 = 0.03;
+  // H_g as three first-order lags in series: x1' = p1 (u - x1), x2' = p2 (x1 - x2), x3' = p3 (x2 - x3)
+  double x[3] = {0, 0, 0}, t = 0;
+  const double h = 0.01;
+  auto f = [&](double tt, const double* s0, double* d) {
+    const double u = A * std::sin(w * tt);
+    d[0] = p1 * (u - s0[0]);
+    d[1] = p2 * (s0[0] - s0[1]);
+    d[2] = p3 * (s0[1] - s0[2]);
+  };
+  for (size_t k = 0; k < r.s.size(); ++k) {
+    gv::Sample& smp = r.s[k];
+    for (; t < static_cast<double>(k) * 100; t += 1) {  // t counts the 10 ms steps
+      const double ts = t * h;
+      double k1[3], k2[3], k3[3], k4[3], y[3];
+      f(ts, x, k1);
+      for (int i = 0; i < 3; ++i) y[i] = x[i] + h / 2 * k1[i];
+      f(ts + h / 2, y, k2);
+      for (int i = 0; i < 3; ++i) y[i] = x[i] + h / 2 * k2[i];
+      f(ts + h / 2, y, k3);
+      for (int i = 0; i < 3; ++i) y[i] = x[i] + h * k3[i];
+      f(ts + h, y, k4);
+      for (int i = 0; i < 3; ++i) x[i] += h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+    }
+    smp.est = {0, 0, x[2]};
+    smp.truth_true = {0, 0, A * std::sin(w * smp.t)};
+    smp.truth_nav = smp.truth_true;
+  }
+  std::vector<gv::Line> L(1);
+  L[0] = {10, false, 1000, 2400, 90, 140000, 100};  // after the loop's start-up, 600 s before the record ends
+  const gv::Adjusted a = gv::adjust(r, {});
+  const gv::Product p = gv::make_product(r, L, a, 20000);  // 200 s cut-off: the 900 s period passes
+  double worst = 0, lagged = 0;
+  for (size_t i = 0; i < p.idx.size(); ++i) {
+
+    worst = std::max(worst, std::fabs(p.est[i][2] - p.truth_true[i][2]));
+    lagged = std::max(lagged, std::fabs(r.s[p.idx[i]].est[2] - r.s[p.idx[i]].truth_true[2]));
+  }
+  std::printf("  loop output against the truth: %.2e (lagged), inverted %.2e m/s^2 (amplitude %.1e)\n", lagged, worst, A);
+  assert_true(lagged > 0.5 * A);
+  assert_true(worst < 1e-3 * A);
+}
+
 // 3. Two straight tracks crossing at a known point: one crossover there, its value the
 //    difference of the two estimates at that point.
 void test_crossover_geometry(void**) {
@@ -247,6 +327,7 @@ void test_read_record(void**) {
 int main() {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_lowpass_response),    cmocka_unit_test(test_bridge),
+      cmocka_unit_test(test_bias_from_closing),   cmocka_unit_test(test_loop_inverse),
       cmocka_unit_test(test_crossover_geometry),  cmocka_unit_test(test_posterior_matches_monte_carlo),
       cmocka_unit_test(test_find_lines),          cmocka_unit_test(test_read_record),
   };

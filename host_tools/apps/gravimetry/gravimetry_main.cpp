@@ -108,6 +108,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(ggins::cli::FiniteRange(1, 1e5));
   app.add_flag("--no-crossovers", no_crossovers, "do not adjust to the line crossovers");
+  bool loop_as_flown = false;
+  app.add_flag("--loop-as-flown", loop_as_flown,
+               "model mode: take the barometer loop's output as flown (lagged), not inverted after the flight");
   app.add_option("--position-sigma-m", position_sigma_m,
                  "the navigation's horizontal position one-sigma (no GNSS: the INS's own; weighs the crossovers)")
       ->capture_default_str()
@@ -139,7 +142,8 @@ int main(int argc, char** argv) {
   const fs::path out = out_dir.empty() ? fs::path(run_dir) / "gravimetry" : fs::path(out_dir);
   try {
     fs::create_directories(out);
-    const gv::Record rec = gv::read_record(run_dir);
+    gv::Record rec = gv::read_record(run_dir);
+    if (loop_as_flown) rec.loop_poles.clear();
     const auto lines = gv::find_lines(rec, lo);
     if (lines.empty())
       throw std::runtime_error("no straight level stretch of " + std::to_string(lo.min_length_m / 1000) +
@@ -167,6 +171,7 @@ int main(int argc, char** argv) {
     j["mode"] = rec.mode;
     j["field"] = rec.field;
     j["error_model"] = rec.mode == "gradiometer";
+    j["loop_inverted"] = rec.mode == "model" && rec.loop_poles.size() == 3;
     j["wavelength_m"] = wavelength_km * 1000;
     j["closing"] = have_closing ? json{{"lat_deg", cl.lat_deg}, {"lon_deg", cl.lon_deg},
                                        {"misclosure_mgal", {cl.y[0] / gv::kMgal, cl.y[1] / gv::kMgal, cl.y[2] / gv::kMgal}}}
@@ -228,9 +233,13 @@ int main(int argc, char** argv) {
       std::printf("ggins gravimetry: %s mode, %zu lines + ties, %zu crossovers, closing %s\n", rec.mode.c_str(),
                   lines.size(), nxo, have_closing ? "used" : "none");
       std::printf("  at %.1f km full wavelength: dg rms %.3f mGal (max %.3f), horizontal rms %.3f mGal, "
-                  "deflection rms %.3f arcsec; stated one-sigma rms %.3f mGal\n",
-                  wavelength_km, pr.all.rms_mgal, pr.all.max_mgal, pr.all.rms_h_mgal, pr.all.rms_xi_arcsec,
-                  pr.all.rms_sigma_mgal);
+                  "deflection rms %.3f arcsec",
+                  wavelength_km, pr.all.rms_mgal, pr.all.max_mgal, pr.all.rms_h_mgal, pr.all.rms_xi_arcsec);
+      if (rec.mode == "gradiometer")
+        std::printf("; stated one-sigma rms %.3f mGal\n", pr.all.rms_sigma_mgal);
+      else
+        std::printf(" (model mode: the barometer loop's gravimeter%s, scalar only, no error model)\n",
+                    rec.loop_poles.size() == 3 ? " inverted after the flight" : " as flown");
       if (j.contains("chi2"))
         std::printf("  chi-square over the lines %.1f for %g dof (95 %% band %.1f..%.1f)%s\n",
                     j["chi2"]["value"].get<double>(), j["chi2"]["dof"].get<double>(), j["chi2"]["band95"][0].get<double>(),

@@ -13,6 +13,16 @@
 // (gravity/normal.hpp; the centrifugal part is common to gravity and normal gravity, so the
 // disturbance of gravitation is that of gravity).
 //
+// * the vertical channel: the barometer loop moves the nav's height by the barometer's errors
+//   (vchan.h) and G with it by the MEASURED gradient (G_e += Gamma_e dr_e), so the anomaly's
+//   share of G follows the nav height: component j gains integral Gamma_anom,jD d(dh), dh the
+//   height error. Its constant part (the bias sigma_bh, taken up by the loop in the first
+//   minutes) gives a step of variance (Gamma_anom,jD(0) sigma_bh)^2 at the start; its first-order
+//   Gauss-Markov part (sigma_gm, tau) has increments of variance 2 sigma_gm^2 h / tau per step,
+//   so tau_j grows by Gamma_anom,jD^2 2 sigma_gm^2 h / tau (Gamma_anom from the task's own
+//   measured gradient, refreshed every 10 steps). The loop's filtering of the barometer's white
+//   noise is left out (it leaves centimetres in the height).
+//
 // The measured gradient's disturbance Gamma_e(nav) - Gamma_normal(r_nav) in NED (E): what
 // carries a value from one point to a nearby one (closing point, crossovers).
 // Truth for the same row, from the scenario's field (never seen by the task):
@@ -35,8 +45,11 @@
 //   and for constant reading errors (random biases sigma_b, scale sigma_s on a ~10 m/s^2
 //   reading, the fixed biases' largest pair difference) a constant gradient error
 //   sigma_Gb = sqrt(sigma_b^2 + (10 sigma_s)^2) / (sqrt(2) d_min) + max fixed difference / (2 d_min),
-//   whose share at a point is sigma_Gb |r - r0| (r0 the start). Both are written per row
-//   (var_rw_*_mps2sq, dist_start_m) and the constant sigma_Gb in summary.json.
+//   held in BODY axes: its share of component j is sum_kl dGamma_b,kl B_j,kl(t) with
+//     B_j,kl(t) = integral (C_b_n)_jk (dr_b)_l          (dr_b = C_n_b dr, m)
+//   (on a strapdown body flying forward the down component grows with the path length,
+//   whatever the turns, while north and east follow the displacement). Written per row:
+//   var_rw_*_mps2sq, the 27 B_j,kl (bias_<j>_<kl>_m), and sigma_Gb in summary.json.
 #pragma once
 
 #include <Eigen/Dense>
@@ -58,6 +71,7 @@ struct GravimetryModel {  // the error model's constants (above), from the scena
   double sigma_gamma_noise_ps2 = 0;  // per step, accelerometer white noise
   double sigma_w_radps = 0;          // gyro white noise per step (strapdown; 0 stabilized)
   double sigma_gamma_bias_ps2 = 0;   // constant gradient error
+  double baro_bias_m = 0, baro_gm_m = 0, baro_tau_s = 600;  // the vertical channel (barometer loop on)
 };
 
 inline GravimetryModel gravimetry_model(const truth3d::Scenario3& sc) {
@@ -74,6 +88,11 @@ inline GravimetryModel gravimetry_model(const truth3d::Scenario3& sc) {
                                         a.bias_mps2[static_cast<size_t>(k + 3)][static_cast<size_t>(j)]));
   const double sp = std::hypot(a.bias_sigma_mps2, 10.0 * a.scale_sigma);
   m.sigma_gamma_bias_ps2 = sp / (std::sqrt(2.0) * d) + fixed / (2 * d);
+  if (sc.baro_loop_enabled() && sc.nav_gravity != "model") {
+    m.baro_bias_m = sc.baro.bias_m;
+    m.baro_gm_m = sc.baro.gm_sigma_m;
+    m.baro_tau_s = sc.baro.gm_tau_s;
+  }
   return m;
 }
 
@@ -89,7 +108,10 @@ class GravimetryRecord {
           "est_dg_n_mps2,est_dg_e_mps2,est_dg_d_mps2,truth_nav_dg_n_mps2,truth_nav_dg_e_mps2,truth_nav_dg_d_mps2,"
           "truth_true_dg_n_mps2,truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_n_mps2sq,"
           "var_rw_e_mps2sq,var_rw_d_mps2sq,dist_start_m,"
-          "est_gam_nn_E,est_gam_ee_E,est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health\n";
+          "est_gam_nn_E,est_gam_ee_E,est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health";
+    for (const char* j : {"n", "e", "d"})
+      for (const char* kl : {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"}) f_ << ",bias_" << j << "_" << kl << "_m";
+    f_ << "\n";
     return true;
   }
   // Every step (the variance accumulates per step); a row when `write`.
@@ -110,17 +132,37 @@ class GravimetryRecord {
       const Eigen::Vector3d dr(o.v_n[0] * h_, o.v_n[1] * h_, o.v_n[2] * h_);
       const double s2 = model_.sigma_gamma_noise_ps2 * model_.sigma_gamma_noise_ps2;
       Eigen::Vector3d inc = s2 / 2 * (Eigen::Vector3d::Constant(dr.squaredNorm()) + dr.cwiseAbs2());
+      const Eigen::Matrix3d C_b_n = (C_n_e.transpose() * dcm_from_quat(o.q_b_e)).cast<double>();
+      const Eigen::Vector3d db = C_b_n.transpose() * dr;
+      if (C_b_n.allFinite() && db.allFinite())
+        for (int j = 0; j < 3; ++j)
+          for (int k = 0; k < 3; ++k)
+            for (int l = 0; l < 3; ++l) bias_[static_cast<size_t>(j)][static_cast<size_t>(3 * k + l)] += C_b_n(j, k) * db(l);
       if (model_.sigma_w_radps > 0) {
-        const Eigen::Matrix3d C_b_n = (C_n_e.transpose() * dcm_from_quat(o.q_b_e)).cast<double>();
         const Eigen::Vector3d w(o.omega_b[0], o.omega_b[1], o.omega_b[2]);
-        const Eigen::Vector3d db = C_b_n.transpose() * dr;
         for (int i = 0; i < 3; ++i) {
           const Eigen::Vector3d u = C_b_n * (Eigen::Vector3d::Unit(i) * w.dot(db) + w * db(i) - 2 * w(i) * db);
           inc += model_.sigma_w_radps * model_.sigma_w_radps * u.cwiseAbs2();
         }
       }
+      if ((model_.baro_bias_m != 0 || model_.baro_gm_m != 0) && (steps_ % 10 == 0 || steps_ == 1)) {
+        truth3d::Vec3 r0;
+        for (int i = 0; i < 3; ++i) r0(i) = static_cast<Real>(o.r_e[i]);
+        truth3d::Mat3 ge;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) ge(i, j) = static_cast<Real>(o.gamma_e[i][j]);
+        const truth3d::Mat3 ga = C_n_e.transpose() * (ge - normal_.eval(r0).gamma) * C_n_e;
+        for (int j = 0; j < 3; ++j) gam_d_[static_cast<size_t>(j)] = static_cast<double>(ga(j, 2));
+        if (steps_ == 1 && std::isfinite(gam_d_[0] + gam_d_[1] + gam_d_[2]))  // the bias, taken up at the start
+          for (int j = 0; j < 3; ++j) inc(j) += std::pow(gam_d_[static_cast<size_t>(j)] * model_.baro_bias_m, 2);
+      }
+      if (model_.baro_gm_m != 0 && model_.baro_tau_s > 0)
+        for (int j = 0; j < 3; ++j)
+          inc(j) += gam_d_[static_cast<size_t>(j)] * gam_d_[static_cast<size_t>(j)] * 2 * model_.baro_gm_m *
+                    model_.baro_gm_m * h_ / model_.baro_tau_s;
       if (inc.allFinite() && std::isfinite(v))
         for (int j = 0; j < 3; ++j) tau_[static_cast<size_t>(j)] += inc(j);
+      ++steps_;
     }
     if (!write || !f_) return;
     const truth3d::Vec3 up = -C_n_e.col(2);
@@ -137,7 +179,7 @@ class GravimetryRecord {
     char line[1024];
     std::snprintf(line, sizeof line,
                   "%.3f,%lld,%.10f,%.10f,%.4f,%.10f,%.10f,%.4f,%.4f,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,"
-                  "%.9e,%.6e,%.6e,%.6e,%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u\n",
+                  "%.9e,%.6e,%.6e,%.6e,%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u",
                   static_cast<double>(t.t_s), static_cast<long long>(t.seq), o.lat_rad * deg, o.lon_rad * deg, o.h_m,
                   static_cast<double>(t.s.lat) * deg, static_cast<double>(t.s.lon) * deg, static_cast<double>(t.s.h), v,
                   static_cast<double>(est(0)), static_cast<double>(est(1)), static_cast<double>(est(2)),
@@ -149,6 +191,12 @@ class GravimetryRecord {
                   static_cast<double>(gam(0, 1)) * 1e9, static_cast<double>(gam(0, 2)) * 1e9,
                   static_cast<double>(gam(1, 2)) * 1e9, o.health);
     f_ << line;
+    for (const auto& b : bias_)
+      for (double x : b) {
+        std::snprintf(line, sizeof line, ",%.6e", x);
+        f_ << line;
+      }
+    f_ << "\n";
   }
   void close() {
     if (f_.is_open()) f_.close();
@@ -162,6 +210,9 @@ class GravimetryRecord {
   double h_ = 0.01;
   bool model_mode_ = false;
   std::array<double, 3> tau_{};  // accumulated random-walk variance per NED component
+  std::array<double, 3> gam_d_{};  // Gamma_anom,jD of the last refresh, s^-2
+  int64_t steps_ = 0;
+  std::array<std::array<double, 9>, 3> bias_{};  // B_j,kl: a body-axis constant gradient error's coefficients
   bool started_ = false;
   truth3d::Vec3 r0_ = truth3d::Vec3::Zero();
   std::ofstream f_;

@@ -723,7 +723,8 @@ void Model3D::report(json& s) {
                        {"field", sc_.gravity.model},
                        {"sigma_gamma_noise_ps2", gm.sigma_gamma_noise_ps2},
                        {"sigma_gyro_radps", gm.sigma_w_radps},
-                       {"sigma_gamma_bias_ps2", gm.sigma_gamma_bias_ps2}};
+                       {"sigma_gamma_bias_ps2", gm.sigma_gamma_bias_ps2},
+                       {"loop_poles_radps", sc_.baro_loop_enabled() ? json(sc_.nav_baro.poles_radps) : json::array()}};
   }
   // one block per aid of the flight, each named ({"name": ..., its counters})
   std::vector<std::string> why;  // an aid inconsistent or refused for part of the flight: degraded

@@ -116,6 +116,15 @@ Record read_record(const std::filesystem::path& dir) {
     const char* g[6] = {"est_gam_nn_E", "est_gam_ee_E", "est_gam_dd_E", "est_gam_ne_E", "est_gam_nd_E", "est_gam_ed_E"};
     for (int j = 0; j < 6; ++j) s.gam_E[static_cast<size_t>(j)] = num(g[j]);
     s.health = static_cast<uint32_t>(num("health"));
+    {  // the body-axis bias coefficients (absent: no constant gradient error in the model)
+      const char* jn[3] = {"n", "e", "d"};
+      const char* kl[9] = {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
+      for (size_t j = 0; j < 3; ++j)
+        for (size_t q = 0; q < 9; ++q) {
+          const std::string c = std::string("bias_") + jn[j] + "_" + kl[q] + "_m";
+          if (col.count(c)) s.bias_coef[j][q] = num(c.c_str());
+        }
+    }
     r.s.push_back(s);
   }
   if (r.s.size() < 10) throw std::runtime_error(csv.string() + ": fewer than 10 samples");
@@ -149,6 +158,8 @@ Record read_record(const std::filesystem::path& dir) {
         r.mode = g.value("mode", r.mode);
         r.field = g.value("field", std::string());
         r.sigma_gamma_bias_ps2 = g.value("sigma_gamma_bias_ps2", 0.0);
+        if (g.contains("loop_poles_radps") && g["loop_poles_radps"].is_array())
+          r.loop_poles = g["loop_poles_radps"].get<std::vector<double>>();
       }
     } catch (const std::exception& e) {
       throw std::runtime_error(sum.string() + ": " + e.what());
@@ -315,12 +326,11 @@ Adjusted adjust(const Record& r, const std::vector<Observation>& obs) {
     return a;
   }
   const double sb2 = r.sigma_gamma_bias_ps2 * r.sigma_gamma_bias_ps2;
-  const V3 z = r.s[0].enu;
   for (size_t u = 0; u < 3; ++u) {  // each component with its own random walk
     auto K = [&](size_t i, size_t j) {
-      const V3 &p = r.s[i].enu, &q = r.s[j].enu;
-      const double dot =
-          (p[0] - z[0]) * (q[0] - z[0]) + (p[1] - z[1]) * (q[1] - z[1]) + (p[2] - z[2]) * (q[2] - z[2]);
+      const auto &p = r.s[i].bias_coef[u], &q = r.s[j].bias_coef[u];
+      double dot = 0;
+      for (size_t k = 0; k < 9; ++k) dot += p[k] * q[k];
       return std::min(r.s[i].var_rw[u], r.s[j].var_rw[u]) + sb2 * dot;
     };
     for (size_t i = 0; i < n; ++i) a.sigma[i][u] = std::sqrt(std::max(0.0, K(i, i)));
@@ -409,21 +419,48 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
   const double dt = 1.0 / r.rate_hz;
   double se = 0, seh = 0, sxi = 0, set_ = 0, ss = 0, sn = 0, sig = 0, spos = 0, maxe = 0;
   size_t ntot = 0;
+  // the whole flight filtered once (the lines are parts of one continuous record: no edges at
+  // the lines' ends), cut-off from the lines' mean ground speed
+  double vs = 0, nv = 0;
+  for (const Line& l : lines) {
+    vs += l.speed_mps * static_cast<double>(l.end - l.begin);
+    nv += static_cast<double>(l.end - l.begin);
+  }
+  const double fc = std::min(0.45 / dt, (nv > 0 ? vs / nv : 1.0) / wavelength_m);
+  const size_t N = r.s.size();
+  std::array<std::vector<double>, 3> ev, tv, ttv;
+  for (size_t u = 0; u < 3; ++u) {
+    std::vector<double> e(N), t(N), tt(N);
+    for (size_t i = 0; i < N; ++i) {
+      e[i] = a.value[i][u];
+      t[i] = r.s[i].truth_nav[u];
+      tt[i] = r.s[i].truth_true[u];
+    }
+    ev[u] = lowpass(e, dt, fc);
+    tv[u] = lowpass(t, dt, fc);
+    ttv[u] = lowpass(tt, dt, fc);
+  }
+  if (r.mode == "model" && r.loop_poles.size() == 3) {
+    // Rubenstein & Winter's loop output is -a_c = H_g(s) dg, H_g = p1 p2 p3 / ((s+p1)(s+p2)(s+p3))
+    // (vchan.h, docs/vertical.md): after the flight its lag and attenuation are undone inside
+    // the product's band, dg = H_g^-1 y = y + c1 dy/dt + c2 d2y/dt2 + c3 d3y/dt3 on the filtered
+    // y, c1 = sum 1/p_i, c2 = sum_(i<j) 1/(p_i p_j), c3 = 1/(p1 p2 p3) (central differences of
+    // the low-passed series, which the filter makes smooth on the sample scale)
+    const double p1 = r.loop_poles[0], p2 = r.loop_poles[1], p3 = r.loop_poles[2];
+    const double c1 = 1 / p1 + 1 / p2 + 1 / p3, c2 = 1 / (p1 * p2) + 1 / (p1 * p3) + 1 / (p2 * p3),
+                 c3 = 1 / (p1 * p2 * p3);
+    const std::vector<double>& y = ev[2];
+    std::vector<double> out(y);
+    for (size_t i = 2; i + 2 < N; ++i) {
+      const double d1 = (y[i + 1] - y[i - 1]) / (2 * dt);
+      const double d2 = (y[i + 1] - 2 * y[i] + y[i - 1]) / (dt * dt);
+      const double d3 = (y[i + 2] - 2 * y[i + 1] + 2 * y[i - 1] - y[i - 2]) / (2 * dt * dt * dt);
+      out[i] = y[i] + c1 * d1 + c2 * d2 + c3 * d3;
+    }
+    ev[2] = out;
+  }
   for (const Line& l : lines) {
     const size_t n = l.end - l.begin;
-    const double fc = std::min(0.45 / dt, l.speed_mps / wavelength_m);
-    std::array<std::vector<double>, 3> ev, tv, ttv;
-    for (size_t u = 0; u < 3; ++u) {
-      std::vector<double> e(n), t(n), tt(n);
-      for (size_t i = 0; i < n; ++i) {
-        e[i] = a.value[l.begin + i][u];
-        t[i] = r.s[l.begin + i].truth_nav[u];
-        tt[i] = r.s[l.begin + i].truth_true[u];
-      }
-      ev[u] = lowpass(e, dt, fc);
-      tv[u] = lowpass(t, dt, fc);
-      ttv[u] = lowpass(tt, dt, fc);
-    }
     LineStats st;
     st.number = l.number;
     st.tie = l.tie;
@@ -435,9 +472,9 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
       const Sample& s = r.s[k];
       V3 e{}, t{}, tt{};
       for (size_t u = 0; u < 3; ++u) {
-        e[u] = ev[u][i];
-        t[u] = tv[u][i];
-        tt[u] = ttv[u][i];
+        e[u] = ev[u][k];
+        t[u] = tv[u][k];
+        tt[u] = ttv[u][k];
       }
       p.idx.push_back(k);
       p.line_of.push_back(l.number);

@@ -20,9 +20,9 @@
 //
 // Error model of the gradiometer system's estimate (gradiometer mode), per NED component
 // e(t) = est(t) - truth(r_true(t)): a Brownian motion in the accumulated variance tau(t)
-// (white gradient noise integrated along the path) plus a constant gradient error dGamma_b
-// times the displacement from the start, so that
-//   K_j(t, s) = min(tau_j,t, tau_j,s) + sigma_Gb^2 (r_t - r_0) . (r_s - r_0),   e(0) = 0
+// (white gradient noise integrated along the path) plus a constant gradient error dGamma_b in
+// body axes, entries independent with sigma_Gb, whose share is sum_kl dGamma_b,kl B_j,kl(t), so
+//   K_j(t, s) = min(tau_j,t, tau_j,s) + sigma_Gb^2 B_j(t) . B_j(s),   e(0) = 0
 // (the task starts from the surveyed gravitation of its start point). Observations are
 // linear in e: a closing measurement (back over the zero point: e = est - known - the
 // measured gradient's disturbance times the nav's offset from the point; Rubenstein &
@@ -34,6 +34,10 @@
 //   e_hat(t) = k_t^T S^-1 y,   var(t) = K(t, t) - k_t^T S^-1 k_t,
 //   S = A K A^T + R,  k_t = A K(., t)   (A the observations' coefficients on the samples).
 // For a Brownian motion this is the piecewise-linear (in tau) bridge between observations.
+//
+// Rubenstein & Winter's gravimeter (model mode): the loop's output -a_c = H_g(s) dg is inverted
+// after the flight within the product's band (make_product), so that its lag and attenuation
+// do not count against it.
 //
 // Filter: zero-phase low-pass (a Butterworth of order n run forward and backward), cut-off
 // at the spatial frequency 1/lambda converted to time with the line's mean ground speed;
@@ -60,6 +64,8 @@ struct Sample {  // one row of gravimetry_raw.csv
   V3 est{}, truth_nav{}, truth_true{};                   // disturbance, NED, m/s^2
   double a_c = 0, dist_start_m = 0;
   V3 var_rw{};                                           // random-walk variance per NED component, (m/s^2)^2
+  std::array<std::array<double, 9>, 3> bias_coef{};     // B_j,kl: component j's coefficients of a body-axis
+                                                         // constant gradient error (integral C_b_n,jk dr_b,l), m
   std::array<double, 6> gam_E{};                         // measured gradient's disturbance NN EE DD NE ND ED, E
   uint32_t health = 0;
   // filled by read_record: nav position in the local plane of the first sample (east,
@@ -73,6 +79,7 @@ struct Record {
   std::string mode = "gradiometer";  // or "model": the R&W loop's estimate, no error model
   std::string field;
   double sigma_gamma_bias_ps2 = 0;
+  std::vector<double> loop_poles;  // the barometer loop's poles (rad/s; empty: loop off, or not inverted)
   double rate_hz = 1;
 };
 
