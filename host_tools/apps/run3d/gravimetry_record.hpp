@@ -20,7 +20,7 @@
 //   minutes) gives a step of variance (Gamma_anom,jD(0) sigma_bh)^2 at the start; its first-order
 //   Gauss-Markov part (sigma_gm, tau) has increments of variance 2 sigma_gm^2 h / tau per step,
 //   so tau_j grows by Gamma_anom,jD^2 2 sigma_gm^2 h / tau (Gamma_anom from the task's own
-//   measured gradient, refreshed every 10 steps). The loop's filtering of the barometer's white
+//   measured gradient). The loop's filtering of the barometer's white
 //   noise is left out (it leaves centimetres in the height).
 //
 // The measured gradient's disturbance Gamma_e(nav) - Gamma_normal(r_nav) in NED (E): what
@@ -127,8 +127,16 @@ class GravimetryRecord {
       started_ = true;
     }
     const double v = std::sqrt(o.v_n[0] * o.v_n[0] + o.v_n[1] * o.v_n[1] + o.v_n[2] * o.v_n[2]);
+    const bool acc = steps_ % kEvery == 0;
+    if (!acc && !(write && f_)) {
+      ++steps_;
+      return;
+    }
     const truth3d::Mat3 C_n_e = truth3d::ned_to_ecef(static_cast<Real>(o.lat_rad), static_cast<Real>(o.lon_rad));
-    {
+    if (acc) {
+      // once every kEvery steps for the kEvery steps that follow (the motion and the gradient
+      // change little in kEvery / rate_hz = 0.1 s): per-step variances times kEvery, the
+      // integrals over kEvery steps
       const Eigen::Vector3d dr(o.v_n[0] * h_, o.v_n[1] * h_, o.v_n[2] * h_);
       const double s2 = model_.sigma_gamma_noise_ps2 * model_.sigma_gamma_noise_ps2;
       Eigen::Vector3d inc = s2 / 2 * (Eigen::Vector3d::Constant(dr.squaredNorm()) + dr.cwiseAbs2());
@@ -137,7 +145,8 @@ class GravimetryRecord {
       if (C_b_n.allFinite() && db.allFinite())
         for (int j = 0; j < 3; ++j)
           for (int k = 0; k < 3; ++k)
-            for (int l = 0; l < 3; ++l) bias_[static_cast<size_t>(j)][static_cast<size_t>(3 * k + l)] += C_b_n(j, k) * db(l);
+            for (int l = 0; l < 3; ++l)
+              bias_[static_cast<size_t>(j)][static_cast<size_t>(3 * k + l)] += C_b_n(j, k) * db(l) * kEvery;
       if (model_.sigma_w_radps > 0) {
         const Eigen::Vector3d w(o.omega_b[0], o.omega_b[1], o.omega_b[2]);
         for (int i = 0; i < 3; ++i) {
@@ -145,7 +154,7 @@ class GravimetryRecord {
           inc += model_.sigma_w_radps * model_.sigma_w_radps * u.cwiseAbs2();
         }
       }
-      if ((model_.baro_bias_m != 0 || model_.baro_gm_m != 0) && (steps_ % 10 == 0 || steps_ == 1)) {
+      if (model_.baro_bias_m != 0 || model_.baro_gm_m != 0) {
         truth3d::Vec3 r0;
         for (int i = 0; i < 3; ++i) r0(i) = static_cast<Real>(o.r_e[i]);
         truth3d::Mat3 ge;
@@ -153,17 +162,18 @@ class GravimetryRecord {
           for (int j = 0; j < 3; ++j) ge(i, j) = static_cast<Real>(o.gamma_e[i][j]);
         const truth3d::Mat3 ga = C_n_e.transpose() * (ge - normal_.eval(r0).gamma) * C_n_e;
         for (int j = 0; j < 3; ++j) gam_d_[static_cast<size_t>(j)] = static_cast<double>(ga(j, 2));
-        if (steps_ == 1 && std::isfinite(gam_d_[0] + gam_d_[1] + gam_d_[2]))  // the bias, taken up at the start
-          for (int j = 0; j < 3; ++j) inc(j) += std::pow(gam_d_[static_cast<size_t>(j)] * model_.baro_bias_m, 2);
+        if (steps_ == kEvery && std::isfinite(gam_d_[0] + gam_d_[1] + gam_d_[2]))  // the bias, taken up at the start
+          for (int j = 0; j < 3; ++j)
+            inc(j) += std::pow(gam_d_[static_cast<size_t>(j)] * model_.baro_bias_m, 2) / kEvery;
       }
       if (model_.baro_gm_m != 0 && model_.baro_tau_s > 0)
         for (int j = 0; j < 3; ++j)
           inc(j) += gam_d_[static_cast<size_t>(j)] * gam_d_[static_cast<size_t>(j)] * 2 * model_.baro_gm_m *
                     model_.baro_gm_m * h_ / model_.baro_tau_s;
       if (inc.allFinite() && std::isfinite(v))
-        for (int j = 0; j < 3; ++j) tau_[static_cast<size_t>(j)] += inc(j);
-      ++steps_;
+        for (int j = 0; j < 3; ++j) tau_[static_cast<size_t>(j)] += inc(j) * kEvery;
     }
+    ++steps_;
     if (!write || !f_) return;
     const truth3d::Vec3 up = -C_n_e.col(2);
     const truth3d::Vec3 g_nav = model_mode_ ? truth3d::Vec3(g - static_cast<Real>(o.g_up_corr) * up) : g;
@@ -212,6 +222,7 @@ class GravimetryRecord {
   std::array<double, 3> tau_{};  // accumulated random-walk variance per NED component
   std::array<double, 3> gam_d_{};  // Gamma_anom,jD of the last refresh, s^-2
   int64_t steps_ = 0;
+  static constexpr int kEvery = 10;  // the error model accumulated once every kEvery steps
   std::array<std::array<double, 9>, 3> bias_{};  // B_j,kl: a body-axis constant gradient error's coefficients
   bool started_ = false;
   truth3d::Vec3 r0_ = truth3d::Vec3::Zero();
