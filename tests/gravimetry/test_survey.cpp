@@ -289,14 +289,14 @@ void test_read_record(void**) {
       "t_s,seq,nav_lat_deg,nav_lon_deg,nav_h_m,true_lat_deg,true_lon_deg,true_h_m,speed_mps,est_dg_n_mps2,"
       "est_dg_e_mps2,est_dg_d_mps2,truth_nav_dg_n_mps2,truth_nav_dg_e_mps2,truth_nav_dg_d_mps2,truth_true_dg_n_mps2,"
       "truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_n_mps2sq,var_rw_e_mps2sq,var_rw_d_mps2sq,"
-      "dist_start_m,est_gam_nn_E,est_gam_ee_E,"
+      "est_gam_nn_E,est_gam_ee_E,"
       "est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health\n";
   {
     std::ofstream f(dir / "gravimetry_raw.csv");
     f << head;
     for (int i = 0; i < 20; ++i)
       f << i << "," << i * 100 << "," << 45.0 + i * 1e-3 << ",10,1000,45,10,1000,100,1e-5,2e-5,3e-5,0,0,0,0,0,0,0,"
-        << i * 1e-15 << "," << i * 1e-15 << "," << i * 1e-15 << ",0,1,2,3,4,5,6,0\n";
+        << i * 1e-15 << "," << i * 1e-15 << "," << i * 1e-15 << ",1,2,3,4,5,6,0\n";
   }
   const gv::Record r = gv::read_record(dir);
   assert_int_equal(r.s.size(), 20);

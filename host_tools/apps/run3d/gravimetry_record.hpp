@@ -107,7 +107,7 @@ class GravimetryRecord {
     f_ << "t_s,seq,nav_lat_deg,nav_lon_deg,nav_h_m,true_lat_deg,true_lon_deg,true_h_m,speed_mps,"
           "est_dg_n_mps2,est_dg_e_mps2,est_dg_d_mps2,truth_nav_dg_n_mps2,truth_nav_dg_e_mps2,truth_nav_dg_d_mps2,"
           "truth_true_dg_n_mps2,truth_true_dg_e_mps2,truth_true_dg_d_mps2,loop_a_c_mps2,var_rw_n_mps2sq,"
-          "var_rw_e_mps2sq,var_rw_d_mps2sq,dist_start_m,"
+          "var_rw_e_mps2sq,var_rw_d_mps2sq,"
           "est_gam_nn_E,est_gam_ee_E,est_gam_dd_E,est_gam_ne_E,est_gam_nd_E,est_gam_ed_E,health";
     for (const char* j : {"n", "e", "d"})
       for (const char* kl : {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"}) f_ << ",bias_" << j << "_" << kl << "_m";
@@ -121,10 +121,6 @@ class GravimetryRecord {
     for (int i = 0; i < 3; ++i) {
       r(i) = static_cast<Real>(o.r_e[i]) + static_cast<Real>(o.r_e_lo[i]);
       g(i) = static_cast<Real>(o.g_e[i]) + static_cast<Real>(o.g_e_lo[i]);
-    }
-    if (!started_) {
-      r0_ = r;
-      started_ = true;
     }
     const double v = std::sqrt(o.v_n[0] * o.v_n[0] + o.v_n[1] * o.v_n[1] + o.v_n[2] * o.v_n[2]);
     const bool acc = steps_ % kEvery == 0;
@@ -189,14 +185,14 @@ class GravimetryRecord {
     char line[1024];
     std::snprintf(line, sizeof line,
                   "%.3f,%lld,%.10f,%.10f,%.4f,%.10f,%.10f,%.4f,%.4f,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e,"
-                  "%.9e,%.6e,%.6e,%.6e,%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u",
+                  "%.9e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%u",
                   static_cast<double>(t.t_s), static_cast<long long>(t.seq), o.lat_rad * deg, o.lon_rad * deg, o.h_m,
                   static_cast<double>(t.s.lat) * deg, static_cast<double>(t.s.lon) * deg, static_cast<double>(t.s.h), v,
                   static_cast<double>(est(0)), static_cast<double>(est(1)), static_cast<double>(est(2)),
                   static_cast<double>(tn(0)), static_cast<double>(tn(1)), static_cast<double>(tn(2)),
                   static_cast<double>(tt(0)), static_cast<double>(tt(1)), static_cast<double>(tt(2)), o.g_up_corr, tau_[0],
                   tau_[1], tau_[2],
-                  static_cast<double>((r - r0_).norm()), static_cast<double>(gam(0, 0)) * 1e9,
+                  static_cast<double>(gam(0, 0)) * 1e9,
                   static_cast<double>(gam(1, 1)) * 1e9, static_cast<double>(gam(2, 2)) * 1e9,
                   static_cast<double>(gam(0, 1)) * 1e9, static_cast<double>(gam(0, 2)) * 1e9,
                   static_cast<double>(gam(1, 2)) * 1e9, o.health);
@@ -211,7 +207,6 @@ class GravimetryRecord {
   void close() {
     if (f_.is_open()) f_.close();
   }
-  const GravimetryModel& model() const { return model_; }
 
  private:
   const gravity::Field& field_;
@@ -224,8 +219,6 @@ class GravimetryRecord {
   int64_t steps_ = 0;
   static constexpr int kEvery = 10;  // the error model accumulated once every kEvery steps
   std::array<std::array<double, 9>, 3> bias_{};  // B_j,kl: a body-axis constant gradient error's coefficients
-  bool started_ = false;
-  truth3d::Vec3 r0_ = truth3d::Vec3::Zero();
   std::ofstream f_;
 };
 

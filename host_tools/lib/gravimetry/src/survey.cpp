@@ -1,6 +1,8 @@
 // Post-mission airborne gravimetry (survey.hpp states the models).
 #include "ggins/gravimetry/survey.hpp"
 
+#include "ggins/gravity/wgs84.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -17,19 +19,14 @@ namespace ggins::gravimetry {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kA = 6378137.0, kE2 = 6.69437999014e-3;  // WGS-84
-
-V3 ecef(double lat_deg, double lon_deg, double h) {
-  const double la = lat_deg * kPi / 180, lo = lon_deg * kPi / 180;
-  const double n = kA / std::sqrt(1 - kE2 * std::sin(la) * std::sin(la));
-  return {(n + h) * std::cos(la) * std::cos(lo), (n + h) * std::cos(la) * std::sin(lo),
-          (n * (1 - kE2) + h) * std::sin(la)};
-}
+namespace w84 = ggins::gravity::wgs84;
+using gravity::Real;
 
 // Normal gravity magnitude: Somigliana on the ellipsoid (WGS-84) with the free-air term.
 double normal_gravity(double lat_deg, double h) {
   const double s2 = std::pow(std::sin(lat_deg * kPi / 180), 2);
-  return 9.7803253359 * (1 + 0.00193185265241 * s2) / std::sqrt(1 - kE2 * s2) - 3.086e-6 * h;
+  return static_cast<double>(w84::kPubGammaE * (1 + w84::kPubK * s2) / std::sqrt(1 - w84::kPubE2 * s2)) -
+         3.086e-6 * h;
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -72,8 +69,7 @@ Record read_record(const std::filesystem::path& dir) {
                         "true_h_m", "speed_mps", "est_dg_n_mps2", "est_dg_e_mps2", "est_dg_d_mps2",
                         "truth_nav_dg_n_mps2", "truth_nav_dg_e_mps2", "truth_nav_dg_d_mps2", "truth_true_dg_n_mps2",
                         "truth_true_dg_e_mps2", "truth_true_dg_d_mps2", "loop_a_c_mps2", "var_rw_n_mps2sq",
-                        "var_rw_e_mps2sq", "var_rw_d_mps2sq",
-                        "dist_start_m", "est_gam_nn_E", "est_gam_ee_E", "est_gam_dd_E", "est_gam_ne_E",
+                        "var_rw_e_mps2sq", "var_rw_d_mps2sq", "est_gam_nn_E", "est_gam_ee_E", "est_gam_dd_E", "est_gam_ne_E",
                         "est_gam_nd_E", "est_gam_ed_E", "health"};
   for (const char* c : need)
     if (!col.count(c)) throw std::runtime_error(csv.string() + ": no column '" + c + "'");
@@ -112,7 +108,6 @@ Record read_record(const std::filesystem::path& dir) {
     }
     s.a_c = num("loop_a_c_mps2");
     s.var_rw = {num("var_rw_n_mps2sq"), num("var_rw_e_mps2sq"), num("var_rw_d_mps2sq")};
-    s.dist_start_m = num("dist_start_m");
     const char* g[6] = {"est_gam_nn_E", "est_gam_ee_E", "est_gam_dd_E", "est_gam_ne_E", "est_gam_nd_E", "est_gam_ed_E"};
     for (int j = 0; j < 6; ++j) s.gam_E[static_cast<size_t>(j)] = num(g[j]);
     s.health = static_cast<uint32_t>(num("health"));
@@ -129,16 +124,12 @@ Record read_record(const std::filesystem::path& dir) {
   }
   if (r.s.size() < 10) throw std::runtime_error(csv.string() + ": fewer than 10 samples");
   // local plane (east, north, up) at the first nav sample
-  const V3 o = ecef(r.s[0].lat_deg, r.s[0].lon_deg, r.s[0].h_m);
-  const double la = r.s[0].lat_deg * kPi / 180, lo = r.s[0].lon_deg * kPi / 180;
-  const double E[3] = {-std::sin(lo), std::cos(lo), 0};
-  const double N[3] = {-std::sin(la) * std::cos(lo), -std::sin(la) * std::sin(lo), std::cos(la)};
-  const double U[3] = {std::cos(la) * std::cos(lo), std::cos(la) * std::sin(lo), std::sin(la)};
+  auto rad = [](double deg) { return static_cast<Real>(deg) * static_cast<Real>(kPi) / 180; };
+  const gravity::Vec3 o = w84::geodetic_to_ecef(rad(r.s[0].lat_deg), rad(r.s[0].lon_deg), r.s[0].h_m);
+  const gravity::Mat3 C_e_enu = w84::enu_to_ecef(rad(r.s[0].lat_deg), rad(r.s[0].lon_deg)).transpose();
   auto plane = [&](double lat, double lon, double h) {
-    const V3 p = ecef(lat, lon, h);
-    const double d[3] = {p[0] - o[0], p[1] - o[1], p[2] - o[2]};
-    return V3{E[0] * d[0] + E[1] * d[1] + E[2] * d[2], N[0] * d[0] + N[1] * d[1] + N[2] * d[2],
-              U[0] * d[0] + U[1] * d[1] + U[2] * d[2]};
+    const gravity::Vec3 d = C_e_enu * (w84::geodetic_to_ecef(rad(lat), rad(lon), h) - o);
+    return V3{static_cast<double>(d(0)), static_cast<double>(d(1)), static_cast<double>(d(2))};
   };
   for (auto& s : r.s) {
     s.enu = plane(s.lat_deg, s.lon_deg, s.h_m);
@@ -465,7 +456,7 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
     st.number = l.number;
     st.tie = l.tie;
     st.n = n;
-    double le = 0, leh = 0, lxi = 0, let = 0, lt = 0, lnm = 0, lsig = 0, lpos = 0, lmax = 0;
+    double le = 0, leh = 0, let = 0, lt = 0, lnm = 0, lsig = 0, lpos = 0, lmax = 0;
     double lxi2 = 0, leta2 = 0;
     for (size_t i = 0; i < n; ++i) {
       const size_t k = l.begin + i;
@@ -496,7 +487,6 @@ Product make_product(const Record& r, const std::vector<Line>& lines, const Adju
         if (std::isfinite(a.sigma[k][u]) && a.sigma[k][u] > 0) lnm += std::pow((e[u] - tt[u]) / a.sigma[k][u], 2) / 3;
       lpos += std::pow(s.enu[0] - s.true_enu[0], 2) + std::pow(s.enu[1] - s.true_enu[1], 2);
     }
-    (void)lxi;
     const double dn = static_cast<double>(n);
     st.rms_mgal = std::sqrt(le / dn) / kMgal;
     st.max_mgal = lmax / kMgal;
@@ -576,8 +566,9 @@ Grid make_grid(const Record& r, const Product& p, double spacing_m, double radiu
   // spans a survey block; the positions are for display and gridding software)
   const Sample& o = r.s[0];
   const double la = o.lat_deg * kPi / 180;
-  const double m = kA * (1 - kE2) / std::pow(1 - kE2 * std::sin(la) * std::sin(la), 1.5) + o.h_m;
-  const double nrad = (kA / std::sqrt(1 - kE2 * std::sin(la) * std::sin(la)) + o.h_m) * std::cos(la);
+  Real rm = 0, rn = 0;
+  w84::radii(static_cast<Real>(la), rm, rn);
+  const double m = static_cast<double>(rm) + o.h_m, nrad = (static_cast<double>(rn) + o.h_m) * std::cos(la);
   g.node.resize(g.nx * g.ny);
   for (size_t iy = 0; iy < g.ny; ++iy)
     for (size_t ix = 0; ix < g.nx; ++ix) {

@@ -62,7 +62,7 @@ struct Sample {  // one row of gravimetry_raw.csv
   double true_lat_deg = 0, true_lon_deg = 0, true_h_m = 0;
   double speed_mps = 0;
   V3 est{}, truth_nav{}, truth_true{};                   // disturbance, NED, m/s^2
-  double a_c = 0, dist_start_m = 0;
+  double a_c = 0;
   V3 var_rw{};                                           // random-walk variance per NED component, (m/s^2)^2
   std::array<std::array<double, 9>, 3> bias_coef{};     // B_j,kl: component j's coefficients of a body-axis
                                                          // constant gradient error (integral C_b_n,jk dr_b,l), m
