@@ -57,6 +57,7 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_mm.sig0_acc_bias_mps2 = m->aid_mm_sig0_acc_bias_mps2;
     c->aid_mm.q_gyro_bias_rps_rts = m->aid_mm_q_gyro_bias_rps_rts;
     c->aid_mm.q_acc_bias_mps2_rts = m->aid_mm_q_acc_bias_mps2_rts;
+    c->aid_mm.sigma_baro_m = m->aid_mm_sigma_baro_m;
     c->aid_pf.enable = m->aid_pf_enable;
     c->aid_pf.chunk = m->aid_pf_chunk;
     c->aid_pf.end_chunk = m->aid_pf_end_chunk;

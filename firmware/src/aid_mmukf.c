@@ -51,7 +51,8 @@ static gg_status_t aid_cfg_ok(const gg_aid_mm_config_t *c)
         (nonneg_finite(c->sigma_gyro_rps) == 0) || (c->sigma_gyro_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS) ||
         (nonneg_finite(c->sigma_gyro_bias_rps) == 0) ||
         (c->sigma_gyro_bias_rps > GG_LIM_AID_MM_SIGMA_W_MAX_RPS) || (c->bias_states < 0) ||
-        (c->bias_states > 1)) {
+        (c->bias_states > 1) || (nonneg_finite(c->sigma_baro_m) == 0) ||
+        (c->sigma_baro_m > GG_LIM_AID_MM_SIGMA_BARO_MAX_M)) {
         st = GG_ERR_CONFIG;
     }
     if ((st == GG_OK) && (c->bias_states == 1) &&
@@ -231,7 +232,8 @@ static int ins_ok(const gg_aid_ins_t *ins)
         ok = 0;
     }
     for (j = 0U; j < 3U; ++j) {
-        if (!GG_ISFINITE(ins->r_e[j]) || !GG_ISFINITE(ins->f_i[j])) {
+        if (!GG_ISFINITE(ins->r_e[j]) || !GG_ISFINITE(ins->f_i[j]) || !GG_ISFINITE(ins->loop_k[j]) ||
+            !(fabs(ins->loop_u_i[j]) <= 1.0)) {
             ok = 0;
         }
         for (k = 0U; k < 3U; ++k) {

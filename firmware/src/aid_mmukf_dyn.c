@@ -107,6 +107,46 @@ static void f_apply(const aid_sparse_t *b, int32_t n, const double m[NXM][NXM], 
     }
 }
 
+/* The barometric loop's correction at this step (aid_mmukf.h): x <- x + b (c^T x + n_b),
+ * c^T x = u^T dr, on the accumulated transition and noise. */
+static void loop_correction(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
+{
+    double b[NXM];
+    double cphi[NXM];
+    double cq[NXM];
+    double cqc;
+    const double *u = ins->loop_u_i;
+    const double w = ins->omega_ie;
+    const double sb2 = a->cfg.sigma_baro_m * a->cfg.sigma_baro_m;
+    const int32_t n = a->nx;
+    int32_t j;
+    int32_t k;
+    for (j = 0; j < NXM; ++j) {
+        b[j] = 0.0;
+    }
+    for (j = 0; j < 3; ++j) {
+        b[j] = ins->loop_k[0] * u[j];
+        b[3 + j] = ins->loop_k[1] * u[j];
+        if (a->nb == GG_AID_MM_NX_DR) {
+            b[9 + j] = -ins->loop_k[2] * u[j]; /* a_c enters the acceleration as a_c u */
+        }
+    }
+    /* the position correction is Earth-relative: v_i moves by w_ie x dr as well */
+    b[3] -= w * b[1];
+    b[4] += w * b[0];
+    for (k = 0; k < n; ++k) {
+        cphi[k] = (u[0] * a->phi[0][k]) + (u[1] * a->phi[1][k]) + (u[2] * a->phi[2][k]);
+        cq[k] = (u[0] * a->q[0][k]) + (u[1] * a->q[1][k]) + (u[2] * a->q[2][k]);
+    }
+    cqc = (u[0] * cq[0]) + (u[1] * cq[1]) + (u[2] * cq[2]);
+    for (j = 0; j < n; ++j) {
+        for (k = 0; k < n; ++k) {
+            a->phi[j][k] += b[j] * cphi[k];
+            a->q[j][k] += (b[j] * cq[k]) + (cq[j] * b[k]) + (b[j] * b[k] * (cqc + sb2));
+        }
+    }
+}
+
 gg_status_t aid_mm_propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
 {
     aid_sparse_t b;
@@ -151,6 +191,9 @@ gg_status_t aid_mm_propagate(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
                 a->q[a->nb + 3 + j][a->nb + 3 + j] += qbf;
             }
         }
+    }
+    if ((ins->loop_k[0] != 0.0) || (ins->loop_k[1] != 0.0) || (ins->loop_k[2] != 0.0)) {
+        loop_correction(a, ins);
     }
     /* exactly symmetric */
     for (j = 0; j < n; ++j) {

@@ -124,6 +124,8 @@ gg_status_t gg_nav3d_init(gg_nav3d_t *nav, const gg_nav3d_config_t *cfg)
         size_t j;
         for (j = 0U; j < 3U; ++j) {
             nav->aid_corr_m[j] = 0.0;
+            nav->loop_k[j] = 0.0;
+            nav->loop_u_i[j] = 0.0;
             nav->bias_w[j] = 0.0;
             nav->bias_f[j] = 0.0;
         }
@@ -247,6 +249,8 @@ typedef struct {
     gg_real_t gamma_e[3][3];
     gg_real_t f_b[3];
     gg_real_t a_c;
+    double loop_k[3];
+    double loop_u_i[3];
     gg_real_t h_ins;
     gg_real_t baro_innov;
 } dyn_t;
@@ -267,6 +271,8 @@ static void dyn_save(const gg_nav3d_t *nav, dyn_t *d)
         d->w_km2[j] = nav->w_km2[j];
         d->omega_dot_b[j] = nav->omega_dot_b[j];
         d->f_b[j] = nav->f_b[j];
+        d->loop_k[j] = nav->loop_k[j];
+        d->loop_u_i[j] = nav->loop_u_i[j];
         for (k = 0U; k < 3U; ++k) {
             d->gamma_b[j][k] = nav->gamma_b[j][k];
             d->gamma_e[j][k] = nav->gamma_e[j][k];
@@ -297,6 +303,8 @@ static void dyn_restore(gg_nav3d_t *nav, const dyn_t *d)
         nav->w_km2[j] = d->w_km2[j];
         nav->omega_dot_b[j] = d->omega_dot_b[j];
         nav->f_b[j] = d->f_b[j];
+        nav->loop_k[j] = d->loop_k[j];
+        nav->loop_u_i[j] = d->loop_u_i[j];
         for (k = 0U; k < 3U; ++k) {
             nav->gamma_b[j][k] = d->gamma_b[j][k];
             nav->gamma_e[j][k] = d->gamma_e[j][k];
@@ -511,6 +519,13 @@ static gg_status_t n3_baro_step(gg_nav3d_t *nav, const gg_frame_t *fr, uint32_t 
             st = gg_mech_correct(&nav->mech, dr_i, dv_i, da);
             if ((st == GG_OK) && (nav->cfg.gravity_mode == GG_GRAVITY_GRADIOMETER)) {
                 st = gg_gravdr_correct(&nav->gravdr, dg_e);
+            }
+            if ((st == GG_OK) &&
+                ((vo.k_applied[0] != 0.0L) || (vo.k_applied[1] != 0.0L) || (vo.k_applied[2] != 0.0L))) {
+                for (j = 0U; j < 3U; ++j) {
+                    nav->loop_k[j] = (double)vo.k_applied[j]; /* the latest, if the aid lags by two */
+                    nav->loop_u_i[j] = (double)u_i[j];
+                }
             }
             if (st == GG_OK) {
                 nav->a_c = vo.a_c;

@@ -62,6 +62,10 @@ static gg_status_t n3_aid_ins(const gg_nav3d_t *nav, int64_t n_adv, int z_valid,
         ins->w_gyro = 0;
     }
     ins->z_valid = (int32_t)z_valid;
+    for (j = 0U; j < 3U; ++j) {
+        ins->loop_k[j] = nav->loop_k[j];
+        ins->loop_u_i[j] = nav->loop_u_i[j];
+    }
     return GG_OK;
 }
 
@@ -205,6 +209,12 @@ void n3_aid_step(gg_nav3d_t *nav, int64_t n_adv, int z_valid, const gg_hal_t *ha
     st = n3_aid_ins(nav, n_adv, z_valid, &ins);
     if (st == GG_OK) {
         st = gg_aid_mm_step(&nav->aid_mm, &ins, map, &corr);
+    }
+    {
+        size_t j;
+        for (j = 0U; j < 3U; ++j) {
+            nav->loop_k[j] = 0.0; /* handed over once */
+        }
     }
     *health |= n3_aid_health(nav->aid_mm.health);
     if ((st == GG_OK) && (corr.valid != 0)) {

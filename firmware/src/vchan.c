@@ -212,6 +212,9 @@ gg_status_t gg_vchan_step(gg_vchan_t *st, int64_t now_us, gg_real_t h_ins_m,
     o.dh_m = 0.0L;
     o.dv_mps = 0.0L;
     o.innov_m = 0.0L;
+    o.k_applied[0] = 0.0L;
+    o.k_applied[1] = 0.0L;
+    o.k_applied[2] = 0.0L;
     o.health = 0U;
     o.accepted = 0;
     if ((sample != NULL) && (sample->status != GG_SENSOR_ABSENT) &&
@@ -247,6 +250,9 @@ gg_status_t gg_vchan_step(gg_vchan_t *st, int64_t now_us, gg_real_t h_ins_m,
                     o.dh_m = st->kd[0] * e * scale;
                     o.dv_mps = st->kd[1] * e * scale;
                     st->a_c += st->kd[2] * e * scale;
+                    o.k_applied[0] = st->kd[0] * scale;
+                    o.k_applied[1] = st->kd[1] * scale;
+                    o.k_applied[2] = st->kd[2] * scale;
                 }
                 st->started = 1;
                 st->rejects = 0;

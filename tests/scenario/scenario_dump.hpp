@@ -271,6 +271,7 @@ inline std::string dump(const ggins::truth3d::Scenario3& s) {
   d.v("aid_ukf.sig0_acc_bias_mps2", a.sig0_acc_bias_mps2);
   d.v("aid_ukf.q_gyro_bias_rps_rts", a.q_gyro_bias_rps_rts);
   d.v("aid_ukf.q_acc_bias_mps2_rts", a.q_acc_bias_mps2_rts);
+  d.v("aid_ukf.sigma_baro_m", a.sigma_baro_m);
   return d.str();
 }
 

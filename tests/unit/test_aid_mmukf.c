@@ -11,6 +11,7 @@
 #include "ggins/aid_mmukf.h"
 #include "ggins/gmap.h"
 #include "ggins/limits.h"
+#include "ggins/vchan.h"
 #include "nav3d_int.h" /* n3_aid_apply: the task's side of a correction */
 
 #define DT_US 10000
@@ -764,6 +765,139 @@ static void test_propagation_dense(void **state)
     assert_true(eq < 1e-12);
 }
 
+/* The barometric loop in the aid's error model against the loop itself: a level
+ * vehicle (up = ECI z, Gamma = diag(-w_s^2, -w_s^2, 2 w_s^2), no Earth rate, no
+ * other noise) fed the gains gg_vchan applies once per 1 s sample. (1) Over one
+ * sample period the aid's vertical block (dr_z, dv_z, dg_z) of Phi has the
+ * eigenvalues the loop was designed for, exp(-p_i T) (vchan.h). (2) Its noise,
+ * 300 periods from zero, equals the loop's covariance iterated with the 3-state
+ * loop's own matrices: exp(A T) by a long-double Taylor series, the sample's
+ * correction x + K (C x - n) (vchan.h), the barometer's white noise. */
+static void test_baro_loop_model(void **state)
+{
+    (void)state;
+    const long double ws2 = 9.80L / 6371000.0L;
+    const double h = 0.01;
+    const int per = 100, periods = 300;
+    const double sb = 0.7; /* barometer noise per sample, m */
+    gg_vchan_config_t vc;
+    static gg_vchan_t vs;
+    memset(&vc, 0, sizeof vc);
+    vc.poles[0] = 0.05L;
+    vc.poles[1] = 0.1L;
+    vc.poles[2] = 0.15L;
+    vc.omega_s2 = ws2;
+    vc.period_us = 1000000;
+    vc.max_age_us = 500000;
+    vc.coast_us = 10000000;
+    vc.alt_min_m = -1000.0;
+    vc.alt_max_m = 30000.0;
+    vc.gate_m = 50.0;
+    vc.max_rejects = 5;
+    assert_int_equal(gg_vchan_init(&vs, &vc), GG_OK);
+    gg_aid_mm_config_t c;
+    aid_config(&c);
+    c.update_steps = 100000; /* no epoch: Phi and Q accumulate */
+    c.q_vel_mps_rts = 0.0;
+    c.q_att_rad_rts = 0.0;
+    c.q_g_mps2_rts = 0.0;
+    c.sigma_baro_m = sb;
+    static gg_aid_mm_t a;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
+    gg_aid_ins_t ins;
+    gg_aid_corr_t corr;
+    memset(&ins, 0, sizeof ins);
+    ins.n_steps = 1;
+    ins.dt_s = h;
+    ins.omega_ie = 0.0;
+    ins.sin_th = 0.0L;
+    ins.cos_th = 1.0L;
+    ins.r_e[2] = 6371000.0L;
+    for (int j = 0; j < 3; ++j) {
+        ins.c_b_e[j][j] = 1.0L;
+        ins.c_b_i[j][j] = 1.0;
+        ins.gamma_i[j][j] = (double)((j == 2) ? (2.0L * ws2) : -ws2);
+    }
+    ins.loop_u_i[2] = 1.0;
+    /* (1) one period from the identity */
+    for (int s = 1; s <= per; ++s) {
+        for (int j = 0; j < 3; ++j) ins.loop_k[j] = (s == per) ? (double)vs.kd[j] : 0.0;
+        assert_int_equal(gg_aid_mm_step(&a, &ins, NULL, &corr), GG_OK);
+    }
+    const int iv[3] = {2, 5, 11};
+    long double M[3][3];
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) M[j][k] = a.phi[iv[j]][iv[k]];
+    const long double tr = M[0][0] + M[1][1] + M[2][2];
+    const long double m2 = (M[0][0] * M[1][1] - M[0][1] * M[1][0]) + (M[0][0] * M[2][2] - M[0][2] * M[2][0]) +
+                           (M[1][1] * M[2][2] - M[1][2] * M[2][1]);
+    const long double det = M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) -
+                            M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+                            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
+    long double z[3];
+    for (int j = 0; j < 3; ++j) z[j] = expl(-vc.poles[j] * 1.0L);
+    const long double tr0 = z[0] + z[1] + z[2], m20 = z[0] * z[1] + z[0] * z[2] + z[1] * z[2], det0 = z[0] * z[1] * z[2];
+    print_message("baro loop in the aid: characteristic polynomial over one period: trace %.12Lf (designed %.12Lf), "
+                  "minors %.12Lf (%.12Lf), det %.12Lf (%.12Lf)\n", tr, tr0, m2, m20, det, det0);
+    assert_true(fabsl(tr - tr0) < 1e-9L);
+    assert_true(fabsl(m2 - m20) < 1e-9L);
+    assert_true(fabsl(det - det0) < 1e-9L);
+    /* (2) the noise over 300 periods, against the loop's own 3-state covariance */
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_OK);
+    for (int s = 1; s <= per * periods; ++s) {
+        for (int j = 0; j < 3; ++j) ins.loop_k[j] = ((s % per) == 0) ? (double)vs.kd[j] : 0.0;
+        assert_int_equal(gg_aid_mm_step(&a, &ins, NULL, &corr), GG_OK);
+    }
+    long double A[3][3] = {{0, 1, 0}, {2.0L * ws2, 0, -1}, {0, 0, 0}}, E[3][3], T[3][3], X[3][3];
+    memset(E, 0, sizeof E);
+    for (int j = 0; j < 3; ++j) E[j][j] = 1.0L;
+    memcpy(T, E, sizeof T);
+    for (int n = 1; n < 40; ++n) { /* T <- T A / n, E += T */
+        long double U[3][3];
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                U[j][k] = 0;
+                for (int l = 0; l < 3; ++l) U[j][k] += T[j][l] * A[l][k] / (long double)n;
+            }
+        memcpy(T, U, sizeof T);
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) E[j][k] += T[j][k];
+    }
+    long double G[3][3]; /* (I + K C) exp(A T), C = [1 0 0] */
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) G[j][k] = E[j][k] + vs.kd[j] * E[0][k];
+    memset(X, 0, sizeof X);
+    for (int p = 0; p < periods; ++p) {
+        long double U[3][3];
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                U[j][k] = 0;
+                for (int l = 0; l < 3; ++l)
+                    for (int m = 0; m < 3; ++m) U[j][k] += G[j][l] * X[l][m] * G[k][m];
+            }
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) X[j][k] = U[j][k] + vs.kd[j] * vs.kd[k] * (long double)(sb * sb);
+    }
+    const double rz = sqrt(a.q[2][2]), vz = sqrt(a.q[5][5]), gz = sqrt(a.q[11][11]);
+    const double rz0 = (double)sqrtl(X[0][0]), vz0 = (double)sqrtl(X[1][1]), gz0 = (double)sqrtl(X[2][2]);
+    const double cor = a.q[2][5] / (rz * vz), cor0 = (double)(X[0][1] / sqrtl(X[0][0] * X[1][1]));
+    print_message("baro loop in the aid, %d periods, %.1f m noise: sigma dh %.6f m (loop %.6f), dv %.6e m/s "
+                  "(%.6e), integral %.6e m/s^2 (%.6e), corr(dh, dv) %.6f (%.6f)\n", periods, sb, rz, rz0, vz, vz0, gz,
+                  gz0, cor, cor0);
+    assert_true(fabs(rz / rz0 - 1.0) < 1e-6);
+    assert_true(fabs(vz / vz0 - 1.0) < 1e-6);
+    assert_true(fabs(gz / gz0 - 1.0) < 1e-6);
+    assert_true(fabs(cor - cor0) < 1e-6);
+    /* bad input: a non-finite gain or a non-unit up direction is refused */
+    ins.loop_k[0] = NAN;
+    assert_int_equal(gg_aid_mm_step(&a, &ins, NULL, &corr), GG_ERR_RANGE);
+    ins.loop_k[0] = 0.0;
+    ins.loop_u_i[2] = 2.0;
+    assert_int_equal(gg_aid_mm_step(&a, &ins, NULL, &corr), GG_ERR_RANGE);
+    c.sigma_baro_m = -1.0;
+    assert_int_equal(gg_aid_mm_init(&a, &c, 1), GG_ERR_CONFIG);
+}
+
 static void test_config(void **state)
 {
     (void)state;
@@ -894,6 +1028,7 @@ int main(void)
         cmocka_unit_test(test_gyro_share_averaged),
         cmocka_unit_test(test_bias_states),
         cmocka_unit_test(test_propagation_dense),
+        cmocka_unit_test(test_baro_loop_model),
         cmocka_unit_test(test_bias_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -72,6 +72,7 @@
 #define GG_LIM_AID_MM_UPDATE_STEPS_MAX 100000
 /** Gyro noise and bias one-sigma the aid accepts, rad/s (~57 deg/s: beyond any navigation gyro). */
 #define GG_LIM_AID_MM_SIGMA_W_MAX_RPS 1.0
+#define GG_LIM_AID_MM_SIGMA_BARO_MAX_M 1000.0 /**< barometer noise per sample the map aid accepts, m */
 /** map aid (aid_mmukf.h): largest initial one-sigma of the accelerometer bias state, m/s^2 */
 #define GG_LIM_AID_MM_ACC_BIAS_MAX_MPS2 1.0
 /* Bias estimates the task subtracts from its readings (nav3d_aid.c): a

@@ -191,6 +191,9 @@ typedef struct {
                                       (also the Hermite start-up's end slope) */
     gg_real_t parity[4];         /**< 3 antisymmetric residuals (rad/s^2) + trace (s^-2) */
     gg_real_t a_c;               /**< vertical loop's integral state in use, m/s^2 */
+    double loop_k[3];            /**< the vertical loop's gains applied since the map aid last
+                                      stepped (vchan.h k_applied; all 0: none), for its error model */
+    double loop_u_i[3];          /**< the up direction, ECI, they were applied along */
     gg_real_t h_ins;             /**< geodetic height, m */
     gg_real_t baro_innov;
     gg_task_seq_t seq;           /**< the frame stream as followed (navtask.h) */

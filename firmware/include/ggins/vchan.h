@@ -91,6 +91,9 @@ typedef struct {
     gg_real_t dv_mps;        /**< velocity correction along up, m/s */
     gg_real_t a_c;           /**< integral state to subtract from the up acceleration, m/s^2 */
     gg_real_t innov_m;       /**< last innovation h_ins - h_baro, m (0 when none) */
+    gg_real_t k_applied[3];  /**< the gains this call applied, K span / T: dh = k0 e, dv = k1 e,
+                                  a_c += k2 e (all 0 when it applied none); the map aid's error
+                                  model takes the loop's correction from them (aid_mmukf.h) */
     uint32_t health;         /**< GG_VCHAN_* */
     int accepted;            /**< 1 when this call accepted a sample */
 } gg_vchan_output_t;

@@ -528,6 +528,7 @@ ggins::nav3d_config_t Model3D::config() {
   m.aid_mm_sig0_acc_bias_mps2 = c.aid_mm.sig0_acc_bias_mps2;
   m.aid_mm_q_gyro_bias_rps_rts = c.aid_mm.q_gyro_bias_rps_rts;
   m.aid_mm_q_acc_bias_mps2_rts = c.aid_mm.q_acc_bias_mps2_rts;
+  m.aid_mm_sigma_baro_m = c.aid_mm.sigma_baro_m;
   m.aid_mm_integ_enable = static_cast<int8_t>(c.aid_mm.integ.enable);
   m.aid_mm_integ_window = c.aid_mm.integ.window;
   m.aid_mm_integ_z = c.aid_mm.integ.z;

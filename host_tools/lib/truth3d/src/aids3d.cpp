@@ -19,7 +19,8 @@ std::vector<std::string> aid_ukf_map_paths(const AidUkf3& a, const std::string& 
   return out;
 }
 
-void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, gg_nav3d_config_t& c) {
+void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, double baro_noise_m,
+                   gg_nav3d_config_t& c) {
   gg_aid_mm_config_t& m = c.aid_mm;
   m = gg_aid_mm_config_t{};
   m.enable = a.enabled ? 1 : 0;
@@ -49,6 +50,7 @@ void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro
   m.sig0_acc_bias_mps2 = a.sig0_acc_bias_mps2;
   m.q_gyro_bias_rps_rts = a.q_gyro_bias_rps_rts;
   m.q_acc_bias_mps2_rts = a.q_acc_bias_mps2_rts;
+  m.sigma_baro_m = a.sigma_baro_m >= 0 ? a.sigma_baro_m : baro_noise_m;
   m.integ = integrity_config(a);
 }
 

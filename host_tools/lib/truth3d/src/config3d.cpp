@@ -62,7 +62,7 @@ gg_nav3d_config_t config3d(const Scenario3& s, const Generator3& g) {
   GyroErrorParams known = s.gyro;
   const double dmax = *std::max_element(s.draw.gyro_bias_radps.begin(), s.draw.gyro_bias_radps.end());
   known.bias_sigma_radps = std::hypot(known.bias_sigma_radps, dmax);
-  apply_aid_ukf(s.aid_ukf, s.rate_hz, known, c);  // [aid_ukf], aids3d.cpp
+  apply_aid_ukf(s.aid_ukf, s.rate_hz, known, s.baro.noise_sigma_m, c);  // [aid_ukf], aids3d.cpp
   PfImu imu;  // the same knowledge for the particle filter's model
   double bg = 0;  // the largest fixed gyro bias, magnitude
   for (const double b : s.gyro.bias_radps) bg = std::max(bg, std::fabs(b));

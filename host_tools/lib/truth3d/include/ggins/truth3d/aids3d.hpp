@@ -28,6 +28,8 @@
 //                              # reckoning, 15 in model mode): the task subtracts its estimates
 //   sig0_gyro_bias_rps, sig0_acc_bias_mps2            # their initial one-sigma (Gao Table 1)
 //   q_gyro_bias_rps_rts, q_acc_bias_mps2_rts          # their random walks
+//   sigma_baro_m               # barometer white noise of one sample, m: the baro loop's share
+//                              # of Q (the loop is in the aid's error model); default [baro] noise_sigma_m
 //   integrity = true, integrity_window = 8, ...       # the integrity monitor (integrity3d.hpp)
 #pragma once
 
@@ -72,6 +74,7 @@ struct AidUkf3 : Integrity3 {
   double sig0_acc_bias_mps2 = 9.8e-5;   // 10 ug (Gao Table 1)
   double q_gyro_bias_rps_rts = 0.0;
   double q_acc_bias_mps2_rts = 0.0;
+  double sigma_baro_m = -1.0;  // < 0: from the scenario's [baro] noise_sigma_m
 };
 
 // The map files with relative names resolved against the scenario's directory.
@@ -149,7 +152,11 @@ inline truth::sch::Table<AidUkf3> aid_ukf_table() {
       .num("q_gyro_bias_rps_rts", &A::q_gyro_bias_rps_rts, "rad/s/sqrt(s)", sch::in(0, 1),
            "gyro bias random walk (bias states)")
       .num("q_acc_bias_mps2_rts", &A::q_acc_bias_mps2_rts, "m/s^2/sqrt(s)", sch::in(0, 1),
-           "accelerometer bias random walk (bias states)");
+           "accelerometer bias random walk (bias states)")
+      .num("sigma_baro_m", &A::sigma_baro_m, "m", sch::in(0, 1000),
+           "barometer white noise of one sample: the vertical loop's share of Q (the loop is part of the aid's "
+           "error model; a bias or Gauss-Markov error is not)",
+           -1.0, "baro.noise_sigma_m");
   integrity_keys(t, "map epochs");
   return t;
 }

@@ -29,6 +29,9 @@ gg_nav3d_config_t config3d(const Scenario3& s);
 // noise_sigma_radps; the bias sqrt(bias_sigma_radps^2 + the largest fixed
 // bias_radps^2)); config3d adds the largest [draw] gyro_bias_radps to
 // bias_sigma_radps in quadrature (the filter knows the draw's sigma, not its outcome).
-void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, gg_nav3d_config_t& c);
+// The barometer's white noise per sample, unless [aid_ukf] sigma_baro_m states it, is
+// baro_noise_m ([baro] noise_sigma_m).
+void apply_aid_ukf(const AidUkf3& a, double rate_hz, const GyroErrorParams& gyro, double baro_noise_m,
+                   gg_nav3d_config_t& c);
 
 }  // namespace ggins::truth3d
