@@ -123,6 +123,8 @@ static void loop_correction(gg_aid_mm_t *a, const gg_aid_ins_t *ins)
     int32_t k;
     for (j = 0; j < NXM; ++j) {
         b[j] = 0.0;
+        cphi[j] = 0.0;
+        cq[j] = 0.0;
     }
     for (j = 0; j < 3; ++j) {
         b[j] = ins->loop_k[0] * u[j];
