@@ -96,6 +96,7 @@ void ggins_config3d_from_lcm(const ggins_nav3d_config_t *m, gg_nav3d_config_t *c
     c->aid_pf.integ.z = m->aid_pf_integ_z;
     c->aid_pf.integ.isolate_after = m->aid_pf_integ_isolate;
     c->aid_pf.integ.recover_after = m->aid_pf_integ_recover;
+    c->aid_pf.info_min = m->aid_pf_info_min;
 }
 
 void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav3d_output_t *m)
@@ -178,4 +179,7 @@ void ggins_output3d_to_lcm(const gg_nav3d_output_t *o, int64_t run_id, ggins_nav
     m->pf_integ = o->pf_integ;
     m->pf_integ_ratio = o->pf_integ_ratio;
     m->pf_isolated = (int64_t)o->pf_isolated;
+    m->pf_uninformative = (int64_t)o->pf_uninformative;
+    m->pf_info = o->pf_info;
+    for (int i = 0; i < 2; ++i) m->pf_spread_fi_m[i] = o->pf_spread_fi_m[i];
 }

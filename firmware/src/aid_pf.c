@@ -59,13 +59,16 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
     }
     if ((cfg->enable != 1) || (cfg->chunk < 1) || (cfg->chunk > GG_PF_MAX) || (cfg->end_chunk < 1) ||
         (cfg->end_chunk > (8 * GG_PF_MAX)) ||
-        ((cfg->feedback != GG_AID_PF_FB_POS) && (cfg->feedback != GG_AID_PF_FB_POS_VEL))) {
+        ((cfg->feedback != GG_AID_PF_FB_POS) && (cfg->feedback != GG_AID_PF_FB_POS_VEL)) ||
+        !GG_ISFINITE(cfg->info_min) || (cfg->info_min < 0.0) || (cfg->info_min >= 1.0)) {
         return GG_ERR_CONFIG;
     }
     if (gg_integ_init(&a->integ, &cfg->integ, GG_AID_PF_INTEG_DOF) != GG_OK) {
         return GG_ERR_CONFIG;
     }
     a->n_isolated = 0U;
+    a->n_uninformative = 0U;
+    a->informative = (cfg->info_min > 0.0) ? 0 : 1;
     pc = cfg->pf;
     pc.map.gzz = aid_pf_no_map;
     pc.map.ctx = NULL;
@@ -100,6 +103,9 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
     a->last.spread[0] = 0.0;
     a->last.spread[1] = 0.0;
     a->last.ess = 0.0;
+    a->last.info = 0.0;
+    a->last.spread_fi[0] = 0.0;
+    a->last.spread_fi[1] = 0.0;
     a->last.gzz_mean = 0.0;
     a->last.health = 0U;
     a->initialized = 1;
@@ -188,8 +194,24 @@ static void aid_pf_feed(gg_aid_pf_t *a, const gg_pf_output_t *o, gg_aid_pf_corr_
         return;
     }
     (void)gg_integ_test(&a->integ, o->nis / GG_AID_PF_INTEG_SCALE);
+    if ((a->cfg.info_min > 0.0) && (o->info >= -0.5)) { /* the information gate (aid_pf.h) */
+        if (o->info >= a->cfg.info_min) {
+            a->informative = 1;
+        } else if (o->info < (0.5 * a->cfg.info_min)) {
+            a->informative = 0;
+        } else {
+            /* inside the hysteresis: as before */
+        }
+    } else {
+        a->informative = 1;
+    }
     if (a->integ.state == GG_INTEG_ISOLATED) {
         a->n_isolated++;
+        return;
+    }
+    if (a->informative == 0) {
+        a->n_uninformative++;
+        a->health |= GG_AID_PF_H_UNINFORMATIVE;
         return;
     }
     if (a->integ.state == GG_INTEG_SUSPECT) {

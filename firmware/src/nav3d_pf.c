@@ -193,6 +193,10 @@ void n3_pf_output(const gg_nav3d_t *nav, gg_nav3d_output_t *out)
     out->pf_integ = a->integ.state;
     out->pf_integ_ratio = a->integ.ratio;
     out->pf_isolated = a->n_isolated;
+    out->pf_uninformative = a->n_uninformative;
+    out->pf_info = a->last.info;
+    out->pf_spread_fi_m[0] = a->last.spread_fi[0];
+    out->pf_spread_fi_m[1] = a->last.spread_fi[1];
     out->pf_mean_m[0] = a->last.mean[0] - a->last.corr[0];
     out->pf_mean_m[1] = a->last.mean[1] - a->last.corr[1];
 }

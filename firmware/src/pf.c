@@ -114,13 +114,21 @@ gg_status_t gg_pf_init(gg_pf_t *st, const gg_pf_config_t *cfg)
             st->P[i][k] = 0.0;
         }
     }
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (k = 0; k < GG_PF_NX; ++k) {
+            st->P_fi[i][k] = 0.0;
+        }
+    }
     if (cfg->model == GG_PF_MODEL_RBPF) {
         const double sd[GG_PF_NL] = {cfg->sigma0_vel,  cfg->sigma0_vel,  cfg->sigma0_acc,  cfg->sigma0_acc,
                                      cfg->sigma0_acc,  cfg->sigma0_jerk, cfg->sigma0_jerk, cfg->sigma0_jerk,
                                      cfg->sigma0_bias, cfg->sigma0_bias};
         for (i = 0; i < GG_PF_NL; ++i) {
             st->P[i][i] = sd[i] * sd[i];
+            st->P_fi[2 + i][2 + i] = sd[i] * sd[i];
         }
+        st->P_fi[0][0] = cfg->sigma0_pos * cfg->sigma0_pos;
+        st->P_fi[1][1] = st->P_fi[0][0];
     }
     for (i = 0; i < cfg->n; ++i) {
         for (k = 0; k < GG_PF_NX; ++k) {
@@ -576,6 +584,17 @@ static gg_status_t pf_end_stage_done(gg_pf_t *st, int nx, gg_pf_output_t *out)
         out->spread[0] = (v0 > 0.0) ? gg_sqrt_d(v0) : 0.0;
         out->spread[1] = (v1 > 0.0) ? gg_sqrt_d(v1) : 0.0;
         out->ess = st->sh_ess;
+        if (c->model == GG_PF_MODEL_RBPF) {
+            const double vfi = st->P_fi[0][0] + st->P_fi[1][1];
+            out->spread_fi[0] = gg_sqrt_d(st->P_fi[0][0]);
+            out->spread_fi[1] = gg_sqrt_d(st->P_fi[1][1]);
+            out->info = (vfi > 0.0) ? (1.0 - (((out->spread[0] * out->spread[0]) + (out->spread[1] * out->spread[1])) / vfi))
+                                    : 0.0;
+        } else {
+            out->spread_fi[0] = 0.0;
+            out->spread_fi[1] = 0.0;
+            out->info = -1.0;
+        }
         out->gzz_mean = st->sh_gzz;
         out->nis = ((st->sh_in.shot_ok != 0) && (st->sh_degen == 0)) ? st->sh_q : -1.0;
         out->health = st->sh_health;

@@ -221,5 +221,31 @@ gg_status_t pf_rb_common(gg_pf_t *st, const gg_pf_input_t *in, double sl, double
     st->rb_L[0] = gg_sqrt_d(S[0][0]);
     st->rb_L[1] = S[1][0] / st->rb_L[0];
     st->rb_L[2] = gg_sqrt_d(det / S[0][0]);
+    /* the free-inertial covariance, P_fi <- F P_fi F^T + Q (pf.h): F and Q of the step again
+     * (S and G are spent), G = F P_fi, then P_fi = G F^T + Q in place (it reads G, F, Q only) */
+    pf_rb_model_at(&st->cfg, sl, cl, r, in->vn, in->ve, F, S, G);
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (j = 0; j < GG_PF_NX; ++j) {
+            double a = 0.0;
+            for (q = 0; q < GG_PF_NX; ++q) {
+                a += F[i][q] * st->P_fi[q][j];
+            }
+            G[i][j] = a;
+        }
+    }
+    for (i = 0; i < GG_PF_NX; ++i) {
+        for (j = 0; j <= i; ++j) {
+            double a = 0.5 * (S[i][j] + S[j][i]);
+            for (q = 0; q < GG_PF_NX; ++q) {
+                a += G[i][q] * F[j][q];
+            }
+            st->P_fi[i][j] = a;
+        }
+    }
+    for (i = 0; i < GG_PF_NX; ++i) { /* exactly symmetric */
+        for (j = i + 1; j < GG_PF_NX; ++j) {
+            st->P_fi[i][j] = st->P_fi[j][i];
+        }
+    }
     return GG_OK;
 }

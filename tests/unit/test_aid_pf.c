@@ -61,8 +61,8 @@ static void flight_truth(truth3_t *T)
     T->lon_rate = 100.0L / ((n + T->h0) * cosl(T->lat0)); /* 100 m/s east */
 }
 
-/* Gamma_zz = G0 + GE_M (lat - lat0) R_M: linear, so the bicubic tile is exact. */
-static void build_map(const truth3_t *T)
+/* Gamma_zz = G0 + ge (lat - lat0) R_M: linear, so the bicubic tile is exact. */
+static void build_map_ge(const truth3_t *T, double ge)
 {
     const double rm = (double)rm_of(T->lat0, T->h0);
     memset(&g_tile, 0, sizeof g_tile);
@@ -77,10 +77,11 @@ static void build_map(const truth3_t *T)
     for (int i = 0; i < g_tile.nlat; ++i)
         for (int j = 0; j < g_tile.nlon; ++j) {
             const double lat = g_tile.lat0_rad + i * g_tile.dlat_rad;
-            g_tile.node[i * g_tile.nlon + j][GG_GMAP_C_DD] = G0_S2 + GE_M * (lat - (double)T->lat0) * rm;
+            g_tile.node[i * g_tile.nlon + j][GG_GMAP_C_DD] = G0_S2 + ge * (lat - (double)T->lat0) * rm;
         }
     assert_int_equal(gg_gmap_init(&g_map, &g_tile), GG_OK);
 }
+static void build_map(const truth3_t *T) { build_map_ge(T, GE_M); }
 
 typedef struct {
     const gg_gmap_t *map;
@@ -485,6 +486,97 @@ static void test_schedule_and_bad_input(void **state)
     assert_int_equal(g_aid.n_updates, 2);
 }
 
+/* The information gate (aid_pf.h): shots at a fixed INS position on the truth, the RBPF,
+ * corrections not applied (open loop). Returns the weighed shots' corrections fed and
+ * withheld, the last info and the info at the first shot fed. */
+typedef struct {
+    uint32_t fed, withheld, updates;
+    double info_last, info_first_fed;
+} gate_run_t;
+
+static gate_run_t gate_flight(double info_min, int shots)
+{
+    store_t store = {&g_map, 0};
+    gg_hal_map_t hm = {&store, store_tile_at};
+    gg_aid_pf_config_t cfg;
+    gg_aid_pf_in_t in;
+    gg_aid_pf_corr_t corr;
+    gate_run_t r = {0, 0, 0, -2.0, -2.0};
+    pf_config(&cfg, 21u);
+    cfg.pf.model = GG_PF_MODEL_RBPF;
+    cfg.pf.q_vel = 1.5e-4;
+    cfg.pf.q_acc = 2e-5;
+    cfg.pf.reg_bw = 1.0;
+    cfg.pf.ess_frac = 0.5;
+    cfg.pf.gain = 0.05;
+    cfg.info_min = info_min;
+    assert_int_equal(gg_aid_pf_init(&g_aid, &cfg), GG_OK);
+    g_rng = 0x9E3779B97F4A7C15ull;
+    for (int n = 0; n < shots; ++n) {
+        double s[2];
+        make_pair(G0_S2, s); /* the INS sits on the truth (lat0, where Gamma_zz = G0) */
+        ins_at(&in, 1, 1, s[0], s[1]);
+        int steps = 0;
+        do {
+            assert_int_equal(gg_aid_pf_step(&g_aid, &in, &hm, &corr), GG_OK);
+            if (corr.valid != 0) {
+                if (r.fed == 0U) r.info_first_fed = g_aid.last.info;
+                r.fed++;
+                assert_true((g_aid.health & GG_AID_PF_H_UNINFORMATIVE) == 0U);
+            }
+            assert_int_equal(gg_aid_pf_applied(&g_aid, &corr, 0), GG_OK);
+            ins_at(&in, 0, 0, 0, 0);
+            ++steps;
+        } while (g_aid.phase != GG_AID_PF_PH_IDLE && steps < 100);
+        assert_true(steps < 100);
+    }
+    r.withheld = g_aid.n_uninformative;
+    r.updates = g_aid.n_updates;
+    r.info_last = g_aid.last.info;
+    return r;
+}
+
+static void test_information_gate(void **state)
+{
+    (void)state;
+    truth3_t T;
+    flight_truth(&T);
+    const int shots = 30;
+    /* a flat map: the pairs say nothing about the position, the cloud stays as wide as
+     * dead reckoning (info ~ 0), and the gate feeds nothing */
+    build_map_ge(&T, 0.0);
+    const gate_run_t flat = gate_flight(0.2, shots);
+    const gate_run_t flat_open = gate_flight(0.0, shots);
+    /* Gamma_zz changing 3 E/km north: the north is fixed within a few shots (the east is
+     * not: info <= 1/2 with equal prior spreads) */
+    build_map_ge(&T, GE_M);
+    const gate_run_t grad = gate_flight(0.2, shots);
+    print_message("information gate 0.2, %d shots: flat map fed %u withheld %u (info at the end %.3f; gate off: fed "
+                  "%u); north gradient fed %u withheld %u, info at the first fed shot %.3f, at the end %.3f\n",
+                  shots, flat.fed, flat.withheld, flat.info_last, flat_open.fed, grad.fed, grad.withheld,
+                  grad.info_first_fed, grad.info_last);
+    assert_int_equal(flat.updates, shots);
+    assert_int_equal(flat.fed, 0);
+    assert_int_equal(flat.withheld, shots);
+    assert_true(fabs(flat.info_last) < 0.15); /* the cloud's sampling error of a variance, 200 particles */
+    assert_int_equal(flat_open.fed, shots);   /* the same flight without the gate feeds every shot */
+    assert_int_equal(flat_open.withheld, 0);
+    assert_true(grad.fed > 0U);
+    assert_int_equal(grad.fed + grad.withheld, shots);
+    assert_true(grad.withheld > 0U);          /* the first shots teach less than the gate asks */
+    assert_true(grad.info_first_fed >= 0.2);
+    assert_true(grad.info_last > 0.3 && grad.info_last <= 0.5 + 0.1);
+    /* the gate's bounds */
+    gg_aid_pf_config_t bad;
+    pf_config(&bad, 1u);
+    bad.info_min = 1.0;
+    assert_int_equal(gg_aid_pf_init(&g_aid, &bad), GG_ERR_CONFIG);
+    bad.info_min = -0.1;
+    assert_int_equal(gg_aid_pf_init(&g_aid, &bad), GG_ERR_CONFIG);
+    bad.info_min = NAN;
+    assert_int_equal(gg_aid_pf_init(&g_aid, &bad), GG_ERR_CONFIG);
+}
+
 /* The shift of the closed loop: particles and the smoothed correction move, nothing else. */
 static void test_shift(void **state)
 {
@@ -515,6 +607,7 @@ int main(void)
         cmocka_unit_test(test_shift),
         cmocka_unit_test(test_schedule_and_bad_input),
         cmocka_unit_test(test_closed_loop_posterior),
+        cmocka_unit_test(test_information_gate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -68,6 +68,19 @@
  * the correction (the filter keeps the rest), ISOLATED feeds none (the task
  * flies on gravity dead reckoning) while the filter goes on weighing.
  *
+ * Information (pf.h info, the share of the free-inertial position variance the map
+ * has removed, RBPF): a filter whose cloud is as wide as dead reckoning has learnt
+ * nothing from the map, and its mean is the sampling noise of the cloud; fed back,
+ * that noise moves the INS and can only make it worse. With info_min > 0 the aid
+ * feeds a weighed shot's correction only while the filter is informative: it
+ * becomes so when info >= info_min and stops being so when info < info_min / 2 (a
+ * hysteresis against the cloud's sampling noise); meanwhile the correction is
+ * withheld (counted, GG_AID_PF_H_UNINFORMATIVE), the smoothed correction goes on
+ * accumulating, and the task flies on gravity dead reckoning. A filter that is
+ * never informative never feeds: the aided solution is the unaided one, and the
+ * host reports the aid as not helping. The models RW and INS carry no free-inertial
+ * covariance (info = -1): the gate stays open.
+ *
  * Bad input never reaches the filter: a shot with a non-finite or
  * out-of-range pair is used as a failed shot (predicted, not weighed) and
  * flagged GG_HEALTH_PF_SHOT_INVALID; a shot without a covering tile likewise,
@@ -108,6 +121,8 @@
 
 #define GG_AID_PF_H_SUSPECT 0x20u      /**< integrity monitor (aid_integ.h): SUSPECT, feedback halved */
 #define GG_AID_PF_H_ISOLATED 0x40u     /**< integrity monitor: ISOLATED, no correction fed */
+#define GG_AID_PF_H_UNINFORMATIVE 0x80u /**< the weighed shot's correction withheld: the filter has not
+                                             learnt enough from the map (info below the gate, above) */
 
 /** What the closed loop feeds back (gg_aid_pf_config_t.feedback). */
 #define GG_AID_PF_FB_POS 0     /**< the horizontal position */
@@ -126,6 +141,8 @@ typedef struct {
     gg_pf_config_t pf;   /**< the filter (pf.h); pf.map is set by the aid (the HAL's map storage),
                               pf.dt is the shot period */
     gg_integ_config_t integ; /**< integrity monitor on the weighed shots' statistic (pf.h nis, scaled chi-square, above) */
+    double info_min;     /**< feed corrections only while pf.h info >= info_min (released below info_min / 2);
+                              [0, 1), 0: always feed (above) */
 } gg_aid_pf_config_t;
 
 /** The task's INS solution at a step, and the shot in its frame. */
@@ -176,6 +193,8 @@ typedef struct {
     double corr_total_m[2];    /**< sum of the corrections fed back, north, east, m */
     gg_integ_t integ;          /**< integrity monitor (aid_integ.h) */
     uint32_t n_isolated;       /**< weighed shots whose correction was not fed (ISOLATED) */
+    uint32_t n_uninformative;  /**< weighed shots whose correction was withheld (info below the gate) */
+    int32_t informative;       /**< 1: the information gate is open (always 1 with info_min = 0) */
     int32_t initialized;
 } gg_aid_pf_t;
 

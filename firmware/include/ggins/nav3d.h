@@ -289,6 +289,10 @@ typedef struct gg_nav3d_output_s {
     int32_t pf_integ;            /**< integrity monitor (aid_integ.h): GG_INTEG_OK / SUSPECT / ISOLATED */
     double pf_integ_ratio;       /**< its test ratio after the last weighed shot (> 1 outside the band) */
     uint32_t pf_isolated;        /**< weighed shots whose correction was not fed (ISOLATED) so far */
+    uint32_t pf_uninformative;   /**< weighed shots whose correction was withheld (information gate, aid_pf.h) so far */
+    double pf_info;              /**< the last shot's share of the free-inertial position variance removed
+                                      (pf.h info; -1: not modelled) */
+    double pf_spread_fi_m[2];    /**< the free-inertial sd of dN, dE after the last shot, m (pf.h spread_fi) */
 } gg_nav3d_output_t;
 
 /** Validate and store the configuration. GG_ERR_CONFIG on a non-finite or

@@ -74,6 +74,16 @@
  *  5. mean x_bar = sum w_i x_i (paper eq. 7); corr <- corr + gain (x_bar - corr)
  *     (the fixed-gain smoothing of paper eqs. 9-10).
  *
+ * What the map has taught the filter (RBPF): beside the cloud the filter carries the
+ * covariance its own model gives the INS error with no measurement at all, the
+ * free-inertial P_fi (12 x 12, from the initial spreads, P_fi <- F P_fi F^T + Q every
+ * shot, the F and Q of step 1). The output's info = 1 - (var_N + var_E) / (P_fi,NN +
+ * P_fi,EE), var the cloud's weighted position variance after the shot: the share of the
+ * free-inertial position variance that the measurements removed (0: the map taught
+ * nothing, the cloud is as wide as dead reckoning; near 1: a sharp fix). Corrections
+ * fed back shift the cloud but not its spread, so the ratio stays that of the filter's
+ * knowledge against dead reckoning. Models RW and INS: info = -1 (not modelled).
+ *
  * Distance to the ellipse without trigonometry of theta: with u = (c0 - s0)/A,
  * v = (c1 - s1)/A, the rotation p = (u + v)/sqrt2, q = (u - v)/sqrt2 maps the
  * ellipse to the axis-aligned one with semi-axes sqrt2 |cos(dphi/2)|,
@@ -166,6 +176,9 @@ typedef struct {
     double spread[2];     /**< weighted standard deviation of the particles' dN, dE, m (the cloud's spread) */
     double ess;           /**< effective sample size after the update */
     double gzz_mean;      /**< weighted mean of the candidates' Gamma_zz (s^-2; 0 when skipped) */
+    double info;          /**< share of the free-inertial position variance removed (see above),
+                               <= 1; -1 for the models RW and INS */
+    double spread_fi[2];  /**< the free-inertial standard deviation of dN, dE, m (RBPF; 0 otherwise) */
     double nis;           /**< consistency statistic of a weighed shot: the posterior-weighted
                                squared distance of the pair to the candidates' ellipses,
                                sum_i w_i d_i^2 / sigma^2 (1 dof, mean 1 for a consistent filter:
@@ -193,6 +206,7 @@ typedef struct {
     double rb_T[GG_PF_NX][GG_PF_NX]; /**< RBPF scratch */
     double rb_K[GG_PF_NL][2];    /**< RBPF gain of the shot in progress, K = S_lr S_rr^-1 */
     double rb_L[3];              /**< RBPF Cholesky factor of S_rr (l00, l10, l11) */
+    double P_fi[GG_PF_NX][GG_PF_NX]; /**< RBPF: free-inertial covariance of the whole state (see above) */
     /* the shot in progress (gg_pf_step_begin / _chunk / _end) */
     gg_pf_input_t sh_in;
     double sh_rm;                /**< meridian radius + h */

@@ -111,6 +111,8 @@ inline const std::vector<Field>& nav3d_fields() {
       GG_FIELD(T, kI64, mm_isolated, 1, 1, true),  GG_FIELD(T, kF64, pf_nis, 1, 1, true),
       GG_FIELD(T, kI32, pf_integ, 1, 1, true),     GG_FIELD(T, kF64, pf_integ_ratio, 1, 1, true),
       GG_FIELD(T, kI64, pf_isolated, 1, 1, true),
+      GG_FIELD(T, kI64, pf_uninformative, 1, 1, true), GG_FIELD(T, kF64, pf_info, 1, 1, true),
+      GG_FIELD(T, kF64, pf_spread_fi_m, 2, 1, true),
       GG_FIELD(T, kI8, mac, 32, 1, false),  // bus MAC (hal_sim/bus_auth.h): replay has no key
   };
   return f;

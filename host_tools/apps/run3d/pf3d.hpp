@@ -6,8 +6,11 @@
 // mean of a chi-square with 2 dof over 2).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -58,6 +61,7 @@ inline void aid_pf_config_to_lcm(const gg_aid_pf_config_t& a, ggins::nav3d_confi
   m.aid_pf_integ_z = a.integ.z;
   m.aid_pf_integ_isolate = a.integ.isolate_after;
   m.aid_pf_integ_recover = a.integ.recover_after;
+  m.aid_pf_info_min = a.info_min;
 }
 
 inline void aid_pf_output_from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_output_t& o) {
@@ -83,6 +87,9 @@ inline void aid_pf_output_from_lcm(const ggins::nav3d_output_t& m, gg_nav3d_outp
   o.pf_integ = m.pf_integ;
   o.pf_integ_ratio = m.pf_integ_ratio;
   o.pf_isolated = static_cast<uint32_t>(m.pf_isolated);
+  o.pf_uninformative = static_cast<uint32_t>(m.pf_uninformative);
+  o.pf_info = m.pf_info;
+  for (int i = 0; i < 2; ++i) o.pf_spread_fi_m[i] = m.pf_spread_fi_m[i];
 }
 
 // Accumulates the filter's consistency over the shots of a flight.
@@ -90,8 +97,14 @@ class PfReport3 {
  public:
   // One output; err_n_m, err_e_m = nav - truth (NED at the true position), m.
   void take(const gg_nav3d_output_t& o, double err_n_m, double err_e_m) {
+    if (o.pf_updates != last_.pf_updates && o.pf_info >= -0.5) {  // a weighed shot ended at this step
+      ++n_weighed_;
+      info_sum_ += o.pf_info;
+      info_max_ = std::max(info_max_, o.pf_info);
+      withheld_last_ = o.pf_uninformative != last_.pf_uninformative;
+    }
     last_ = o;
-    if (o.pf_corrected == 0) return;  // a shot ended at this step
+    if (o.pf_corrected == 0) return;  // a shot's correction was fed at this step
     const double en = err_n_m + o.pf_mean_m[0], ee = err_e_m + o.pf_mean_m[1];
     const double e2 = en * en + ee * ee;
     const double s2 = o.pf_spread_m[0] * o.pf_spread_m[0] + o.pf_spread_m[1] * o.pf_spread_m[1];
@@ -125,13 +138,41 @@ class PfReport3 {
     a["ess_last"] = last_.pf_ess;
     a["spread_final_m"] = {{"n", last_.pf_spread_m[0]}, {"e", last_.pf_spread_m[1]}};
     a["tiles"] = tiles;
+    a["information"] = {
+        {"definition", "info = 1 - (cloud variance N + E) / (free-inertial variance N + E) after a weighed shot: "
+                       "the share of dead reckoning's position variance the map removed (pf.h; -1: not modelled)"},
+        {"gate_info_min", info_min_},
+        {"info_final", last_.pf_info},
+        {"info_mean", n_weighed_ > 0 ? info_sum_ / static_cast<double>(n_weighed_) : -1.0},
+        {"info_max", n_weighed_ > 0 ? info_max_ : -1.0},
+        {"spread_free_inertial_final_m", {{"n", last_.pf_spread_fi_m[0]}, {"e", last_.pf_spread_fi_m[1]}}},
+        {"withheld", last_.pf_uninformative},
+        {"gate_open_final", gate_open_final()}};
     return a;
+  }
+  void set_info_min(double v) { info_min_ = v; }
+  // The flight's degraded reason when the gate kept the filter's corrections out for
+  // most of the flight or at its end (aid_pf.h): the aid did not help there.
+  void info_reason(std::vector<std::string>& why) const {
+    const int64_t w = static_cast<int64_t>(last_.pf_uninformative), n = static_cast<int64_t>(last_.pf_updates);
+    if (info_min_ <= 0 || w == 0 || (gate_open_final() && 2 * w <= n)) return;
+    char b[400];
+    std::snprintf(b, sizeof b,
+                  "particle filter uninformative: corrections withheld on %lld of %lld weighed shots%s (the map removed "
+                  "%.3g of the free-inertial position variance at the end, at most %.3g; the gate feeds from %.3g): "
+                  "the flight's solution there is dead reckoning",
+                  static_cast<long long>(w), static_cast<long long>(n), gate_open_final() ? "" : ", gate closed at the end",
+                  last_.pf_info, n_weighed_ > 0 ? info_max_ : -1.0, info_min_);
+    why.push_back(b);
   }
 
  private:
+  // the last weighed shot's correction was not withheld by the gate
+  bool gate_open_final() const { return !withheld_last_; }
+  bool withheld_last_ = false;
   gg_nav3d_output_t last_{};
-  int64_t n_ = 0, n_nees_ = 0, beyond2_ = 0;
-  double err_sum_ = 0, nees_sum_ = 0;
+  int64_t n_ = 0, n_nees_ = 0, beyond2_ = 0, n_weighed_ = 0;
+  double err_sum_ = 0, nees_sum_ = 0, info_sum_ = 0, info_max_ = -1, info_min_ = 0;
 };
 
 // The gradient estimates of the shots the filter weighed, against the batch-mean true

@@ -547,6 +547,7 @@ ggins::nav3d_config_t Model3D::config() {
   }
   ggins::run3d::aid_pf_config_to_lcm(c.aid_pf, m);  // the cold-atom aid (pf3d.hpp)
   pf_on_ = c.aid_pf.enable != 0;
+  pf_.set_info_min(c.aid_pf.info_min);
   const auto* ca = gen_.coldatom();
   if (pf_on_ && ca && !ca->samples_field()) {
     shots_ = std::make_unique<ggins::run3d::ShotBaseline3>(ca->params().grad.scale());
@@ -745,6 +746,7 @@ void Model3D::report(json& s) {
     s["aids"].back()["integrity"] = pf_integ_.json();
     s["aids"].back()["integrity"]["isolated_shots"] = aid_last_.pf_isolated;
     pf_integ_.reasons("particle filter", "shots", aid_last_.pf_shots, why);
+    pf_.info_reason(why);
     s["aids"].back()["map_coverage"] = pf_cov_.json();
     ggins::run3d::coverage_reason("particle filter", pf_cov_, why);
   }

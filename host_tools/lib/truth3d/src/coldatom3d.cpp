@@ -30,6 +30,7 @@ void apply_aid_pf(const AidPf3& a, const ColdAtom3& ca, const PfImu& imu, gg_nav
   m.end_chunk = a.end_chunk;
   m.feedback = a.feedback == "position" ? GG_AID_PF_FB_POS : GG_AID_PF_FB_POS_VEL;
   m.integ = integrity_config(a);
+  m.info_min = a.info_min;
   gg_pf_config_t& p = m.pf;
   const coldatom::GradiometerParams& g = ca.grad;
   p.n = a.particles;

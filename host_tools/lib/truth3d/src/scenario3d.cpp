@@ -235,7 +235,10 @@ sch::Table<AidPf3> aid_pf3_table() {
            "process noise per shot: acc error")
       .num("reg_bw", &A::reg_bw, "1", sch::in(0, 100), "regularisation bandwidth, x Silverman (the kernel h it gives must stay < 1: pf.h)")
       .num("gain", &A::gain, "1", sch::in_lopen(0, 1), "smoothing gain of the fed-back correction")
-      .num("ess_frac", &A::ess_frac, "1", sch::in(0, 1), "resample when N_eff < ess_frac N");
+      .num("ess_frac", &A::ess_frac, "1", sch::in(0, 1), "resample when N_eff < ess_frac N")
+      .num("info_min", &A::info_min, "1", sch::in_ropen(0, 1),
+           "information gate: feed corrections only while the cloud has removed at least this share of the "
+           "free-inertial position variance (released below half of it; model rbpf; 0: always feed)");
   integrity_keys(t, "weighed shots");
   return t;
 }

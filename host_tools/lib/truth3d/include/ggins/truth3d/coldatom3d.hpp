@@ -89,6 +89,7 @@ struct AidPf3 : Integrity3 {
          sigma0_accel_mps2 = -1.0;
   double q_pos_m = 0.0, q_vel_mps = -1.0, q_tilt_mps2 = -1.0, q_gyro_mps3 = 0.0, q_accel_mps2 = 0.0;
   double reg_bw = 1.0, gain = 0.05, ess_frac = 0.5;
+  double info_min = 0.0;  // the information gate (aid_pf.h): feed only while info >= info_min
 };
 
 // [aid_pf] with the sensor's [coldatom] parameters onto c.aid_pf (the filter's ellipse
