@@ -68,7 +68,10 @@ gg_status_t gg_aid_pf_init(gg_aid_pf_t *a, const gg_aid_pf_config_t *cfg)
     }
     a->n_isolated = 0U;
     a->n_uninformative = 0U;
-    a->informative = (cfg->info_min > 0.0) ? 0 : 1;
+    a->informative = 1; /* the gate opens on the first informative shot (aid_pf_feed) */
+    if (cfg->info_min > 0.0) {
+        a->informative = 0;
+    }
     pc = cfg->pf;
     pc.map.gzz = aid_pf_no_map;
     pc.map.ctx = NULL;
